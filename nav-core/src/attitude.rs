@@ -1,0 +1,216 @@
+//! Quaternion helpers in the crate's one convention (Hamilton, scalar first, `q_ab` maps
+//! frame-`b` vectors into frame `a`; see the crate docs).
+//!
+//! Everything here is closed-form, branch-bounded and uses `libm` for transcendentals.
+
+use nalgebra::{Matrix3, Quaternion, Vector3};
+
+use crate::NavError;
+
+/// Quaternion norms below this are treated as degenerate (cannot be normalised).
+pub const MIN_QUATERNION_NORM: f64 = 1.0e-12;
+
+/// Hamilton product `a ⊗ b` (rotation `b` first, then `a`, when both map into their left frame:
+/// `q_ac = q_ab ⊗ q_bc`).
+#[inline]
+pub fn product(a: &Quaternion<f64>, b: &Quaternion<f64>) -> Quaternion<f64> {
+    a * b
+}
+
+/// Conjugate `q*` (the inverse of a unit quaternion): `q_ba = q_ab*`.
+#[inline]
+pub fn conjugate(q: &Quaternion<f64>) -> Quaternion<f64> {
+    q.conjugate()
+}
+
+/// Direction-cosine matrix `C_ab = R(q_ab)` of a unit quaternion, so `v_a = C_ab v_b`.
+///
+/// Standard Hamilton formula (e.g. Solà, "Quaternion kinematics for the error-state Kalman
+/// filter", 2017, eq. 115).
+pub fn rotation_matrix(q: &Quaternion<f64>) -> Matrix3<f64> {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    Matrix3::new(
+        w * w + x * x - y * y - z * z,
+        2.0 * (x * y - w * z),
+        2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z),
+        w * w - x * x + y * y - z * z,
+        2.0 * (y * z - w * x),
+        2.0 * (x * z - w * y),
+        2.0 * (y * z + w * x),
+        w * w - x * x - y * y + z * z,
+    )
+}
+
+/// Rotates `v` (expressed in frame `b`) into frame `a` with `q_ab`: `C_ab v`.
+#[inline]
+pub fn rotate(q: &Quaternion<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+    rotation_matrix(q) * v
+}
+
+/// Exact exponential of a rotation vector `φ` (rad): the unit quaternion
+/// `[cos(|φ|/2), sin(|φ|/2) φ/|φ|]`. For `|φ| < 1e-4` rad the Taylor series
+/// `[1 − |φ|²/8 + |φ|⁴/384, φ/2 (1 − |φ|²/24 + |φ|⁴/1920)]` is used (truncation < 1e-22).
+pub fn exp_rotation_vector(phi: &Vector3<f64>) -> Quaternion<f64> {
+    let angle_squared = phi.dot(phi);
+    let angle = libm::sqrt(angle_squared);
+    if angle < 1.0e-4 {
+        let scalar = 1.0 - angle_squared / 8.0 + angle_squared * angle_squared / 384.0;
+        let vector_gain =
+            0.5 * (1.0 - angle_squared / 24.0 + angle_squared * angle_squared / 1920.0);
+        Quaternion::new(
+            scalar,
+            vector_gain * phi.x,
+            vector_gain * phi.y,
+            vector_gain * phi.z,
+        )
+    } else {
+        let half = 0.5 * angle;
+        let vector_gain = libm::sin(half) / angle;
+        Quaternion::new(
+            libm::cos(half),
+            vector_gain * phi.x,
+            vector_gain * phi.y,
+            vector_gain * phi.z,
+        )
+    }
+}
+
+/// Quaternion from a small-error vector part `ϑ` (the filter's attitude-error convention
+/// `δq ≈ [1, ϑ]`), made exactly unit: `[sqrt(1 − |ϑ|²), ϑ]`.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for a non-finite `ϑ`, [`NavError::DegenerateQuaternion`] when
+/// `|ϑ| ≥ 1` (not a valid vector part of a unit quaternion).
+pub fn from_vector_part(vector_part: &Vector3<f64>) -> Result<Quaternion<f64>, NavError> {
+    if !all_finite3(vector_part) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let squared = vector_part.dot(vector_part);
+    if squared >= 1.0 {
+        return Err(NavError::DegenerateQuaternion);
+    }
+    Ok(Quaternion::new(
+        libm::sqrt(1.0 - squared),
+        vector_part.x,
+        vector_part.y,
+        vector_part.z,
+    ))
+}
+
+/// Normalises `q` to unit norm.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] if any component is not finite,
+/// [`NavError::DegenerateQuaternion`] if the norm is below [`MIN_QUATERNION_NORM`].
+pub fn normalise(q: &Quaternion<f64>) -> Result<Quaternion<f64>, NavError> {
+    if !(q.w.is_finite() && q.i.is_finite() && q.j.is_finite() && q.k.is_finite()) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let norm = libm::sqrt(q.w * q.w + q.i * q.i + q.j * q.j + q.k * q.k);
+    if norm < MIN_QUATERNION_NORM {
+        return Err(NavError::DegenerateQuaternion);
+    }
+    Ok(Quaternion::new(
+        q.w / norm,
+        q.i / norm,
+        q.j / norm,
+        q.k / norm,
+    ))
+}
+
+/// Sign canonicalisation: returns `q` or `−q` (the same rotation) with a non-negative scalar
+/// part, so residuals built from quaternion differences never see the `q`/`−q` ambiguity as a
+/// 360° error.
+#[inline]
+pub fn canonical(q: &Quaternion<f64>) -> Quaternion<f64> {
+    if q.w < 0.0 {
+        -q
+    } else {
+        *q
+    }
+}
+
+/// Skew-symmetric cross-product matrix `[v×]`, so `[v×] u = v × u`.
+#[inline]
+pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// True when every component of `v` is finite.
+#[inline]
+pub fn all_finite3(v: &Vector3<f64>) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: &Matrix3<f64>, b: &Matrix3<f64>, tol: f64) -> bool {
+        (a - b).abs().max() < tol
+    }
+
+    #[test]
+    fn rotation_matrix_of_90deg_about_z_maps_x_to_y() {
+        let q = exp_rotation_vector(&Vector3::new(0.0, 0.0, core::f64::consts::FRAC_PI_2));
+        let v = rotate(&q, &Vector3::x());
+        assert!((v - Vector3::y()).norm() < 1e-15, "{v:?}");
+    }
+
+    #[test]
+    fn rotation_matrix_matches_quaternion_sandwich_and_composes() {
+        let a = exp_rotation_vector(&Vector3::new(0.3, -1.2, 0.7));
+        let b = exp_rotation_vector(&Vector3::new(-0.5, 0.1, 2.0));
+        let v = Vector3::new(1.0, 2.0, -3.0);
+        let sandwich = product(&product(&a, &Quaternion::from_imag(v)), &conjugate(&a));
+        assert!((sandwich.imag() - rotate(&a, &v)).norm() < 1e-14);
+        let composed = rotation_matrix(&product(&a, &b));
+        assert!(close(
+            &composed,
+            &(rotation_matrix(&a) * rotation_matrix(&b)),
+            1e-14
+        ));
+    }
+
+    #[test]
+    fn small_angle_branch_is_continuous_with_exact_branch() {
+        let axis = Vector3::new(0.6, -0.48, 0.64);
+        let below = exp_rotation_vector(&(axis * 0.999_999e-4));
+        let above = exp_rotation_vector(&(axis * 1.000_001e-4));
+        assert!((below.coords - above.coords).norm() < 1e-9);
+        let q = exp_rotation_vector(&(axis * 0.5e-4));
+        assert!((q.norm() - 1.0).abs() < 1e-16);
+    }
+
+    #[test]
+    fn body_error_convention_gives_c_true_equal_c_hat_times_i_plus_two_skew() {
+        // q_true = q̂ ⊗ δq with δq = [sqrt(1-|ϑ|²), ϑ]  =>  C_true = Ĉ (I + 2[ϑ×]) + O(ϑ²)
+        let q_hat = exp_rotation_vector(&Vector3::new(0.4, 0.2, -0.9));
+        for scale in [1e-3, 0.5e-3] {
+            let theta = Vector3::new(1.0, -2.0, 0.5) * scale;
+            let q_true = product(&q_hat, &from_vector_part(&theta).unwrap());
+            let linear = rotation_matrix(&q_hat) * (Matrix3::identity() + 2.0 * skew(&theta));
+            let mismatch = (rotation_matrix(&q_true) - linear).abs().max();
+            assert!(mismatch < 10.0 * scale * scale, "{mismatch}");
+        }
+    }
+
+    #[test]
+    fn bad_quaternions_are_errors_not_panics() {
+        assert_eq!(
+            normalise(&Quaternion::new(0.0, 0.0, 0.0, 0.0)),
+            Err(NavError::DegenerateQuaternion)
+        );
+        assert_eq!(
+            normalise(&Quaternion::new(f64::NAN, 0.0, 0.0, 1.0)),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            from_vector_part(&Vector3::new(1.0, 0.0, 0.0)),
+            Err(NavError::DegenerateQuaternion)
+        );
+        let flipped = canonical(&Quaternion::new(-0.5, 0.5, 0.5, 0.5));
+        assert!(flipped.w > 0.0);
+    }
+}

@@ -1,0 +1,11 @@
+//! Shared helpers for the host integration tests (see `tests/`).
+
+use std::path::{Path, PathBuf};
+
+/// Root of the project (parent of this crate's directory).
+pub fn project_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."))
+}
