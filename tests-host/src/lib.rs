@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod target_log;
+
 /// Root of the project (parent of this crate's directory).
 pub fn project_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The QEMU runner for the firmware (cargo's `runner`, see the root .cargo/config.toml):
+# runs ELF on QEMU's MPS2-AN500 (Cortex-M7) with semihosting and deterministic instruction
+# counting (-icount shift=0: one instruction = 1 ns of virtual time), and decodes the defmt
+# frames the firmware writes to semihosting stdout with `defmt-print -e ELF`.
+# The exit status is the firmware's semihosting exit code (0 = all checks passed).
+set -euo pipefail
+elf="$1"
+shift || true
+: "${QEMU_TIMEOUT_S:=600}"
+timeout "$QEMU_TIMEOUT_S" qemu-system-arm \
+  -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none -serial none \
+  -semihosting-config enable=on,target=native -icount shift=0 \
+  -kernel "$elf" "$@" | defmt-print -e "$elf"

@@ -1,0 +1,82 @@
+//! Target checks run on QEMU (`cargo run --release --bin checks`): verifies the
+//! instruction-count harness against a loop of known length, runs nav-core's reference
+//! workload and prints its results as bit patterns for the host's bit-for-bit comparison.
+//! Exit status 0 only if every check passed; a panic or HardFault exits with failure.
+//!
+//! Output lines the host test parses (decoded defmt):
+//! `BITS <workload> <index> <16 hex digits>` and `COST <workload> <instructions>`.
+#![no_std]
+#![no_main]
+
+use cortex_m_rt::entry;
+use nav_qemu::cost::{known_length_loop, InstructionCounter};
+use nav_qemu::{exit_failure, exit_success};
+
+/// Iterations of the known-length loop (2 instructions each).
+const CALIBRATION_ITERATIONS: u32 = 1_000_000;
+/// Largest accepted relative deviation of the harness from the known loop length (ppm): 1 %.
+const CALIBRATION_TOLERANCE_PPM: u64 = 10_000;
+
+#[entry]
+fn main() -> ! {
+    let Some(peripherals) = cortex_m::Peripherals::take() else {
+        defmt::error!("core peripherals already taken");
+        exit_failure()
+    };
+    let mut counter = InstructionCounter::new(peripherals.SYST);
+    let mut all_passed = true;
+
+    // 1. The harness against a loop of known length.
+    let expected = 2 * u64::from(CALIBRATION_ITERATIONS);
+    match counter.measure(|| known_length_loop(CALIBRATION_ITERATIONS)) {
+        Ok(((), measured)) => {
+            let deviation_ppm = measured.abs_diff(expected) * 1_000_000 / expected;
+            let passed = deviation_ppm <= CALIBRATION_TOLERANCE_PPM;
+            all_passed &= passed;
+            defmt::println!(
+                "ICOUNT known loop: expected {=u64} instructions, measured {=u64} (deviation {=u64} ppm, overhead {=u32} ticks) {=str}",
+                expected,
+                measured,
+                deviation_ppm,
+                counter.overhead_ticks(),
+                if passed { "PASS" } else { "FAIL" }
+            );
+        }
+        Err(error) => {
+            all_passed = false;
+            defmt::error!("ICOUNT known loop: {}", error);
+        }
+    }
+
+    // 2. The reference workload, bit patterns for the host comparison.
+    match counter.measure(nav_core::selftest::reference_workload) {
+        Ok((results, instructions)) => {
+            for (index, value) in results.iter().enumerate() {
+                defmt::println!(
+                    "BITS reference_workload {=usize} {=u64:016x}",
+                    index,
+                    value.to_bits()
+                );
+            }
+            defmt::println!("COST reference_workload {=u64}", instructions);
+        }
+        Err(error) => {
+            all_passed = false;
+            defmt::error!("reference workload: {}", error);
+        }
+    }
+
+    if all_passed {
+        defmt::println!("target checks: all passed");
+        exit_success()
+    } else {
+        defmt::error!("target checks: FAILED");
+        exit_failure()
+    }
+}
+
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    defmt::error!("panic on target");
+    exit_failure()
+}

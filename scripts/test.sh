@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# The project's one test command (README "Tests"; .ci/run calls exactly this).
+#
+# 1. installs what is missing (idempotent): the thumbv7em-none-eabihf target, llvm-tools,
+#    qemu-system-arm (apt-get when root), defmt-print;
+# 2. formatting and clippy (host workspace and firmware workspace);
+# 3. host tests;
+# 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
+#    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
+# 5. the panic-free flight build, and proof that it rejects a deliberately added panic path;
+# 6. the target checks on QEMU (decoded defmt log shown), then the host tests that compare
+#    the target's results with the host's bit for bit.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+export PATH="$HOME/.cargo/bin:$PATH"
+TARGET=thumbv7em-none-eabihf
+step() { printf '\n==== %s\n' "$*"; }
+
+step "prerequisites"
+if ! rustup target list --installed | grep -qx "$TARGET"; then rustup target add "$TARGET"; fi
+for component in llvm-tools rustfmt clippy; do
+  if ! rustup component list --installed | grep -q "^$component"; then rustup component add "$component"; fi
+done
+if ! command -v qemu-system-arm >/dev/null; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm >/dev/null
+  else
+    echo "qemu-system-arm is missing: install it (Debian/Ubuntu: sudo apt-get install qemu-system-arm)" >&2
+    exit 1
+  fi
+fi
+if ! command -v defmt-print >/dev/null; then cargo install --locked defmt-print; fi
+qemu-system-arm --version | head -1
+defmt-print --version
+llvm_bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin"
+
+step "format"
+cargo fmt --all --check
+(cd qemu && cargo fmt --check)
+
+step "clippy (host workspace, all targets)"
+cargo clippy --workspace --all-targets -- -D warnings
+step "clippy (firmware workspace, $TARGET)"
+(cd qemu && cargo clippy --release --bins --features panic-never -- -D warnings)
+
+step "host tests"
+cargo test --workspace
+
+step "firmware build ($TARGET, cortex-m7)"
+(cd qemu && cargo build --release --bin checks)
+checks_elf=qemu/target/$TARGET/release/checks
+"$llvm_bin/llvm-objdump" -d --mcpu=cortex-m7 "$checks_elf" > target/checks.dis
+hardware_mul=$(grep -c 'vmul\.f64' target/checks.dis || true)
+hardware_add=$(grep -c 'vadd\.f64' target/checks.dis || true)
+soft_float=$(grep -cE '__aeabi_d(add|sub|mul|div)' target/checks.dis || true)
+echo "disassembly: ${hardware_mul} vmul.f64, ${hardware_add} vadd.f64, ${soft_float} soft-float calls"
+if [ "$hardware_mul" -eq 0 ] || [ "$soft_float" -ne 0 ]; then
+  echo "FAIL: f64 arithmetic is not hardware double precision" >&2
+  exit 1
+fi
+"$llvm_bin/llvm-size" "$checks_elf"
+
+step "panic-free flight build"
+(cd qemu && cargo build --release --bin flight --features panic-never)
+echo "flight build links with no panic path"
+step "panic-free build rejects a deliberately added panic path"
+if (cd qemu && cargo build --release --bin flight --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
+  echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
+  exit 1
+fi
+grep -o 'undefined symbol: panic_path_reachable_in_flight_build' target/demo-panic.log | head -1
+echo "as expected, the link failed on the injected panic path"
+
+step "target checks on QEMU (mps2-an500, -icount shift=0), decoded defmt log"
+mkdir -p target/qemu
+(cd qemu && cargo run --release --bin checks) | tee target/qemu/checks.log
+step "flight build on QEMU"
+(cd qemu && cargo run --release --bin flight --features panic-never)
+
+step "bit-for-bit: host build vs Cortex-M7 build"
+NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
+  cargo test -p tests-host --test target_bit_exact -- --include-ignored --nocapture

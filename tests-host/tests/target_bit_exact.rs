@@ -1,0 +1,48 @@
+//! Bit-for-bit agreement of the Cortex-M7 build (run on QEMU) with the host build.
+//!
+//! These tests need the decoded log of the `checks` firmware, which `scripts/test.sh` produces
+//! before running them; they are `#[ignore]`d so a plain `cargo test` without QEMU stays
+//! green, and the script runs them with `--ignored`. Without the log they fail.
+
+use tests_host::target_log::{default_checks_log, TargetLog};
+
+fn checks_log() -> TargetLog {
+    TargetLog::read(&default_checks_log()).unwrap_or_else(|error| panic!("{error}"))
+}
+
+#[test]
+#[ignore = "needs the QEMU log: run scripts/test.sh"]
+fn reference_workload_is_bit_identical_on_host_and_target() {
+    let log = checks_log();
+    let host = nav_core::selftest::reference_workload();
+    log.compare("reference_workload", &host)
+        .unwrap_or_else(|mismatch| panic!("host and Cortex-M7 differ: {mismatch}"));
+    println!(
+        "reference_workload: {} f64 results bit-identical on host and Cortex-M7 ({} instructions on target)",
+        host.len(),
+        log.costs.get("reference_workload").copied().unwrap_or(0)
+    );
+}
+
+#[test]
+#[ignore = "needs the QEMU log: run scripts/test.sh"]
+fn instruction_counter_matches_a_loop_of_known_length_within_one_percent() {
+    let log = checks_log();
+    let line = log
+        .lines
+        .iter()
+        .find(|line| line.starts_with("ICOUNT known loop"))
+        .expect("the firmware reports its instruction-counter check");
+    assert!(line.ends_with("PASS"), "{line}");
+}
+
+#[test]
+fn a_changed_bit_is_reported_with_its_index() {
+    let log = TargetLog::parse("BITS w 0 3ff0000000000000\nBITS w 1 4000000000000000\n").unwrap();
+    assert!(log.compare("w", &[1.0, 2.0]).is_ok());
+    let mismatch = log
+        .compare("w", &[1.0, f64::from_bits(2.0f64.to_bits() + 1)])
+        .unwrap_err();
+    assert!(mismatch.starts_with("w[1]"), "{mismatch}");
+    assert!(log.compare("absent", &[1.0]).is_err());
+}
