@@ -12,8 +12,8 @@ use cortex_m_rt::entry;
 use nav_qemu::cost::{known_length_loop, InstructionCounter};
 use nav_qemu::{exit_failure, exit_success};
 
-/// Iterations of the known-length loop (2 instructions each).
-const CALIBRATION_ITERATIONS: u32 = 1_000_000;
+/// Iterations of the known-length loops (2 instructions each).
+const CALIBRATION_ITERATIONS: [u32; 2] = [1_000_000, 123_457];
 /// Largest accepted relative deviation of the harness from the known loop length (ppm): 1 %.
 const CALIBRATION_TOLERANCE_PPM: u64 = 10_000;
 
@@ -26,26 +26,10 @@ fn main() -> ! {
     let mut counter = InstructionCounter::new(peripherals.SYST);
     let mut all_passed = true;
 
-    // 1. The harness against a loop of known length.
-    let expected = 2 * u64::from(CALIBRATION_ITERATIONS);
-    match counter.measure(|| known_length_loop(CALIBRATION_ITERATIONS)) {
-        Ok(((), measured)) => {
-            let deviation_ppm = measured.abs_diff(expected) * 1_000_000 / expected;
-            let passed = deviation_ppm <= CALIBRATION_TOLERANCE_PPM;
-            all_passed &= passed;
-            defmt::println!(
-                "ICOUNT known loop: expected {=u64} instructions, measured {=u64} (deviation {=u64} ppm, overhead {=u32} ticks) {=str}",
-                expected,
-                measured,
-                deviation_ppm,
-                counter.overhead_ticks(),
-                if passed { "PASS" } else { "FAIL" }
-            );
-        }
-        Err(error) => {
-            all_passed = false;
-            defmt::error!("ICOUNT known loop: {}", error);
-        }
+    // 1. The harness against loops of known length (two lengths, one not a multiple of the
+    //    tick, so a wrong factor cannot pass by coincidence).
+    for iterations in CALIBRATION_ITERATIONS {
+        all_passed &= check_known_loop(&mut counter, iterations);
     }
 
     // 2. The reference workload, bit patterns for the host comparison.
@@ -72,6 +56,31 @@ fn main() -> ! {
     } else {
         defmt::error!("target checks: FAILED");
         exit_failure()
+    }
+}
+
+/// Measures `known_length_loop(iterations)` and reports whether the harness agrees with the
+/// known instruction count within [`CALIBRATION_TOLERANCE_PPM`].
+fn check_known_loop(counter: &mut InstructionCounter, iterations: u32) -> bool {
+    let expected = 2 * u64::from(iterations);
+    match counter.measure(|| known_length_loop(iterations)) {
+        Ok(((), measured)) => {
+            let deviation_ppm = measured.abs_diff(expected) * 1_000_000 / expected;
+            let passed = deviation_ppm <= CALIBRATION_TOLERANCE_PPM;
+            defmt::println!(
+                "ICOUNT known loop: expected {=u64} instructions, measured {=u64} (deviation {=u64} ppm, overhead {=u32} ticks) {=str}",
+                expected,
+                measured,
+                deviation_ppm,
+                counter.overhead_ticks(),
+                if passed { "PASS" } else { "FAIL" }
+            );
+            passed
+        }
+        Err(error) => {
+            defmt::error!("ICOUNT known loop: {}", error);
+            false
+        }
     }
 }
 
