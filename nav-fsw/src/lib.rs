@@ -21,3 +21,10 @@
 
 /// Nominal IMU / minor-frame period (s): 500 Hz, as in the paper's Section 3.
 pub const MINOR_FRAME_PERIOD_S: f64 = 0.002;
+
+pub mod error;
+pub mod health;
+pub mod input_check;
+pub mod ports;
+
+pub use error::{ConfigField, FswError};

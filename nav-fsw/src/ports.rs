@@ -1,0 +1,75 @@
+//! Sensor ports: what the scheduler reads, as traits, so the same flight code runs on real
+//! hardware (an adapter over embedded-hal / embedded-io drivers), in the host simulator and in
+//! the QEMU firmware. nav-core does no I/O; only these ports do.
+
+use nalgebra::{Quaternion, Vector3};
+
+/// One IMU output: the increments over one sampling period, as navigation IMUs deliver them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ImuSample {
+    /// The IMU's own sample counter (wraps at `u32::MAX`); detects missing and repeated samples.
+    pub sequence: u32,
+    /// Time of the end of the sampling interval (s, navigation time).
+    pub time_s: f64,
+    /// Integrated body angular rate over the interval (rad).
+    pub delta_angle_rad: [f64; 3],
+    /// Integrated body specific force over the interval (m/s).
+    pub delta_velocity_mps: [f64; 3],
+}
+
+/// One star-sensor attitude: `q_is`, star-sensor frame to launch-inertial frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StarMeasurement {
+    /// Time of validity (s, navigation time).
+    pub time_tag_s: f64,
+    /// Measured attitude quaternion `[w, x, y, z]` (Hamilton, scalar first).
+    pub attitude_wxyz: [f64; 4],
+}
+
+/// One GNSS position fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GnssFix {
+    /// Time of validity (s, GNSS time).
+    pub time_tag_s: f64,
+    /// Antenna position in ECEF, WGS-84 (m).
+    pub position_ecef_m: [f64; 3],
+}
+
+/// Source of IMU samples (one per minor frame).
+pub trait ImuPort {
+    /// The sample of the current frame, or `None` if the IMU delivered nothing.
+    fn read(&mut self) -> Option<ImuSample>;
+}
+
+/// Source of star-sensor measurements (asynchronous, at the sensor's rate).
+pub trait StarSensorPort {
+    /// A measurement that arrived since the last poll, if any.
+    fn poll(&mut self) -> Option<StarMeasurement>;
+}
+
+/// Source of GNSS fixes (asynchronous, at the receiver's rate).
+pub trait GnssPort {
+    /// A fix that arrived since the last poll, if any.
+    fn poll(&mut self) -> Option<GnssFix>;
+}
+
+/// The vehicle clock (navigation time).
+pub trait ClockPort {
+    /// Current navigation time (s).
+    fn now_s(&self) -> f64;
+}
+
+/// `[x, y, z]` as a vector.
+#[inline]
+pub fn vector(components: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(components[0], components[1], components[2])
+}
+
+/// `[w, x, y, z]` as a quaternion.
+#[inline]
+pub fn quaternion(components: &[f64; 4]) -> Quaternion<f64> {
+    Quaternion::new(components[0], components[1], components[2], components[3])
+}
