@@ -1,6 +1,6 @@
 //! `nav-sim`: the host simulator. Runs the paper's on-line calibration experiment through the
-//! flight code. (The scenario engine lands with the simulator issue; until then `calibrate`
-//! runs the built-in default placeholder.)
+//! flight code. (The closed-loop experiment lands with the simulator issue; until then
+//! `calibrate` runs nav-core's reference workload.)
 
 use clap::{Parser, Subcommand};
 
@@ -16,6 +16,8 @@ struct Cli {
 enum Command {
     /// Run the calibration scenario (default: the paper's Section 3).
     Calibrate,
+    /// Print the built-in default scenario (TOML) to standard output.
+    Scenario,
 }
 
 fn main() {
@@ -26,5 +28,6 @@ fn main() {
             println!("nav-sim: scenario engine not built yet (placeholder run).");
             println!("nav-core reference workload: {results:?}");
         }
+        Command::Scenario => print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML),
     }
 }

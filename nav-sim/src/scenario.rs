@@ -1,0 +1,812 @@
+//! Scenarios: everything a simulation run needs, read from TOML.
+//!
+//! The built-in default is `scenarios/default.toml` (the paper's Section 3), embedded with
+//! `include_str!` and parsed from that same text, so the printed file and the default can never
+//! diverge ([`DEFAULT_SCENARIO_TOML`], [`Scenario::default_scenario`]).
+//!
+//! Every table is `deny_unknown_fields`: a misspelt key is an error naming it. Every value is
+//! checked by [`Scenario::validate`], whose errors name the key (`"imu.rate_hz must be > 0"`).
+//! Units are SI unless a field name says otherwise (`_deg`, `_arcsec`, `_deg_per_h_...`).
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+/// The default scenario file, verbatim (what `nav-sim scenario` prints).
+pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../scenarios/default.toml");
+
+/// Seconds per hour (for the `_deg_per_h` noise specifications).
+const SECONDS_PER_HOUR: f64 = 3600.0;
+/// Arc-seconds per degree.
+const ARCSEC_PER_DEG: f64 = 3600.0;
+/// Largest accepted magnitude of a scale-factor error (dimensionless). The error model divides
+/// by `1 − λ`, and any real sensor is far below this.
+pub const MAX_SCALE_FACTOR_MAGNITUDE: f64 = 0.1;
+/// Relative tolerance when checking that a duration is a whole number of IMU frames.
+const WHOLE_FRAME_TOLERANCE: f64 = 1.0e-9;
+
+/// Why a scenario could not be loaded or is not valid.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// The scenario file could not be read.
+    #[error("cannot read scenario file {path}: {source}")]
+    Io {
+        /// The file that was being read.
+        path: String,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The text is not valid TOML for a scenario (syntax, unknown key, wrong type, missing key).
+    /// The message comes from the TOML parser and names the key and the line.
+    #[error("scenario {origin}: {message}")]
+    Parse {
+        /// Where the text came from (a file path, or "<built-in default>" / "<string>").
+        origin: String,
+        /// The parser's description, naming the offending key.
+        message: String,
+    },
+    /// A value is out of its documented range.
+    #[error("scenario {origin}: {key} {requirement}")]
+    Invalid {
+        /// Where the text came from.
+        origin: String,
+        /// Dotted path of the offending key, e.g. `imu.rate_hz` or `manoeuvre[3].ramp_s`.
+        key: String,
+        /// What the value must satisfy, e.g. "must be > 0".
+        requirement: String,
+    },
+}
+
+/// A complete simulation scenario (the TOML file's top level).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Run control: seed, start time, truth integration.
+    pub simulation: SimulationSettings,
+    /// The launch site, which defines the launch-inertial frame.
+    pub launch_site: LaunchSiteSettings,
+    /// The orbit at the scenario start.
+    pub initial_orbit: OrbitElements,
+    /// The attitude at the scenario start.
+    pub initial_attitude: InitialAttitude,
+    /// IMU sampling.
+    pub imu: ImuSettings,
+    /// Gyro error model (paper eq. 1).
+    pub gyro: GyroErrors,
+    /// Accelerometer error model (paper eq. 3).
+    pub accelerometer: AccelerometerErrors,
+    /// Star sensor model.
+    pub star_sensor: StarSensorSettings,
+    /// GNSS receiver model.
+    pub gnss: GnssSettings,
+    /// The manoeuvre schedule, segments back to back (TOML `[[manoeuvre]]`).
+    #[serde(rename = "manoeuvre")]
+    pub manoeuvres: Vec<ManoeuvreSegment>,
+    /// Filter settings (placeholders the filter reads).
+    pub filter: FilterSettings,
+}
+
+/// Run control.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSettings {
+    /// Seed of the deterministic random streams.
+    pub seed: u64,
+    /// Scenario start, seconds after the launch epoch (navigation time of the first sample).
+    pub start_time_s: f64,
+    /// Truth integration substeps per IMU frame (RK4), at least 1.
+    pub truth_substeps_per_frame: u32,
+}
+
+/// The launch site: origin and orientation of the launch-inertial frame.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaunchSiteSettings {
+    /// Geodetic latitude (deg, WGS-84), in [−90, 90].
+    pub latitude_deg: f64,
+    /// Longitude (deg, east positive), in [−180, 360].
+    pub longitude_deg: f64,
+    /// Height above the WGS-84 ellipsoid (m).
+    pub height_m: f64,
+    /// Launch azimuth, clockwise from north (deg), in [−360, 360].
+    pub azimuth_deg: f64,
+    /// Calendar epoch of the launch (ISO 8601, informational).
+    pub epoch_utc: String,
+}
+
+/// Keplerian elements at the scenario start, in the Earth-centred inertial frame that coincides
+/// with ECEF at the launch epoch.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrbitElements {
+    /// Semi-major axis (m); perigee must be above the Earth's equatorial radius.
+    pub semi_major_axis_m: f64,
+    /// Eccentricity, in [0, 1).
+    pub eccentricity: f64,
+    /// Inclination (deg), in [0, 180].
+    pub inclination_deg: f64,
+    /// Right ascension of the ascending node, from the launch-epoch Greenwich meridian (deg).
+    pub right_ascension_of_node_deg: f64,
+    /// Argument of perigee (deg).
+    pub argument_of_perigee_deg: f64,
+    /// True anomaly at the scenario start (deg).
+    pub true_anomaly_deg: f64,
+}
+
+/// The truth attitude at the scenario start.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialAttitude {
+    /// `q_ib = exp(φ)` (body to launch-inertial) as a rotation vector `φ` (deg).
+    pub rotation_vector_deg: [f64; 3],
+}
+
+/// IMU sampling.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImuSettings {
+    /// Output rate of the increments (Hz), > 0.
+    pub rate_hz: f64,
+}
+
+impl ImuSettings {
+    /// The IMU frame (increment) period `T = 1 / rate` (s).
+    pub fn frame_period_s(&self) -> f64 {
+        1.0 / self.rate_hz
+    }
+}
+
+/// Gyro errors, paper eq. (1): `ω_meas = ω + Λg ω_meas + b_g + η_g`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GyroErrors {
+    /// White rate-noise spectral density ((deg/h)/√Hz), ≥ 0. The paper's "0.2 °/h".
+    pub rate_noise_density_deg_per_h_per_sqrt_hz: f64,
+    /// Constant bias `b_g` (rad/s), body axes.
+    pub bias_rad_per_s: [f64; 3],
+    /// Scale-factor errors, the diagonal of `Λg` (dimensionless), `|λ| ≤ 0.1`.
+    pub scale_factor: [f64; 3],
+    /// Bias random-walk intensity ((rad/s)/√s), ≥ 0; 0 = constant bias.
+    pub bias_random_walk_rad_per_s_per_sqrt_s: f64,
+    /// Output quantum of the delta angle (rad), ≥ 0; 0 = no quantisation.
+    pub quantum_rad: f64,
+}
+
+impl GyroErrors {
+    /// Rate-noise density in SI units (rad/s/√Hz = rad/√s).
+    pub fn rate_noise_density_rad_per_sqrt_s(&self) -> f64 {
+        self.rate_noise_density_deg_per_h_per_sqrt_hz.to_radians() / SECONDS_PER_HOUR
+    }
+
+    /// 1σ of the delta-angle noise per increment of length `interval_s`:
+    /// white rate noise integrated over the interval, `σ_Δθ = density · √T` (rad).
+    pub fn delta_angle_noise_sigma_rad(&self, interval_s: f64) -> f64 {
+        self.rate_noise_density_rad_per_sqrt_s() * interval_s.sqrt()
+    }
+}
+
+/// Accelerometer errors, paper eq. (3): `f_meas = f + Λa f_meas + b_a + η_a`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AccelerometerErrors {
+    /// 1σ of the specific-force noise per IMU sample (m/s²), ≥ 0. The paper's "1e-4 m/s²".
+    pub noise_per_sample_mps2: f64,
+    /// Constant bias `b_a` (m/s²), body axes.
+    pub bias_mps2: [f64; 3],
+    /// Scale-factor errors, the diagonal of `Λa` (dimensionless), `|λ| ≤ 0.1`.
+    pub scale_factor: [f64; 3],
+    /// Bias random-walk intensity ((m/s²)/√s), ≥ 0; 0 = constant bias.
+    pub bias_random_walk_mps2_per_sqrt_s: f64,
+    /// Output quantum of the delta velocity (m/s), ≥ 0; 0 = no quantisation.
+    pub quantum_mps: f64,
+}
+
+impl AccelerometerErrors {
+    /// 1σ of the delta-velocity noise per increment of length `interval_s` (m/s): the
+    /// per-sample specific-force σ held over the sample, `σ_Δv = σ_f · T`.
+    pub fn delta_velocity_noise_sigma_mps(&self, interval_s: f64) -> f64 {
+        self.noise_per_sample_mps2 * interval_s
+    }
+
+    /// The same noise as a white specific-force density `σ_f · √T` ((m/s²)/√Hz) for a sampling
+    /// interval `interval_s`, the form a continuous-time filter model uses.
+    pub fn noise_density_mps2_per_sqrt_hz(&self, interval_s: f64) -> f64 {
+        self.noise_per_sample_mps2 * interval_s.sqrt()
+    }
+}
+
+/// Star sensor: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ δq_noise`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StarSensorSettings {
+    /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it.
+    pub rate_hz: f64,
+    /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0.
+    pub noise_arcsec: f64,
+    /// Nominal body-to-sensor mounting `q_bs = exp(φ)` as a rotation vector (deg). Known to
+    /// the flight code.
+    pub mounting_rotation_vector_deg: [f64; 3],
+    /// Installation error `q_ψ = exp(ψ)` as a rotation vector `ψ` (rad, the rotation angle, not
+    /// the quaternion's vector part). Unknown to the flight code.
+    pub installation_error_rotation_vector_rad: [f64; 3],
+}
+
+impl StarSensorSettings {
+    /// Noise 1σ per axis (rad).
+    pub fn noise_rad(&self) -> f64 {
+        (self.noise_arcsec / ARCSEC_PER_DEG).to_radians()
+    }
+}
+
+/// GNSS receiver: ECEF position fixes.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GnssSettings {
+    /// Fix rate (Hz), > 0; the IMU rate must be a whole multiple of it.
+    pub rate_hz: f64,
+    /// Position noise, 1σ per ECEF axis (m), ≥ 0.
+    pub noise_m: f64,
+    /// Delivery latency (s), ≥ 0, a whole number of IMU frames.
+    pub latency_s: f64,
+}
+
+/// One manoeuvre segment: a raised-cosine pulse of body rate and body specific force.
+///
+/// The command is `peak · s(τ)` for `τ ∈ [0, duration_s]`, with `s` rising from 0 to 1 as
+/// `½(1 − cos(π τ / ramp_s))` over `ramp_s`, holding 1, and falling symmetrically over the last
+/// `ramp_s`; `∫ s dτ = duration_s − ramp_s`. `ramp_s = 0` is a constant command.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManoeuvreSegment {
+    /// Free-text name (for reports).
+    pub label: String,
+    /// Segment length including both ramps (s), > 0, a whole number of IMU frames.
+    pub duration_s: f64,
+    /// Rise time and fall time (s), `0 ≤ 2 ramp_s ≤ duration_s`.
+    pub ramp_s: f64,
+    /// Peak body angular rate `ω_ib^b` (deg/s), body axes.
+    pub body_rate_deg_per_s: [f64; 3],
+    /// Peak body specific force (non-gravitational acceleration, m/s²), body axes.
+    pub specific_force_mps2: [f64; 3],
+}
+
+/// The filter's mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FilterMode {
+    /// The paper's filter: errors estimated, the navigation solution not corrected.
+    OpenLoop,
+    /// Feedback: navigation solution and sensor corrections reset after each update.
+    ClosedLoop,
+}
+
+/// Filter settings (placeholders for the 24-state filter).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterSettings {
+    /// Open- or closed-loop.
+    pub mode: FilterMode,
+    /// Order of the truncated transition-matrix series, 1..=4 (paper: 3).
+    pub discretisation_order: u32,
+    /// Initial 1σ per error-state block.
+    pub initial_sigma: InitialSigma,
+    /// Innovation gates.
+    pub nis_gate: NisGate,
+}
+
+/// Initial 1σ of each error-state block (paper eq. 15 order). All must be > 0.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSigma {
+    /// Attitude error as a small rotation angle (rad); the vector-part state's σ is half.
+    pub attitude_rad: f64,
+    /// Position (m).
+    pub position_m: f64,
+    /// Velocity (m/s).
+    pub velocity_mps: f64,
+    /// Gyro bias (rad/s).
+    pub gyro_bias_rad_per_s: f64,
+    /// Accelerometer bias (m/s²).
+    pub accel_bias_mps2: f64,
+    /// Star-sensor installation error as a small rotation angle (rad); the state's σ is half.
+    pub star_installation_rad: f64,
+    /// Gyro scale factor (dimensionless).
+    pub gyro_scale_factor: f64,
+    /// Accelerometer scale factor (dimensionless).
+    pub accel_scale_factor: f64,
+}
+
+/// Normalised-innovation-squared gates.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NisGate {
+    /// Star-sensor update rejected when its NIS exceeds this (3 dof), > 0.
+    pub star_threshold: f64,
+    /// GNSS update rejected when its NIS exceeds this (3 dof), > 0.
+    pub gnss_threshold: f64,
+}
+
+/// Collects the first violated rule while walking the scenario.
+struct Checker<'a> {
+    origin: &'a str,
+}
+
+impl Checker<'_> {
+    fn fail(&self, key: &str, requirement: &str) -> ScenarioError {
+        ScenarioError::Invalid {
+            origin: self.origin.to_string(),
+            key: key.to_string(),
+            requirement: requirement.to_string(),
+        }
+    }
+
+    fn finite(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be finite"))
+        }
+    }
+
+    fn finite3(&self, key: &str, values: &[f64; 3]) -> Result<(), ScenarioError> {
+        if values.iter().all(|value| value.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must have three finite components"))
+        }
+    }
+
+    fn positive(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be > 0"))
+        }
+    }
+
+    fn non_negative(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && value >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be >= 0"))
+        }
+    }
+
+    fn within(&self, key: &str, value: f64, low: f64, high: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && (low..=high).contains(&value) {
+            Ok(())
+        } else {
+            Err(self.fail(key, &format!("must be in [{low}, {high}]")))
+        }
+    }
+
+    fn scale_factors(&self, key: &str, values: &[f64; 3]) -> Result<(), ScenarioError> {
+        if values
+            .iter()
+            .all(|value| value.is_finite() && value.abs() <= MAX_SCALE_FACTOR_MAGNITUDE)
+        {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                &format!(
+                    "components must be finite with magnitude <= {MAX_SCALE_FACTOR_MAGNITUDE}"
+                ),
+            ))
+        }
+    }
+
+    /// `duration_s` must be a whole number (≥ `minimum_frames`) of IMU frames of `period_s`.
+    fn whole_frames(
+        &self,
+        key: &str,
+        duration_s: f64,
+        period_s: f64,
+        minimum_frames: f64,
+    ) -> Result<(), ScenarioError> {
+        let frames = duration_s / period_s;
+        let whole = frames.round();
+        if frames.is_finite()
+            && whole >= minimum_frames
+            && (frames - whole).abs() <= WHOLE_FRAME_TOLERANCE * whole.max(1.0)
+        {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                &format!("must be a whole number of IMU frames ({period_s} s), at least {minimum_frames}"),
+            ))
+        }
+    }
+}
+
+/// WGS-84 equatorial radius (m): the lowest acceptable perigee radius of the initial orbit.
+const EARTH_EQUATORIAL_RADIUS_M: f64 = 6_378_137.0;
+/// Largest filter discretisation order the flight code accepts.
+const MAX_DISCRETISATION_ORDER: u32 = 4;
+
+impl Scenario {
+    /// The built-in default scenario (the paper's Section 3), parsed from
+    /// [`DEFAULT_SCENARIO_TOML`].
+    ///
+    /// # Errors
+    /// Only if the embedded file is broken, which the crate's tests rule out.
+    pub fn default_scenario() -> Result<Self, ScenarioError> {
+        Self::parse(DEFAULT_SCENARIO_TOML, "<built-in default>")
+    }
+
+    /// Parses and validates a scenario from TOML text.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Parse`] for bad TOML, unknown or missing keys and wrong types (the
+    /// message names the key); [`ScenarioError::Invalid`] for out-of-range values.
+    pub fn from_toml_str(text: &str) -> Result<Self, ScenarioError> {
+        Self::parse(text, "<string>")
+    }
+
+    /// Reads, parses and validates a scenario file.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Io`] if the file cannot be read; otherwise as
+    /// [`Scenario::from_toml_str`], with the file's path in the message.
+    pub fn load(path: &Path) -> Result<Self, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
+        let scenario: Scenario = toml::from_str(text).map_err(|error| ScenarioError::Parse {
+            origin: origin.to_string(),
+            message: error.to_string(),
+        })?;
+        scenario.validate_from(origin)?;
+        Ok(scenario)
+    }
+
+    /// Checks every value against its documented range.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] naming the first offending key.
+    pub fn validate(&self) -> Result<(), ScenarioError> {
+        self.validate_from("<in memory>")
+    }
+
+    fn validate_from(&self, origin: &str) -> Result<(), ScenarioError> {
+        let check = Checker { origin };
+        let simulation = &self.simulation;
+        check.non_negative("simulation.start_time_s", simulation.start_time_s)?;
+        if simulation.truth_substeps_per_frame == 0 {
+            return Err(check.fail("simulation.truth_substeps_per_frame", "must be >= 1"));
+        }
+
+        let site = &self.launch_site;
+        check.within("launch_site.latitude_deg", site.latitude_deg, -90.0, 90.0)?;
+        check.within(
+            "launch_site.longitude_deg",
+            site.longitude_deg,
+            -180.0,
+            360.0,
+        )?;
+        check.within("launch_site.height_m", site.height_m, -500.0, 10_000.0)?;
+        check.within("launch_site.azimuth_deg", site.azimuth_deg, -360.0, 360.0)?;
+
+        let orbit = &self.initial_orbit;
+        check.positive("initial_orbit.semi_major_axis_m", orbit.semi_major_axis_m)?;
+        if !(orbit.eccentricity.is_finite() && (0.0..1.0).contains(&orbit.eccentricity)) {
+            return Err(check.fail("initial_orbit.eccentricity", "must be in [0, 1)"));
+        }
+        if orbit.semi_major_axis_m * (1.0 - orbit.eccentricity) <= EARTH_EQUATORIAL_RADIUS_M {
+            return Err(check.fail(
+                "initial_orbit.semi_major_axis_m",
+                "must put the perigee (a (1 - e)) above the Earth's equatorial radius 6378137 m",
+            ));
+        }
+        check.within(
+            "initial_orbit.inclination_deg",
+            orbit.inclination_deg,
+            0.0,
+            180.0,
+        )?;
+        check.finite(
+            "initial_orbit.right_ascension_of_node_deg",
+            orbit.right_ascension_of_node_deg,
+        )?;
+        check.finite(
+            "initial_orbit.argument_of_perigee_deg",
+            orbit.argument_of_perigee_deg,
+        )?;
+        check.finite("initial_orbit.true_anomaly_deg", orbit.true_anomaly_deg)?;
+        check.finite3(
+            "initial_attitude.rotation_vector_deg",
+            &self.initial_attitude.rotation_vector_deg,
+        )?;
+
+        check.positive("imu.rate_hz", self.imu.rate_hz)?;
+        let period_s = self.imu.frame_period_s();
+
+        let gyro = &self.gyro;
+        check.non_negative(
+            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz",
+            gyro.rate_noise_density_deg_per_h_per_sqrt_hz,
+        )?;
+        check.finite3("gyro.bias_rad_per_s", &gyro.bias_rad_per_s)?;
+        check.scale_factors("gyro.scale_factor", &gyro.scale_factor)?;
+        check.non_negative(
+            "gyro.bias_random_walk_rad_per_s_per_sqrt_s",
+            gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+        )?;
+        check.non_negative("gyro.quantum_rad", gyro.quantum_rad)?;
+
+        let accelerometer = &self.accelerometer;
+        check.non_negative(
+            "accelerometer.noise_per_sample_mps2",
+            accelerometer.noise_per_sample_mps2,
+        )?;
+        check.finite3("accelerometer.bias_mps2", &accelerometer.bias_mps2)?;
+        check.scale_factors("accelerometer.scale_factor", &accelerometer.scale_factor)?;
+        check.non_negative(
+            "accelerometer.bias_random_walk_mps2_per_sqrt_s",
+            accelerometer.bias_random_walk_mps2_per_sqrt_s,
+        )?;
+        check.non_negative("accelerometer.quantum_mps", accelerometer.quantum_mps)?;
+
+        let star = &self.star_sensor;
+        check.positive("star_sensor.rate_hz", star.rate_hz)?;
+        check.whole_frames("star_sensor.rate_hz", 1.0 / star.rate_hz, period_s, 1.0)?;
+        check.non_negative("star_sensor.noise_arcsec", star.noise_arcsec)?;
+        check.finite3(
+            "star_sensor.mounting_rotation_vector_deg",
+            &star.mounting_rotation_vector_deg,
+        )?;
+        check.finite3(
+            "star_sensor.installation_error_rotation_vector_rad",
+            &star.installation_error_rotation_vector_rad,
+        )?;
+
+        let gnss = &self.gnss;
+        check.positive("gnss.rate_hz", gnss.rate_hz)?;
+        check.whole_frames("gnss.rate_hz", 1.0 / gnss.rate_hz, period_s, 1.0)?;
+        check.non_negative("gnss.noise_m", gnss.noise_m)?;
+        check.non_negative("gnss.latency_s", gnss.latency_s)?;
+        check.whole_frames("gnss.latency_s", gnss.latency_s, period_s, 0.0)?;
+
+        if self.manoeuvres.is_empty() {
+            return Err(check.fail("manoeuvre", "must list at least one segment"));
+        }
+        for (index, segment) in self.manoeuvres.iter().enumerate() {
+            let key = |field: &str| format!("manoeuvre[{index}].{field}");
+            check.positive(&key("duration_s"), segment.duration_s)?;
+            check.whole_frames(&key("duration_s"), segment.duration_s, period_s, 1.0)?;
+            check.non_negative(&key("ramp_s"), segment.ramp_s)?;
+            if 2.0 * segment.ramp_s > segment.duration_s {
+                return Err(check.fail(&key("ramp_s"), "must be at most half of duration_s"));
+            }
+            check.finite3(&key("body_rate_deg_per_s"), &segment.body_rate_deg_per_s)?;
+            check.finite3(&key("specific_force_mps2"), &segment.specific_force_mps2)?;
+        }
+
+        let filter = &self.filter;
+        if !(1..=MAX_DISCRETISATION_ORDER).contains(&filter.discretisation_order) {
+            return Err(check.fail(
+                "filter.discretisation_order",
+                &format!("must be in 1..={MAX_DISCRETISATION_ORDER}"),
+            ));
+        }
+        let sigma = &filter.initial_sigma;
+        for (name, value) in [
+            ("attitude_rad", sigma.attitude_rad),
+            ("position_m", sigma.position_m),
+            ("velocity_mps", sigma.velocity_mps),
+            ("gyro_bias_rad_per_s", sigma.gyro_bias_rad_per_s),
+            ("accel_bias_mps2", sigma.accel_bias_mps2),
+            ("star_installation_rad", sigma.star_installation_rad),
+            ("gyro_scale_factor", sigma.gyro_scale_factor),
+            ("accel_scale_factor", sigma.accel_scale_factor),
+        ] {
+            check.positive(&format!("filter.initial_sigma.{name}"), value)?;
+        }
+        check.positive(
+            "filter.nis_gate.star_threshold",
+            filter.nis_gate.star_threshold,
+        )?;
+        check.positive(
+            "filter.nis_gate.gnss_threshold",
+            filter.nis_gate.gnss_threshold,
+        )?;
+        Ok(())
+    }
+
+    /// Total scenario length: the sum of the manoeuvre segments (s).
+    pub fn duration_s(&self) -> f64 {
+        self.manoeuvres
+            .iter()
+            .map(|segment| segment.duration_s)
+            .sum()
+    }
+
+    /// Number of IMU frames in the scenario (the duration in whole frames).
+    pub fn frame_count(&self) -> u64 {
+        frames_in(self.duration_s(), self.imu.frame_period_s())
+    }
+}
+
+/// `duration_s / period_s` rounded to the nearest whole number of frames (durations are
+/// validated to be whole numbers of frames, so the rounding only removes float noise).
+pub fn frames_in(duration_s: f64, period_s: f64) -> u64 {
+    let frames = (duration_s / period_s).round();
+    if frames.is_finite() && frames > 0.0 {
+        // The value is a finite, non-negative whole number; the cast is exact below 2^53.
+        frames as u64
+    } else {
+        0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn invalid_key(text: &str) -> String {
+        match Scenario::from_toml_str(text) {
+            Err(ScenarioError::Invalid { key, .. }) => key,
+            other => panic!("expected an Invalid error, got {other:?}"),
+        }
+    }
+
+    /// Parsed decimal literals must equal the literal's f64 to the last bit (up to 1 ulp).
+    fn assert_same(parsed: &[f64], expected: &[f64]) {
+        assert_eq!(parsed.len(), expected.len());
+        for (value, wanted) in parsed.iter().zip(expected) {
+            assert!(
+                (value - wanted).abs() <= f64::EPSILON * wanted.abs(),
+                "{parsed:?} != {expected:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn default_scenario_parses_with_the_papers_values() {
+        let scenario = Scenario::default_scenario().unwrap();
+        assert_same(&[scenario.imu.rate_hz], &[500.0]);
+        assert_same(&scenario.gyro.bias_rad_per_s, &[1.0e-4, 2.0e-4, 3.0e-4]);
+        assert_same(&scenario.gyro.scale_factor, &[3.0e-5; 3]);
+        assert_same(&[scenario.accelerometer.noise_per_sample_mps2], &[1.0e-4]);
+        assert_same(
+            &scenario.star_sensor.installation_error_rotation_vector_rad,
+            &[1.0e-3, 2.0e-3, 3.0e-3],
+        );
+        assert_same(&[scenario.star_sensor.noise_arcsec], &[10.0]);
+        assert_same(&[scenario.gnss.noise_m], &[10.0]);
+        assert_eq!(scenario.filter.mode, FilterMode::OpenLoop);
+        // 10 + 3 x 12 + 6 x 10 + 120 s.
+        assert!((scenario.duration_s() - 226.0).abs() < 1e-9);
+        assert_eq!(scenario.frame_count(), 113_000);
+    }
+
+    #[test]
+    fn noise_conversions_match_the_stated_interpretation() {
+        let scenario = Scenario::default_scenario().unwrap();
+        let period_s = scenario.imu.frame_period_s();
+        // 0.2 (deg/h)/sqrt(Hz) * sqrt(0.002 s) = 4.3e-8 rad.
+        let sigma_angle = scenario.gyro.delta_angle_noise_sigma_rad(period_s);
+        assert!((sigma_angle - 4.3362e-8).abs() < 1e-11, "{sigma_angle}");
+        // 1e-4 m/s^2 * 0.002 s = 2e-7 m/s.
+        let sigma_velocity = scenario
+            .accelerometer
+            .delta_velocity_noise_sigma_mps(period_s);
+        assert!((sigma_velocity - 2.0e-7).abs() < 1e-20);
+        assert!((scenario.star_sensor.noise_rad() - 4.8481e-5).abs() < 1e-9);
+    }
+
+    #[test]
+    fn unknown_key_is_an_error_naming_it() {
+        let text =
+            DEFAULT_SCENARIO_TOML.replace("rate_hz = 500.0", "rate_hz = 500.0\nrate_hx = 1.0");
+        let error = Scenario::from_toml_str(&text).unwrap_err();
+        let message = error.to_string();
+        assert!(message.contains("rate_hx"), "{message}");
+    }
+
+    #[test]
+    fn unknown_table_is_an_error_naming_it() {
+        let text = format!("{DEFAULT_SCENARIO_TOML}\n[magnetometer]\nrate_hz = 10.0\n");
+        let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+        assert!(message.contains("magnetometer"), "{message}");
+    }
+
+    #[test]
+    fn missing_key_is_an_error_naming_it() {
+        let text = DEFAULT_SCENARIO_TOML.replace("noise_m = 10.0\n", "");
+        let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+        assert!(message.contains("noise_m"), "{message}");
+    }
+
+    #[test]
+    fn invalid_values_are_rejected_naming_the_key() {
+        let cases = [
+            ("rate_hz = 500.0", "rate_hz = 0.0", "imu.rate_hz"),
+            ("rate_hz = 4.0", "rate_hz = 3.0", "star_sensor.rate_hz"),
+            ("noise_m = 10.0", "noise_m = -1.0", "gnss.noise_m"),
+            ("latency_s = 0.0", "latency_s = 0.0031", "gnss.latency_s"),
+            (
+                "eccentricity = 0.001",
+                "eccentricity = 1.5",
+                "initial_orbit.eccentricity",
+            ),
+            (
+                "semi_major_axis_m = 6878137.0",
+                "semi_major_axis_m = 6000000.0",
+                "initial_orbit.semi_major_axis_m",
+            ),
+            (
+                "scale_factor = [3.0e-5, 3.0e-5, 3.0e-5]",
+                "scale_factor = [3.0e-5, 1.5, 3.0e-5]",
+                "gyro.scale_factor",
+            ),
+            (
+                "discretisation_order = 3",
+                "discretisation_order = 7",
+                "filter.discretisation_order",
+            ),
+            (
+                "position_m = 10.0",
+                "position_m = 0.0",
+                "filter.initial_sigma.position_m",
+            ),
+            (
+                "truth_substeps_per_frame = 16",
+                "truth_substeps_per_frame = 0",
+                "simulation.truth_substeps_per_frame",
+            ),
+        ];
+        for (original, replacement, key) in cases {
+            assert!(DEFAULT_SCENARIO_TOML.contains(original), "{original}");
+            let text = DEFAULT_SCENARIO_TOML.replacen(original, replacement, 1);
+            assert_eq!(invalid_key(&text), key);
+        }
+    }
+
+    #[test]
+    fn manoeuvre_errors_name_the_segment() {
+        // The second segment (index 1) is "rotate about body x", ramp 1 s.
+        let text = DEFAULT_SCENARIO_TOML.replacen(
+            "duration_s = 12.0\nramp_s = 1.0",
+            "duration_s = 12.0\nramp_s = 6.5",
+            1,
+        );
+        assert_eq!(invalid_key(&text), "manoeuvre[1].ramp_s");
+        let text = DEFAULT_SCENARIO_TOML.replacen("duration_s = 12.0", "duration_s = 12.0001", 1);
+        assert_eq!(invalid_key(&text), "manoeuvre[1].duration_s");
+        let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+        assert!(message.contains("whole number of IMU frames"), "{message}");
+    }
+
+    #[test]
+    fn load_names_the_file() {
+        let missing = Path::new("/nonexistent/scenario.toml");
+        let message = Scenario::load(missing).unwrap_err().to_string();
+        assert!(message.contains("/nonexistent/scenario.toml"), "{message}");
+
+        let directory = std::env::temp_dir().join(format!("nav-sim-test-{}", std::process::id()));
+        std::fs::create_dir_all(&directory).unwrap();
+        let path = directory.join("bad.toml");
+        std::fs::write(
+            &path,
+            DEFAULT_SCENARIO_TOML.replace("rate_hz = 1.0", "rate_hz = -1.0"),
+        )
+        .unwrap();
+        let message = Scenario::load(&path).unwrap_err().to_string();
+        assert!(message.contains("bad.toml"), "{message}");
+        assert!(message.contains("gnss.rate_hz must be > 0"), "{message}");
+        let good = directory.join("good.toml");
+        std::fs::write(&good, DEFAULT_SCENARIO_TOML).unwrap();
+        assert_eq!(
+            Scenario::load(&good).unwrap(),
+            Scenario::default_scenario().unwrap()
+        );
+        std::fs::remove_dir_all(&directory).unwrap();
+    }
+}
