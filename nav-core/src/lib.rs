@@ -49,6 +49,8 @@
 
 pub mod attitude;
 pub mod error;
+pub mod frames;
+pub mod gravity;
 pub mod selftest;
 pub mod state;
 

@@ -1,0 +1,312 @@
+//! WGS-84 constants, the launch site, and the launch / launch-inertial frames.
+//!
+//! * **Launch frame** `l`: origin at the launch site, `y` up along the geodetic normal
+//!   (ellipsoid normal), `x` horizontal along the launch azimuth (measured from north toward
+//!   east), `z = x × y` (right-handed). It rotates with the Earth.
+//! * **Launch-inertial frame** `i`: the launch frame frozen in inertial space at the launch
+//!   epoch `t₀`. It is the navigation frame of this crate.
+//! * **ECEF-at-epoch inertial axes** `I`: the ECEF axes frozen at `t₀` (origin at the Earth
+//!   centre). A point fixed in ECEF moves in `I` by the Earth rotation `ω_e (t − t₀)` about `z`.
+//!
+//! So `p_i = C (R_z(ω_e (t − t₀)) r_e − r_site)`, where `C = C_le` is the launch-from-ECEF
+//! rotation at the site and `R_z(θ)` the active rotation by `θ` about `z`.
+//! Geodetic-to-ECEF follows NIMA TR8350.2 (WGS-84), eq. 4-14; the east/north/up basis is the
+//! standard one (e.g. Groves, *Principles of GNSS, Inertial, and Multisensor Integrated
+//! Navigation Systems*, 2nd ed., eq. 2.99).
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::attitude::all_finite3;
+use crate::NavError;
+
+/// WGS-84 semi-major axis `a` (m).
+pub const WGS84_SEMI_MAJOR_AXIS_M: f64 = 6_378_137.0;
+/// WGS-84 flattening `f` (dimensionless).
+pub const WGS84_FLATTENING: f64 = 1.0 / 298.257_223_563;
+/// WGS-84 first eccentricity squared `e² = f (2 − f)` (dimensionless).
+pub const WGS84_ECCENTRICITY_SQUARED: f64 = WGS84_FLATTENING * (2.0 - WGS84_FLATTENING);
+/// WGS-84 semi-minor axis `b = a (1 − f)` (m).
+pub const WGS84_SEMI_MINOR_AXIS_M: f64 = WGS84_SEMI_MAJOR_AXIS_M * (1.0 - WGS84_FLATTENING);
+/// WGS-84 Earth gravitational constant `GM` (m³/s²).
+pub const WGS84_GM_M3_S2: f64 = 3.986_004_418e14;
+/// Second zonal harmonic `J2` (unnormalised, dimensionless).
+pub const WGS84_J2: f64 = 1.082_626_68e-3;
+/// WGS-84 Earth rotation rate `ω_e` (rad/s).
+pub const WGS84_EARTH_RATE_RAD_S: f64 = 7.292_115e-5;
+
+/// Accepted launch-site height range (m above the ellipsoid).
+pub const SITE_HEIGHT_RANGE_M: (f64, f64) = (-1.0e3, 1.0e4);
+
+/// Launch site and epoch that define the launch and launch-inertial frames.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LaunchSite {
+    /// Geodetic latitude φ (rad), in `[−π/2, π/2]`.
+    pub latitude_rad: f64,
+    /// Longitude λ (rad, east positive), in `[−2π, 2π]`.
+    pub longitude_rad: f64,
+    /// Height above the WGS-84 ellipsoid (m), in [`SITE_HEIGHT_RANGE_M`].
+    pub height_m: f64,
+    /// Launch azimuth `A` (rad), from north toward east, in `[−2π, 2π]`.
+    pub azimuth_rad: f64,
+    /// Launch epoch `t₀` on the GNSS time scale (s); any finite value.
+    pub epoch_s: f64,
+}
+
+impl LaunchSite {
+    /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] for a non-finite or out-of-range field.
+    pub fn validate(&self) -> Result<(), NavError> {
+        let two_pi = 2.0 * core::f64::consts::PI;
+        let ok = self.latitude_rad.is_finite()
+            && self.longitude_rad.is_finite()
+            && self.height_m.is_finite()
+            && self.azimuth_rad.is_finite()
+            && self.epoch_s.is_finite()
+            && self.latitude_rad.abs() <= core::f64::consts::FRAC_PI_2
+            && self.longitude_rad.abs() <= two_pi
+            && self.azimuth_rad.abs() <= two_pi
+            && self.height_m >= SITE_HEIGHT_RANGE_M.0
+            && self.height_m <= SITE_HEIGHT_RANGE_M.1;
+        if ok {
+            Ok(())
+        } else {
+            Err(NavError::InvalidConfiguration)
+        }
+    }
+}
+
+/// ECEF position (m) of a geodetic point (WGS-84; NIMA TR8350.2 eq. 4-14):
+/// `N = a / √(1 − e² sin²φ)`, `r = [(N+h) cosφ cosλ, (N+h) cosφ sinλ, (N(1−e²)+h) sinφ]`.
+pub fn geodetic_to_ecef(latitude_rad: f64, longitude_rad: f64, height_m: f64) -> Vector3<f64> {
+    let (sin_lat, cos_lat) = (libm::sin(latitude_rad), libm::cos(latitude_rad));
+    let (sin_lon, cos_lon) = (libm::sin(longitude_rad), libm::cos(longitude_rad));
+    let n =
+        WGS84_SEMI_MAJOR_AXIS_M / libm::sqrt(1.0 - WGS84_ECCENTRICITY_SQUARED * sin_lat * sin_lat);
+    Vector3::new(
+        (n + height_m) * cos_lat * cos_lon,
+        (n + height_m) * cos_lat * sin_lon,
+        (n * (1.0 - WGS84_ECCENTRICITY_SQUARED) + height_m) * sin_lat,
+    )
+}
+
+/// Active rotation by `angle_rad` about `z`: `R_z(θ) = [[c, −s, 0], [s, c, 0], [0, 0, 1]]`.
+fn rotation_z(angle_rad: f64) -> Matrix3<f64> {
+    let (s, c) = (libm::sin(angle_rad), libm::cos(angle_rad));
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// Precomputed launch-frame geometry for one [`LaunchSite`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaunchFrame {
+    site: LaunchSite,
+    /// `C = C_le`: rows are the launch `x`, `y`, `z` axes expressed in ECEF.
+    launch_from_ecef: Matrix3<f64>,
+    /// Site position in ECEF (m).
+    site_ecef_m: Vector3<f64>,
+    /// Earth centre in launch(-inertial) axes, `−C r_site` (m).
+    earth_centre_launch_m: Vector3<f64>,
+    /// Unit Earth rotation axis in launch(-inertial) axes, `C [0, 0, 1]ᵀ`.
+    earth_axis_launch: Vector3<f64>,
+}
+
+impl LaunchFrame {
+    /// Builds the frame: with up `u = [cosφ cosλ, cosφ sinλ, sinφ]`,
+    /// north `n = [−sinφ cosλ, −sinφ sinλ, cosφ]`, east `e = [−sinλ, cosλ, 0]`
+    /// (Groves eq. 2.99), `x = cosA n + sinA e`, `y = u`, `z = x × y`, `C = [x y z]ᵀ`.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] if [`LaunchSite::validate`] fails.
+    pub fn new(site: &LaunchSite) -> Result<Self, NavError> {
+        site.validate()?;
+        let (sin_lat, cos_lat) = (libm::sin(site.latitude_rad), libm::cos(site.latitude_rad));
+        let (sin_lon, cos_lon) = (libm::sin(site.longitude_rad), libm::cos(site.longitude_rad));
+        let (sin_az, cos_az) = (libm::sin(site.azimuth_rad), libm::cos(site.azimuth_rad));
+        let up = Vector3::new(cos_lat * cos_lon, cos_lat * sin_lon, sin_lat);
+        let north = Vector3::new(-sin_lat * cos_lon, -sin_lat * sin_lon, cos_lat);
+        let east = Vector3::new(-sin_lon, cos_lon, 0.0);
+        let x_axis = north * cos_az + east * sin_az;
+        let y_axis = up;
+        let z_axis = x_axis.cross(&y_axis);
+        let launch_from_ecef =
+            Matrix3::from_rows(&[x_axis.transpose(), y_axis.transpose(), z_axis.transpose()]);
+        let site_ecef_m = geodetic_to_ecef(site.latitude_rad, site.longitude_rad, site.height_m);
+        Ok(Self {
+            site: *site,
+            launch_from_ecef,
+            site_ecef_m,
+            earth_centre_launch_m: -(launch_from_ecef * site_ecef_m),
+            earth_axis_launch: launch_from_ecef * Vector3::z(),
+        })
+    }
+
+    /// The site this frame was built from.
+    pub fn site(&self) -> &LaunchSite {
+        &self.site
+    }
+
+    /// `C = C_le`, the launch-from-ECEF rotation (dimensionless).
+    pub fn launch_from_ecef(&self) -> &Matrix3<f64> {
+        &self.launch_from_ecef
+    }
+
+    /// Site position in ECEF (m).
+    pub fn site_ecef_m(&self) -> &Vector3<f64> {
+        &self.site_ecef_m
+    }
+
+    /// Earth centre in launch-inertial axes, `−C r_site` (m).
+    pub fn earth_centre_launch_m(&self) -> &Vector3<f64> {
+        &self.earth_centre_launch_m
+    }
+
+    /// ECEF position (m) at GNSS time `gnss_time_s` (s) to launch-inertial position (m):
+    /// `p_i = C (R_z(ω_e (t − t₀)) r_e − r_site)`.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite position or time.
+    pub fn ecef_to_launch_inertial(
+        &self,
+        position_ecef_m: &Vector3<f64>,
+        gnss_time_s: f64,
+    ) -> Result<Vector3<f64>, NavError> {
+        if !all_finite3(position_ecef_m) || !gnss_time_s.is_finite() {
+            return Err(NavError::NonFiniteInput);
+        }
+        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
+        let inertial = rotation_z(angle) * position_ecef_m;
+        Ok(self.launch_from_ecef * (inertial - self.site_ecef_m))
+    }
+
+    /// Inverse of [`Self::ecef_to_launch_inertial`]: launch-inertial position (m) to ECEF
+    /// position (m) at GNSS time `gnss_time_s` (s),
+    /// `r_e = R_z(−ω_e (t − t₀)) (r_site + Cᵀ p_i)`.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite position or time.
+    pub fn launch_inertial_to_ecef(
+        &self,
+        position_launch_m: &Vector3<f64>,
+        gnss_time_s: f64,
+    ) -> Result<Vector3<f64>, NavError> {
+        if !all_finite3(position_launch_m) || !gnss_time_s.is_finite() {
+            return Err(NavError::NonFiniteInput);
+        }
+        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
+        Ok(rotation_z(-angle) * self.earth_centred_position(position_launch_m))
+    }
+
+    /// Geocentric position (m) in the ECEF-at-epoch inertial axes of a launch-inertial
+    /// position (m): `r_I = r_site + Cᵀ p_i`.
+    pub fn earth_centred_position(&self, position_launch_m: &Vector3<f64>) -> Vector3<f64> {
+        self.site_ecef_m + self.launch_from_ecef.transpose() * position_launch_m
+    }
+
+    /// Geocentric position (m) expressed in launch-inertial axes: `p_i − (−C r_site)`
+    /// `= C r_site + p_i` (the same vector as [`Self::earth_centred_position`], other axes).
+    pub fn geocentric_position_launch(&self, position_launch_m: &Vector3<f64>) -> Vector3<f64> {
+        position_launch_m - self.earth_centre_launch_m
+    }
+
+    /// Unit Earth rotation axis in launch-inertial axes, `C [0, 0, 1]ᵀ` (dimensionless).
+    pub fn earth_axis_launch(&self) -> Vector3<f64> {
+        self.earth_axis_launch
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn wenchang() -> LaunchSite {
+        LaunchSite {
+            latitude_rad: 19.6_f64.to_radians(),
+            longitude_rad: 110.9_f64.to_radians(),
+            height_m: 0.0,
+            azimuth_rad: 90.0_f64.to_radians(),
+            epoch_s: 0.0,
+        }
+    }
+
+    #[test]
+    fn site_maps_to_origin_at_epoch_and_axes_are_as_documented() {
+        let frame = LaunchFrame::new(&wenchang()).unwrap();
+        let site = *frame.site_ecef_m();
+        let origin = frame.ecef_to_launch_inertial(&site, 0.0).unwrap();
+        println!("site -> launch-inertial at epoch: {origin:?}");
+        assert!(origin.norm() < 1e-9);
+        // Orthonormal, right-handed.
+        let c = frame.launch_from_ecef();
+        assert!((c * c.transpose() - Matrix3::identity()).abs().max() < 1e-15);
+        assert!((c.determinant() - 1.0).abs() < 1e-15);
+        // 100 m along the geodetic normal is +y; azimuth 90° puts +x due east.
+        let up = Vector3::new(
+            19.6_f64.to_radians().cos() * 110.9_f64.to_radians().cos(),
+            19.6_f64.to_radians().cos() * 110.9_f64.to_radians().sin(),
+            19.6_f64.to_radians().sin(),
+        );
+        let above = frame
+            .ecef_to_launch_inertial(&(site + 100.0 * up), 0.0)
+            .unwrap();
+        assert!(
+            (above - Vector3::new(0.0, 100.0, 0.0)).norm() < 1e-8,
+            "{above:?}"
+        );
+        let east = Vector3::new(
+            -110.9_f64.to_radians().sin(),
+            110.9_f64.to_radians().cos(),
+            0.0,
+        );
+        assert!((c * east - Vector3::x()).norm() < 1e-15);
+        // Earth axis: in the y-z plane tilt by latitude (x east has no axis component).
+        let axis = frame.earth_axis_launch();
+        assert!((axis.norm() - 1.0).abs() < 1e-15);
+        assert!((axis.y - 19.6_f64.to_radians().sin()).abs() < 1e-15);
+        assert!(axis.x.abs() < 1e-15);
+    }
+
+    #[test]
+    fn ecef_launch_inertial_round_trip_and_earth_rotation() {
+        let frame = LaunchFrame::new(&wenchang()).unwrap();
+        let r = Vector3::new(-2.3e6, 5.9e6, 2.2e6);
+        let mut worst: f64 = 0.0;
+        for t in [0.0, 1.0, 600.0, 5_000.0, 86_164.0] {
+            let p = frame.ecef_to_launch_inertial(&r, t).unwrap();
+            let back = frame.launch_inertial_to_ecef(&p, t).unwrap();
+            worst = worst.max((back - r).norm());
+        }
+        println!("worst ECEF round-trip error: {worst:e} m");
+        assert!(worst < 1e-6);
+        // The site itself drifts eastward in launch-inertial axes after t0: about
+        // ω_e R cosφ t along +x (east) for small t.
+        let p = frame
+            .ecef_to_launch_inertial(frame.site_ecef_m(), 1.0)
+            .unwrap();
+        let expected = WGS84_EARTH_RATE_RAD_S * frame.site_ecef_m().xy().norm();
+        assert!((p.x - expected).abs() < 1e-3, "{p:?} vs {expected}");
+        // Earth centre: geocentric position of the origin is the site.
+        let centre = frame.earth_centred_position(frame.earth_centre_launch_m());
+        assert!(centre.norm() < 1e-8);
+    }
+
+    #[test]
+    fn bad_sites_and_inputs_are_refused() {
+        let mut site = wenchang();
+        site.latitude_rad = 2.0;
+        assert_eq!(LaunchFrame::new(&site), Err(NavError::InvalidConfiguration));
+        site = wenchang();
+        site.height_m = f64::NAN;
+        assert_eq!(site.validate(), Err(NavError::InvalidConfiguration));
+        let frame = LaunchFrame::new(&wenchang()).unwrap();
+        assert_eq!(
+            frame.ecef_to_launch_inertial(&Vector3::zeros(), f64::INFINITY),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            frame.launch_inertial_to_ecef(&Vector3::new(f64::NAN, 0.0, 0.0), 0.0),
+            Err(NavError::NonFiniteInput)
+        );
+    }
+}
