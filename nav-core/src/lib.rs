@@ -48,7 +48,11 @@
 )]
 
 pub mod attitude;
+pub mod discretise;
 pub mod error;
+pub mod error_model;
+pub mod filter;
+pub mod measurement;
 pub mod frames;
 pub mod gravity;
 pub mod selftest;

@@ -1,0 +1,579 @@
+//! The error-state Kalman filter: covariance prediction, gated Joseph-form updates, and the
+//! open-loop (paper) or closed-loop (reset) handling of the error state.
+//!
+//! * Predict: `x ← F x` (open loop only; closed loop keeps `x = 0`), `P ← F P Fᵀ + Qd`.
+//! * Update: `ν = z − H x`, `S = H P Hᵀ + R` (Cholesky; not positive definite ⇒ error),
+//!   NIS `= νᵀ S⁻¹ ν`, `K = P Hᵀ S⁻¹`, `x ← x + K ν`,
+//!   Joseph form `P ← (I − K H) P (I − K H)ᵀ + K R Kᵀ` (Bucy & Joseph 1968), then
+//!   symmetrised. A measurement whose NIS exceeds the gate leaves `x` and `P` untouched.
+//! * Closed-loop reset: the caller applies `x` to the navigation solution and the sensor
+//!   estimates ([`apply_error_state`]), and the filter zeroes `x` and maps `P` through the
+//!   reset Jacobian: after `q̂⁺ = q̂ ⊗ δq(ϑ̂)`, the new error is `δq⁺ = δq(ϑ̂)* ⊗ δq`, so
+//!   `∂ϑ⁺/∂ϑ = I − [ϑ̂×]` to first order (Solà 2017, §7.2, with `ϑ = δθ/2`); likewise for the
+//!   installation error. All other blocks reset with the identity.
+//!
+//! Every failure is a typed [`NavError`] and leaves the filter exactly as it was.
+
+use nalgebra::{Cholesky, Matrix3, Quaternion, SMatrix, SVector, Vector3};
+
+use crate::attitude::{self, skew};
+use crate::discretise::{CovarianceMatrix, DiscreteModel};
+use crate::error_model::set_block;
+use crate::measurement::LinearMeasurement;
+use crate::state::{
+    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
+};
+use crate::NavError;
+
+/// The 24-element error-state vector.
+pub type ErrorState = SVector<f64, STATE_DIMENSION>;
+
+/// How the estimated errors are used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FilterMode {
+    /// The paper's filter: the navigation solution is never corrected; `x` accumulates.
+    OpenLoop,
+    /// After each update the errors are fed back and `x` is zeroed (flight practice).
+    ClosedLoop,
+}
+
+/// Initial 1σ per block (same value on each of the block's three axes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct InitialUncertainty {
+    /// Attitude error, as a rotation angle (rad); the state's 1σ is half of it.
+    pub attitude_rad: f64,
+    /// Position (m).
+    pub position_m: f64,
+    /// Velocity (m/s).
+    pub velocity_mps: f64,
+    /// Gyro bias (rad/s).
+    pub gyro_bias_rad_s: f64,
+    /// Accelerometer bias (m/s²).
+    pub accel_bias_mps2: f64,
+    /// Star-sensor installation error, as a rotation angle (rad); the state's 1σ is half.
+    pub star_installation_rad: f64,
+    /// Gyro scale factor (dimensionless).
+    pub gyro_scale_factor: f64,
+    /// Accelerometer scale factor (dimensionless).
+    pub accel_scale_factor: f64,
+}
+
+/// Filter configuration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FilterConfig {
+    /// Open or closed loop.
+    pub mode: FilterMode,
+    /// Discretisation order, 1 to 4 (paper: 3).
+    pub discretisation_order: u8,
+    /// Initial 1σ per block.
+    pub initial: InitialUncertainty,
+}
+
+impl FilterConfig {
+    /// Checks every value is finite and in range.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidDiscretisationOrder`], or [`NavError::InvalidConfiguration`] for a
+    /// non-finite or non-positive initial 1σ.
+    pub fn validate(&self) -> Result<(), NavError> {
+        if !(1..=crate::discretise::MAX_ORDER).contains(&self.discretisation_order) {
+            return Err(NavError::InvalidDiscretisationOrder);
+        }
+        let sigmas = self.initial_sigmas();
+        if sigmas
+            .iter()
+            .all(|(_, sigma)| sigma.is_finite() && *sigma > 0.0)
+        {
+            Ok(())
+        } else {
+            Err(NavError::InvalidConfiguration)
+        }
+    }
+
+    /// 1σ of each block's state (the attitude and installation states are half-angles).
+    fn initial_sigmas(&self) -> [(StateBlock, f64); 8] {
+        let i = &self.initial;
+        [
+            (ATTITUDE, 0.5 * i.attitude_rad),
+            (POSITION, i.position_m),
+            (VELOCITY, i.velocity_mps),
+            (GYRO_BIAS, i.gyro_bias_rad_s),
+            (ACCEL_BIAS, i.accel_bias_mps2),
+            (STAR_INSTALLATION, 0.5 * i.star_installation_rad),
+            (GYRO_SCALE_FACTOR, i.gyro_scale_factor),
+            (ACCEL_SCALE_FACTOR, i.accel_scale_factor),
+        ]
+    }
+}
+
+/// What an update computed, for gating and telemetry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InnovationReport {
+    /// Innovation `ν = z − H x`.
+    pub innovation: Vector3<f64>,
+    /// Innovation covariance `S = H P Hᵀ + R`.
+    pub covariance: Matrix3<f64>,
+    /// Normalised innovation squared `νᵀ S⁻¹ ν` (χ² with 3 degrees of freedom if consistent).
+    pub normalised_innovation_squared: f64,
+    /// Whether the update was applied (false: rejected by the gate, filter untouched).
+    pub accepted: bool,
+}
+
+/// The sensor-error estimates the closed-loop filter feeds back into.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CalibrationEstimate {
+    /// Gyro bias (rad/s).
+    pub gyro_bias_rad_s: [f64; 3],
+    /// Accelerometer bias (m/s²).
+    pub accel_bias_mps2: [f64; 3],
+    /// Star-sensor installation error `q̂_ψ`, `[w, x, y, z]`.
+    pub star_installation_wxyz: [f64; 4],
+    /// Gyro scale factor (dimensionless).
+    pub gyro_scale_factor: [f64; 3],
+    /// Accelerometer scale factor (dimensionless).
+    pub accel_scale_factor: [f64; 3],
+}
+
+impl Default for CalibrationEstimate {
+    fn default() -> Self {
+        Self {
+            gyro_bias_rad_s: [0.0; 3],
+            accel_bias_mps2: [0.0; 3],
+            star_installation_wxyz: [1.0, 0.0, 0.0, 0.0],
+            gyro_scale_factor: [0.0; 3],
+            accel_scale_factor: [0.0; 3],
+        }
+    }
+}
+
+/// Error state and covariance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ErrorStateFilter {
+    state: ErrorState,
+    covariance: CovarianceMatrix,
+    mode: FilterMode,
+}
+
+fn block_of(state: &ErrorState, block: StateBlock) -> Vector3<f64> {
+    state.fixed_rows::<3>(block.index).into()
+}
+
+fn add3(target: &mut [f64; 3], delta: &Vector3<f64>) {
+    let [x, y, z] = target;
+    *x += delta.x;
+    *y += delta.y;
+    *z += delta.z;
+}
+
+/// Applies an error state to a navigation solution and calibration estimate (closed-loop
+/// feedback): `q̂ ← q̂ ⊗ δq(ϑ)`, `p̂ += δp`, `v̂ += δv`, `b̂ += δb`, `λ̂ += δλ`,
+/// `q̂_ψ ← q̂_ψ ⊗ δq(ψ)`. Nothing is changed on error.
+///
+/// # Errors
+/// [`NavError::NonFiniteState`] if `x` is not finite, [`NavError::DegenerateQuaternion`] if
+/// an attitude correction is not a valid quaternion vector part (|ϑ| ≥ 1).
+pub fn apply_error_state(
+    error: &ErrorState,
+    attitude: &mut Quaternion<f64>,
+    position_m: &mut Vector3<f64>,
+    velocity_mps: &mut Vector3<f64>,
+    calibration: &mut CalibrationEstimate,
+) -> Result<(), NavError> {
+    if !error.iter().all(|v| v.is_finite()) {
+        return Err(NavError::NonFiniteState);
+    }
+    let attitude_correction = attitude::from_vector_part(&block_of(error, ATTITUDE))?;
+    let installation_correction = attitude::from_vector_part(&block_of(error, STAR_INSTALLATION))?;
+    let [w, x, y, z] = calibration.star_installation_wxyz;
+    let installation = attitude::normalise(&attitude::product(
+        &Quaternion::new(w, x, y, z),
+        &installation_correction,
+    ))?;
+    let new_attitude = attitude::normalise(&attitude::product(attitude, &attitude_correction))?;
+    *attitude = new_attitude;
+    calibration.star_installation_wxyz = [
+        installation.w,
+        installation.i,
+        installation.j,
+        installation.k,
+    ];
+    *position_m += block_of(error, POSITION);
+    *velocity_mps += block_of(error, VELOCITY);
+    add3(
+        &mut calibration.gyro_bias_rad_s,
+        &block_of(error, GYRO_BIAS),
+    );
+    add3(
+        &mut calibration.accel_bias_mps2,
+        &block_of(error, ACCEL_BIAS),
+    );
+    add3(
+        &mut calibration.gyro_scale_factor,
+        &block_of(error, GYRO_SCALE_FACTOR),
+    );
+    add3(
+        &mut calibration.accel_scale_factor,
+        &block_of(error, ACCEL_SCALE_FACTOR),
+    );
+    Ok(())
+}
+
+impl ErrorStateFilter {
+    /// A filter with `x = 0` and `P = diag(σ²)` from the configuration.
+    ///
+    /// # Errors
+    /// As [`FilterConfig::validate`].
+    pub fn new(config: &FilterConfig) -> Result<Self, NavError> {
+        config.validate()?;
+        let mut covariance = CovarianceMatrix::zeros();
+        for (block, sigma) in config.initial_sigmas() {
+            set_block(
+                &mut covariance,
+                block,
+                block,
+                &(Matrix3::identity() * (sigma * sigma)),
+            );
+        }
+        Ok(Self {
+            state: ErrorState::zeros(),
+            covariance,
+            mode: config.mode,
+        })
+    }
+
+    /// The error-state estimate `x`.
+    pub fn state(&self) -> &ErrorState {
+        &self.state
+    }
+
+    /// The covariance `P`.
+    pub fn covariance(&self) -> &CovarianceMatrix {
+        &self.covariance
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> FilterMode {
+        self.mode
+    }
+
+    /// 1σ of every state (square roots of the diagonal of `P`).
+    pub fn standard_deviations(&self) -> ErrorState {
+        self.covariance
+            .diagonal()
+            .map(|variance| libm::sqrt(variance.max(0.0)))
+    }
+
+    /// Replaces `P` (for covariance protection by the caller).
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if `covariance` has NaN/Inf; nothing changes then.
+    pub fn set_covariance(&mut self, covariance: &CovarianceMatrix) -> Result<(), NavError> {
+        if !covariance.iter().all(|v| v.is_finite()) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.covariance = symmetrised(covariance);
+        Ok(())
+    }
+
+    /// Time update with a discretised model.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if the result is not finite (filter unchanged).
+    pub fn predict(&mut self, model: &DiscreteModel) -> Result<(), NavError> {
+        let f = &model.transition;
+        let covariance = symmetrised(&(f * self.covariance * f.transpose() + model.process_noise));
+        let state = match self.mode {
+            FilterMode::OpenLoop => f * self.state,
+            FilterMode::ClosedLoop => self.state,
+        };
+        if !(covariance.iter().all(|v| v.is_finite()) && state.iter().all(|v| v.is_finite())) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.covariance = covariance;
+        self.state = state;
+        Ok(())
+    }
+
+    /// Innovation, its covariance and NIS for `measurement`, without changing the filter.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for NaN/Inf in the measurement,
+    /// [`NavError::NonPositiveInnovationCovariance`] if `S` is not positive definite.
+    pub fn innovation(
+        &self,
+        measurement: &LinearMeasurement,
+    ) -> Result<InnovationReport, NavError> {
+        let finite = measurement.residual.iter().all(|v| v.is_finite())
+            && measurement.jacobian.iter().all(|v| v.is_finite())
+            && measurement.noise_covariance.iter().all(|v| v.is_finite());
+        if !finite {
+            return Err(NavError::NonFiniteInput);
+        }
+        let h = &measurement.jacobian;
+        let innovation = measurement.residual - h * self.state;
+        let covariance =
+            symmetrised3(&(h * self.covariance * h.transpose() + measurement.noise_covariance));
+        let cholesky =
+            Cholesky::new(covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
+        let whitened = cholesky.solve(&innovation);
+        let nis = innovation.dot(&whitened);
+        if !(nis.is_finite() && nis >= 0.0) {
+            return Err(NavError::NonPositiveInnovationCovariance);
+        }
+        Ok(InnovationReport {
+            innovation,
+            covariance,
+            normalised_innovation_squared: nis,
+            accepted: false,
+        })
+    }
+
+    /// Measurement update in Joseph form, gated: if the NIS exceeds `gate_nis` (a χ²(3)
+    /// threshold; `f64::INFINITY` disables the gate) the filter is left untouched and the
+    /// report says `accepted: false`.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::innovation`], plus [`NavError::NonFiniteState`] if the result is
+    /// not finite; the filter is unchanged on any error.
+    pub fn update(
+        &mut self,
+        measurement: &LinearMeasurement,
+        gate_nis: f64,
+    ) -> Result<InnovationReport, NavError> {
+        let mut report = self.innovation(measurement)?;
+        if report.normalised_innovation_squared > gate_nis {
+            return Ok(report);
+        }
+        let cholesky =
+            Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
+        let h = &measurement.jacobian;
+        // K = P Hᵀ S⁻¹, computed as (S⁻¹ H P)ᵀ since S and P are symmetric.
+        let gain: SMatrix<f64, STATE_DIMENSION, 3> =
+            cholesky.solve(&(h * self.covariance)).transpose();
+        let state = self.state + gain * report.innovation;
+        let i_minus_kh = CovarianceMatrix::identity() - gain * h;
+        let covariance = symmetrised(
+            &(i_minus_kh * self.covariance * i_minus_kh.transpose()
+                + gain * measurement.noise_covariance * gain.transpose()),
+        );
+        if !(covariance.iter().all(|v| v.is_finite()) && state.iter().all(|v| v.is_finite())) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.state = state;
+        self.covariance = covariance;
+        report.accepted = true;
+        Ok(report)
+    }
+
+    /// Closed-loop reset: returns the error state to feed back (see [`apply_error_state`]),
+    /// zeroes `x` and applies the reset Jacobian to `P` (module docs).
+    pub fn reset(&mut self) -> ErrorState {
+        let error = self.state;
+        let mut jacobian = CovarianceMatrix::identity();
+        for block in [ATTITUDE, STAR_INSTALLATION] {
+            let correction = block_of(&error, block);
+            set_block(
+                &mut jacobian,
+                block,
+                block,
+                &(Matrix3::identity() - skew(&correction)),
+            );
+        }
+        self.covariance = symmetrised(&(jacobian * self.covariance * jacobian.transpose()));
+        self.state = ErrorState::zeros();
+        error
+    }
+
+    /// In open loop, the current estimate of the error of one block (for reporting).
+    pub fn block(&self, block: StateBlock) -> Vector3<f64> {
+        block_of(&self.state, block)
+    }
+
+    /// Indices of the blocks, for reports (re-export of the state layout).
+    pub fn blocks() -> &'static [StateBlock; 8] {
+        &BLOCKS
+    }
+}
+
+fn symmetrised(matrix: &CovarianceMatrix) -> CovarianceMatrix {
+    (matrix + matrix.transpose()) * 0.5
+}
+
+fn symmetrised3(matrix: &Matrix3<f64>) -> Matrix3<f64> {
+    (matrix + matrix.transpose()) * 0.5
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::measurement::MeasurementJacobian;
+
+    fn config(mode: FilterMode) -> FilterConfig {
+        FilterConfig {
+            mode,
+            discretisation_order: 3,
+            initial: InitialUncertainty {
+                attitude_rad: 1e-2,
+                position_m: 100.0,
+                velocity_mps: 1.0,
+                gyro_bias_rad_s: 1e-3,
+                accel_bias_mps2: 1e-2,
+                star_installation_rad: 1e-2,
+                gyro_scale_factor: 1e-4,
+                accel_scale_factor: 1e-4,
+            },
+        }
+    }
+
+    fn position_measurement(residual: Vector3<f64>, sigma: f64) -> LinearMeasurement {
+        let mut jacobian = MeasurementJacobian::zeros();
+        jacobian
+            .fixed_view_mut::<3, 3>(0, POSITION.index)
+            .fill_with_identity();
+        LinearMeasurement {
+            residual,
+            jacobian,
+            noise_covariance: Matrix3::identity() * sigma * sigma,
+        }
+    }
+
+    #[test]
+    fn scalar_update_matches_the_closed_form_posterior() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        let report = filter
+            .update(
+                &position_measurement(Vector3::new(30.0, -10.0, 5.0), 10.0),
+                f64::INFINITY,
+            )
+            .unwrap();
+        assert!(report.accepted);
+        // prior σ² = 1e4, R = 1e2: posterior mean z·σ²/(σ²+R), variance σ²R/(σ²+R).
+        let gain = 1e4 / (1e4 + 1e2);
+        assert!((filter.state()[POSITION.index] - 30.0 * gain).abs() < 1e-12);
+        assert!(
+            (filter.covariance()[(POSITION.index, POSITION.index)] - 1e4 * 1e2 / (1e4 + 1e2)).abs()
+                < 1e-9
+        );
+        let expected_nis = (30.0f64.powi(2) + 10.0f64.powi(2) + 5.0f64.powi(2)) / (1e4 + 1e2);
+        assert!((report.normalised_innovation_squared - expected_nis).abs() < 1e-12);
+        // Unobserved blocks keep their prior.
+        assert_eq!(
+            filter.covariance()[(VELOCITY.index, VELOCITY.index)].to_bits(),
+            1.0f64.to_bits()
+        );
+        assert_eq!(filter.covariance(), &filter.covariance().transpose());
+        assert!(Cholesky::new(*filter.covariance()).is_some());
+    }
+
+    #[test]
+    fn a_gated_measurement_leaves_the_filter_bit_identical() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        let before = filter;
+        let report = filter
+            .update(
+                &position_measurement(Vector3::new(5000.0, 0.0, 0.0), 10.0),
+                11.34,
+            )
+            .unwrap();
+        assert!(!report.accepted);
+        assert!(report.normalised_innovation_squared > 11.34);
+        assert_eq!(filter, before);
+    }
+
+    #[test]
+    fn bad_measurements_are_typed_errors_and_change_nothing() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        let before = filter;
+        let nan = position_measurement(Vector3::new(f64::NAN, 0.0, 0.0), 10.0);
+        assert_eq!(
+            filter.update(&nan, f64::INFINITY),
+            Err(NavError::NonFiniteInput)
+        );
+        let mut negative = position_measurement(Vector3::zeros(), 10.0);
+        negative.noise_covariance = Matrix3::identity() * -2e4;
+        assert_eq!(
+            filter.update(&negative, f64::INFINITY),
+            Err(NavError::NonPositiveInnovationCovariance)
+        );
+        assert_eq!(filter, before);
+        let mut bad = config(FilterMode::OpenLoop);
+        bad.initial.gyro_bias_rad_s = f64::NAN;
+        assert_eq!(
+            ErrorStateFilter::new(&bad),
+            Err(NavError::InvalidConfiguration)
+        );
+        bad = config(FilterMode::OpenLoop);
+        bad.discretisation_order = 7;
+        assert_eq!(
+            ErrorStateFilter::new(&bad),
+            Err(NavError::InvalidDiscretisationOrder)
+        );
+    }
+
+    #[test]
+    fn closed_loop_reset_zeroes_the_state_and_applies_the_reset_jacobian() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        let mut jacobian = MeasurementJacobian::zeros();
+        jacobian
+            .fixed_view_mut::<3, 3>(0, ATTITUDE.index)
+            .fill_with_identity();
+        let measurement = LinearMeasurement {
+            residual: Vector3::new(2e-3, -1e-3, 3e-3),
+            jacobian,
+            noise_covariance: Matrix3::identity() * 1e-10,
+        };
+        filter.update(&measurement, f64::INFINITY).unwrap();
+        let covariance_before = *filter.covariance();
+        let error = filter.reset();
+        assert_eq!(filter.state(), &ErrorState::zeros());
+        let theta = error.fixed_rows::<3>(ATTITUDE.index).into_owned();
+        let g = Matrix3::identity() - skew(&theta);
+        let expected = g * covariance_before.fixed_view::<3, 3>(0, 0) * g.transpose();
+        assert!((filter.covariance().fixed_view::<3, 3>(0, 0) - expected).amax() < 1e-20);
+
+        let mut attitude = Quaternion::new(1.0, 0.0, 0.0, 0.0);
+        let mut position = Vector3::zeros();
+        let mut velocity = Vector3::zeros();
+        let mut calibration = CalibrationEstimate::default();
+        apply_error_state(
+            &error,
+            &mut attitude,
+            &mut position,
+            &mut velocity,
+            &mut calibration,
+        )
+        .unwrap();
+        assert!(
+            (attitude.imag() - theta).amax() < 1e-12,
+            "{attitude:?} vs {theta:?}"
+        );
+    }
+
+    #[test]
+    fn open_loop_prediction_propagates_the_state() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        filter
+            .update(
+                &position_measurement(Vector3::new(30.0, 0.0, 0.0), 10.0),
+                f64::INFINITY,
+            )
+            .unwrap();
+        let mut transition = CovarianceMatrix::identity() * 2.0;
+        transition[(0, 0)] = 1.0;
+        let model = DiscreteModel {
+            transition,
+            process_noise: CovarianceMatrix::zeros(),
+        };
+        let before = filter.state()[POSITION.index];
+        filter.predict(&model).unwrap();
+        assert_eq!(
+            filter.state()[POSITION.index].to_bits(),
+            (2.0 * before).to_bits()
+        );
+    }
+}

@@ -1,0 +1,273 @@
+//! Measurement residuals and their Jacobians (paper Section 1.3.2, re-derived for the
+//! body-frame attitude error; see `shared/notes/model.md` on why the paper's `−C` block
+//! becomes a constant here). Each sensor gives a 3-row block so it can update alone.
+//!
+//! ## Star sensor
+//! The sensor measures `q_is = q_ib ⊗ q_bs ⊗ q_ψ ⊗ δq_noise` (paper: `q̂_s = q_s ⊗ q_ψ`),
+//! `q_bs` the nominal mounting (sensor to body), `q_ψ` the installation error. The estimate
+//! keeps `q̂_ψ`, and the installation-error state `ψ` is the vector part of `δq_ψ` in
+//! `q_ψ = q̂_ψ ⊗ δq_ψ` (in open loop `q̂_ψ = 1`, so `ψ = vec(q_ψ)`, the paper's state).
+//! Predicted `q̂_is = q̂_ib ⊗ M`, `M = q_bs ⊗ q̂_ψ`. Residual
+//! `z = vec(canonical(q̂_is* ⊗ q_is))`. With `q_ib = q̂_ib ⊗ δq`:
+//! `q̂_is* ⊗ q_is = (M* ⊗ δq ⊗ M) ⊗ δq_ψ ⊗ δq_noise`, whose vector part is, to first order,
+//! `R(M)ᵀ ϑ + ψ + ν/2` (a quaternion sandwich rotates the vector part; small quaternions'
+//! vector parts add). So `H_attitude = R(M)ᵀ = C_sb` and `H_installation = I`, both constant
+//! for a body-fixed sensor, and the noise of the vector part is half the angle noise.
+//!
+//! ## GNSS
+//! The antenna is at `p + C ℓ` (`ℓ` lever arm in body axes). Residual
+//! `z = p_gnss − p̂ − Ĉ ℓ = δp + (C − Ĉ) ℓ = δp + 2 Ĉ [ϑ×] ℓ = δp − 2 Ĉ [ℓ×] ϑ`, so
+//! `H_position = I`, `H_attitude = −2 Ĉ [ℓ×]`.
+
+use nalgebra::{Matrix3, Quaternion, SMatrix, Vector3};
+
+use crate::attitude::{all_finite3, canonical, conjugate, product, rotation_matrix, skew};
+use crate::error_model::set_block;
+use crate::state::{StateBlock, ATTITUDE, POSITION, STAR_INSTALLATION, STATE_DIMENSION};
+use crate::NavError;
+
+/// The three rows of a 3-component measurement (for block writes into `H`).
+const MEASUREMENT_ROWS: StateBlock = StateBlock {
+    index: 0,
+    dimension: 3,
+    name: "measurement",
+};
+
+/// A 3×24 measurement Jacobian block.
+pub type MeasurementJacobian = SMatrix<f64, 3, STATE_DIMENSION>;
+
+/// A linearised 3-component measurement: residual (measured − predicted), `H` and `R`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearMeasurement {
+    /// Residual `z` (measured minus predicted), in the measurement's units.
+    pub residual: Vector3<f64>,
+    /// Jacobian `H` of the residual with respect to the error state.
+    pub jacobian: MeasurementJacobian,
+    /// Measurement noise covariance `R`.
+    pub noise_covariance: Matrix3<f64>,
+}
+
+fn quaternion_is_finite(q: &Quaternion<f64>) -> bool {
+    q.coords.iter().all(|c| c.is_finite())
+}
+
+/// Star-sensor attitude measurement (module docs for the derivation).
+///
+/// * `attitude`: estimated `q̂_ib`; `mounting`: nominal `q_bs`; `installation_estimate`: `q̂_ψ`;
+/// * `measured`: the sensor's `q_is` (unit, any sign);
+/// * `noise_angle_rad`: 1σ angle noise per axis (10″ in the paper); `R = (σ/2)² I`.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for NaN/Inf in any input or a negative noise.
+pub fn star_sensor(
+    attitude: &Quaternion<f64>,
+    mounting: &Quaternion<f64>,
+    installation_estimate: &Quaternion<f64>,
+    measured: &Quaternion<f64>,
+    noise_angle_rad: f64,
+) -> Result<LinearMeasurement, NavError> {
+    let inputs_finite = [attitude, mounting, installation_estimate, measured]
+        .iter()
+        .all(|q| quaternion_is_finite(q));
+    if !(inputs_finite && noise_angle_rad.is_finite() && noise_angle_rad >= 0.0) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let sensor_to_body = product(mounting, installation_estimate);
+    let predicted = product(attitude, &sensor_to_body);
+    let difference = canonical(&product(&conjugate(&predicted), measured));
+    let mut jacobian = MeasurementJacobian::zeros();
+    set_block(
+        &mut jacobian,
+        MEASUREMENT_ROWS,
+        ATTITUDE,
+        &rotation_matrix(&sensor_to_body).transpose(),
+    );
+    set_block(
+        &mut jacobian,
+        MEASUREMENT_ROWS,
+        STAR_INSTALLATION,
+        &Matrix3::identity(),
+    );
+    let half_sigma = 0.5 * noise_angle_rad;
+    Ok(LinearMeasurement {
+        residual: difference.imag(),
+        jacobian,
+        noise_covariance: Matrix3::identity() * (half_sigma * half_sigma),
+    })
+}
+
+/// GNSS position measurement in the launch-inertial frame (module docs for the derivation).
+///
+/// * `attitude` `q̂_ib`, `position_m` `p̂` (IMU position), `lever_arm_body_m` `ℓ`;
+/// * `measured_position_m`: the fix converted to the launch-inertial frame (`frames`);
+/// * `noise_m`: 1σ per axis (10 m in the paper); `R = σ² I`.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for NaN/Inf in any input or a negative noise.
+pub fn gnss_position(
+    attitude: &Quaternion<f64>,
+    position_m: &Vector3<f64>,
+    lever_arm_body_m: &Vector3<f64>,
+    measured_position_m: &Vector3<f64>,
+    noise_m: f64,
+) -> Result<LinearMeasurement, NavError> {
+    let inputs_finite = quaternion_is_finite(attitude)
+        && all_finite3(position_m)
+        && all_finite3(lever_arm_body_m)
+        && all_finite3(measured_position_m);
+    if !(inputs_finite && noise_m.is_finite() && noise_m >= 0.0) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let body_to_inertial = rotation_matrix(attitude);
+    let predicted = position_m + body_to_inertial * lever_arm_body_m;
+    let row = MEASUREMENT_ROWS;
+    let mut jacobian = MeasurementJacobian::zeros();
+    set_block(&mut jacobian, row, POSITION, &Matrix3::identity());
+    set_block(
+        &mut jacobian,
+        row,
+        ATTITUDE,
+        &(-2.0 * body_to_inertial * skew(lever_arm_body_m)),
+    );
+    Ok(LinearMeasurement {
+        residual: measured_position_m - predicted,
+        jacobian,
+        noise_covariance: Matrix3::identity() * (noise_m * noise_m),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attitude::{exp_rotation_vector, from_vector_part};
+    use crate::error_model::tests::{assert_second_order, block_error, estimate, perturbed};
+    use crate::state::BLOCKS;
+    use nalgebra::SVector;
+
+    fn mounting() -> Quaternion<f64> {
+        exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25))
+    }
+    fn installation_estimate() -> Quaternion<f64> {
+        exp_rotation_vector(&Vector3::new(2e-3, -1e-3, 3e-3))
+    }
+    const LEVER_ARM: Vector3<f64> = Vector3::new(1.5, -0.4, 2.0);
+
+    /// The measurement a perfect sensor would give for the truth `estimate ⊕ error`.
+    fn star_truth(error: &SVector<f64, 24>) -> Quaternion<f64> {
+        let truth = perturbed(&estimate(), error);
+        let psi: Vector3<f64> = error.fixed_rows::<3>(STAR_INSTALLATION.index).into();
+        let installation = product(&installation_estimate(), &from_vector_part(&psi).unwrap());
+        // Sign deliberately flipped: the residual must not care.
+        -product(&product(&truth.attitude, &mounting()), &installation)
+    }
+
+    fn scale(block: crate::state::StateBlock) -> f64 {
+        if block == POSITION {
+            10.0
+        } else {
+            1e-3
+        }
+    }
+
+    #[test]
+    fn star_jacobian_predicts_the_nonlinear_residual_to_second_order() {
+        let est = estimate();
+        for block in [ATTITUDE, STAR_INSTALLATION] {
+            let mut mismatch = [0.0; 2];
+            let mut linear_size = 0.0;
+            for (slot, halving) in [1.0, 0.5].into_iter().enumerate() {
+                let error = block_error(block, scale(block) * halving);
+                let m = star_sensor(
+                    &est.attitude,
+                    &mounting(),
+                    &installation_estimate(),
+                    &star_truth(&error),
+                    0.0,
+                )
+                .unwrap();
+                let linear = m.jacobian * error;
+                mismatch[slot] = (m.residual - linear).amax();
+                if slot == 0 {
+                    linear_size = linear.amax();
+                }
+            }
+            assert_second_order(block.name, mismatch, linear_size);
+        }
+        // Blocks outside attitude and installation do not move the star residual.
+        let m = star_sensor(
+            &est.attitude,
+            &mounting(),
+            &installation_estimate(),
+            &star_truth(&SVector::zeros()),
+            0.0,
+        )
+        .unwrap();
+        assert!(m.residual.amax() < 1e-15);
+        for block in BLOCKS {
+            if block != ATTITUDE && block != STAR_INSTALLATION {
+                assert_eq!(
+                    m.jacobian.fixed_columns::<3>(block.index).amax().to_bits(),
+                    0.0f64.to_bits()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gnss_jacobian_predicts_the_nonlinear_residual_to_second_order() {
+        let est = estimate();
+        for block in [ATTITUDE, POSITION] {
+            let mut mismatch = [0.0; 2];
+            let mut linear_size = 0.0;
+            for (slot, halving) in [1.0, 0.5].into_iter().enumerate() {
+                let error = block_error(block, scale(block) * halving);
+                let truth = perturbed(&est, &error);
+                let antenna = truth.position + rotation_matrix(&truth.attitude) * LEVER_ARM;
+                let m = gnss_position(&est.attitude, &est.position, &LEVER_ARM, &antenna, 10.0)
+                    .unwrap();
+                let linear = m.jacobian * error;
+                mismatch[slot] = (m.residual - linear).amax();
+                if slot == 0 {
+                    linear_size = linear.amax();
+                }
+            }
+            assert_second_order(block.name, mismatch, linear_size);
+        }
+    }
+
+    #[test]
+    fn noise_covariances_and_bad_inputs() {
+        let est = estimate();
+        let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
+        let m = star_sensor(
+            &est.attitude,
+            &mounting(),
+            &installation_estimate(),
+            &est.attitude,
+            10.0 * arcsec,
+        )
+        .unwrap();
+        assert!((m.noise_covariance[(0, 0)] - (5.0 * arcsec).powi(2)).abs() < 1e-25);
+        let nan = Quaternion::new(f64::NAN, 0.0, 0.0, 0.0);
+        assert_eq!(
+            star_sensor(
+                &nan,
+                &mounting(),
+                &installation_estimate(),
+                &est.attitude,
+                1e-5
+            ),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            gnss_position(
+                &est.attitude,
+                &est.position,
+                &LEVER_ARM,
+                &Vector3::new(f64::INFINITY, 0.0, 0.0),
+                10.0
+            ),
+            Err(NavError::NonFiniteInput)
+        );
+    }
+}
