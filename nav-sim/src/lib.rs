@@ -14,5 +14,6 @@
 //! Times are navigation time, seconds since the launch epoch.
 
 pub mod scenario;
+pub mod truth;
 
 pub use scenario::{Scenario, ScenarioError};
