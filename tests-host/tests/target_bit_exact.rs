@@ -49,3 +49,31 @@ fn a_changed_bit_is_reported_with_its_index() {
     assert!(mismatch.starts_with("w[1]"), "{mismatch}");
     assert!(log.compare("absent", &[1.0]).is_err());
 }
+
+#[test]
+#[ignore = "needs the QEMU log: run scripts/test.sh"]
+fn filter_path_is_bit_identical_on_host_and_target() {
+    let log = checks_log();
+    let mut fixture = nav_core::selftest::FilterPathFixture::new().expect("valid fixture");
+    fixture.run_sequence().expect("the reference sequence runs");
+    let host = fixture.results();
+    log.compare("filter_path", &host)
+        .unwrap_or_else(|mismatch| panic!("host and Cortex-M7 differ: {mismatch}"));
+    println!(
+        "filter_path (100 propagations, 4 star and 2 GNSS updates, 6 resets): {} results bit-identical",
+        host.len()
+    );
+    for step in [
+        "filter_propagate",
+        "filter_star_update",
+        "filter_gnss_update",
+        "filter_reset",
+        "filter_path_sequence",
+    ] {
+        let instructions = log
+            .costs
+            .get(step)
+            .unwrap_or_else(|| panic!("the target reports the cost of {step}"));
+        println!("target cost {step}: {instructions} instructions");
+    }
+}

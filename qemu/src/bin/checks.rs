@@ -50,6 +50,9 @@ fn main() -> ! {
         }
     }
 
+    // 3. The whole filter path: per-call costs, then the reference sequence's bits.
+    all_passed &= filter_path(&mut counter);
+
     if all_passed {
         defmt::println!("target checks: all passed");
         exit_success()
@@ -57,6 +60,67 @@ fn main() -> ! {
         defmt::error!("target checks: FAILED");
         exit_failure()
     }
+}
+
+/// Costs one call of each filter step, runs the reference sequence and prints its results.
+fn filter_path(counter: &mut InstructionCounter) -> bool {
+    use nav_core::selftest::FilterPathFixture;
+    let Ok(mut fixture) = FilterPathFixture::new() else {
+        defmt::error!("filter path: fixture rejected its configuration");
+        return false;
+    };
+    let mut passed = true;
+    let mut cost =
+        |name: &str, result: Result<(Result<(), nav_core::NavError>, u64), _>| match result {
+            Ok((Ok(()), instructions)) => defmt::println!("COST {=str} {=u64}", name, instructions),
+            Ok((Err(error), _)) => {
+                defmt::error!("filter path {=str}: {}", name, error);
+                passed = false;
+            }
+            Err(error) => {
+                defmt::error!("filter path {=str}: {}", name, error);
+                passed = false;
+            }
+        };
+    cost("filter_propagate", counter.measure(|| fixture.propagate()));
+    cost(
+        "filter_star_update",
+        counter.measure(|| fixture.star_update()),
+    );
+    cost("filter_reset", counter.measure(|| fixture.reset()));
+    cost(
+        "filter_gnss_update",
+        counter.measure(|| fixture.gnss_update()),
+    );
+    cost(
+        "filter_reset_after_gnss",
+        counter.measure(|| fixture.reset()),
+    );
+
+    let Ok(mut sequence) = FilterPathFixture::new() else {
+        return false;
+    };
+    match counter.measure(|| sequence.run_sequence()) {
+        Ok((Ok(()), instructions)) => {
+            for (index, value) in sequence.results().iter().enumerate() {
+                defmt::println!(
+                    "BITS filter_path {=usize} {=u64:016x}",
+                    index,
+                    value.to_bits()
+                );
+            }
+            defmt::println!("COST filter_path_sequence {=u64}", instructions);
+        }
+        Ok((Err(error), _)) => {
+            defmt::error!("filter path sequence: {}", error);
+            passed = false;
+        }
+        Err(error) => {
+            defmt::error!("filter path sequence: {}", error);
+            passed = false;
+        }
+    }
+    passed
 }
 
 /// Measures `known_length_loop(iterations)` and reports whether the harness agrees with the

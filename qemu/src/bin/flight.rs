@@ -18,6 +18,18 @@ fn main() -> ! {
     for value in results {
         defmt::println!("flight: {=u64:016x}", value.to_bits());
     }
+    // The whole filter path (propagation, both updates, resets) must be panic-free too.
+    match nav_core::selftest::FilterPathFixture::new().and_then(|mut fixture| {
+        black_box(&mut fixture).run_sequence()?;
+        Ok(fixture.results())
+    }) {
+        Ok(results) => {
+            for value in results {
+                defmt::println!("flight filter path: {=u64:016x}", value.to_bits());
+            }
+        }
+        Err(error) => defmt::error!("flight filter path: {}", error),
+    }
     #[cfg(feature = "demo-panic-path")]
     demo_panic_path();
     exit_success()
