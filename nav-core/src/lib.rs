@@ -57,5 +57,6 @@ pub mod frames;
 pub mod gravity;
 pub mod selftest;
 pub mod state;
+pub mod strapdown;
 
 pub use error::NavError;
