@@ -27,8 +27,16 @@
 //! falls inside an RK4 step.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nav_core::attitude::exp_rotation_vector;
+use nav_core::frames::{LaunchFrame, LaunchSite, WGS84_GM_M3_S2};
+use nav_core::gravity::GravityModel;
 
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
+
+/// The launch epoch on the simulator's time scale (s). The simulator's navigation time and
+/// GNSS time are both seconds since the launch epoch, so nav-core's `LaunchSite::epoch_s` is 0
+/// (small times keep 2 ms frame boundaries exact to ~1e-13 s).
+pub const LAUNCH_EPOCH_S: f64 = 0.0;
 
 /// Why the truth simulation could not be set up or advanced.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -76,6 +84,92 @@ where
     fn acceleration_mps2(&self, position_m: &Vector3<f64>) -> Result<Vector3<f64>, String> {
         Ok(self(position_m))
     }
+}
+
+/// The flight code's gravity (nav-core point mass + J2) in the scenario's launch-inertial
+/// frame, as a [`GravityField`] that refuses positions where it is not finite.
+#[derive(Debug, Clone, Copy)]
+pub struct FlightGravity {
+    /// The launch-inertial frame geometry (Earth centre and axis).
+    pub frame: LaunchFrame,
+    /// The model (J2 on by default).
+    pub model: GravityModel,
+}
+
+impl GravityField for FlightGravity {
+    fn acceleration_mps2(&self, position_m: &Vector3<f64>) -> Result<Vector3<f64>, String> {
+        let gravity = self.model.gravity_launch_mps2(&self.frame, position_m);
+        if nav_core::attitude::all_finite3(&gravity) {
+            Ok(gravity)
+        } else {
+            Err("non-finite gravity (position at the Earth centre or non-finite)".to_string())
+        }
+    }
+}
+
+/// nav-core's [`LaunchSite`] for the scenario's launch site, with the launch epoch at
+/// [`LAUNCH_EPOCH_S`].
+pub fn launch_site(scenario: &Scenario) -> LaunchSite {
+    let site = &scenario.launch_site;
+    LaunchSite {
+        latitude_rad: site.latitude_deg.to_radians(),
+        longitude_rad: site.longitude_deg.to_radians(),
+        height_m: site.height_m,
+        azimuth_rad: site.azimuth_deg.to_radians(),
+        epoch_s: LAUNCH_EPOCH_S,
+    }
+}
+
+/// The scenario's launch-inertial frame.
+///
+/// # Errors
+/// [`TruthError::InitialState`] if nav-core refuses the site.
+pub fn launch_frame(scenario: &Scenario) -> Result<LaunchFrame, TruthError> {
+    LaunchFrame::new(&launch_site(scenario))
+        .map_err(|error| TruthError::InitialState(format!("launch site refused: {error:?}")))
+}
+
+/// The truth state at the scenario start: the initial orbit's elements (referred to the
+/// ECEF-at-epoch inertial axes `I`) converted with [`orbit_state_from_elements`] and then to
+/// the launch-inertial frame, `p_i = C (r_I − r_site)`, `v_i = C v_I` (`C` = launch-from-ECEF;
+/// no transport term since both frames are inertial); attitude `q_ib = exp(φ)` from
+/// `initial_attitude.rotation_vector_deg`.
+///
+/// # Errors
+/// [`TruthError::InitialState`] if a conversion yields a non-finite value.
+pub fn initial_state(scenario: &Scenario, frame: &LaunchFrame) -> Result<TruthState, TruthError> {
+    let orbit = &scenario.initial_orbit;
+    let (position_earth_centred_m, velocity_earth_centred_mps) = orbit_state_from_elements(
+        orbit.semi_major_axis_m,
+        orbit.eccentricity,
+        orbit.inclination_deg.to_radians(),
+        orbit.right_ascension_of_node_deg.to_radians(),
+        orbit.argument_of_perigee_deg.to_radians(),
+        orbit.true_anomaly_deg.to_radians(),
+        WGS84_GM_M3_S2,
+    );
+    // At the launch epoch ECEF and the inertial axes I coincide.
+    let position_m = frame
+        .ecef_to_launch_inertial(&position_earth_centred_m, LAUNCH_EPOCH_S)
+        .map_err(|error| TruthError::InitialState(format!("initial position: {error:?}")))?;
+    let velocity_mps = frame.launch_from_ecef() * velocity_earth_centred_mps;
+    let [x, y, z] = scenario.initial_attitude.rotation_vector_deg;
+    let attitude_q_ib = exp_rotation_vector(&Vector3::new(
+        x.to_radians(),
+        y.to_radians(),
+        z.to_radians(),
+    ));
+    if !nav_core::attitude::all_finite3(&velocity_mps) {
+        return Err(TruthError::InitialState(
+            "non-finite initial velocity".to_string(),
+        ));
+    }
+    Ok(TruthState {
+        time_s: scenario.simulation.start_time_s,
+        attitude_q_ib,
+        position_m,
+        velocity_mps,
+    })
 }
 
 /// Raised-cosine pulse shape `s(τ) ∈ [0, 1]` of a segment of length `duration_s` with rise and
@@ -475,6 +569,28 @@ impl<G: GravityField> TruthSimulator<G> {
     }
 }
 
+impl TruthSimulator<FlightGravity> {
+    /// The scenario's truth: initial state from [`initial_state`], its manoeuvre schedule, the
+    /// flight code's gravity with J2, at the IMU rate with the configured substeps.
+    ///
+    /// # Errors
+    /// [`TruthError::InitialState`] or [`TruthError::Setting`].
+    pub fn from_scenario(scenario: &Scenario) -> Result<Self, TruthError> {
+        let frame = launch_frame(scenario)?;
+        let initial = initial_state(scenario, &frame)?;
+        Self::new(
+            initial,
+            CommandProfile::from_scenario(scenario),
+            FlightGravity {
+                frame,
+                model: GravityModel { j2_enabled: true },
+            },
+            scenario.imu.frame_period_s(),
+            scenario.simulation.truth_substeps_per_frame,
+        )
+    }
+}
+
 impl<G: GravityField> Iterator for TruthSimulator<G> {
     type Item = Result<TruthFrame, TruthError>;
 
@@ -517,34 +633,20 @@ pub fn orbit_state_from_elements(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nav_core::attitude::exp_rotation_vector;
 
-    /// WGS-84 GM (m³/s²), for the test fields below.
-    const MU_M3_PER_S2: f64 = 3.986_004_418e14;
-    /// WGS-84 equatorial radius (m) and J2 (EGM96 C20 → J2), for the test J2 field.
-    const EQUATORIAL_RADIUS_M: f64 = 6_378_137.0;
-    const J2: f64 = 1.082_626_68e-3;
+    use crate::scenario::Scenario;
+    use nav_core::frames::{WGS84_J2, WGS84_SEMI_MAJOR_AXIS_M};
 
-    /// Point mass + J2 with the Earth's centre at the origin and the pole along z.
-    fn j2_field(position: &Vector3<f64>) -> Vector3<f64> {
-        let r2 = position.norm_squared();
-        let r = r2.sqrt();
-        let z2_over_r2 = position.z * position.z / r2;
-        let factor = 1.5 * J2 * EQUATORIAL_RADIUS_M * EQUATORIAL_RADIUS_M / r2;
-        let common = -MU_M3_PER_S2 / (r2 * r);
-        Vector3::new(
-            common * position.x * (1.0 + factor * (1.0 - 5.0 * z2_over_r2)),
-            common * position.y * (1.0 + factor * (1.0 - 5.0 * z2_over_r2)),
-            common * position.z * (1.0 + factor * (3.0 - 5.0 * z2_over_r2)),
-        )
-    }
+    const MU_M3_PER_S2: f64 = WGS84_GM_M3_S2;
 
-    /// The potential whose gradient is `j2_field`: `U = −μ/r [1 − J2 (R/r)² P2(z/r)]`.
-    fn j2_potential(position: &Vector3<f64>) -> f64 {
-        let r = position.norm();
-        let sin_latitude = position.z / r;
+    /// The potential whose gradient is nav-core's point mass + J2 field:
+    /// `U = −μ/r [1 − J2 (a/r)² P2(s/r)]`, `s = k·r` (k the Earth axis), `P2(x) = (3x² − 1)/2`.
+    fn j2_potential(gravity: &FlightGravity, position_launch_m: &Vector3<f64>) -> f64 {
+        let geocentric = gravity.frame.geocentric_position_launch(position_launch_m);
+        let r = geocentric.norm();
+        let sin_latitude = gravity.frame.earth_axis_launch().dot(&geocentric) / r;
         let p2 = 0.5 * (3.0 * sin_latitude * sin_latitude - 1.0);
-        -MU_M3_PER_S2 / r * (1.0 - J2 * (EQUATORIAL_RADIUS_M / r).powi(2) * p2)
+        -MU_M3_PER_S2 / r * (1.0 - WGS84_J2 * (WGS84_SEMI_MAJOR_AXIS_M / r).powi(2) * p2)
     }
 
     fn segment(duration_s: f64, ramp_s: f64, rate: [f64; 3], force: [f64; 3]) -> ManoeuvreSegment {
@@ -599,30 +701,25 @@ mod tests {
 
     #[test]
     fn pure_orbit_conserves_energy_over_one_orbit() {
-        // 500 km near-circular inclined orbit, J2 field, no manoeuvre: the specific energy
-        // ½v² + U(r) is an exact invariant (the field is static and axisymmetric).
-        let (position, velocity) = orbit_state_from_elements(
-            6_878_137.0,
-            0.001,
-            97.4_f64.to_radians(),
-            1.0,
-            0.3,
-            0.5,
-            MU_M3_PER_S2,
-        );
-        let period_s = 2.0 * std::f64::consts::PI * (6_878_137.0_f64.powi(3) / MU_M3_PER_S2).sqrt();
-        // One orbit at the default IMU rate (500 Hz, 16 substeps), whole frames.
-        let duration_s = (period_s / 0.002).ceil() * 0.002;
-        let initial = TruthState {
-            time_s: 0.0,
-            attitude_q_ib: Quaternion::identity(),
-            position_m: position,
-            velocity_mps: velocity,
-        };
-        let commands = profile(&[segment(duration_s, 0.0, [0.0; 3], [0.0; 3])], 0.0);
-        let mut truth = TruthSimulator::new(initial, commands, j2_field, 0.002, 16).unwrap();
+        // The default scenario's 500 km orbit with nav-core's J2 gravity, no manoeuvre, for one
+        // Keplerian period: ½v² + U(r) is an exact invariant (the field is static and
+        // axisymmetric in the inertial frame).
+        let mut scenario = Scenario::default_scenario().unwrap();
+        let semi_major_axis_m = scenario.initial_orbit.semi_major_axis_m;
+        let period_s =
+            2.0 * std::f64::consts::PI * (semi_major_axis_m.powi(3) / MU_M3_PER_S2).sqrt();
+        let frame_period_s = scenario.imu.frame_period_s();
+        scenario.manoeuvres = vec![segment(
+            (period_s / frame_period_s).ceil() * frame_period_s,
+            0.0,
+            [0.0; 3],
+            [0.0; 3],
+        )];
+        let mut truth = TruthSimulator::from_scenario(&scenario).unwrap();
+        let gravity = truth.gravity;
+        let initial = *truth.state();
         let energy = |state: &TruthState| {
-            0.5 * state.velocity_mps.norm_squared() + j2_potential(&state.position_m)
+            0.5 * state.velocity_mps.norm_squared() + j2_potential(&gravity, &state.position_m)
         };
         let initial_energy = energy(&initial);
         let mut worst_relative = 0.0_f64;
@@ -637,13 +734,42 @@ mod tests {
         }
         let final_relative = ((energy(&last) - initial_energy) / initial_energy).abs();
         println!("energy: worst relative drift {worst_relative:.3e}, final {final_relative:.3e}");
-        // Measured: 6.0e-13 worst, 2.5e-13 final (RK4, 125 µs steps; round-off dominated).
+        // Measured: 1.0e-12 worst, 6.5e-13 final (RK4, 125 µs steps; round-off dominated).
         assert!(worst_relative.max(final_relative) < 1e-11);
         // After one Keplerian period the J2-perturbed orbit is back near its start: J2 shifts
-        // the node and the period by a few tens of km along a 43,000 km circumference.
-        let closure_m = (last.position_m - position).norm();
+        // the node and the period by some tens of km along a 43,000 km circumference.
+        let closure_m = (last.position_m - initial.position_m).norm();
         println!("orbit closure after one Keplerian period: {closure_m:.0} m");
         assert!(closure_m < 100_000.0, "{closure_m}");
+    }
+
+    #[test]
+    fn default_initial_state_is_the_stated_orbit_over_the_launch_site() {
+        let scenario = Scenario::default_scenario().unwrap();
+        let frame = launch_frame(&scenario).unwrap();
+        let state = initial_state(&scenario, &frame).unwrap();
+        let geocentric = frame.geocentric_position_launch(&state.position_m);
+        // r = a (1 − e²) / (1 + e cos ν), ν = 160°.
+        let expected_radius_m =
+            6_878_137.0 * (1.0 - 0.001 * 0.001) / (1.0 + 0.001 * 160.0_f64.to_radians().cos());
+        assert!((geocentric.norm() - expected_radius_m).abs() < 1e-6);
+        // Inclination: the orbit normal makes 97.4° with the Earth axis.
+        let normal = geocentric.cross(&state.velocity_mps).normalize();
+        let inclination_deg = normal.dot(&frame.earth_axis_launch()).acos().to_degrees();
+        assert!((inclination_deg - 97.4).abs() < 1e-9, "{inclination_deg}");
+        // The orbit plane contains the launch site direction (within the 0.19° geodetic vs
+        // geocentric latitude difference of the node placement).
+        let site_direction = (-frame.earth_centre_launch_m()).normalize();
+        let out_of_plane_deg = normal.dot(&site_direction).asin().to_degrees();
+        assert!(out_of_plane_deg.abs() < 0.5, "{out_of_plane_deg}");
+        // The vehicle is 21.4° of arc downrange of the site's pass.
+        let arc_deg = geocentric
+            .normalize()
+            .dot(&site_direction)
+            .acos()
+            .to_degrees();
+        assert!((arc_deg - 21.4).abs() < 0.5, "{arc_deg}");
+        assert!((state.attitude_q_ib.norm() - 1.0).abs() < 1e-15);
     }
 
     #[test]
