@@ -2,7 +2,7 @@
 //! tests, whose results must agree bit for bit (`f64::to_bits`). It exercises what the filter
 //! uses: 24×24 f64 products, libm transcendentals and quaternion integration.
 
-use nalgebra::{Matrix3, Quaternion, SMatrix, Vector3};
+use nalgebra::{Quaternion, SMatrix, Vector3};
 
 use crate::attitude;
 use crate::discretise::discretise;
@@ -11,7 +11,11 @@ use crate::filter::{
     apply_error_state, CalibrationEstimate, ErrorStateFilter, FilterConfig, FilterMode,
     InitialUncertainty,
 };
+use crate::frames::{LaunchFrame, LaunchSite};
 use crate::measurement::{gnss_position, star_sensor};
+use crate::strapdown::{
+    ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown, StrapdownConfig,
+};
 use crate::NavError;
 
 /// Number of f64 results produced by [`reference_workload`].
@@ -68,9 +72,10 @@ pub const FILTER_PATH_RESULT_COUNT: usize = 16;
 #[derive(Debug, Clone, Copy)]
 pub struct FilterPathFixture {
     filter: ErrorStateFilter,
-    attitude: Quaternion<f64>,
-    position_m: Vector3<f64>,
-    velocity_mps: Vector3<f64>,
+    navigation: NavigationState,
+    strapdown: Strapdown,
+    launch_frame: LaunchFrame,
+    last_step: StepOutput,
     calibration: CalibrationEstimate,
     step: u32,
 }
@@ -95,32 +100,81 @@ impl FilterPathFixture {
                 accel_scale_factor: 1e-4,
             },
         };
+        let launch_frame = LaunchFrame::new(&LaunchSite {
+            latitude_rad: 0.342,
+            longitude_rad: 1.936,
+            height_m: 20.0,
+            azimuth_rad: 1.571,
+            epoch_s: 0.0,
+        })?;
+        let zero = Vector3::zeros();
         Ok(Self {
             filter: ErrorStateFilter::new(&config)?,
-            attitude: attitude::exp_rotation_vector(&Vector3::new(0.1, 0.2, 0.3)),
-            position_m: Vector3::new(1.0e5, 6.9e6, 2.0e5),
-            velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+            navigation: NavigationState {
+                attitude: attitude::exp_rotation_vector(&Vector3::new(0.1, 0.2, 0.3)),
+                position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+                velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+                time_s: 0.0,
+            },
+            strapdown: Strapdown::new(StrapdownConfig::default()),
+            launch_frame,
+            last_step: StepOutput {
+                corrected_rate_rad_s: zero,
+                corrected_specific_force_mps2: zero,
+                measured_rate_rad_s: zero,
+                measured_specific_force_mps2: zero,
+                gravity_mps2: zero,
+            },
             calibration: CalibrationEstimate::default(),
             step: 0,
         })
     }
 
-    /// One 2 ms covariance propagation: builds `A`, `G` from a time-varying rotation and
-    /// thrust, discretises (order 3) and predicts.
+    /// One 2 ms strapdown step (coning/sculling, J2 gravity) with a time-varying rotation
+    /// and thrust, corrected by the current calibration estimate.
+    ///
+    /// # Errors
+    /// As [`Strapdown::step`].
+    pub fn navigate(&mut self) -> Result<(), NavError> {
+        let phase = 0.01 * f64::from(self.step);
+        let rate = Vector3::new(0.1 * libm::sin(phase), 0.05, 1.7 * libm::cos(phase));
+        let force = Vector3::new(0.5, 20.0 + libm::sin(3.0 * phase), -0.3);
+        let increment = ImuIncrement::from_rates(&rate, &force, 0.002);
+        let c = &self.calibration;
+        let corrections = SensorCorrections {
+            gyro_bias_rad_s: Vector3::from(c.gyro_bias_rad_s),
+            accel_bias_mps2: Vector3::from(c.accel_bias_mps2),
+            gyro_scale_factor: Vector3::from(c.gyro_scale_factor),
+            accel_scale_factor: Vector3::from(c.accel_scale_factor),
+        };
+        self.last_step = self.strapdown.step(
+            &mut self.navigation,
+            &increment,
+            &corrections,
+            &self.launch_frame,
+        )?;
+        self.step = self.step.wrapping_add(1);
+        Ok(())
+    }
+
+    /// One 2 ms covariance propagation about the last strapdown step: builds `A` (with the
+    /// J2 gravity gradient) and `G`, discretises (order 3) and predicts.
     ///
     /// # Errors
     /// As [`discretise`] and [`ErrorStateFilter::predict`].
     pub fn propagate(&mut self) -> Result<(), NavError> {
-        let phase = 0.01 * f64::from(self.step);
-        let rate = Vector3::new(0.1 * libm::sin(phase), 0.05, 1.7 * libm::cos(phase));
-        let force = Vector3::new(0.5, 20.0 + libm::sin(3.0 * phase), -0.3);
+        let step = &self.last_step;
         let point = LinearisationPoint {
-            corrected_rate_rad_s: rate,
-            corrected_specific_force_mps2: force,
-            measured_rate_rad_s: rate,
-            measured_specific_force_mps2: force,
-            body_to_inertial: attitude::rotation_matrix(&self.attitude),
-            gravity_gradient_per_s2: Matrix3::zeros(),
+            corrected_rate_rad_s: step.corrected_rate_rad_s,
+            corrected_specific_force_mps2: step.corrected_specific_force_mps2,
+            measured_rate_rad_s: step.measured_rate_rad_s,
+            measured_specific_force_mps2: step.measured_specific_force_mps2,
+            body_to_inertial: attitude::rotation_matrix(&self.navigation.attitude),
+            gravity_gradient_per_s2: self
+                .strapdown
+                .config()
+                .gravity
+                .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
         };
         let model = discretise(
             &system_matrix(&point),
@@ -129,9 +183,7 @@ impl FilterPathFixture {
             0.002,
             3,
         )?;
-        self.filter.predict(&model)?;
-        self.step = self.step.wrapping_add(1);
-        Ok(())
+        self.filter.predict(&model)
     }
 
     /// A star-sensor update with a fixed small attitude offset (10″-class noise model).
@@ -141,11 +193,13 @@ impl FilterPathFixture {
     pub fn star_update(&mut self) -> Result<(), NavError> {
         let mounting = attitude::exp_rotation_vector(&Vector3::new(0.0, 0.5, 0.0));
         let truth_offset = attitude::exp_rotation_vector(&Vector3::new(2e-4, -1e-4, 3e-4));
-        let measured =
-            attitude::product(&attitude::product(&self.attitude, &truth_offset), &mounting);
+        let measured = attitude::product(
+            &attitude::product(&self.navigation.attitude, &truth_offset),
+            &mounting,
+        );
         let [w, x, y, z] = self.calibration.star_installation_wxyz;
         let measurement = star_sensor(
-            &self.attitude,
+            &self.navigation.attitude,
             &mounting,
             &Quaternion::new(w, x, y, z),
             &measured,
@@ -160,11 +214,16 @@ impl FilterPathFixture {
     /// As [`gnss_position`] and [`ErrorStateFilter::update`].
     pub fn gnss_update(&mut self) -> Result<(), NavError> {
         let lever_arm = Vector3::new(0.5, 1.0, -0.2);
-        let antenna = self.position_m
-            + attitude::rotate(&self.attitude, &lever_arm)
+        let antenna = self.navigation.position_m
+            + attitude::rotate(&self.navigation.attitude, &lever_arm)
             + Vector3::new(12.0, -5.0, 3.0);
-        let measurement =
-            gnss_position(&self.attitude, &self.position_m, &lever_arm, &antenna, 10.0)?;
+        let measurement = gnss_position(
+            &self.navigation.attitude,
+            &self.navigation.position_m,
+            &lever_arm,
+            &antenna,
+            10.0,
+        )?;
         self.filter.update(&measurement, f64::INFINITY).map(|_| ())
     }
 
@@ -176,20 +235,21 @@ impl FilterPathFixture {
         let error = self.filter.reset();
         apply_error_state(
             &error,
-            &mut self.attitude,
-            &mut self.position_m,
-            &mut self.velocity_mps,
+            &mut self.navigation.attitude,
+            &mut self.navigation.position_m,
+            &mut self.navigation.velocity_mps,
             &mut self.calibration,
         )
     }
 
-    /// Runs the reference sequence: 100 propagations, a star update every 25, a GNSS update
+    /// Runs the reference sequence: 100 strapdown steps each followed by a propagation, a star update every 25, a GNSS update
     /// every 50, a reset after every update.
     ///
     /// # Errors
     /// The first error of any step.
     pub fn run_sequence(&mut self) -> Result<(), NavError> {
         for frame in 1..=100u32 {
+            self.navigate()?;
             self.propagate()?;
             if frame % 25 == 0 {
                 self.star_update()?;
@@ -210,16 +270,16 @@ impl FilterPathFixture {
         let element = |row: usize, column: usize| p.get((row, column)).copied().unwrap_or(f64::NAN);
         let [bx, by, bz] = self.calibration.gyro_bias_rad_s;
         [
-            self.attitude.w,
-            self.attitude.i,
-            self.attitude.j,
-            self.attitude.k,
-            self.position_m.x,
-            self.position_m.y,
-            self.position_m.z,
-            self.velocity_mps.x,
-            self.velocity_mps.y,
-            self.velocity_mps.z,
+            self.navigation.attitude.w,
+            self.navigation.attitude.i,
+            self.navigation.attitude.j,
+            self.navigation.attitude.k,
+            self.navigation.position_m.x,
+            self.navigation.position_m.y,
+            self.navigation.position_m.z,
+            self.navigation.velocity_mps.x,
+            self.navigation.velocity_mps.y,
+            self.navigation.velocity_mps.z,
             bx,
             by,
             bz,
@@ -243,7 +303,16 @@ mod tests {
         assert!(after.iter().all(|v| v.is_finite()));
         // Each of the two GNSS updates sees a fix 12 m further in x than the current position
         // and moves by gain × 12 m: ≈ 0.9 × 12 (prior 30 m vs 10 m noise), then ≈ 0.5 × 12.
-        let moved_x = after[4] - before[4];
+        // Compared with the same strapdown run without any update:
+        let mut free_running = FilterPathFixture::new().unwrap();
+        for _ in 0..100 {
+            free_running.navigate().unwrap();
+        }
+        let moved_x = after[4] - free_running.results()[4];
+        assert!(
+            after[4] - before[4] > 1000.0,
+            "the strapdown moved the vehicle"
+        );
         assert!(moved_x > 14.0 && moved_x < 19.0, "{moved_x}");
         // Updates shrink the attitude variance below its prior.
         assert!(after[14] < (0.5e-3f64).powi(2), "{}", after[14]);

@@ -24,7 +24,6 @@ use crate::NavError;
 
 /// One IMU sample: integrated increments over one interval, body axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ImuIncrement {
     /// Integrated angular rate `Δθ = ∫ ω_ib^b dt` over the interval (rad).
     pub delta_angle_rad: Vector3<f64>,
@@ -75,7 +74,6 @@ impl NavigationState {
 
 /// Current sensor-error estimates applied to the raw increments (body axes).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SensorCorrections {
     /// Gyro bias `b̂_g` (rad/s).
     pub gyro_bias_rad_s: Vector3<f64>,
@@ -122,7 +120,6 @@ impl Default for StrapdownConfig {
 /// By-products of one step, each the mean over the step (increment / `T`), body axes except
 /// gravity.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StepOutput {
     /// Corrected angular rate `Δθ / T` (rad/s).
     pub corrected_rate_rad_s: Vector3<f64>,

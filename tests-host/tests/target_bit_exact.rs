@@ -60,10 +60,11 @@ fn filter_path_is_bit_identical_on_host_and_target() {
     log.compare("filter_path", &host)
         .unwrap_or_else(|mismatch| panic!("host and Cortex-M7 differ: {mismatch}"));
     println!(
-        "filter_path (100 propagations, 4 star and 2 GNSS updates, 6 resets): {} results bit-identical",
+        "filter_path (100 strapdown steps and propagations, 4 star and 2 GNSS updates, 6 resets): {} results bit-identical",
         host.len()
     );
     for step in [
+        "strapdown_step",
         "filter_propagate",
         "filter_star_update",
         "filter_gnss_update",

@@ -82,6 +82,7 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
                 passed = false;
             }
         };
+    cost("strapdown_step", counter.measure(|| fixture.navigate()));
     cost("filter_propagate", counter.measure(|| fixture.propagate()));
     cost(
         "filter_star_update",
