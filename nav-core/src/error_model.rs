@@ -337,17 +337,35 @@ pub(crate) mod tests {
         error
     }
 
-    /// Mismatch between the nonlinear and linear prediction must be second order: halving the
-    /// perturbation quarters it (or it is at round-off because the block is exactly linear).
-    pub fn assert_second_order(name: &str, mismatch: [f64; 2], linear_size: f64) {
+    /// Perturbs `block` by `scale` and by `scale/2`, and requires the mismatch between the
+    /// nonlinear and the linear prediction (`predict` returns both for an error state) to be
+    /// second order: halving the perturbation quarters it, or it is at round-off because the
+    /// block enters exactly linearly. A sign error gives a mismatch as large as the linear
+    /// term itself and fails.
+    pub fn assert_second_order<const R: usize>(
+        block: StateBlock,
+        scale: f64,
+        predict: impl Fn(&SVector<f64, 24>) -> (SVector<f64, R>, SVector<f64, R>),
+    ) {
+        let mut mismatch = [0.0; 2];
+        let mut linear_size = 0.0;
+        for (slot, halving) in [1.0, 0.5].into_iter().enumerate() {
+            let (nonlinear, linear) = predict(&block_error(block, scale * halving));
+            mismatch[slot] = (nonlinear - linear).amax();
+            if slot == 0 {
+                linear_size = linear.amax();
+            }
+        }
+        let name = block.name;
+        assert!(linear_size > 0.0, "{name}: block has no effect");
         let ratio = mismatch[0] / mismatch[1];
-        let at_round_off = mismatch[0] <= 1e-9 * linear_size.max(1e-30);
+        let at_round_off = mismatch[0] <= 1e-9 * linear_size;
         assert!(
             at_round_off || (3.5..4.5).contains(&ratio),
             "{name}: mismatch {mismatch:?} (ratio {ratio}) vs linear {linear_size}"
         );
         assert!(
-            mismatch[0] < 0.05 * linear_size.max(1e-300),
+            mismatch[0] < 0.05 * linear_size,
             "{name}: {mismatch:?} vs {linear_size}"
         );
     }
@@ -365,19 +383,10 @@ pub(crate) mod tests {
                 );
                 continue;
             }
-            let mut mismatch = [0.0; 2];
-            let mut linear_size = 0.0;
-            for (slot, halving) in [1.0, 0.5].into_iter().enumerate() {
-                let error = block_error(block, block_scale(block) * halving);
-                let truth = perturbed(&estimate, &error);
-                let linear = a * error;
-                mismatch[slot] = (nonlinear_error_rate(&truth, &estimate) - linear).amax();
-                if slot == 0 {
-                    linear_size = linear.amax();
-                }
-            }
-            assert!(linear_size > 0.0, "{}: block has no effect", block.name);
-            assert_second_order(block.name, mismatch, linear_size);
+            assert_second_order(block, block_scale(block), |error| {
+                let truth = perturbed(&estimate, error);
+                (nonlinear_error_rate(&truth, &estimate), a * error)
+            });
         }
     }
 

@@ -217,9 +217,10 @@ impl LaunchFrame {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
+    /// The test launch site (Wenchang, azimuth 90°, epoch 0).
     pub(crate) fn wenchang() -> LaunchSite {
         LaunchSite {
             latitude_rad: 19.6_f64.to_radians(),
@@ -228,6 +229,11 @@ mod tests {
             azimuth_rad: 90.0_f64.to_radians(),
             epoch_s: 0.0,
         }
+    }
+
+    /// The launch frame of [`wenchang`].
+    pub(crate) fn wenchang_frame() -> LaunchFrame {
+        LaunchFrame::new(&wenchang()).unwrap()
     }
 
     #[test]

@@ -97,18 +97,9 @@ impl GravityModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frames::{LaunchSite, WGS84_SEMI_MINOR_AXIS_M};
+    use crate::frames::WGS84_SEMI_MINOR_AXIS_M;
 
-    fn frame() -> LaunchFrame {
-        LaunchFrame::new(&LaunchSite {
-            latitude_rad: 19.6_f64.to_radians(),
-            longitude_rad: 110.9_f64.to_radians(),
-            height_m: 0.0,
-            azimuth_rad: 90.0_f64.to_radians(),
-            epoch_s: 0.0,
-        })
-        .unwrap()
-    }
+    use crate::frames::tests::wenchang_frame as frame;
 
     #[test]
     fn magnitude_at_site_is_about_9_8() {

@@ -275,19 +275,10 @@ impl Strapdown {
 mod tests {
     use super::*;
     use crate::attitude::conjugate;
-    use crate::frames::{LaunchSite, WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
+    use crate::frames::{WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
     use core::f64::consts::PI;
 
-    fn frame() -> LaunchFrame {
-        LaunchFrame::new(&LaunchSite {
-            latitude_rad: 19.6_f64.to_radians(),
-            longitude_rad: 110.9_f64.to_radians(),
-            height_m: 0.0,
-            azimuth_rad: 90.0_f64.to_radians(),
-            epoch_s: 0.0,
-        })
-        .unwrap()
-    }
+    use crate::frames::tests::wenchang_frame as frame;
 
     fn at_rest() -> NavigationState {
         NavigationState {
