@@ -337,6 +337,8 @@ pub struct TruthFrame {
     pub start_time_s: f64,
     /// End of the frame: the time tag of the increments and of the state below (s).
     pub time_s: f64,
+    /// Nominal frame length `T` = 1 / IMU rate (s); `time_s − start_time_s` up to rounding.
+    pub interval_s: f64,
     /// Attitude `q_ib` at `time_s`.
     pub attitude_q_ib: Quaternion<f64>,
     /// Launch-inertial position at `time_s` (m).
@@ -486,6 +488,7 @@ impl<G: GravityField> TruthSimulator<G> {
             frame_index,
             start_time_s,
             time_s: end_time_s,
+            interval_s: self.frame_period_s,
             attitude_q_ib: state.attitude_q_ib,
             position_m: state.position_m,
             velocity_mps: state.velocity_mps,

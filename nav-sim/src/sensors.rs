@@ -1,0 +1,808 @@
+//! Sensor error models: IMU (paper eqs. 1 and 3), star sensor and GNSS, producing a seeded,
+//! deterministic, time-ordered stream of [`SensorEvent`]s from the truth.
+//!
+//! ## IMU (per frame of length `T`, body axes)
+//! The paper's rate model `ω_m = ω + Λg ω_m + b_g + η_g` (eq. 1), integrated over the frame,
+//! gives for the increments
+//!
+//! ```text
+//! Δθ_m = (I − Λg)⁻¹ (Δθ + b_g T + n_g),   n_g ~ N(0, σ_g² T I),  σ_g = rate-noise density
+//! Δv_m = (I − Λa)⁻¹ (Δv + b_a T + n_a),   n_a ~ N(0, (σ_a T)² I), σ_a = per-sample noise
+//! ```
+//!
+//! (eq. 3 likewise; `Λ` diagonal, so the inverse is a per-axis division by `1 − λ`). The gyro
+//! noise is white rate noise integrated over the frame (`σ_Δθ = σ_g √T`); the accelerometer's
+//! 1e-4 m/s² is a per-sample specific-force σ held over the frame (`σ_Δv = σ_a T`); see the
+//! default scenario for why. Optional: bias random walk `b_{k+1} = b_k + σ_rw √T w_k` (the
+//! bias of frame `k` is `b_k`), and output quantisation with the residual carried to the next
+//! frame (as pulse-output IMUs do), so no error accumulates.
+//!
+//! ## Star sensor
+//! `q_is,m = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(n)`, `n ~ N(0, σ_s² I)` a small rotation in sensor axes,
+//! `q_bs` the nominal (known) mounting, `q_ψ = exp(ψ)` the installation error (unknown) with
+//! `ψ` a rotation vector in rad. Model.md's `q_s,meas = q_s ⊗ q_ψ` with `q_s = q_ib ⊗ q_bs`.
+//! The filter's installation state is the vector part of `q_ψ`, `sin(|ψ|/2) ψ/|ψ| ≈ ψ/2`
+//! ([`SensorErrorTruth::star_installation_vector_part`]). Output canonicalised to `w ≥ 0`.
+//!
+//! ## GNSS
+//! ECEF position of the truth (the IMU's position; no lever arm) at the fix's time of validity,
+//! through nav-core's `LaunchFrame::launch_inertial_to_ecef`, plus `N(0, σ² I)` per ECEF axis.
+//! Delivered `latency_s` later (a whole number of IMU frames).
+//!
+//! ## Stream order and timing
+//! For every truth frame `k` (`[t_k, t_k+1]`): first `Imu` (time tag `t_k+1`), then any star
+//! sample valid at `t_k+1`, then any GNSS fix delivered at `t_k+1`. Measurements are sampled at
+//! whole multiples of their period after the scenario start (the IMU rate is a whole multiple of
+//! each measurement rate). Each error source draws from its own ChaCha8 stream of the scenario
+//! seed, so changing one sensor's settings never changes another's noise, and a seed reproduces
+//! the stream bit for bit on any platform (`rand_distr::StandardNormal` is pure IEEE arithmetic
+//! plus `ln`/`exp` from the platform's libm; the host builds agree).
+
+use nalgebra::{Quaternion, Vector3};
+use nav_core::attitude::{canonical, exp_rotation_vector};
+use nav_core::frames::LaunchFrame;
+use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+
+use crate::scenario::{frames_in, Scenario};
+use crate::truth::TruthFrame;
+
+/// One sensor output, in delivery order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SensorEvent {
+    /// IMU increments over frame `frame_index`, ending at `time_s`.
+    Imu {
+        /// Frame counter (0 = the first frame of the scenario).
+        frame_index: u64,
+        /// End of the frame: the increments' time tag (s).
+        time_s: f64,
+        /// Frame length `T` (s).
+        interval_s: f64,
+        /// Measured delta angle (rad, body axes).
+        delta_angle_rad: Vector3<f64>,
+        /// Measured delta velocity (m/s, body axes).
+        delta_velocity_mps: Vector3<f64>,
+    },
+    /// Star-sensor attitude.
+    Star {
+        /// Time of validity (s).
+        time_tag_s: f64,
+        /// Measured `q_is`, sensor to launch-inertial, canonical (`w ≥ 0`).
+        attitude_q_is: Quaternion<f64>,
+    },
+    /// GNSS position fix.
+    Gnss {
+        /// Time of validity (s, GNSS time = seconds since the launch epoch).
+        time_tag_s: f64,
+        /// Time the fix is delivered, `time_tag_s + latency` (s).
+        delivery_time_s: f64,
+        /// Measured ECEF position (m, WGS-84).
+        position_ecef_m: Vector3<f64>,
+    },
+}
+
+impl SensorEvent {
+    /// Time at which the event becomes available to the flight code (s): the IMU frame end,
+    /// the star time tag, the GNSS delivery time.
+    pub fn delivery_time_s(&self) -> f64 {
+        match self {
+            Self::Imu { time_s, .. } => *time_s,
+            Self::Star { time_tag_s, .. } => *time_tag_s,
+            Self::Gnss {
+                delivery_time_s, ..
+            } => *delivery_time_s,
+        }
+    }
+
+    /// The IMU event as the flight software's port sample (sequence = frame index modulo 2³²,
+    /// the counter of a real IMU wraps), or `None` for other events.
+    pub fn to_imu_sample(&self) -> Option<ImuSample> {
+        match self {
+            Self::Imu {
+                frame_index,
+                time_s,
+                delta_angle_rad,
+                delta_velocity_mps,
+                ..
+            } => Some(ImuSample {
+                // Truncation to the low 32 bits is the intended wrap-around.
+                sequence: (*frame_index & u64::from(u32::MAX)) as u32,
+                time_s: *time_s,
+                delta_angle_rad: [delta_angle_rad.x, delta_angle_rad.y, delta_angle_rad.z],
+                delta_velocity_mps: [
+                    delta_velocity_mps.x,
+                    delta_velocity_mps.y,
+                    delta_velocity_mps.z,
+                ],
+            }),
+            _ => None,
+        }
+    }
+
+    /// The star event as the flight software's port measurement, or `None`.
+    pub fn to_star_measurement(&self) -> Option<StarMeasurement> {
+        match self {
+            Self::Star {
+                time_tag_s,
+                attitude_q_is,
+            } => Some(StarMeasurement {
+                time_tag_s: *time_tag_s,
+                attitude_wxyz: [
+                    attitude_q_is.w,
+                    attitude_q_is.i,
+                    attitude_q_is.j,
+                    attitude_q_is.k,
+                ],
+            }),
+            _ => None,
+        }
+    }
+
+    /// The GNSS event as the flight software's port fix, or `None`.
+    pub fn to_gnss_fix(&self) -> Option<GnssFix> {
+        match self {
+            Self::Gnss {
+                time_tag_s,
+                position_ecef_m,
+                ..
+            } => Some(GnssFix {
+                time_tag_s: *time_tag_s,
+                position_ecef_m: [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// Why the sensor simulation failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SensorError {
+    /// nav-core refused a frame conversion (non-finite truth).
+    #[error("GNSS at t = {time_s} s: launch-inertial to ECEF conversion failed: {reason}")]
+    FrameConversion {
+        /// Time of validity of the fix (s).
+        time_s: f64,
+        /// nav-core's error.
+        reason: String,
+    },
+    /// The scenario's launch site was refused.
+    #[error("launch site refused by nav-core: {0}")]
+    LaunchSite(String),
+}
+
+/// The true sensor errors (what the calibration should find), at the current time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorErrorTruth {
+    /// Gyro bias `b_g` (rad/s); drifts only with a bias random walk.
+    pub gyro_bias_rad_per_s: Vector3<f64>,
+    /// Gyro scale factors, diagonal of `Λg`.
+    pub gyro_scale_factor: Vector3<f64>,
+    /// Accelerometer bias `b_a` (m/s²).
+    pub accel_bias_mps2: Vector3<f64>,
+    /// Accelerometer scale factors, diagonal of `Λa`.
+    pub accel_scale_factor: Vector3<f64>,
+    /// Installation error quaternion `q_ψ = exp(ψ)`.
+    pub star_installation_q_psi: Quaternion<f64>,
+    /// Nominal mounting `q_bs` (known to the flight code).
+    pub star_mounting_q_bs: Quaternion<f64>,
+}
+
+impl SensorErrorTruth {
+    /// The vector part of `q_ψ`: the filter's installation-error state (≈ ψ/2).
+    pub fn star_installation_vector_part(&self) -> Vector3<f64> {
+        self.star_installation_q_psi.imag()
+    }
+}
+
+/// Independent random streams, one per error source (ChaCha8 stream ids of one seed).
+#[derive(Debug, Clone, Copy)]
+enum NoiseStream {
+    GyroNoise = 1,
+    GyroBiasWalk = 2,
+    AccelNoise = 3,
+    AccelBiasWalk = 4,
+    Star = 5,
+    Gnss = 6,
+}
+
+fn stream(seed: u64, which: NoiseStream) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(which as u64);
+    rng
+}
+
+fn normal3(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    let x: f64 = rng.sample(StandardNormal);
+    let y: f64 = rng.sample(StandardNormal);
+    let z: f64 = rng.sample(StandardNormal);
+    Vector3::new(x, y, z)
+}
+
+fn vector(components: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(components[0], components[1], components[2])
+}
+
+/// One IMU triad (gyro or accelerometer): `Δ_m = (I − Λ)⁻¹ (Δ + b T + n)`.
+#[derive(Debug, Clone)]
+struct TriadModel {
+    bias: Vector3<f64>,
+    scale_factor: Vector3<f64>,
+    /// `σ_n(T)`: noise 1σ per increment for the frame period (units of the increment).
+    increment_noise_sigma: f64,
+    bias_walk_per_sqrt_s: f64,
+    quantum: f64,
+    noise_rng: ChaCha8Rng,
+    bias_walk_rng: ChaCha8Rng,
+    /// Σ unquantised output so far, and Σ quantised output so far (quantisation residual
+    /// carried forward).
+    continuous_total: Vector3<f64>,
+    quantised_total: Vector3<f64>,
+}
+
+impl TriadModel {
+    fn measure(&mut self, true_increment: &Vector3<f64>, interval_s: f64) -> Vector3<f64> {
+        let noise = if self.increment_noise_sigma > 0.0 {
+            normal3(&mut self.noise_rng) * self.increment_noise_sigma
+        } else {
+            Vector3::zeros()
+        };
+        let perturbed = true_increment + self.bias * interval_s + noise;
+        let measured = perturbed.component_div(&(Vector3::repeat(1.0) - self.scale_factor));
+        if self.bias_walk_per_sqrt_s > 0.0 {
+            self.bias +=
+                normal3(&mut self.bias_walk_rng) * (self.bias_walk_per_sqrt_s * interval_s.sqrt());
+        }
+        if self.quantum > 0.0 {
+            self.continuous_total += measured;
+            let quantised_total =
+                (self.continuous_total / self.quantum).map(f64::round) * self.quantum;
+            let output = quantised_total - self.quantised_total;
+            self.quantised_total = quantised_total;
+            output
+        } else {
+            measured
+        }
+    }
+}
+
+/// Produces the sensor events for each truth frame.
+#[derive(Debug, Clone)]
+pub struct SensorSimulator {
+    frame: LaunchFrame,
+    gyro: TriadModel,
+    accelerometer: TriadModel,
+    star_mounting_q_bs: Quaternion<f64>,
+    star_installation_q_psi: Quaternion<f64>,
+    star_noise_rad: f64,
+    star_frames_per_sample: u64,
+    star_rng: ChaCha8Rng,
+    gnss_noise_m: f64,
+    gnss_frames_per_sample: u64,
+    gnss_latency_s: f64,
+    gnss_rng: ChaCha8Rng,
+    /// Fixes sampled but not yet delivered, oldest first.
+    pending_gnss: std::collections::VecDeque<SensorEvent>,
+}
+
+impl SensorSimulator {
+    /// Builds the error models from a (validated) scenario.
+    ///
+    /// # Errors
+    /// [`SensorError::LaunchSite`] if nav-core refuses the launch site.
+    pub fn new(scenario: &Scenario) -> Result<Self, SensorError> {
+        let frame = LaunchFrame::new(&crate::truth::launch_site(scenario))
+            .map_err(|error| SensorError::LaunchSite(format!("{error:?}")))?;
+        let seed = scenario.simulation.seed;
+        let period_s = scenario.imu.frame_period_s();
+        let gyro = &scenario.gyro;
+        let accelerometer = &scenario.accelerometer;
+        let star = &scenario.star_sensor;
+        let [mount_x, mount_y, mount_z] = star.mounting_rotation_vector_deg;
+        Ok(Self {
+            frame,
+            gyro: TriadModel {
+                bias: vector(gyro.bias_rad_per_s),
+                scale_factor: vector(gyro.scale_factor),
+                increment_noise_sigma: gyro.delta_angle_noise_sigma_rad(period_s),
+                bias_walk_per_sqrt_s: gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+                quantum: gyro.quantum_rad,
+                noise_rng: stream(seed, NoiseStream::GyroNoise),
+                bias_walk_rng: stream(seed, NoiseStream::GyroBiasWalk),
+                continuous_total: Vector3::zeros(),
+                quantised_total: Vector3::zeros(),
+            },
+            accelerometer: TriadModel {
+                bias: vector(accelerometer.bias_mps2),
+                scale_factor: vector(accelerometer.scale_factor),
+                increment_noise_sigma: accelerometer.delta_velocity_noise_sigma_mps(period_s),
+                bias_walk_per_sqrt_s: accelerometer.bias_random_walk_mps2_per_sqrt_s,
+                quantum: accelerometer.quantum_mps,
+                noise_rng: stream(seed, NoiseStream::AccelNoise),
+                bias_walk_rng: stream(seed, NoiseStream::AccelBiasWalk),
+                continuous_total: Vector3::zeros(),
+                quantised_total: Vector3::zeros(),
+            },
+            star_mounting_q_bs: exp_rotation_vector(&Vector3::new(
+                mount_x.to_radians(),
+                mount_y.to_radians(),
+                mount_z.to_radians(),
+            )),
+            star_installation_q_psi: exp_rotation_vector(&vector(
+                star.installation_error_rotation_vector_rad,
+            )),
+            star_noise_rad: star.noise_rad(),
+            star_frames_per_sample: frames_in(1.0 / star.rate_hz, period_s),
+            star_rng: stream(seed, NoiseStream::Star),
+            gnss_noise_m: scenario.gnss.noise_m,
+            gnss_frames_per_sample: frames_in(1.0 / scenario.gnss.rate_hz, period_s),
+            gnss_latency_s: scenario.gnss.latency_s,
+            gnss_rng: stream(seed, NoiseStream::Gnss),
+            pending_gnss: std::collections::VecDeque::new(),
+        })
+    }
+
+    /// The true sensor errors now (biases change only with a bias random walk).
+    pub fn error_truth(&self) -> SensorErrorTruth {
+        SensorErrorTruth {
+            gyro_bias_rad_per_s: self.gyro.bias,
+            gyro_scale_factor: self.gyro.scale_factor,
+            accel_bias_mps2: self.accelerometer.bias,
+            accel_scale_factor: self.accelerometer.scale_factor,
+            star_installation_q_psi: self.star_installation_q_psi,
+            star_mounting_q_bs: self.star_mounting_q_bs,
+        }
+    }
+
+    /// Appends to `events` what the sensors deliver during truth frame `truth` (see the module
+    /// docs for the order).
+    ///
+    /// # Errors
+    /// [`SensorError::FrameConversion`] if the truth position cannot be converted to ECEF.
+    pub fn process_frame(
+        &mut self,
+        truth: &TruthFrame,
+        events: &mut Vec<SensorEvent>,
+    ) -> Result<(), SensorError> {
+        let interval_s = truth.interval_s;
+        events.push(SensorEvent::Imu {
+            frame_index: truth.frame_index,
+            time_s: truth.time_s,
+            interval_s,
+            delta_angle_rad: self.gyro.measure(&truth.delta_angle_rad, interval_s),
+            delta_velocity_mps: self
+                .accelerometer
+                .measure(&truth.delta_velocity_mps, interval_s),
+        });
+
+        let frames_elapsed = truth.frame_index + 1;
+        if frames_elapsed % self.star_frames_per_sample == 0 {
+            let noise = normal3(&mut self.star_rng) * self.star_noise_rad;
+            let measured = truth.attitude_q_ib
+                * self.star_mounting_q_bs
+                * self.star_installation_q_psi
+                * exp_rotation_vector(&noise);
+            events.push(SensorEvent::Star {
+                time_tag_s: truth.time_s,
+                attitude_q_is: canonical(&measured.normalize()),
+            });
+        }
+
+        if frames_elapsed % self.gnss_frames_per_sample == 0 {
+            let position_ecef_m = self
+                .frame
+                .launch_inertial_to_ecef(&truth.position_m, truth.time_s)
+                .map_err(|error| SensorError::FrameConversion {
+                    time_s: truth.time_s,
+                    reason: format!("{error:?}"),
+                })?;
+            let noise = normal3(&mut self.gnss_rng) * self.gnss_noise_m;
+            self.pending_gnss.push_back(SensorEvent::Gnss {
+                time_tag_s: truth.time_s,
+                delivery_time_s: truth.time_s + self.gnss_latency_s,
+                position_ecef_m: position_ecef_m + noise,
+            });
+        }
+        // Deliver every fix due by the end of this frame (half a frame of tolerance absorbs the
+        // rounding of `time + latency`; latencies are whole frames).
+        let due_by_s = truth.time_s + 0.5 * interval_s;
+        while let Some(fix) = self.pending_gnss.front() {
+            if fix.delivery_time_s() > due_by_s {
+                break;
+            }
+            if let Some(fix) = self.pending_gnss.pop_front() {
+                events.push(fix);
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::truth::launch_frame;
+
+    const START_TIME_S: f64 = 600.0;
+
+    /// A static truth frame (the models do not care whether the truth is consistent), with
+    /// generic non-zero increments, attitude and position.
+    fn truth_frame(frame_index: u64, period_s: f64) -> TruthFrame {
+        TruthFrame {
+            frame_index,
+            start_time_s: START_TIME_S + frame_index as f64 * period_s,
+            time_s: START_TIME_S + (frame_index + 1) as f64 * period_s,
+            interval_s: period_s,
+            attitude_q_ib: exp_rotation_vector(&Vector3::new(0.3, -1.1, 0.4)),
+            position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+            velocity_mps: Vector3::new(7000.0, 0.0, 100.0),
+            delta_angle_rad: Vector3::new(0.01, -0.02, 0.005),
+            delta_velocity_mps: Vector3::new(0.1, 0.0, -0.05),
+            segment_index: 0,
+        }
+    }
+
+    /// Runs `frames` synthetic truth frames through the scenario's sensors.
+    fn run(scenario: &Scenario, frames: u64) -> (Vec<TruthFrame>, Vec<SensorEvent>) {
+        let period_s = scenario.imu.frame_period_s();
+        let mut sensors = SensorSimulator::new(scenario).unwrap();
+        let mut events = Vec::new();
+        let truths: Vec<TruthFrame> = (0..frames).map(|k| truth_frame(k, period_s)).collect();
+        for truth in &truths {
+            sensors.process_frame(truth, &mut events).unwrap();
+        }
+        (truths, events)
+    }
+
+    /// Every measurement at the IMU rate, so 10,000 frames give 10,000 samples of each.
+    fn every_frame_scenario() -> Scenario {
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.star_sensor.rate_hz = scenario.imu.rate_hz;
+        scenario.gnss.rate_hz = scenario.imu.rate_hz;
+        scenario
+    }
+
+    /// The noise-free star measurement `q_ib ⊗ q_bs ⊗ q_ψ`.
+    fn star_without_noise(scenario: &Scenario, truth: &TruthFrame) -> Quaternion<f64> {
+        let errors = SensorSimulator::new(scenario).unwrap().error_truth();
+        truth.attitude_q_ib * errors.star_mounting_q_bs * errors.star_installation_q_psi
+    }
+
+    /// Per-axis sample mean and standard deviation.
+    fn statistics(samples: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
+        let count = samples.len() as f64;
+        let mean = samples.iter().sum::<Vector3<f64>>() / count;
+        let variance = samples
+            .iter()
+            .map(|sample| (sample - mean).component_mul(&(sample - mean)))
+            .sum::<Vector3<f64>>()
+            / (count - 1.0);
+        (mean, variance.map(f64::sqrt))
+    }
+
+    /// Sample σ within 5 % of `sigma` on every axis, and the mean within 5 standard errors of 0.
+    fn assert_noise_matches(name: &str, samples: &[Vector3<f64>], sigma: f64) {
+        assert_eq!(samples.len(), 10_000, "{name}");
+        let (mean, deviation) = statistics(samples);
+        let ratio = deviation / sigma;
+        println!(
+            "{name}: sigma {sigma:.4e}, sample sigma / sigma = {ratio:.4?}, mean / sigma = {:.4?}",
+            mean / sigma
+        );
+        for axis in 0..3 {
+            assert!(
+                (ratio[axis] - 1.0).abs() < 0.05,
+                "{name} axis {axis}: {ratio:?}"
+            );
+            assert!(
+                mean[axis].abs() < 5.0 * sigma / 100.0,
+                "{name} axis {axis}: {mean:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn simulated_noise_has_the_configured_sigma() {
+        let scenario = every_frame_scenario();
+        let period_s = scenario.imu.frame_period_s();
+        let (truths, events) = run(&scenario, 10_000);
+        let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
+        let frame = launch_frame(&scenario).unwrap();
+        let one = Vector3::repeat(1.0);
+        let (mut gyro, mut accel, mut star, mut gnss) = (vec![], vec![], vec![], vec![]);
+        // Star and GNSS (no latency) follow the IMU event of the frame they are valid at.
+        let mut current = &truths[0];
+        for event in &events {
+            match event {
+                SensorEvent::Imu {
+                    frame_index,
+                    delta_angle_rad,
+                    delta_velocity_mps,
+                    ..
+                } => {
+                    let truth = &truths[*frame_index as usize];
+                    current = truth;
+                    // n = (I − Λ) Δ_m − Δ − b T.
+                    gyro.push(
+                        (one - errors.gyro_scale_factor).component_mul(delta_angle_rad)
+                            - truth.delta_angle_rad
+                            - errors.gyro_bias_rad_per_s * period_s,
+                    );
+                    accel.push(
+                        (one - errors.accel_scale_factor).component_mul(delta_velocity_mps)
+                            - truth.delta_velocity_mps
+                            - errors.accel_bias_mps2 * period_s,
+                    );
+                }
+                SensorEvent::Star {
+                    time_tag_s,
+                    attitude_q_is,
+                } => {
+                    assert!((time_tag_s - current.time_s).abs() < 1e-12);
+                    // δq = (q_ib q_bs q_ψ)* ⊗ q_m = exp(n): n ≈ 2 vec(δq).
+                    let residual = canonical(
+                        &(star_without_noise(&scenario, current).conjugate() * attitude_q_is),
+                    );
+                    star.push(residual.imag() * 2.0);
+                }
+                SensorEvent::Gnss {
+                    time_tag_s,
+                    position_ecef_m,
+                    ..
+                } => {
+                    assert!((time_tag_s - current.time_s).abs() < 1e-12);
+                    let exact = frame
+                        .launch_inertial_to_ecef(&current.position_m, *time_tag_s)
+                        .unwrap();
+                    gnss.push(position_ecef_m - exact);
+                }
+            }
+        }
+        assert_noise_matches(
+            "gyro delta angle",
+            &gyro,
+            scenario.gyro.delta_angle_noise_sigma_rad(period_s),
+        );
+        assert_noise_matches(
+            "accelerometer delta velocity",
+            &accel,
+            scenario
+                .accelerometer
+                .delta_velocity_noise_sigma_mps(period_s),
+        );
+        // 10 arcsec = 4.848e-5 rad.
+        assert_noise_matches("star sensor", &star, (10.0_f64 / 3600.0).to_radians());
+        assert_noise_matches("GNSS", &gnss, 10.0);
+    }
+
+    fn noise_free_scenario() -> Scenario {
+        let mut scenario = every_frame_scenario();
+        scenario.gyro.rate_noise_density_deg_per_h_per_sqrt_hz = 0.0;
+        scenario.accelerometer.noise_per_sample_mps2 = 0.0;
+        scenario.star_sensor.noise_arcsec = 0.0;
+        scenario.gnss.noise_m = 0.0;
+        scenario
+    }
+
+    #[test]
+    fn without_noise_measurements_invert_exactly_to_truth_with_the_known_errors() {
+        let scenario = noise_free_scenario();
+        let period_s = scenario.imu.frame_period_s();
+        let (truths, events) = run(&scenario, 20);
+        let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
+        let frame = launch_frame(&scenario).unwrap();
+        let one = Vector3::repeat(1.0);
+        let mut current = &truths[0];
+        let mut checked = [0_usize; 3];
+        for event in &events {
+            match event {
+                SensorEvent::Imu {
+                    frame_index,
+                    interval_s,
+                    delta_angle_rad,
+                    delta_velocity_mps,
+                    ..
+                } => {
+                    current = &truths[*frame_index as usize];
+                    assert!((interval_s - period_s).abs() < 1e-18);
+                    // The flight correction Δ = (I − Λ) Δ_m − b T recovers the truth.
+                    let angle = (one - errors.gyro_scale_factor).component_mul(delta_angle_rad)
+                        - errors.gyro_bias_rad_per_s * period_s;
+                    let velocity = (one - errors.accel_scale_factor)
+                        .component_mul(delta_velocity_mps)
+                        - errors.accel_bias_mps2 * period_s;
+                    assert!(
+                        (angle - current.delta_angle_rad).norm() < 1e-17,
+                        "{angle:?}"
+                    );
+                    assert!((velocity - current.delta_velocity_mps).norm() < 1e-16);
+                    // And the forward model by hand, x axis: (Δθ + b T) / (1 − λ).
+                    let expected_x = (0.01 + 1.0e-4 * period_s) / (1.0 - 3.0e-5);
+                    assert!((delta_angle_rad.x - expected_x).abs() < 1e-17);
+                    checked[0] += 1;
+                }
+                SensorEvent::Star { attitude_q_is, .. } => {
+                    let expected = canonical(&star_without_noise(&scenario, current));
+                    assert!((attitude_q_is - expected).norm() < 1e-15);
+                    checked[1] += 1;
+                }
+                SensorEvent::Gnss {
+                    time_tag_s,
+                    position_ecef_m,
+                    ..
+                } => {
+                    let back = frame
+                        .ecef_to_launch_inertial(position_ecef_m, *time_tag_s)
+                        .unwrap();
+                    assert!((back - current.position_m).norm() < 1e-8, "{back:?}");
+                    checked[2] += 1;
+                }
+            }
+        }
+        assert_eq!(checked, [20, 20, 20]);
+        // The installation state is the vector part of q_ψ = exp(ψ): sin(|ψ|/2) ψ/|ψ| ≈ ψ/2.
+        let psi: Vector3<f64> = Vector3::new(1.0e-3, 2.0e-3, 3.0e-3);
+        let expected = psi * ((0.5 * psi.norm()).sin() / psi.norm());
+        assert!((errors.star_installation_vector_part() - expected).norm() < 1e-18);
+        assert!((errors.star_installation_vector_part() - psi * 0.5).norm() < 2e-9);
+        // The mounting is the configured 30° tilt about body y.
+        let tilt = errors.star_mounting_q_bs;
+        assert!((tilt.j - (-15.0_f64).to_radians().sin()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn same_seed_gives_identical_streams_and_sources_are_independent() {
+        let scenario = Scenario::default_scenario().unwrap();
+        let (_, first) = run(&scenario, 3_000);
+        let (_, second) = run(&scenario, 3_000);
+        assert_eq!(first.len(), 3_000 + 24 + 6);
+        assert_eq!(first, second);
+
+        let mut reseeded = scenario.clone();
+        reseeded.simulation.seed += 1;
+        let (_, other) = run(&reseeded, 3_000);
+        assert_eq!(other.len(), first.len());
+        assert!(first.iter().zip(&other).all(|(a, b)| a != b));
+
+        // Changing the GNSS noise changes only the GNSS events.
+        let mut quieter_gnss = scenario.clone();
+        quieter_gnss.gnss.noise_m = 1.0;
+        let (_, changed) = run(&quieter_gnss, 3_000);
+        for (a, b) in first.iter().zip(&changed) {
+            match a {
+                SensorEvent::Gnss { .. } => assert_ne!(a, b),
+                _ => assert_eq!(a, b),
+            }
+        }
+    }
+
+    #[test]
+    fn quantised_output_is_whole_quanta_and_carries_the_residual() {
+        let quantum_rad = 1.0e-6;
+        let mut quantised = Scenario::default_scenario().unwrap();
+        quantised.gyro.quantum_rad = quantum_rad;
+        let continuous = Scenario::default_scenario().unwrap();
+        let (_, quantised_events) = run(&quantised, 2_000);
+        let (_, continuous_events) = run(&continuous, 2_000);
+        let mut quantised_sum = Vector3::zeros();
+        let mut continuous_sum = Vector3::zeros();
+        let mut worst_gap = 0.0_f64;
+        for (q, c) in quantised_events.iter().zip(&continuous_events) {
+            if let (
+                SensorEvent::Imu {
+                    delta_angle_rad: q_angle,
+                    ..
+                },
+                SensorEvent::Imu {
+                    delta_angle_rad: c_angle,
+                    ..
+                },
+            ) = (q, c)
+            {
+                let quanta = q_angle / quantum_rad;
+                assert!((quanta - quanta.map(f64::round)).abs().max() < 1e-6);
+                quantised_sum += q_angle;
+                continuous_sum += c_angle;
+                worst_gap = worst_gap.max((quantised_sum - continuous_sum).abs().max());
+            }
+        }
+        // Σ quantised never strays more than half a quantum from Σ continuous.
+        assert!(worst_gap <= 0.5 * quantum_rad * (1.0 + 1e-6), "{worst_gap}");
+        assert!(worst_gap > 0.1 * quantum_rad);
+    }
+
+    #[test]
+    fn bias_random_walk_steps_have_the_configured_sigma() {
+        let walk_mps2_per_sqrt_s = 1.0e-5;
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s = walk_mps2_per_sqrt_s;
+        let period_s = scenario.imu.frame_period_s();
+        let mut sensors = SensorSimulator::new(&scenario).unwrap();
+        let mut events = Vec::new();
+        let mut previous = sensors.error_truth().accel_bias_mps2;
+        let mut steps = Vec::new();
+        for frame_index in 0..10_000 {
+            sensors
+                .process_frame(&truth_frame(frame_index, period_s), &mut events)
+                .unwrap();
+            let bias = sensors.error_truth().accel_bias_mps2;
+            steps.push(bias - previous);
+            previous = bias;
+            // The gyro bias has no walk configured and stays put.
+            assert!((sensors.error_truth().gyro_bias_rad_per_s.z - 3.0e-4).abs() < 1e-20);
+        }
+        assert_noise_matches(
+            "accelerometer bias walk step",
+            &steps,
+            walk_mps2_per_sqrt_s * period_s.sqrt(),
+        );
+    }
+
+    #[test]
+    fn gnss_latency_delays_delivery_by_whole_frames() {
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.gnss.latency_s = 0.1;
+        let (_, events) = run(&scenario, 1_200);
+        // The fix valid at 601.0 s (end of frame 499) arrives right after frame 549's IMU event
+        // (end 601.1 s); the one valid at 602.0 s after frame 1049's.
+        let fixes: Vec<usize> = events
+            .iter()
+            .enumerate()
+            .filter(|(_, event)| matches!(event, SensorEvent::Gnss { .. }))
+            .map(|(position, _)| position)
+            .collect();
+        assert_eq!(fixes.len(), 2);
+        for (fix_position, delivery_frame, time_tag_s) in
+            [(fixes[0], 549, 601.0), (fixes[1], 1049, 602.0)]
+        {
+            let SensorEvent::Gnss {
+                time_tag_s: tag,
+                delivery_time_s,
+                ..
+            } = events[fix_position]
+            else {
+                unreachable!()
+            };
+            assert!((tag - time_tag_s).abs() < 1e-9);
+            assert!((delivery_time_s - (time_tag_s + 0.1)).abs() < 1e-9);
+            let previous_imu = events[..fix_position]
+                .iter()
+                .rev()
+                .find_map(|event| match event {
+                    SensorEvent::Imu { frame_index, .. } => Some(*frame_index),
+                    _ => None,
+                });
+            assert_eq!(previous_imu, Some(delivery_frame));
+        }
+        assert!(events
+            .windows(2)
+            .all(|pair| pair[0].delivery_time_s() <= pair[1].delivery_time_s() + 1e-9));
+    }
+
+    #[test]
+    fn events_convert_to_flight_software_ports() {
+        let scenario = Scenario::default_scenario().unwrap();
+        let (_, events) = run(&scenario, 500);
+        let imu = events[0].to_imu_sample().unwrap();
+        assert_eq!(imu.sequence, 0);
+        assert!(events[0].to_star_measurement().is_none());
+        let star = events
+            .iter()
+            .find_map(SensorEvent::to_star_measurement)
+            .unwrap();
+        assert!((star.time_tag_s - 600.25).abs() < 1e-9);
+        let norm: f64 = star.attitude_wxyz.iter().map(|c| c * c).sum();
+        assert!((norm - 1.0).abs() < 1e-15 && star.attitude_wxyz[0] >= 0.0);
+        let fix = events.iter().find_map(SensorEvent::to_gnss_fix).unwrap();
+        assert!((fix.time_tag_s - 601.0).abs() < 1e-9);
+        // The synthetic truth is 547 km from the launch site; its ECEF radius is ~6.4e6 m.
+        let radius: f64 = fix
+            .position_ecef_m
+            .iter()
+            .map(|c| c * c)
+            .sum::<f64>()
+            .sqrt();
+        assert!((6.0e6..7.0e6).contains(&radius), "{radius}");
+    }
+}
