@@ -92,4 +92,81 @@ mod tests {
             "{last_time_s}"
         );
     }
+
+    /// Cross-check of truth, sensor model and flight code: with the noise off, the flight
+    /// strapdown fed the measured increments and the exact sensor-error corrections must fly
+    /// the truth trajectory; only its own algorithm error (two-sample coning/sculling,
+    /// trapezoidal position, midpoint gravity) remains. Proves the increment conventions
+    /// (Δθ = ∫ω_b, Δv = ∫f_b, time tags at frame ends) and the error-model inverse agree.
+    #[test]
+    fn flight_strapdown_on_noise_free_measurements_follows_the_truth() {
+        use nav_core::strapdown::{
+            ImuIncrement, NavigationState, SensorCorrections, Strapdown, StrapdownConfig,
+        };
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.gyro.rate_noise_density_deg_per_h_per_sqrt_hz = 0.0;
+        scenario.accelerometer.noise_per_sample_mps2 = 0.0;
+        let mut simulation = Simulation::new(&scenario).unwrap();
+        let frame = crate::truth::launch_frame(&scenario).unwrap();
+        let initial = *simulation.truth().state();
+        let errors = simulation.error_truth();
+        let corrections = SensorCorrections {
+            gyro_bias_rad_s: errors.gyro_bias_rad_per_s,
+            accel_bias_mps2: errors.accel_bias_mps2,
+            gyro_scale_factor: errors.gyro_scale_factor,
+            accel_scale_factor: errors.accel_scale_factor,
+        };
+        let mut navigation = NavigationState {
+            attitude: initial.attitude_q_ib,
+            position_m: initial.position_m,
+            velocity_mps: initial.velocity_mps,
+            time_s: initial.time_s,
+        };
+        let mut strapdown = Strapdown::new(StrapdownConfig::default());
+        let mut events = Vec::new();
+        let (mut worst_attitude_rad, mut worst_position_m, mut worst_velocity_mps) =
+            (0.0_f64, 0.0_f64, 0.0_f64);
+        let mut worst_time_s = 0.0_f64;
+        while let Some(truth) = simulation.step(&mut events).unwrap() {
+            for event in events.drain(..) {
+                if let SensorEvent::Imu {
+                    delta_angle_rad,
+                    delta_velocity_mps,
+                    interval_s,
+                    ..
+                } = event
+                {
+                    let increment = ImuIncrement {
+                        delta_angle_rad,
+                        delta_velocity_mps,
+                        interval_s,
+                    };
+                    strapdown
+                        .step(&mut navigation, &increment, &corrections, &frame)
+                        .unwrap();
+                }
+            }
+            let attitude_error = nav_core::attitude::canonical(
+                &(truth.attitude_q_ib.conjugate() * navigation.attitude),
+            );
+            worst_attitude_rad = worst_attitude_rad.max(2.0 * attitude_error.imag().norm());
+            worst_position_m =
+                worst_position_m.max((navigation.position_m - truth.position_m).norm());
+            worst_velocity_mps =
+                worst_velocity_mps.max((navigation.velocity_mps - truth.velocity_mps).norm());
+            worst_time_s = worst_time_s.max((navigation.time_s - truth.time_s).abs());
+        }
+        println!(
+            "strapdown vs truth over 226 s: attitude {worst_attitude_rad:.3e} rad, \
+             position {worst_position_m:.3e} m, velocity {worst_velocity_mps:.3e} m/s, \
+             time tag {worst_time_s:.3e} s"
+        );
+        // Measured: attitude 3.2e-13 rad, position 1.7e-5 m, velocity 2.0e-9 m/s; the time tag
+        // differs by 5.3e-9 s because the strapdown sums T while the truth computes t0 + kT.
+        // (Without the bias correction the position error would be ~ ½ |b_a| t² = 96 m.)
+        assert!(worst_attitude_rad < 1e-11);
+        assert!(worst_position_m < 1e-3);
+        assert!(worst_velocity_mps < 1e-7);
+        assert!(worst_time_s < 1e-7);
+    }
 }
