@@ -359,6 +359,10 @@ pub(crate) mod tests {
         let name = block.name;
         assert!(linear_size > 0.0, "{name}: block has no effect");
         let ratio = mismatch[0] / mismatch[1];
+        println!(
+            "{name}: |linear| = {linear_size:.3e}, mismatch = {:.3e} / {:.3e} (ratio {ratio:.3})",
+            mismatch[0], mismatch[1]
+        );
         let at_round_off = mismatch[0] <= 1e-9 * linear_size;
         assert!(
             at_round_off || (3.5..4.5).contains(&ratio),

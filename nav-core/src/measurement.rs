@@ -12,7 +12,21 @@
 //! `q̂_is* ⊗ q_is = (M* ⊗ δq ⊗ M) ⊗ δq_ψ ⊗ δq_noise`, whose vector part is, to first order,
 //! `R(M)ᵀ ϑ + ψ + ν/2` (a quaternion sandwich rotates the vector part; small quaternions'
 //! vector parts add). So `H_attitude = R(M)ᵀ = C_sb` and `H_installation = I`, both constant
-//! for a body-fixed sensor, and the noise of the vector part is half the angle noise.
+//! for a body-fixed sensor, and the noise of the vector part is half the angle noise:
+//! a small rotation by angle `α` has vector part `sin(α/2) ≈ α/2` per axis, so a 1σ of
+//! `σ_angle` (10″ in the paper) gives `σ_z = σ_angle/2` and `R = (σ_angle/2)² I`.
+//!
+//! **Departure from the paper.** The paper prints `H = [I … −C' …]`, a time-varying
+//! installation block. That form belongs to an attitude error expressed in the inertial frame
+//! (left error `q = δq ⊗ q̂`), where moving a body-fixed misalignment to the left of `q̂_ib`
+//! rotates it by the current attitude. The paper's own attitude dynamics (eq. 7, the
+//! `−[ω×]δq` term) are those of a body-frame (right) error, which this crate uses
+//! consistently; with it both the attitude and the installation errors sit to the right of
+//! `q̂_ib`, and the installation block is the constant `I` (attitude block the constant
+//! `C_sb`). Attitude and installation error are then separated by the dynamics, not by `H`:
+//! rotation makes `−[ω̂×]ϑ` act on `ϑ` only, acceleration couples `ϑ` into `δv` via
+//! `−2Ĉ[f̂×]` (see `shared/notes/model.md`). The tests prove `H` against the nonlinear
+//! residual, which the paper's `−C` would fail.
 //!
 //! ## GNSS
 //! The antenna is at `p + C ℓ` (`ℓ` lever arm in body axes). Residual
