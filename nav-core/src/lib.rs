@@ -55,6 +55,7 @@ pub mod filter;
 pub mod frames;
 pub mod gravity;
 pub mod measurement;
+pub mod observability;
 pub mod selftest;
 pub mod state;
 pub mod strapdown;
