@@ -863,6 +863,7 @@ mod tests {
     #[test]
     fn observability_coast_then_rotation_z_separates_z_gyro_scale_factor() {
         let analysis = continuous(&[coast(), rotation(2)]);
+        assert_eq!(analysis.rank, 18);
         let degree = |block: StateBlock, axis: usize| analysis.degree[block.index + axis];
         let z = GYRO_SCALE_FACTOR.index + 2;
         assert!(analysis.observable[z]);
@@ -891,6 +892,7 @@ mod tests {
     #[test]
     fn observability_coast_then_acceleration_y_separates_y_accel_scale_factor() {
         let analysis = continuous(&[coast(), acceleration(1)]);
+        assert_eq!(analysis.rank, 21);
         assert_eq!(
             analysis.block_observable(ACCEL_SCALE_FACTOR),
             [false, true, false]
