@@ -195,17 +195,21 @@ impl LaunchFrame {
             return Err(NavError::NonFiniteInput);
         }
         let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
-        Ok(rotation_z(-angle) * self.earth_centred_position(position_launch_m))
+        Ok(rotation_z(-angle) * self.earth_centred_inertial_position(position_launch_m))
     }
 
     /// Geocentric position (m) in the ECEF-at-epoch inertial axes of a launch-inertial
     /// position (m): `r_I = r_site + Cᵀ p_i`.
-    pub fn earth_centred_position(&self, position_launch_m: &Vector3<f64>) -> Vector3<f64> {
+    pub fn earth_centred_inertial_position(
+        &self,
+        position_launch_m: &Vector3<f64>,
+    ) -> Vector3<f64> {
         self.site_ecef_m + self.launch_from_ecef.transpose() * position_launch_m
     }
 
     /// Geocentric position (m) expressed in launch-inertial axes: `p_i − (−C r_site)`
-    /// `= C r_site + p_i` (the same vector as [`Self::earth_centred_position`], other axes).
+    /// `= C r_site + p_i` (the same vector as [`Self::earth_centred_inertial_position`], in
+    /// other axes).
     pub fn geocentric_position_launch(&self, position_launch_m: &Vector3<f64>) -> Vector3<f64> {
         position_launch_m - self.earth_centre_launch_m
     }
@@ -293,8 +297,53 @@ pub(crate) mod tests {
         let expected = WGS84_EARTH_RATE_RAD_S * frame.site_ecef_m().xy().norm();
         assert!((p.x - expected).abs() < 1e-3, "{p:?} vs {expected}");
         // Earth centre: geocentric position of the origin is the site.
-        let centre = frame.earth_centred_position(frame.earth_centre_launch_m());
+        let centre = frame.earth_centred_inertial_position(frame.earth_centre_launch_m());
         assert!(centre.norm() < 1e-8);
+    }
+
+    /// The launch site, fixed in ECEF, seen from the launch-inertial frame at `t − t₀` later.
+    /// Independent analytic answer (no `R_z`, no ECEF): its geocentric vector `g₀ = C r_site`
+    /// (launch axes) turns about the Earth axis `k` by `ω_e (t − t₀)` (Rodrigues' formula
+    /// `g(t) = g₀ cosθ + (k × g₀) sinθ + k (k·g₀)(1 − cosθ)`), so `p(t) = g(t) − g₀`. The
+    /// measured angle about `k` must equal `ω_e (t − t₀)` for up to almost half a day.
+    #[test]
+    fn site_rotates_about_the_earth_axis_at_earth_rate() {
+        let mut site = wenchang();
+        site.epoch_s = 1.0e6; // a non-zero epoch: only t − t₀ matters
+        let frame = LaunchFrame::new(&site).unwrap();
+        let k = frame.earth_axis_launch();
+        let g0 = -*frame.earth_centre_launch_m();
+        let g0_perp = g0 - k * k.dot(&g0);
+        let (mut worst_position, mut worst_angle): (f64, f64) = (0.0, 0.0);
+        for elapsed in [1.0, 60.0, 3_600.0, 21_541.0, 43_000.0] {
+            let theta = WGS84_EARTH_RATE_RAD_S * elapsed;
+            let rotated = g0 * theta.cos()
+                + k.cross(&g0) * theta.sin()
+                + k * (k.dot(&g0) * (1.0 - theta.cos()));
+            let expected = rotated - g0;
+            let p = frame
+                .ecef_to_launch_inertial(frame.site_ecef_m(), site.epoch_s + elapsed)
+                .unwrap();
+            worst_position = worst_position.max((p - expected).norm());
+            let g = p + g0;
+            let g_perp = g - k * k.dot(&g);
+            // Axial component and distance from the axis are preserved.
+            assert!((k.dot(&g) - k.dot(&g0)).abs() < 1e-8);
+            assert!((g_perp.norm() - g0_perp.norm()).abs() < 1e-8);
+            let measured = libm::atan2(k.dot(&g0_perp.cross(&g_perp)), g0_perp.dot(&g_perp));
+            worst_angle = worst_angle.max((measured - theta).abs());
+        }
+        println!(
+            "site vs Rodrigues rotation about the Earth axis: worst {worst_position:e} m, \
+             worst angle error {worst_angle:e} rad"
+        );
+        assert!(worst_position < 1e-6);
+        assert!(worst_angle < 1e-13);
+        // 21,541 s is ≈ 90°: the site is then ≈ √2 · (distance from the axis) from the origin.
+        let quarter = frame
+            .ecef_to_launch_inertial(frame.site_ecef_m(), site.epoch_s + 21_541.0)
+            .unwrap();
+        assert!((quarter.norm() / g0_perp.norm() - 2.0_f64.sqrt()).abs() < 1e-3);
     }
 
     #[test]
