@@ -76,6 +76,20 @@ pub fn exp_rotation_vector(phi: &Vector3<f64>) -> Quaternion<f64> {
     }
 }
 
+/// Rotation vector (rad) of a unit quaternion, the inverse of [`exp_rotation_vector`] on
+/// the canonical sign: `φ = 2 atan2(|v|, w) v/|v|`, with `φ ≈ 2 v / w` for `|v| < 1e-8`
+/// (relative truncation below 1e-16).
+pub fn log_rotation_vector(q: &Quaternion<f64>) -> Vector3<f64> {
+    let q = canonical(q);
+    let vector = q.imag();
+    let sine = libm::sqrt(vector.dot(&vector));
+    if sine < 1.0e-8 {
+        vector * (2.0 / q.w)
+    } else {
+        vector * (2.0 * libm::atan2(sine, q.w) / sine)
+    }
+}
+
 /// Quaternion from a small-error vector part `ϑ` (the filter's attitude-error convention
 /// `δq ≈ [1, ϑ]`), made exactly unit: `[sqrt(1 − |ϑ|²), ϑ]`.
 ///
@@ -193,6 +207,19 @@ mod tests {
             let linear = rotation_matrix(&q_hat) * (Matrix3::identity() + 2.0 * skew(&theta));
             let mismatch = (rotation_matrix(&q_true) - linear).abs().max();
             assert!(mismatch < 10.0 * scale * scale, "{mismatch}");
+        }
+    }
+
+    #[test]
+    fn log_inverts_exp_on_both_branches_and_either_sign() {
+        for phi in [
+            Vector3::new(0.3, -1.2, 2.0),
+            Vector3::new(1e-9, 2e-9, -3e-9),
+            Vector3::zeros(),
+        ] {
+            let q = exp_rotation_vector(&phi);
+            assert!((log_rotation_vector(&q) - phi).norm() < 1e-15 * (1.0 + phi.norm()));
+            assert!((log_rotation_vector(&-q) - phi).norm() < 1e-15 * (1.0 + phi.norm()));
         }
     }
 

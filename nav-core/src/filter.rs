@@ -21,7 +21,7 @@ use crate::discretise::{CovarianceMatrix, DiscreteModel};
 use crate::error_model::set_block;
 use crate::measurement::LinearMeasurement;
 use crate::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
     POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
@@ -346,6 +346,22 @@ impl ErrorStateFilter {
         measurement: &LinearMeasurement,
         gate_nis: f64,
     ) -> Result<InnovationReport, NavError> {
+        self.update_with_frozen_blocks(measurement, gate_nis, &BlockMask::NONE)
+    }
+
+    /// [`ErrorStateFilter::update`] with the gain rows of the `frozen` blocks set to zero:
+    /// their estimate does not move and, the Joseph form being valid for any gain, `P` stays
+    /// the exact covariance of the suboptimal update (a "consider" update; Simon 2006,
+    /// §7.5). The calibration manager freezes converged blocks this way.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::update`].
+    pub fn update_with_frozen_blocks(
+        &mut self,
+        measurement: &LinearMeasurement,
+        gate_nis: f64,
+        frozen: &BlockMask,
+    ) -> Result<InnovationReport, NavError> {
         if gate_nis.is_nan() {
             // A NaN gate would silently accept everything (`nis > NaN` is false).
             return Err(NavError::NonFiniteInput);
@@ -358,8 +374,13 @@ impl ErrorStateFilter {
             Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
         let h = &measurement.jacobian;
         // K = P Hᵀ S⁻¹, computed as (S⁻¹ H P)ᵀ since S and P are symmetric.
-        let gain: SMatrix<f64, STATE_DIMENSION, 3> =
+        let mut gain: SMatrix<f64, STATE_DIMENSION, 3> =
             cholesky.solve(&(h * self.covariance)).transpose();
+        for block in BLOCKS {
+            if frozen.contains(block) {
+                gain.fixed_rows_mut::<3>(block.index).fill(0.0);
+            }
+        }
         let state = self.state + gain * report.innovation;
         let i_minus_kh = CovarianceMatrix::identity() - gain * h;
         let covariance = symmetrised(
@@ -557,6 +578,45 @@ mod tests {
             (attitude.imag() - theta).amax() < 1e-12,
             "{attitude:?} vs {theta:?}"
         );
+    }
+
+    #[test]
+    fn a_frozen_block_keeps_its_estimate_and_the_covariance_stays_exact() {
+        // Correlate position with the accelerometer scale factor, then observe position with
+        // that block frozen: the frozen estimate must not move, the unfrozen one must, and P
+        // must equal the Joseph-form covariance (I − K H) P (I − K H)ᵀ + K R Kᵀ of the
+        // zero-row gain, computed here independently.
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        let mut covariance = *filter.covariance();
+        let cross = 0.5 * libm::sqrt(1e4 * 1e-8);
+        for axis in 0..3 {
+            covariance[(POSITION.index + axis, ACCEL_SCALE_FACTOR.index + axis)] = cross;
+            covariance[(ACCEL_SCALE_FACTOR.index + axis, POSITION.index + axis)] = cross;
+        }
+        filter.set_covariance(&covariance).unwrap();
+        let prior = *filter.covariance();
+        let measurement = position_measurement(Vector3::new(30.0, -10.0, 5.0), 10.0);
+        let mut frozen = BlockMask::NONE;
+        frozen.insert(ACCEL_SCALE_FACTOR);
+        let mut free = filter;
+        free.update(&measurement, f64::INFINITY).unwrap();
+        assert!(free.block(ACCEL_SCALE_FACTOR).norm() > 1e-6);
+        filter
+            .update_with_frozen_blocks(&measurement, f64::INFINITY, &frozen)
+            .unwrap();
+        assert_eq!(filter.block(ACCEL_SCALE_FACTOR), Vector3::zeros());
+        assert!((filter.block(POSITION) - free.block(POSITION)).norm() < 1e-12);
+        let h = measurement.jacobian;
+        let s = h * prior * h.transpose() + measurement.noise_covariance;
+        let mut gain = prior * h.transpose() * s.try_inverse().unwrap();
+        gain.fixed_rows_mut::<3>(ACCEL_SCALE_FACTOR.index).fill(0.0);
+        let i_kh = CovarianceMatrix::identity() - gain * h;
+        let expected = i_kh * prior * i_kh.transpose()
+            + gain * measurement.noise_covariance * gain.transpose();
+        assert!((filter.covariance() - expected).amax() < 1e-9 * expected.amax());
+        // Freezing costs information: the frozen block keeps its prior variance.
+        let variance = filter.covariance()[(ACCEL_SCALE_FACTOR.index, ACCEL_SCALE_FACTOR.index)];
+        assert!((variance - 1e-8).abs() < 1e-20);
     }
 
     #[test]

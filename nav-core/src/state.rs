@@ -92,9 +92,72 @@ pub const CALIBRATION_BLOCKS: [StateBlock; 5] = [
     ACCEL_SCALE_FACTOR,
 ];
 
+/// A set of state blocks (e.g. the blocks frozen by the calibration manager), one bit per
+/// block of [`BLOCKS`] in their order.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BlockMask {
+    bits: u8,
+}
+
+impl BlockMask {
+    /// The empty set.
+    pub const NONE: BlockMask = BlockMask { bits: 0 };
+
+    /// Position of `block` in [`BLOCKS`] (its index / 3); blocks are 3 states each.
+    fn bit(block: StateBlock) -> u8 {
+        let position = block.index / 3;
+        u8::try_from(position).map_or(0, |p| 1u8.checked_shl(u32::from(p)).unwrap_or(0))
+    }
+
+    /// Whether `block` is in the set.
+    pub fn contains(&self, block: StateBlock) -> bool {
+        self.bits & Self::bit(block) != 0
+    }
+
+    /// Adds `block` to the set.
+    pub fn insert(&mut self, block: StateBlock) {
+        self.bits |= Self::bit(block);
+    }
+
+    /// Removes `block` from the set.
+    pub fn remove(&mut self, block: StateBlock) {
+        self.bits &= !Self::bit(block);
+    }
+
+    /// True for the empty set.
+    pub fn is_empty(&self) -> bool {
+        self.bits == 0
+    }
+
+    /// The raw bits (bit k = `BLOCKS[k]`), for telemetry.
+    pub fn bits(&self) -> u8 {
+        self.bits
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn block_mask_holds_exactly_the_inserted_blocks() {
+        let mut mask = BlockMask::NONE;
+        assert!(mask.is_empty());
+        mask.insert(GYRO_SCALE_FACTOR);
+        mask.insert(ATTITUDE);
+        for block in BLOCKS {
+            assert_eq!(
+                mask.contains(block),
+                block == GYRO_SCALE_FACTOR || block == ATTITUDE,
+                "{}",
+                block.name
+            );
+        }
+        assert_eq!(mask.bits(), 0b0100_0001);
+        mask.remove(ATTITUDE);
+        assert_eq!(mask.bits(), 0b0100_0000);
+    }
 
     #[test]
     fn blocks_are_contiguous_and_cover_the_state() {

@@ -19,8 +19,44 @@ pub enum ConfigField {
     StarNormTolerance,
     /// `gnss.max_jump_m`
     GnssMaxJump,
-    /// `measurement.max_latency_s`
+    /// `timing.max_latency_s`
     MaxLatency,
+    /// `launch_site` (latitude, longitude, azimuth, height or epoch)
+    LaunchSite,
+    /// `filter.initial` or `filter.discretisation_order`
+    FilterInitialUncertainty,
+    /// `process_noise`
+    ProcessNoise,
+    /// `star.mounting_wxyz`
+    StarMounting,
+    /// `star.noise_rad`
+    StarNoise,
+    /// `star.gate_nis`
+    StarGate,
+    /// `gnss.lever_arm_body_m`
+    GnssLeverArm,
+    /// `gnss.noise_m`
+    GnssNoise,
+    /// `gnss.gate_nis`
+    GnssGate,
+    /// `timing.future_tolerance_s`
+    FutureTolerance,
+    /// `timing.rejections_to_declare_faulty`
+    RejectionsToDeclareFaulty,
+    /// `covariance.propagation_interval_frames`
+    PropagationInterval,
+    /// `covariance.sigma_floor`
+    SigmaFloor,
+    /// `covariance.sigma_ceiling_factor`
+    SigmaCeiling,
+    /// `calibration.convergence_sigma`
+    CalibrationThreshold,
+    /// `calibration.stability_window_s`
+    CalibrationWindow,
+    /// `calibration.stability_fraction`
+    CalibrationStability,
+    /// The initial navigation state (non-finite, or attitude not a unit quaternion).
+    InitialNavigation,
 }
 
 /// Why a nav-fsw operation refused its input or could not complete.

@@ -41,6 +41,16 @@ pub struct HealthCounters {
     pub filter_resets: u32,
     /// Frames whose work exceeded the frame budget.
     pub frame_overruns: u32,
+    /// Times the star sensor was declared faulty (consecutive rejections).
+    pub star_declared_faulty: u32,
+    /// Times the GNSS receiver was declared faulty (consecutive rejections).
+    pub gnss_declared_faulty: u32,
+    /// Measurements discarded because their sensor is declared faulty.
+    pub ignored_from_faulty_sensor: u32,
+    /// Filter operations refused by nav-core (measurement model or update errors).
+    pub filter_errors: u32,
+    /// Strapdown steps refused (the navigation state was held).
+    pub strapdown_failures: u32,
 }
 
 /// Adds one to a counter without wrapping.

@@ -22,10 +22,14 @@
 /// Nominal IMU / minor-frame period (s): 500 Hz, as in the paper's Section 3.
 pub const MINOR_FRAME_PERIOD_S: f64 = 0.002;
 
+pub mod calibration_manager;
+pub mod config;
 pub mod error;
 pub mod health;
 pub mod input_check;
 pub mod measurement_buffer;
 pub mod ports;
+pub mod scheduler;
+pub mod telemetry;
 
 pub use error::{ConfigField, FswError};

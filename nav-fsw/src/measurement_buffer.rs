@@ -94,6 +94,11 @@ impl<M: Copy, const N: usize> MeasurementBuffer<M, N> {
         Ok(())
     }
 
+    /// Time tag of the oldest queued measurement.
+    pub fn oldest_time_tag(&self) -> Option<f64> {
+        self.entries.first().map(|(tag, _)| *tag)
+    }
+
     /// Removes and returns the oldest measurement whose time tag is at or before `up_to_s`.
     pub fn pop_due(&mut self, up_to_s: f64) -> Option<(f64, M)> {
         let due = self.entries.first().is_some_and(|(tag, _)| *tag <= up_to_s);

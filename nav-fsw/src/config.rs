@@ -1,0 +1,299 @@
+//! The flight software's configuration: one struct, documented units, the paper's values as
+//! defaults, validated once at start-up ([`FswConfig::validate`]) so that a bad value is a
+//! typed error naming the field, never a panic or a silently wrong filter.
+
+use nav_core::error_model::ProcessNoise;
+use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
+use nav_core::frames::LaunchSite;
+use nav_core::strapdown::StrapdownConfig;
+
+use crate::calibration_manager::CalibrationManagerConfig;
+use crate::error::{ConfigField, FswError};
+use crate::input_check::ImuLimits;
+
+/// Arc-seconds to radians.
+pub const ARCSEC_TO_RAD: f64 = core::f64::consts::PI / (180.0 * 3600.0);
+
+/// Capacity of the navigation-history ring (frames): bounds the measurement latency that can
+/// be fused at its time of validity, `(capacity − 1) × frame period` = 126 ms at 500 Hz.
+pub const HISTORY_CAPACITY: usize = 64;
+
+/// Capacity of the star-sensor measurement queue.
+pub const STAR_QUEUE_CAPACITY: usize = 8;
+
+/// Capacity of the GNSS fix queue.
+pub const GNSS_QUEUE_CAPACITY: usize = 4;
+
+/// Star-sensor settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StarSensorConfig {
+    /// Nominal body-to-sensor mounting `q_bs` `[w, x, y, z]` (unit), known from the drawings.
+    pub mounting_wxyz: [f64; 4],
+    /// Attitude noise, 1σ per axis (rad); the paper's 10″.
+    pub noise_rad: f64,
+    /// NIS gate, χ²(3) (16.27 = 99.9 %).
+    pub gate_nis: f64,
+    /// Largest accepted `| |q| − 1 |` of a measured quaternion.
+    pub unit_norm_tolerance: f64,
+}
+
+/// GNSS receiver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GnssConfig {
+    /// Antenna position relative to the IMU, body axes (m).
+    pub lever_arm_body_m: [f64; 3],
+    /// Position noise, 1σ per axis (m); the paper's 10 m.
+    pub noise_m: f64,
+    /// NIS gate, χ²(3).
+    pub gate_nis: f64,
+    /// A fix farther than this from the predicted antenna position is a jump (m).
+    pub max_jump_m: f64,
+}
+
+/// Measurement timing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MeasurementTiming {
+    /// Oldest accepted time of validity behind the navigation time (s); at most
+    /// `(HISTORY_CAPACITY − 1) × frame period`.
+    pub max_latency_s: f64,
+    /// A time tag later than navigation time by more than this is refused as future (s).
+    pub future_tolerance_s: f64,
+    /// Consecutive gate rejections after which a sensor is declared faulty (its
+    /// measurements are then ignored until [`crate::scheduler::Command::ClearSensorFaults`]).
+    pub rejections_to_declare_faulty: u32,
+}
+
+/// Covariance propagation and protection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CovarianceConfig {
+    /// Propagate `P` every this many frames (1 = every frame, the default), over the
+    /// accumulated interval with the mean rates and forces of the interval.
+    pub propagation_interval_frames: u32,
+    /// Floor of every 1σ, per block (same units as the initial uncertainty); a variance
+    /// below its floor² is raised to it (counted).
+    pub sigma_floor: InitialUncertainty,
+    /// Ceiling of every 1σ as a multiple of its initial 1σ; a larger variance is scaled back
+    /// with its row and column (correlations kept), counted.
+    pub sigma_ceiling_factor: f64,
+}
+
+/// Everything the flight software needs, in one place.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FswConfig {
+    /// Launch site and epoch, defining the launch-inertial navigation frame.
+    pub launch_site: LaunchSite,
+    /// Strapdown options (coning, sculling, gravity model).
+    pub strapdown: StrapdownConfig,
+    /// The 24-state filter: mode, discretisation order (paper: 3), initial 1σ.
+    pub filter: FilterConfig,
+    /// Sensor noise spectral densities for `Q`.
+    pub process_noise: ProcessNoise,
+    /// IMU period and saturation limits.
+    pub imu: ImuLimits,
+    /// Star sensor.
+    pub star: StarSensorConfig,
+    /// GNSS.
+    pub gnss: GnssConfig,
+    /// Measurement latency and fault declaration.
+    pub timing: MeasurementTiming,
+    /// Covariance propagation rate and protection.
+    pub covariance: CovarianceConfig,
+    /// The calibration manager.
+    pub calibration: CalibrationManagerConfig,
+}
+
+impl FswConfig {
+    /// The paper's values where it gives them (Section 3: 500 Hz, 10″ star sensor, 10 m
+    /// GNSS, 3rd-order discretisation, its noise densities) and documented choices
+    /// elsewhere, for a launch site given by the mission.
+    pub fn paper_defaults(launch_site: LaunchSite) -> Self {
+        Self {
+            launch_site,
+            strapdown: StrapdownConfig::default(),
+            filter: FilterConfig {
+                mode: FilterMode::ClosedLoop,
+                discretisation_order: 3,
+                initial: InitialUncertainty {
+                    attitude_rad: 1e-3,
+                    position_m: 10.0,
+                    velocity_mps: 0.1,
+                    gyro_bias_rad_s: 1e-3,
+                    accel_bias_mps2: 1e-2,
+                    star_installation_rad: 1e-2,
+                    gyro_scale_factor: 1e-4,
+                    accel_scale_factor: 2e-4,
+                },
+            },
+            process_noise: ProcessNoise::PAPER,
+            imu: ImuLimits::default(),
+            star: StarSensorConfig {
+                mounting_wxyz: [1.0, 0.0, 0.0, 0.0],
+                noise_rad: 10.0 * ARCSEC_TO_RAD,
+                gate_nis: 16.27,
+                unit_norm_tolerance: 1e-3,
+            },
+            gnss: GnssConfig {
+                lever_arm_body_m: [0.0; 3],
+                noise_m: 10.0,
+                gate_nis: 16.27,
+                max_jump_m: 1000.0,
+            },
+            timing: MeasurementTiming {
+                max_latency_s: 0.1,
+                future_tolerance_s: 0.001,
+                rejections_to_declare_faulty: 20,
+            },
+            covariance: CovarianceConfig {
+                propagation_interval_frames: 1,
+                sigma_floor: InitialUncertainty {
+                    attitude_rad: 1e-9,
+                    position_m: 1e-4,
+                    velocity_mps: 1e-7,
+                    gyro_bias_rad_s: 1e-10,
+                    accel_bias_mps2: 1e-8,
+                    star_installation_rad: 1e-9,
+                    gyro_scale_factor: 1e-10,
+                    accel_scale_factor: 1e-10,
+                },
+                sigma_ceiling_factor: 1e3,
+            },
+            calibration: CalibrationManagerConfig::default(),
+        }
+    }
+
+    /// Checks every value; the first bad one is reported by name.
+    ///
+    /// # Errors
+    /// [`FswError::InvalidConfiguration`] naming the field.
+    pub fn validate(&self) -> Result<(), FswError> {
+        let invalid = |field| Err(FswError::InvalidConfiguration(field));
+        let positive = |value: f64| value.is_finite() && value > 0.0;
+        if self.launch_site.validate().is_err() {
+            return invalid(ConfigField::LaunchSite);
+        }
+        if self.filter.validate().is_err() {
+            return invalid(ConfigField::FilterInitialUncertainty);
+        }
+        if !self.process_noise.is_valid() {
+            return invalid(ConfigField::ProcessNoise);
+        }
+        self.imu.validate()?;
+        let [w, x, y, z] = self.star.mounting_wxyz;
+        let norm = libm::sqrt(w * w + x * x + y * y + z * z);
+        if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
+            return invalid(ConfigField::StarMounting);
+        }
+        if !positive(self.star.noise_rad) {
+            return invalid(ConfigField::StarNoise);
+        }
+        if !positive(self.star.gate_nis) && self.star.gate_nis != f64::INFINITY {
+            return invalid(ConfigField::StarGate);
+        }
+        if !(positive(self.star.unit_norm_tolerance) && self.star.unit_norm_tolerance < 0.5) {
+            return invalid(ConfigField::StarNormTolerance);
+        }
+        if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
+            return invalid(ConfigField::GnssLeverArm);
+        }
+        if !positive(self.gnss.noise_m) {
+            return invalid(ConfigField::GnssNoise);
+        }
+        if !positive(self.gnss.gate_nis) && self.gnss.gate_nis != f64::INFINITY {
+            return invalid(ConfigField::GnssGate);
+        }
+        if !positive(self.gnss.max_jump_m) {
+            return invalid(ConfigField::GnssMaxJump);
+        }
+        let history_span_s = f64::from(u32::try_from(HISTORY_CAPACITY).unwrap_or(1) - 1)
+            * self.imu.period_s;
+        let latency = self.timing.max_latency_s;
+        if !(latency.is_finite() && latency >= 0.0 && latency <= history_span_s) {
+            return invalid(ConfigField::MaxLatency);
+        }
+        let future = self.timing.future_tolerance_s;
+        if !(future.is_finite() && future >= 0.0 && future < self.imu.period_s) {
+            return invalid(ConfigField::FutureTolerance);
+        }
+        if self.timing.rejections_to_declare_faulty == 0 {
+            return invalid(ConfigField::RejectionsToDeclareFaulty);
+        }
+        if self.covariance.propagation_interval_frames == 0
+            || self.covariance.propagation_interval_frames > 500
+        {
+            return invalid(ConfigField::PropagationInterval);
+        }
+        let floor_config = FilterConfig {
+            initial: self.covariance.sigma_floor,
+            ..self.filter
+        };
+        if floor_config.validate().is_err() {
+            return invalid(ConfigField::SigmaFloor);
+        }
+        if !(positive(self.covariance.sigma_ceiling_factor)
+            && self.covariance.sigma_ceiling_factor >= 1.0)
+        {
+            return invalid(ConfigField::SigmaCeiling);
+        }
+        self.calibration.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn site() -> LaunchSite {
+        LaunchSite {
+            latitude_rad: 0.715,
+            longitude_rad: 1.750,
+            height_m: 1000.0,
+            azimuth_rad: 3.316,
+            epoch_s: 0.0,
+        }
+    }
+
+    #[test]
+    fn defaults_are_valid_and_each_bad_value_names_its_field() {
+        let good = FswConfig::paper_defaults(site());
+        assert_eq!(good.validate(), Ok(()));
+        type Corruption = (fn(&mut FswConfig), ConfigField);
+        let cases: [Corruption; 8] = [
+            (
+                |c| c.star.mounting_wxyz = [0.9, 0.0, 0.0, 0.0],
+                ConfigField::StarMounting,
+            ),
+            (|c| c.star.noise_rad = f64::NAN, ConfigField::StarNoise),
+            (|c| c.gnss.gate_nis = -1.0, ConfigField::GnssGate),
+            (|c| c.timing.max_latency_s = 1.0, ConfigField::MaxLatency),
+            (
+                |c| c.covariance.propagation_interval_frames = 0,
+                ConfigField::PropagationInterval,
+            ),
+            (
+                |c| c.covariance.sigma_floor.position_m = 0.0,
+                ConfigField::SigmaFloor,
+            ),
+            (
+                |c| c.filter.initial.gyro_scale_factor = -1.0,
+                ConfigField::FilterInitialUncertainty,
+            ),
+            (
+                |c| c.calibration.stability_window_s = -1.0,
+                ConfigField::CalibrationWindow,
+            ),
+        ];
+        for (corrupt, field) in cases {
+            let mut config = good;
+            corrupt(&mut config);
+            assert_eq!(
+                config.validate(),
+                Err(FswError::InvalidConfiguration(field))
+            );
+        }
+    }
+}

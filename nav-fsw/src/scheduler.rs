@@ -1,0 +1,846 @@
+//! The 500 Hz cyclic executive: [`NavigationComputer::run_frame`] is one minor frame.
+//!
+//! Each frame, in this order (every loop bounded by a constant):
+//! 1. IMU: read one sample, check it ([`crate::input_check`]), correct it with the current
+//!    calibration (closed loop) and run one strapdown step (nav-core). A missing or rejected
+//!    sample is replaced by the last good increment (zero-order hold), counted; navigation
+//!    time always advances by one frame period.
+//! 2. History: the navigation solution of the frame goes into a ring of
+//!    [`HISTORY_CAPACITY`] frames, so a late measurement is fused against the solution at
+//!    its own time of validity (interpolated between frames).
+//! 3. Covariance: every `propagation_interval_frames` frames, `A` and `G` at the mean
+//!    rates/forces of the interval (nav-core `error_model`), 3rd-order `F` (paper §1.3.3),
+//!    `P ← F P Fᵀ + Qd`, then covariance protection (variance floors and ceilings, counted).
+//! 4. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
+//!    queued; then **at most one** due measurement (the oldest) is fused. A second due
+//!    measurement waits for the next frame: the worst frame is therefore strapdown + one
+//!    propagation + one update (+ closed-loop reset), bounded by construction.
+//! 5. Calibration manager: table, convergence, frozen set.
+//!
+//! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
+//! measurement's time of validity and applied to the current error state and covariance,
+//! neglecting the error dynamics over the latency (≤ 126 ms): exact for the constant
+//! calibration states, and for the navigation errors a lag of order `|A| × latency`.
+//!
+//! Closed loop (the default): after every accepted update the error state is fed back into
+//! the navigation solution, the history and the sensor corrections, and the filter is reset
+//! (nav-core `reset`), so `x = 0` whenever the filter predicts. Open loop (the paper): the
+//! navigation solution is never corrected; outputs apply `x` on the way out.
+
+use heapless::Deque;
+use nalgebra::{Quaternion, Vector3};
+use nav_core::attitude;
+use nav_core::discretise::discretise;
+use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
+use nav_core::filter::{
+    apply_error_state, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
+};
+use nav_core::frames::LaunchFrame;
+use nav_core::measurement::{gnss_position, star_sensor, LinearMeasurement};
+use nav_core::state::{
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, BLOCKS, CALIBRATION_BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION,
+};
+use nav_core::strapdown::{ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown};
+use nav_core::NavError;
+
+use crate::calibration_manager::{
+    CalibrationManager, CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT,
+};
+use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
+use crate::error::{ConfigField, FswError};
+use crate::health::{count, HealthCounters};
+use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
+use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
+use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
+use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
+
+/// Most measurements taken from one port in one frame (the rest wait in the port).
+pub const MAX_POLLS_PER_FRAME: usize = 4;
+
+/// Ground or flight-plan commands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Command {
+    /// The manoeuvre phase (drives the calibration manager).
+    SetPhase(ManoeuvrePhase),
+    /// Forget the fault declarations: both sensors are used again.
+    ClearSensorFaults,
+    /// Forget calibration convergence (unfreeze every block).
+    RestartCalibration,
+}
+
+/// Navigation solution of one frame, kept for delayed fusion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Snapshot {
+    time_s: f64,
+    attitude: Quaternion<f64>,
+    position_m: Vector3<f64>,
+}
+
+/// Gate statistics and fault state of one aiding sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct AidingSensor {
+    consecutive_rejections: u32,
+    faulty: bool,
+    last_nis: f64,
+}
+
+/// Rates and forces summed over the covariance-propagation interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PropagationSums {
+    frames: u32,
+    corrected_rate: Vector3<f64>,
+    measured_rate: Vector3<f64>,
+    corrected_force: Vector3<f64>,
+    measured_force: Vector3<f64>,
+}
+
+impl PropagationSums {
+    const EMPTY: PropagationSums = PropagationSums {
+        frames: 0,
+        corrected_rate: Vector3::new(0.0, 0.0, 0.0),
+        measured_rate: Vector3::new(0.0, 0.0, 0.0),
+        corrected_force: Vector3::new(0.0, 0.0, 0.0),
+        measured_force: Vector3::new(0.0, 0.0, 0.0),
+    };
+
+    fn add(&mut self, step: &StepOutput) {
+        self.frames = self.frames.saturating_add(1);
+        self.corrected_rate += step.corrected_rate_rad_s;
+        self.measured_rate += step.measured_rate_rad_s;
+        self.corrected_force += step.corrected_specific_force_mps2;
+        self.measured_force += step.measured_specific_force_mps2;
+    }
+}
+
+/// Which queued measurement to fuse.
+enum Due {
+    Star(f64, Quaternion<f64>),
+    Gnss(f64, Vector3<f64>),
+}
+
+/// The flight software: strapdown, filter, input checks, fault handling and calibration.
+#[derive(Debug, Clone)]
+pub struct NavigationComputer {
+    config: FswConfig,
+    launch_frame: LaunchFrame,
+    strapdown: Strapdown,
+    navigation: NavigationState,
+    filter: ErrorStateFilter,
+    calibration: CalibrationEstimate,
+    manager: CalibrationManager,
+    imu_checker: ImuChecker,
+    last_increment: Option<ImuIncrement>,
+    frames_without_sample: u32,
+    history: Deque<Snapshot, HISTORY_CAPACITY>,
+    star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
+    gnss_queue: MeasurementBuffer<Vector3<f64>, GNSS_QUEUE_CAPACITY>,
+    last_star: Option<Quaternion<f64>>,
+    star: AidingSensor,
+    gnss: AidingSensor,
+    sums: PropagationSums,
+    variance_floor: ErrorState,
+    variance_ceiling: ErrorState,
+    health: HealthCounters,
+    cost: FrameCostMonitor,
+    frame: u32,
+}
+
+fn sensor_corrections(calibration: &CalibrationEstimate) -> SensorCorrections {
+    SensorCorrections {
+        gyro_bias_rad_s: Vector3::from(calibration.gyro_bias_rad_s),
+        accel_bias_mps2: Vector3::from(calibration.accel_bias_mps2),
+        gyro_scale_factor: Vector3::from(calibration.gyro_scale_factor),
+        accel_scale_factor: Vector3::from(calibration.accel_scale_factor),
+    }
+}
+
+fn array3(vector: &Vector3<f64>) -> [f64; 3] {
+    [vector.x, vector.y, vector.z]
+}
+
+/// `q0 ⊗ exp(s · log(q0* ⊗ q1))`: constant-rate interpolation between two attitudes.
+fn interpolate_attitude(q0: &Quaternion<f64>, q1: &Quaternion<f64>, s: f64) -> Quaternion<f64> {
+    let relative = attitude::log_rotation_vector(&attitude::product(&attitude::conjugate(q0), q1));
+    attitude::product(q0, &attitude::exp_rotation_vector(&(relative * s)))
+}
+
+impl NavigationComputer {
+    /// The flight software at start: the given navigation solution, `x = 0`, `P` from the
+    /// configured initial 1σ, no calibration (zero corrections).
+    ///
+    /// # Errors
+    /// [`FswError::InvalidConfiguration`] for a bad configuration (named field) or a
+    /// non-finite / non-unit initial navigation state.
+    pub fn new(config: FswConfig, initial: NavigationState) -> Result<Self, FswError> {
+        config.validate()?;
+        let attitude_norm = initial.attitude.norm();
+        let finite = attitude::all_finite3(&initial.position_m)
+            && attitude::all_finite3(&initial.velocity_mps)
+            && initial.time_s.is_finite();
+        if !(finite && attitude_norm.is_finite() && (attitude_norm - 1.0).abs() < 1e-9) {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::InitialNavigation,
+            ));
+        }
+        let floors = ErrorStateFilter::new(&FilterConfig {
+            initial: config.covariance.sigma_floor,
+            ..config.filter
+        })?;
+        let initial_filter = ErrorStateFilter::new(&config.filter)?;
+        let ceiling_factor = config.covariance.sigma_ceiling_factor;
+        let launch_frame = LaunchFrame::new(&config.launch_site)
+            .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))?;
+        let mut computer = Self {
+            config,
+            launch_frame,
+            strapdown: Strapdown::new(config.strapdown),
+            navigation: initial,
+            filter: initial_filter,
+            calibration: CalibrationEstimate::default(),
+            manager: CalibrationManager::new(config.calibration)?,
+            imu_checker: ImuChecker::new(config.imu)?,
+            last_increment: None,
+            frames_without_sample: 0,
+            history: Deque::new(),
+            star_queue: MeasurementBuffer::new(),
+            gnss_queue: MeasurementBuffer::new(),
+            last_star: None,
+            star: AidingSensor::default(),
+            gnss: AidingSensor::default(),
+            sums: PropagationSums::EMPTY,
+            variance_floor: floors.covariance().diagonal(),
+            variance_ceiling: initial_filter.covariance().diagonal()
+                * (ceiling_factor * ceiling_factor),
+            health: HealthCounters::default(),
+            cost: FrameCostMonitor::new(u32::MAX),
+            frame: 0,
+        };
+        computer.record_snapshot();
+        Ok(computer)
+    }
+
+    /// Sets the frame budget for overrun counting (unit of [`Self::report_frame_cost`]).
+    pub fn set_frame_budget(&mut self, budget: u32) {
+        self.cost.budget = budget;
+    }
+
+    /// The platform reports the cost of the frame just run (instructions or cycles).
+    pub fn report_frame_cost(&mut self, cost: u32) {
+        if self.cost.record(cost) {
+            count(&mut self.health.frame_overruns);
+        }
+    }
+
+    /// Executes a command.
+    pub fn command(&mut self, command: Command) {
+        match command {
+            Command::SetPhase(phase) => self.manager.set_phase(phase),
+            Command::ClearSensorFaults => {
+                self.star = AidingSensor::default();
+                self.gnss = AidingSensor::default();
+            }
+            Command::RestartCalibration => self.manager.restart(),
+        }
+    }
+
+    /// One minor frame (module docs). Never fails: every fault is handled, counted and
+    /// reported in the returned telemetry.
+    pub fn run_frame<I, S, G>(&mut self, imu: &mut I, star: &mut S, gnss: &mut G) -> FrameTelemetry
+    where
+        I: ImuPort,
+        S: StarSensorPort,
+        G: GnssPort,
+    {
+        self.frame = self.frame.wrapping_add(1);
+        self.navigate(imu.read());
+        self.record_snapshot();
+        if self.sums.frames >= self.config.covariance.propagation_interval_frames {
+            self.propagate_covariance();
+        }
+        self.poll_measurements(star, gnss);
+        let fusion = self.fuse_one_due_measurement();
+        self.evaluate_calibration();
+        self.telemetry(fusion)
+    }
+
+    fn navigate(&mut self, sample: Option<ports::ImuSample>) {
+        let period_s = self.config.imu.period_s;
+        let checked = match sample {
+            None => {
+                count(&mut self.health.imu_missing);
+                self.frames_without_sample = self.frames_without_sample.saturating_add(1);
+                None
+            }
+            Some(sample) => {
+                let result = self.imu_checker.check(&sample);
+                match result {
+                    Ok(continuity) => {
+                        // Gaps already counted frame by frame are not counted twice.
+                        let unseen = continuity
+                            .missing_samples
+                            .saturating_sub(self.frames_without_sample);
+                        self.health.imu_missing = self.health.imu_missing.saturating_add(unseen);
+                        Some(sample)
+                    }
+                    Err(ImuFault::TimeJump) => {
+                        // The increments are sound; only the time tag is wrong. Navigation
+                        // time is frame-driven, so the sample is used.
+                        count(&mut self.health.imu_time_jump);
+                        Some(sample)
+                    }
+                    Err(ImuFault::NonFinite) => {
+                        count(&mut self.health.imu_non_finite);
+                        None
+                    }
+                    Err(ImuFault::Saturated) => {
+                        count(&mut self.health.imu_saturated);
+                        None
+                    }
+                    Err(ImuFault::Duplicate) => {
+                        count(&mut self.health.imu_duplicate);
+                        None
+                    }
+                }
+            }
+        };
+        let increment = match checked {
+            Some(sample) => {
+                self.frames_without_sample = 0;
+                let increment = ImuIncrement {
+                    delta_angle_rad: ports::vector(&sample.delta_angle_rad),
+                    delta_velocity_mps: ports::vector(&sample.delta_velocity_mps),
+                    interval_s: period_s,
+                };
+                self.last_increment = Some(increment);
+                increment
+            }
+            None => self.last_increment.unwrap_or(ImuIncrement {
+                delta_angle_rad: Vector3::zeros(),
+                delta_velocity_mps: Vector3::zeros(),
+                interval_s: period_s,
+            }),
+        };
+        let corrections = match self.filter.mode() {
+            FilterMode::ClosedLoop => sensor_corrections(&self.calibration),
+            FilterMode::OpenLoop => SensorCorrections::default(),
+        };
+        match self.strapdown.step(
+            &mut self.navigation,
+            &increment,
+            &corrections,
+            &self.launch_frame,
+        ) {
+            Ok(step) => self.sums.add(&step),
+            Err(_) => {
+                // nav-core left the solution untouched; time still advances with the frame.
+                count(&mut self.health.strapdown_failures);
+                self.navigation.time_s += period_s;
+            }
+        }
+    }
+
+    fn record_snapshot(&mut self) {
+        if self.history.is_full() {
+            self.history.pop_front();
+        }
+        // Cannot fail after the pop above; a refusal would only lose the oldest entry.
+        let _ = self.history.push_back(Snapshot {
+            time_s: self.navigation.time_s,
+            attitude: self.navigation.attitude,
+            position_m: self.navigation.position_m,
+        });
+    }
+
+    /// The navigation solution at `time_s`, interpolated between the two bracketing frames
+    /// of the history; `None` outside the history.
+    fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
+        let tolerance = 1e-6 * self.config.imu.period_s;
+        let mut previous: Option<&Snapshot> = None;
+        for snapshot in self.history.iter() {
+            if (snapshot.time_s - time_s).abs() <= tolerance {
+                return Some(*snapshot);
+            }
+            if let Some(before) = previous {
+                if before.time_s < time_s && time_s < snapshot.time_s {
+                    let s = (time_s - before.time_s) / (snapshot.time_s - before.time_s);
+                    return Some(Snapshot {
+                        time_s,
+                        attitude: interpolate_attitude(&before.attitude, &snapshot.attitude, s),
+                        position_m: before.position_m
+                            + (snapshot.position_m - before.position_m) * s,
+                    });
+                }
+            }
+            previous = Some(snapshot);
+        }
+        None
+    }
+
+    fn propagate_covariance(&mut self) {
+        let sums = self.sums;
+        self.sums = PropagationSums::EMPTY;
+        let frames = f64::from(sums.frames.max(1));
+        let interval_s = frames * self.config.imu.period_s;
+        let point = LinearisationPoint {
+            corrected_rate_rad_s: sums.corrected_rate / frames,
+            corrected_specific_force_mps2: sums.corrected_force / frames,
+            measured_rate_rad_s: sums.measured_rate / frames,
+            measured_specific_force_mps2: sums.measured_force / frames,
+            body_to_inertial: attitude::rotation_matrix(&self.navigation.attitude),
+            gravity_gradient_per_s2: self
+                .config
+                .strapdown
+                .gravity
+                .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
+        };
+        let model = discretise(
+            &system_matrix(&point),
+            &noise_input_matrix(&point),
+            &self.config.process_noise.spectral_density_diagonal(),
+            interval_s,
+            self.config.filter.discretisation_order,
+        );
+        let frozen = self.manager.frozen_blocks();
+        let result = model.and_then(|mut model| {
+            for block in BLOCKS {
+                if frozen.contains(block) {
+                    model
+                        .process_noise
+                        .fixed_rows_mut::<3>(block.index)
+                        .fill(0.0);
+                    model
+                        .process_noise
+                        .fixed_columns_mut::<3>(block.index)
+                        .fill(0.0);
+                }
+            }
+            self.filter.predict(&model)
+        });
+        match result {
+            Ok(()) => self.protect_covariance(),
+            Err(_) => self.recover_filter(),
+        }
+    }
+
+    /// Documented recovery from a filter that nav-core refuses to propagate (non-finite
+    /// result): `x = 0`, `P` re-initialised from the configured 1σ, calibration convergence
+    /// forgotten; the navigation solution and the sensor corrections fed back so far are
+    /// kept. Counted in `filter_resets`.
+    fn recover_filter(&mut self) {
+        count(&mut self.health.filter_resets);
+        if let Ok(filter) = ErrorStateFilter::new(&self.config.filter) {
+            self.filter = filter;
+        }
+        self.manager.restart();
+    }
+
+    /// Variance floors and ceilings (module docs); symmetry is enforced by nav-core on every
+    /// predict and update.
+    fn protect_covariance(&mut self) {
+        let mut covariance = *self.filter.covariance();
+        let mut clamped = false;
+        let bounds = self
+            .variance_floor
+            .iter()
+            .zip(self.variance_ceiling.iter())
+            .enumerate();
+        for (index, (floor, ceiling)) in bounds {
+            let ceiling = *ceiling;
+            let Some(variance) = covariance.get((index, index)).copied() else {
+                continue;
+            };
+            if variance < *floor {
+                if let Some(entry) = covariance.get_mut((index, index)) {
+                    *entry = *floor;
+                }
+                clamped = true;
+            } else if variance > ceiling {
+                let scale = libm::sqrt(ceiling / variance);
+                covariance.row_mut(index).scale_mut(scale);
+                covariance.column_mut(index).scale_mut(scale);
+                clamped = true;
+            }
+        }
+        if clamped {
+            count(&mut self.health.covariance_clamps);
+            if self.filter.set_covariance(&covariance).is_err() {
+                self.recover_filter();
+            }
+        }
+    }
+
+    fn poll_measurements<S: StarSensorPort, G: GnssPort>(&mut self, star: &mut S, gnss: &mut G) {
+        let now_s = self.navigation.time_s;
+        let timing = self.config.timing;
+        for _ in 0..MAX_POLLS_PER_FRAME {
+            let Some(measurement) = star.poll() else {
+                break;
+            };
+            match check_star(
+                &measurement,
+                self.last_star.as_ref(),
+                self.config.star.unit_norm_tolerance,
+            ) {
+                Err(StarFault::NonFinite) => count(&mut self.health.star_non_finite),
+                Err(StarFault::NotUnit) => count(&mut self.health.star_not_unit),
+                Ok((quaternion, flipped)) => {
+                    if flipped {
+                        count(&mut self.health.star_sign_flip);
+                    }
+                    self.last_star = Some(quaternion);
+                    let pushed = self.star_queue.push(
+                        measurement.time_tag_s,
+                        quaternion,
+                        now_s,
+                        timing.max_latency_s,
+                        timing.future_tolerance_s,
+                    );
+                    if let Err(refusal) = pushed {
+                        self.count_refusal(refusal, true);
+                    }
+                }
+            }
+        }
+        for _ in 0..MAX_POLLS_PER_FRAME {
+            let Some(fix) = gnss.poll() else {
+                break;
+            };
+            let converted = self
+                .launch_frame
+                .ecef_to_launch_inertial(&ports::vector(&fix.position_ecef_m), fix.time_tag_s);
+            match converted {
+                Err(_) => count(&mut self.health.gnss_non_finite),
+                Ok(position) => {
+                    let pushed = self.gnss_queue.push(
+                        fix.time_tag_s,
+                        position,
+                        now_s,
+                        timing.max_latency_s,
+                        timing.future_tolerance_s,
+                    );
+                    if let Err(refusal) = pushed {
+                        self.count_refusal(refusal, false);
+                    }
+                }
+            }
+        }
+    }
+
+    fn count_refusal(&mut self, refusal: BufferRefusal, is_star: bool) {
+        let counter = match (refusal, is_star) {
+            (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
+            (BufferRefusal::Future, _) => &mut self.health.measurement_future,
+            (BufferRefusal::Overflow, _) => &mut self.health.measurement_overflow,
+            (BufferRefusal::NonFinite, true) => &mut self.health.star_non_finite,
+            (BufferRefusal::NonFinite, false) => &mut self.health.gnss_non_finite,
+        };
+        count(counter);
+    }
+
+    fn next_due(&mut self) -> Option<Due> {
+        let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
+        let star_tag = self.star_queue.oldest_time_tag().filter(|t| *t <= due_before_s);
+        let gnss_tag = self.gnss_queue.oldest_time_tag().filter(|t| *t <= due_before_s);
+        let star_first = match (star_tag, gnss_tag) {
+            (Some(s), Some(g)) => s <= g,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => return None,
+        };
+        if star_first {
+            self.star_queue
+                .pop_due(due_before_s)
+                .map(|(tag, q)| Due::Star(tag, q))
+        } else {
+            self.gnss_queue
+                .pop_due(due_before_s)
+                .map(|(tag, p)| Due::Gnss(tag, p))
+        }
+    }
+
+    fn installation_estimate(&self) -> Quaternion<f64> {
+        ports::quaternion(&self.calibration.star_installation_wxyz)
+    }
+
+    fn fuse_one_due_measurement(&mut self) -> FrameFusion {
+        let Some(due) = self.next_due() else {
+            return FrameFusion::None;
+        };
+        let (tag, is_star) = match due {
+            Due::Star(tag, _) => (tag, true),
+            Due::Gnss(tag, _) => (tag, false),
+        };
+        let sensor = if is_star { self.star } else { self.gnss };
+        if sensor.faulty {
+            count(&mut self.health.ignored_from_faulty_sensor);
+            return if is_star {
+                FrameFusion::StarRejected
+            } else {
+                FrameFusion::GnssRejected
+            };
+        }
+        let Some(snapshot) = self.snapshot_at(tag) else {
+            count(&mut self.health.measurement_stale);
+            return FrameFusion::None;
+        };
+        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
+        let measurement: Result<LinearMeasurement, NavError> = match due {
+            Due::Star(_, measured) => star_sensor(
+                &snapshot.attitude,
+                &ports::quaternion(&self.config.star.mounting_wxyz),
+                &self.installation_estimate(),
+                &measured,
+                self.config.star.noise_rad,
+            ),
+            Due::Gnss(_, position) => {
+                let predicted =
+                    snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
+                let fix = ports::GnssFix {
+                    time_tag_s: tag,
+                    position_ecef_m: array3(&position),
+                };
+                match check_gnss(&fix, &position, &predicted, self.config.gnss.max_jump_m) {
+                    Err(GnssFault::Jump) => {
+                        count(&mut self.health.gnss_jump);
+                        self.note_rejection(false);
+                        return FrameFusion::GnssRejected;
+                    }
+                    Err(GnssFault::NonFinite) => Err(NavError::NonFiniteInput),
+                    Ok(()) => gnss_position(
+                        &snapshot.attitude,
+                        &snapshot.position_m,
+                        &lever_arm,
+                        &position,
+                        self.config.gnss.noise_m,
+                    ),
+                }
+            }
+        };
+        let gate = if is_star {
+            self.config.star.gate_nis
+        } else {
+            self.config.gnss.gate_nis
+        };
+        let frozen = self.manager.frozen_blocks();
+        let report = measurement
+            .and_then(|m| self.filter.update_with_frozen_blocks(&m, gate, &frozen));
+        match report {
+            Err(_) => {
+                count(&mut self.health.filter_errors);
+                self.note_rejection(is_star);
+                if is_star {
+                    FrameFusion::StarRejected
+                } else {
+                    FrameFusion::GnssRejected
+                }
+            }
+            Ok(report) => {
+                let sensor = if is_star {
+                    &mut self.star
+                } else {
+                    &mut self.gnss
+                };
+                sensor.last_nis = report.normalised_innovation_squared;
+                if report.accepted {
+                    sensor.consecutive_rejections = 0;
+                    if self.filter.mode() == FilterMode::ClosedLoop {
+                        self.feed_back();
+                    }
+                    if is_star {
+                        FrameFusion::StarAccepted
+                    } else {
+                        FrameFusion::GnssAccepted
+                    }
+                } else {
+                    if is_star {
+                        count(&mut self.health.star_gate_rejections);
+                    } else {
+                        count(&mut self.health.gnss_gate_rejections);
+                    }
+                    self.note_rejection(is_star);
+                    if is_star {
+                        FrameFusion::StarRejected
+                    } else {
+                        FrameFusion::GnssRejected
+                    }
+                }
+            }
+        }
+    }
+
+    fn note_rejection(&mut self, is_star: bool) {
+        let limit = self.config.timing.rejections_to_declare_faulty;
+        let (sensor, declarations) = if is_star {
+            (&mut self.star, &mut self.health.star_declared_faulty)
+        } else {
+            (&mut self.gnss, &mut self.health.gnss_declared_faulty)
+        };
+        sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
+        if !sensor.faulty && sensor.consecutive_rejections >= limit {
+            sensor.faulty = true;
+            count(declarations);
+        }
+    }
+
+    /// Closed-loop feedback of the error state into the navigation solution, the history and
+    /// the sensor corrections, then the filter reset (module docs).
+    fn feed_back(&mut self) {
+        let mut filter = self.filter;
+        let error = filter.reset();
+        let mut navigation = self.navigation;
+        let mut calibration = self.calibration;
+        let applied = apply_error_state(
+            &error,
+            &mut navigation.attitude,
+            &mut navigation.position_m,
+            &mut navigation.velocity_mps,
+            &mut calibration,
+        );
+        if applied.is_err() {
+            // A correction nav-core cannot apply (|ϑ| ≥ 1 or non-finite): keep everything
+            // as it was and re-initialise the filter (documented recovery).
+            self.recover_filter();
+            return;
+        }
+        let attitude_correction =
+            attitude::from_vector_part(&error.fixed_rows::<3>(ATTITUDE.index).into_owned());
+        let position_correction: Vector3<f64> =
+            error.fixed_rows::<3>(POSITION.index).into_owned();
+        if let Ok(correction) = attitude_correction {
+            for snapshot in self.history.iter_mut() {
+                snapshot.attitude = attitude::product(&snapshot.attitude, &correction);
+                snapshot.position_m += position_correction;
+            }
+        }
+        self.filter = filter;
+        self.navigation = navigation;
+        self.calibration = calibration;
+    }
+
+    /// Current estimate and 1σ of one calibration block in table units (the installation
+    /// error as a rotation vector: twice the quaternion vector part).
+    fn block_estimate(&self, block: StateBlock) -> ([f64; 3], [f64; 3]) {
+        let estimate = self.calibration_estimate();
+        let sigmas = self.filter.standard_deviations();
+        let sigma: Vector3<f64> = sigmas.fixed_rows::<3>(block.index).into_owned();
+        let c = &estimate;
+        match block {
+            b if b == STAR_INSTALLATION => {
+                let [w, x, y, z] = c.star_installation_wxyz;
+                let vector = attitude::log_rotation_vector(&Quaternion::new(w, x, y, z));
+                (array3(&vector), array3(&(sigma * 2.0)))
+            }
+            b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&sigma)),
+            b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&sigma)),
+            b if b == GYRO_SCALE_FACTOR => (c.gyro_scale_factor, array3(&sigma)),
+            _ => (c.accel_scale_factor, array3(&sigma)),
+        }
+    }
+
+    fn evaluate_calibration(&mut self) {
+        let mut values = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        let mut sigmas = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        for ((value, sigma), block) in values
+            .iter_mut()
+            .zip(sigmas.iter_mut())
+            .zip(CALIBRATION_BLOCKS.iter())
+        {
+            (*value, *sigma) = self.block_estimate(*block);
+        }
+        self.manager
+            .evaluate(self.navigation.time_s, &values, &sigmas);
+    }
+
+    /// The sensor-error estimate: in closed loop the fed-back corrections; in open loop the
+    /// filter's current error state applied to them.
+    pub fn calibration_estimate(&self) -> CalibrationEstimate {
+        let mut calibration = self.calibration;
+        if self.filter.mode() == FilterMode::OpenLoop {
+            let mut scratch = self.navigation;
+            // Errors only for a non-finite or degenerate x; the fed-back value stands then.
+            let _ = apply_error_state(
+                self.filter.state(),
+                &mut scratch.attitude,
+                &mut scratch.position_m,
+                &mut scratch.velocity_mps,
+                &mut calibration,
+            );
+        }
+        calibration
+    }
+
+    /// The best navigation solution (open loop: `x` applied on the way out).
+    pub fn navigation(&self) -> NavigationState {
+        let mut navigation = self.navigation;
+        if self.filter.mode() == FilterMode::OpenLoop {
+            let mut calibration = self.calibration;
+            let mut corrected = navigation;
+            if apply_error_state(
+                self.filter.state(),
+                &mut corrected.attitude,
+                &mut corrected.position_m,
+                &mut corrected.velocity_mps,
+                &mut calibration,
+            )
+            .is_ok()
+            {
+                navigation = corrected;
+            }
+        }
+        navigation
+    }
+
+    /// The filter (error state and covariance).
+    pub fn filter(&self) -> &ErrorStateFilter {
+        &self.filter
+    }
+
+    /// The calibration table.
+    pub fn calibration_table(&self) -> &CalibrationTable {
+        self.manager.table()
+    }
+
+    /// The blocks frozen now.
+    pub fn frozen_blocks(&self) -> BlockMask {
+        self.manager.frozen_blocks()
+    }
+
+    /// The health counters.
+    pub fn health(&self) -> &HealthCounters {
+        &self.health
+    }
+
+    /// The launch-inertial frame in use.
+    pub fn launch_frame(&self) -> &LaunchFrame {
+        &self.launch_frame
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &FswConfig {
+        &self.config
+    }
+
+    fn telemetry(&self, fusion: FrameFusion) -> FrameTelemetry {
+        let navigation = self.navigation();
+        let q = navigation.attitude;
+        FrameTelemetry {
+            frame: self.frame,
+            time_s: navigation.time_s,
+            attitude_wxyz: [q.w, q.i, q.j, q.k],
+            position_m: array3(&navigation.position_m),
+            velocity_mps: array3(&navigation.velocity_mps),
+            fusion,
+            last_star_nis: self.star.last_nis,
+            last_gnss_nis: self.gnss.last_nis,
+            star_faulty: self.star.faulty,
+            gnss_faulty: self.gnss.faulty,
+            converged_blocks: self.manager.table().converged_count(),
+            frozen_blocks: self.manager.frozen_blocks().bits(),
+            health: self.health,
+            last_frame_cost: self.cost.last,
+            worst_frame_cost: self.cost.worst,
+        }
+    }
+}
