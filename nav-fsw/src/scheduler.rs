@@ -36,7 +36,7 @@ use nav_core::filter::{
     apply_error_state, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
 };
 use nav_core::frames::LaunchFrame;
-use nav_core::measurement::{gnss_position, star_sensor, LinearMeasurement};
+use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use nav_core::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, BLOCKS, CALIBRATION_BLOCKS, GYRO_BIAS,
     GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION,
@@ -140,6 +140,8 @@ pub struct NavigationComputer {
     star: AidingSensor,
     gnss: AidingSensor,
     sums: PropagationSums,
+    /// Motion of the last covariance propagation (for referring late measurements).
+    last_point: Option<LinearisationPoint>,
     variance_floor: ErrorState,
     variance_ceiling: ErrorState,
     health: HealthCounters,
@@ -210,6 +212,7 @@ impl NavigationComputer {
             star: AidingSensor::default(),
             gnss: AidingSensor::default(),
             sums: PropagationSums::EMPTY,
+            last_point: None,
             variance_floor: floors.covariance().diagonal(),
             variance_ceiling: initial_filter.covariance().diagonal()
                 * (ceiling_factor * ceiling_factor),
@@ -375,7 +378,15 @@ impl NavigationComputer {
             }
             previous = Some(snapshot);
         }
-        None
+        // A tag a little after the newest frame (within the future tolerance, e.g. clock
+        // rounding) uses the newest frame.
+        self.history
+            .back()
+            .filter(|newest| {
+                time_s > newest.time_s
+                    && time_s - newest.time_s <= self.config.timing.future_tolerance_s
+            })
+            .copied()
     }
 
     fn propagate_covariance(&mut self) {
@@ -395,6 +406,7 @@ impl NavigationComputer {
                 .gravity
                 .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
         };
+        self.last_point = Some(point);
         let model = discretise(
             &system_matrix(&point),
             &noise_input_matrix(&point),
@@ -617,6 +629,14 @@ impl NavigationComputer {
                     ),
                 }
             }
+        };
+        // A late measurement is referred to the current error state (nav-core docs).
+        let latency_s = self.navigation.time_s - tag;
+        let measurement = match (measurement, self.last_point) {
+            (Ok(m), Some(point)) if latency_s > 1e-6 * self.config.imu.period_s => {
+                refer_to_later_time(&m, &system_matrix(&point), latency_s)
+            }
+            (other, _) => other,
         };
         let gate = if is_star {
             self.config.star.gate_nis

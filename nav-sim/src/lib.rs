@@ -9,11 +9,13 @@
 //! * [`sensors`]: the sensor error models (paper eqs. 1 and 3, star sensor, GNSS) producing a
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
+//! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod flight;
 pub mod scenario;
 pub mod sensors;
 pub mod simulation;

@@ -24,9 +24,27 @@ fn main() {
     let cli = Cli::parse();
     match cli.command.unwrap_or(Command::Calibrate) {
         Command::Calibrate => {
-            let results = nav_core::selftest::reference_workload();
-            println!("nav-sim: scenario engine not built yet (placeholder run).");
-            println!("nav-core reference workload: {results:?}");
+            let scenario = nav_sim::Scenario::default_scenario().expect("default scenario");
+            let started = std::time::Instant::now();
+            let result = nav_sim::flight::fly(&scenario, Default::default(), |_, _| {})
+                .expect("flight");
+            println!("{} frames in {:.2?}", result.frames, started.elapsed());
+            let last = result.last().expect("samples");
+            let names = ["gyro bias", "accel bias", "installation", "gyro SF", "accel SF"];
+            for (i, name) in names.iter().enumerate() {
+                for axis in 0..3 {
+                    println!(
+                        "{name:>12} {axis} truth {:+.4e} est {:+.4e} err {:+.3e} sigma {:.3e}",
+                        last.truth[i][axis],
+                        last.estimate[i][axis],
+                        last.estimate[i][axis] - last.truth[i][axis],
+                        last.sigma[i][axis]
+                    );
+                }
+            }
+            println!("pos err {:?} att err {:?}", last.position_error_m, last.attitude_error_rad);
+            println!("NEES {:?}", result.calibration_nees());
+            println!("{:#?}", result.health);
         }
         Command::Scenario => print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML),
     }

@@ -1,0 +1,439 @@
+//! A scenario flown through the flight software exactly as it would fly: the simulated
+//! sensor events of each 2 ms frame are handed to nav-fsw's [`NavigationComputer`] through
+//! its ports, the manoeuvre phase is commanded from the schedule, and the estimates, their
+//! 1σ and the truth are recorded for the reports.
+
+use std::collections::VecDeque;
+
+use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
+use nav_core::attitude;
+use nav_core::error_model::ProcessNoise;
+use nav_core::filter::{CalibrationEstimate, FilterConfig, FilterMode, InitialUncertainty};
+use nav_core::state::CALIBRATION_BLOCKS;
+use nav_core::strapdown::NavigationState;
+use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
+use nav_fsw::config::FswConfig;
+use nav_fsw::health::HealthCounters;
+use nav_fsw::ports::{GnssFix, GnssPort, ImuPort, ImuSample, StarMeasurement, StarSensorPort};
+use nav_fsw::scheduler::{Command, NavigationComputer};
+use nav_fsw::FswError;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+use crate::scenario::{self, Scenario};
+use crate::sensors::{SensorErrorTruth, SensorEvent};
+use crate::simulation::{Simulation, SimulationError};
+use crate::truth::{self, TruthFrame};
+
+/// Number of calibration states (biases, installation error, scale factors).
+pub const CALIBRATION_STATE_COUNT: usize = 3 * CALIBRATION_BLOCK_COUNT;
+
+/// ChaCha8 stream of the initial navigation errors (the sensors use streams 0..=4).
+const INITIAL_ERROR_STREAM: u64 = 100;
+
+/// Why a flight could not run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FlightError {
+    /// The simulation failed.
+    #[error(transparent)]
+    Simulation(#[from] SimulationError),
+    /// The flight software refused its configuration.
+    #[error("flight software configuration refused: {0:?}")]
+    Configuration(FswError),
+    /// The scenario's launch site was refused.
+    #[error("launch site refused: {0}")]
+    LaunchSite(String),
+}
+
+/// Values of the five calibration blocks, per axis, in [`CALIBRATION_BLOCKS`] order (gyro
+/// bias rad/s, accelerometer bias m/s², installation rotation vector rad, gyro and
+/// accelerometer scale factors).
+pub type CalibrationValues = [[f64; 3]; CALIBRATION_BLOCK_COUNT];
+
+/// One recorded instant of a flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlightSample {
+    /// Navigation time (s).
+    pub time_s: f64,
+    /// Calibration estimates.
+    pub estimate: CalibrationValues,
+    /// Filter 1σ.
+    pub sigma: CalibrationValues,
+    /// Truth.
+    pub truth: CalibrationValues,
+    /// Position error, estimate − truth, launch-inertial (m).
+    pub position_error_m: [f64; 3],
+    /// Velocity error, estimate − truth (m/s).
+    pub velocity_error_mps: [f64; 3],
+    /// Attitude error, rotation vector of `q_true* ⊗ q̂`, body axes (rad).
+    pub attitude_error_rad: [f64; 3],
+    /// Position 1σ (m).
+    pub position_sigma_m: [f64; 3],
+    /// Attitude 1σ as an angle (rad).
+    pub attitude_sigma_rad: [f64; 3],
+}
+
+/// What a flight produced.
+#[derive(Debug, Clone)]
+pub struct FlightResult {
+    /// Recorded samples (every `record_interval_s`, and the last frame).
+    pub samples: Vec<FlightSample>,
+    /// The flight software's calibration table at the end.
+    pub table: CalibrationTable,
+    /// Health counters at the end.
+    pub health: HealthCounters,
+    /// Final error of the 18 calibration states in the filter's state coordinates
+    /// (truth − estimate; installation as the quaternion vector part).
+    pub calibration_error: SVector<f64, CALIBRATION_STATE_COUNT>,
+    /// Final filter covariance of the 18 calibration states.
+    pub calibration_covariance: SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>,
+    /// Frames flown.
+    pub frames: u64,
+}
+
+impl FlightResult {
+    /// The last sample.
+    pub fn last(&self) -> Option<&FlightSample> {
+        self.samples.last()
+    }
+
+    /// Normalised estimation error squared of the calibration states, `eᵀ P⁻¹ e`
+    /// (`None` if `P` is not positive definite).
+    pub fn calibration_nees(&self) -> Option<f64> {
+        let cholesky = self.calibration_covariance.cholesky()?;
+        Some(
+            self.calibration_error
+                .dot(&cholesky.solve(&self.calibration_error)),
+        )
+    }
+}
+
+/// How to record a flight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlightOptions {
+    /// Interval between recorded samples (s).
+    pub record_interval_s: f64,
+}
+
+impl Default for FlightOptions {
+    fn default() -> Self {
+        Self {
+            record_interval_s: 0.25,
+        }
+    }
+}
+
+/// The flight software configuration for a scenario: its launch site, filter settings,
+/// sensor noise (process noise densities from the scenario's sensor models), star mounting
+/// and gates; everything else the flight defaults ([`FswConfig::paper_defaults`]).
+pub fn fsw_config(scenario: &Scenario) -> FswConfig {
+    let mut config = FswConfig::paper_defaults(truth::launch_site(scenario));
+    let settings = &scenario.filter;
+    let sigma = &settings.initial_sigma;
+    config.filter = FilterConfig {
+        mode: match settings.mode {
+            scenario::FilterMode::OpenLoop => FilterMode::OpenLoop,
+            scenario::FilterMode::ClosedLoop => FilterMode::ClosedLoop,
+        },
+        discretisation_order: u8::try_from(settings.discretisation_order).unwrap_or(u8::MAX),
+        initial: InitialUncertainty {
+            attitude_rad: sigma.attitude_rad,
+            position_m: sigma.position_m,
+            velocity_mps: sigma.velocity_mps,
+            gyro_bias_rad_s: sigma.gyro_bias_rad_per_s,
+            accel_bias_mps2: sigma.accel_bias_mps2,
+            star_installation_rad: sigma.star_installation_rad,
+            gyro_scale_factor: sigma.gyro_scale_factor,
+            accel_scale_factor: sigma.accel_scale_factor,
+        },
+    };
+    let period_s = scenario.imu.frame_period_s();
+    config.imu.period_s = period_s;
+    config.process_noise = ProcessNoise {
+        gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
+        accel_noise_density_mps2_per_sqrt_hz: scenario
+            .accelerometer
+            .noise_density_mps2_per_sqrt_hz(period_s),
+        gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+        accel_bias_walk_mps3_per_sqrt_hz: scenario
+            .accelerometer
+            .bias_random_walk_mps2_per_sqrt_s,
+    };
+    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
+    let mounting = attitude::exp_rotation_vector(&Vector3::new(
+        x.to_radians(),
+        y.to_radians(),
+        z.to_radians(),
+    ));
+    config.star.mounting_wxyz = [mounting.w, mounting.i, mounting.j, mounting.k];
+    // A zero-noise sensor (a test setting) still needs a positive R.
+    config.star.noise_rad = scenario.star_sensor.noise_rad().max(1e-12);
+    config.star.gate_nis = settings.nis_gate.star_threshold;
+    config.gnss.noise_m = scenario.gnss.noise_m.max(1e-6);
+    config.gnss.gate_nis = settings.nis_gate.gnss_threshold;
+    config.timing.max_latency_s = config
+        .timing
+        .max_latency_s
+        .max(scenario.gnss.latency_s + period_s);
+    config
+}
+
+/// The flight software's initial navigation solution: the truth at the start with errors
+/// drawn from the configured initial 1σ (ChaCha8, stream [`INITIAL_ERROR_STREAM`] of the
+/// scenario seed), so the initial covariance is honest.
+pub fn initial_navigation(
+    scenario: &Scenario,
+    truth_start: &truth::TruthState,
+) -> NavigationState {
+    let mut rng = ChaCha8Rng::seed_from_u64(scenario.simulation.seed);
+    rng.set_stream(INITIAL_ERROR_STREAM);
+    let sigma = &scenario.filter.initial_sigma;
+    let mut draw = |scale: f64| -> Vector3<f64> {
+        Vector3::from_fn(|_, _| {
+            let normal: f64 = StandardNormal.sample(&mut rng);
+            normal * scale
+        })
+    };
+    let attitude_error = draw(sigma.attitude_rad);
+    let position_error = draw(sigma.position_m);
+    let velocity_error = draw(sigma.velocity_mps);
+    NavigationState {
+        attitude: attitude::product(
+            &truth_start.attitude_q_ib,
+            &attitude::exp_rotation_vector(&attitude_error),
+        ),
+        position_m: truth_start.position_m + position_error,
+        velocity_mps: truth_start.velocity_mps + velocity_error,
+        time_s: truth_start.time_s,
+    }
+}
+
+/// The phase the flight plan commands during a manoeuvre segment.
+pub fn phase_of(segment: &scenario::ManoeuvreSegment) -> ManoeuvrePhase {
+    let rate_deg_s = Vector3::from(segment.body_rate_deg_per_s).norm();
+    let force_mps2 = Vector3::from(segment.specific_force_mps2).norm();
+    if force_mps2 > 1.0 {
+        ManoeuvrePhase::Acceleration
+    } else if rate_deg_s > 1.0 {
+        ManoeuvrePhase::Rotation
+    } else {
+        ManoeuvrePhase::Coast
+    }
+}
+
+fn array3(vector: &Vector3<f64>) -> [f64; 3] {
+    [vector.x, vector.y, vector.z]
+}
+
+/// Truth values in table units.
+pub fn calibration_truth(errors: &SensorErrorTruth) -> CalibrationValues {
+    [
+        array3(&errors.gyro_bias_rad_per_s),
+        array3(&errors.accel_bias_mps2),
+        array3(&attitude::log_rotation_vector(&errors.star_installation_q_psi)),
+        array3(&errors.gyro_scale_factor),
+        array3(&errors.accel_scale_factor),
+    ]
+}
+
+fn table_values(table: &CalibrationTable) -> (CalibrationValues, CalibrationValues) {
+    let mut values = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+    let mut sigmas = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+    for ((value, sigma), (_, entry)) in values
+        .iter_mut()
+        .zip(sigmas.iter_mut())
+        .zip(table.entries())
+    {
+        *value = entry.value;
+        *sigma = entry.sigma;
+    }
+    (values, sigmas)
+}
+
+/// Truth − estimate of the calibration states in the filter's coordinates.
+fn calibration_state_error(
+    estimate: &CalibrationEstimate,
+    errors: &SensorErrorTruth,
+) -> SVector<f64, CALIBRATION_STATE_COUNT> {
+    let [w, x, y, z] = estimate.star_installation_wxyz;
+    let installation_error = attitude::canonical(&attitude::product(
+        &attitude::conjugate(&Quaternion::new(w, x, y, z)),
+        &errors.star_installation_q_psi,
+    ))
+    .imag();
+    let blocks = [
+        errors.gyro_bias_rad_per_s - Vector3::from(estimate.gyro_bias_rad_s),
+        errors.accel_bias_mps2 - Vector3::from(estimate.accel_bias_mps2),
+        installation_error,
+        errors.gyro_scale_factor - Vector3::from(estimate.gyro_scale_factor),
+        errors.accel_scale_factor - Vector3::from(estimate.accel_scale_factor),
+    ];
+    SVector::from_iterator(blocks.iter().flat_map(|b| b.iter().copied()))
+}
+
+/// IMU port fed by the simulator, one sample per frame.
+#[derive(Debug, Default)]
+pub struct SimulatedImu(pub Option<ImuSample>);
+
+impl ImuPort for SimulatedImu {
+    fn read(&mut self) -> Option<ImuSample> {
+        self.0.take()
+    }
+}
+
+/// Star-sensor port fed by the simulator.
+#[derive(Debug, Default)]
+pub struct SimulatedStarSensor(pub VecDeque<StarMeasurement>);
+
+impl StarSensorPort for SimulatedStarSensor {
+    fn poll(&mut self) -> Option<StarMeasurement> {
+        self.0.pop_front()
+    }
+}
+
+/// GNSS port fed by the simulator.
+#[derive(Debug, Default)]
+pub struct SimulatedGnss(pub VecDeque<GnssFix>);
+
+/// What the ports hold for one frame, before the flight software reads them (a fault
+/// injector may change anything here).
+#[derive(Debug, Default)]
+pub struct FrameInputs {
+    /// The IMU sample of the frame.
+    pub imu: SimulatedImu,
+    /// Star-sensor measurements delivered in the frame.
+    pub star: SimulatedStarSensor,
+    /// GNSS fixes delivered in the frame.
+    pub gnss: SimulatedGnss,
+}
+
+impl GnssPort for SimulatedGnss {
+    fn poll(&mut self) -> Option<GnssFix> {
+        self.0.pop_front()
+    }
+}
+
+fn record(
+    computer: &NavigationComputer,
+    frame: &TruthFrame,
+    errors: &SensorErrorTruth,
+) -> FlightSample {
+    let (estimate, sigma) = table_values(computer.calibration_table());
+    let navigation = computer.navigation();
+    let attitude_error = attitude::log_rotation_vector(&attitude::product(
+        &attitude::conjugate(&frame.attitude_q_ib),
+        &navigation.attitude,
+    ));
+    let sigmas = computer.filter().standard_deviations();
+    let position_sigma: Vector3<f64> = sigmas.fixed_rows::<3>(3).into_owned();
+    let attitude_sigma: Vector3<f64> = sigmas.fixed_rows::<3>(0).into_owned() * 2.0;
+    FlightSample {
+        time_s: frame.time_s,
+        estimate,
+        sigma,
+        truth: calibration_truth(errors),
+        position_error_m: array3(&(navigation.position_m - frame.position_m)),
+        velocity_error_mps: array3(&(navigation.velocity_mps - frame.velocity_mps)),
+        attitude_error_rad: array3(&attitude_error),
+        position_sigma_m: array3(&position_sigma),
+        attitude_sigma_rad: array3(&attitude_sigma),
+    }
+}
+
+/// Flies `scenario` through nav-fsw; `progress(frames_done, frames_total)` is called every
+/// 500 frames.
+///
+/// # Errors
+/// [`FlightError`] if the simulation or the flight software cannot be set up.
+pub fn fly(
+    scenario: &Scenario,
+    options: FlightOptions,
+    progress: impl FnMut(u64, u64),
+) -> Result<FlightResult, FlightError> {
+    fly_with(scenario, fsw_config(scenario), options, progress, |_, _| {})
+}
+
+/// [`fly`] with an explicit flight-software configuration and a fault injector
+/// `inject(frame_index, inputs)` called on every frame's port contents before the flight
+/// software reads them.
+///
+/// # Errors
+/// As [`fly`].
+pub fn fly_with(
+    scenario: &Scenario,
+    config: FswConfig,
+    options: FlightOptions,
+    mut progress: impl FnMut(u64, u64),
+    mut inject: impl FnMut(u64, &mut FrameInputs),
+) -> Result<FlightResult, FlightError> {
+    let mut simulation = Simulation::new(scenario)?;
+    let start = *simulation.truth().state();
+    let mut computer = NavigationComputer::new(config, initial_navigation(scenario, &start))
+        .map_err(FlightError::Configuration)?;
+    let total_frames = scenario.frame_count();
+    let segment_frames: Vec<(u64, ManoeuvrePhase)> = {
+        let period_s = scenario.imu.frame_period_s();
+        let mut first_frame = 0;
+        scenario
+            .manoeuvres
+            .iter()
+            .map(|segment| {
+                let entry = (first_frame, phase_of(segment));
+                first_frame += scenario::frames_in(segment.duration_s, period_s);
+                entry
+            })
+            .collect()
+    };
+    let mut inputs = FrameInputs::default();
+    let mut events = Vec::new();
+    let mut samples = Vec::new();
+    let mut next_record_s = start.time_s;
+    let mut frames = 0u64;
+    let mut last = None;
+    while let Some(frame) = simulation.step(&mut events)? {
+        if let Some((_, phase)) = segment_frames.iter().find(|(f, _)| *f == frame.frame_index) {
+            computer.command(Command::SetPhase(*phase));
+        }
+        for event in events.drain(..) {
+            match event {
+                SensorEvent::Imu { .. } => inputs.imu.0 = event.to_imu_sample(),
+                SensorEvent::Star { .. } => inputs.star.0.extend(event.to_star_measurement()),
+                SensorEvent::Gnss { .. } => inputs.gnss.0.extend(event.to_gnss_fix()),
+            }
+        }
+        inject(frame.frame_index, &mut inputs);
+        computer.run_frame(&mut inputs.imu, &mut inputs.star, &mut inputs.gnss);
+        frames += 1;
+        let errors = simulation.error_truth();
+        if frame.time_s >= next_record_s - 1e-9 {
+            samples.push(record(&computer, &frame, &errors));
+            next_record_s += options.record_interval_s;
+        }
+        if frames % 500 == 0 {
+            progress(frames, total_frames);
+        }
+        last = Some((frame, errors));
+    }
+    if let Some((frame, errors)) = last {
+        let final_sample = record(&computer, &frame, &errors);
+        if samples.last().map(|s| s.time_s) != Some(final_sample.time_s) {
+            samples.push(final_sample);
+        }
+    }
+    progress(frames, total_frames);
+    let errors = simulation.error_truth();
+    let first = CALIBRATION_BLOCKS.first().map_or(9, |b| b.index);
+    Ok(FlightResult {
+        samples,
+        table: *computer.calibration_table(),
+        health: *computer.health(),
+        calibration_error: calibration_state_error(&computer.calibration_estimate(), &errors),
+        calibration_covariance: computer
+            .filter()
+            .covariance()
+            .fixed_view::<CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>(first, first)
+            .into_owned(),
+        frames,
+    })
+}
