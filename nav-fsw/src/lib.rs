@@ -25,6 +25,7 @@ pub const MINOR_FRAME_PERIOD_S: f64 = 0.002;
 pub mod error;
 pub mod health;
 pub mod input_check;
+pub mod log_record;
 pub mod measurement_buffer;
 pub mod ports;
 
