@@ -165,6 +165,35 @@ pub enum LogRecordError {
     },
 }
 
+impl core::fmt::Display for LogRecordError {
+    fn fmt(&self, formatter: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::BadMagic => write!(formatter, "not a replay log (bad magic)"),
+            Self::UnsupportedVersion(version) => {
+                write!(
+                    formatter,
+                    "format version {version} (expected {FORMAT_VERSION})"
+                )
+            }
+            Self::RecordSizeMismatch(size) => {
+                write!(formatter, "record size {size} (expected {RECORD_SIZE})")
+            }
+            Self::Truncated { needed, available } => {
+                write!(formatter, "truncated: {available} of {needed} bytes")
+            }
+            Self::UnknownTag(tag) => write!(formatter, "unknown tag {tag}"),
+            Self::NonZeroPadding { offset } => {
+                write!(formatter, "reserved/unused byte {offset} is not zero")
+            }
+            Self::NonFinite { field, offset } => {
+                write!(formatter, "{field:?} at byte {offset} is not finite")
+            }
+        }
+    }
+}
+
+impl core::error::Error for LogRecordError {}
+
 /// The file header.
 pub fn encode_header() -> [u8; HEADER_SIZE] {
     let mut header = [0_u8; HEADER_SIZE];
@@ -236,6 +265,15 @@ impl LogRecord {
             Self::Imu(imu) => imu.time_s,
             Self::Star(star) => star.arrival_time_s,
             Self::Gnss(gnss) => gnss.arrival_time_s,
+        }
+    }
+
+    /// The time of validity (s): the IMU time tag, the measurement's time tag.
+    pub fn time_tag_s(&self) -> f64 {
+        match self {
+            Self::Imu(imu) => imu.time_s,
+            Self::Star(star) => star.time_tag_s,
+            Self::Gnss(gnss) => gnss.time_tag_s,
         }
     }
 
