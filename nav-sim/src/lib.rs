@@ -10,6 +10,7 @@
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
 //! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
+//! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
@@ -17,6 +18,7 @@
 
 pub mod flight;
 pub mod scenario;
+pub mod sensor_log;
 pub mod sensors;
 pub mod simulation;
 pub mod truth;
