@@ -30,6 +30,7 @@ pub mod input_check;
 pub mod log_record;
 pub mod measurement_buffer;
 pub mod ports;
+pub mod replay;
 pub mod scheduler;
 pub mod telemetry;
 
