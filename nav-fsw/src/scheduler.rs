@@ -33,13 +33,13 @@ use nav_core::attitude;
 use nav_core::discretise::discretise;
 use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
 use nav_core::filter::{
-    apply_error_state, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
+    apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
 };
 use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, BLOCKS, CALIBRATION_BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION,
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION,
 };
 use nav_core::strapdown::{ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown};
 use nav_core::NavError;
@@ -236,6 +236,11 @@ impl NavigationComputer {
         }
     }
 
+    /// Worst frame cost reported by the platform so far.
+    pub fn worst_frame_cost(&self) -> u32 {
+        self.cost.worst
+    }
+
     /// Executes a command.
     pub fn command(&mut self, command: Command) {
         match command {
@@ -416,16 +421,13 @@ impl NavigationComputer {
         );
         let frozen = self.manager.frozen_blocks();
         let result = model.and_then(|mut model| {
-            for block in BLOCKS {
-                if frozen.contains(block) {
-                    model
-                        .process_noise
-                        .fixed_rows_mut::<3>(block.index)
-                        .fill(0.0);
-                    model
-                        .process_noise
-                        .fixed_columns_mut::<3>(block.index)
-                        .fill(0.0);
+            if !frozen.is_empty() {
+                // Column-major storage: element k is (k mod 24, k div 24).
+                for (index, value) in model.process_noise.iter_mut().enumerate() {
+                    let (row, column) = (index % STATE_DIMENSION, index / STATE_DIMENSION);
+                    if frozen.contains_state(row) || frozen.contains_state(column) {
+                        *value = 0.0;
+                    }
                 }
             }
             self.filter.predict(&model)
@@ -470,8 +472,12 @@ impl NavigationComputer {
                 clamped = true;
             } else if variance > ceiling {
                 let scale = libm::sqrt(ceiling / variance);
-                covariance.row_mut(index).scale_mut(scale);
-                covariance.column_mut(index).scale_mut(scale);
+                for (element, value) in covariance.iter_mut().enumerate() {
+                    let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
+                    if row == index || column == index {
+                        *value *= scale;
+                    }
+                }
                 clamped = true;
             }
         }
@@ -724,10 +730,8 @@ impl NavigationComputer {
             self.recover_filter();
             return;
         }
-        let attitude_correction =
-            attitude::from_vector_part(&error.fixed_rows::<3>(ATTITUDE.index).into_owned());
-        let position_correction: Vector3<f64> =
-            error.fixed_rows::<3>(POSITION.index).into_owned();
+        let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
+        let position_correction = block_of(&error, POSITION);
         if let Ok(correction) = attitude_correction {
             for snapshot in self.history.iter_mut() {
                 snapshot.attitude = attitude::product(&snapshot.attitude, &correction);
@@ -744,7 +748,7 @@ impl NavigationComputer {
     fn block_estimate(&self, block: StateBlock) -> ([f64; 3], [f64; 3]) {
         let estimate = self.calibration_estimate();
         let sigmas = self.filter.standard_deviations();
-        let sigma: Vector3<f64> = sigmas.fixed_rows::<3>(block.index).into_owned();
+        let sigma = block_of(&sigmas, block);
         let c = &estimate;
         match block {
             b if b == STAR_INSTALLATION => {

@@ -21,6 +21,7 @@ pub mod scenario;
 pub mod sensor_log;
 pub mod sensors;
 pub mod simulation;
+pub mod target_replay;
 pub mod truth;
 
 pub use scenario::{Scenario, ScenarioError};
