@@ -9,6 +9,7 @@
 //! * [`sensors`]: the sensor error models (paper eqs. 1 and 3, star sensor, GNSS) producing a
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
+//! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //!
@@ -16,6 +17,7 @@
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod monte_carlo;
 pub mod report;
 pub mod scenario;
 pub mod sensor_log;

@@ -539,19 +539,29 @@ pub fn read_time_histories(directory: &Path) -> Result<Vec<TimeHistorySample>, R
     Ok(history)
 }
 
-/// One panel of a plot: curves against time.
-struct Panel {
-    caption: String,
-    y_label: String,
-    /// Symmetric y range `±y_limit`; points beyond are clamped to the edge.
-    y_limit: f64,
-    curves: Vec<Curve>,
+/// One panel of a plot: curves against a common x axis.
+pub(crate) struct Panel {
+    pub(crate) caption: String,
+    pub(crate) y_label: String,
+    /// y range `(low, high)`; points beyond are clamped to the edge.
+    pub(crate) y_range: (f64, f64),
+    pub(crate) curves: Vec<Curve>,
 }
 
-struct Curve {
-    label: String,
-    color: RGBColor,
-    points: Vec<(f64, f64)>,
+/// One labelled line of a panel.
+pub(crate) struct Curve {
+    pub(crate) label: String,
+    pub(crate) color: RGBColor,
+    pub(crate) points: Vec<(f64, f64)>,
+}
+
+/// A symmetric y range `±limit` (±1 if the limit is zero or not finite).
+fn symmetric(limit: f64) -> (f64, f64) {
+    if limit.is_finite() && limit > 0.0 {
+        (-limit, limit)
+    } else {
+        (-1.0, 1.0)
+    }
 }
 
 /// Plot size (pixels).
@@ -572,54 +582,68 @@ fn register_font() -> Result<(), ReportError> {
     }
 }
 
-/// Draws panels stacked vertically into a PNG.
-fn draw_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), ReportError> {
+/// Draws panels stacked vertically into a PNG, all with the x axis `x_label`.
+pub(crate) fn draw_panels(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    panels: &[Panel],
+) -> Result<(), ReportError> {
     register_font()?;
     let plot_error = |error: &dyn std::fmt::Display| ReportError::Plot {
         path: path.to_path_buf(),
         message: error.to_string(),
     };
-    let (time_start, time_end) = panels
+    // Each panel spans the x range of its own points.
+    let x_ranges = panels
         .iter()
-        .flat_map(|panel| &panel.curves)
-        .flat_map(|curve| &curve.points)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), (t, _)| {
-            (low.min(*t), high.max(*t))
-        });
-    if !(time_start.is_finite() && time_end.is_finite()) {
-        return Err(ReportError::Empty);
-    }
-    let time_end = if time_end > time_start {
-        time_end
-    } else {
-        time_start + 1.0
-    };
+        .map(|panel| {
+            let (start, end) = panel
+                .curves
+                .iter()
+                .flat_map(|curve| &curve.points)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), (x, _)| {
+                    (low.min(*x), high.max(*x))
+                });
+            if !(start.is_finite() && end.is_finite()) {
+                return Err(ReportError::Empty);
+            }
+            Ok((start, if end > start { end } else { start + 1.0 }))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let root = BitMapBackend::new(path, PLOT_SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|error| plot_error(&error))?;
     let root = root
         .titled(title, ("sans-serif", 28))
         .map_err(|error| plot_error(&error))?;
-    for (area, panel) in root.split_evenly((panels.len(), 1)).iter().zip(panels) {
-        let limit = if panel.y_limit.is_finite() && panel.y_limit > 0.0 {
-            panel.y_limit
+    for ((area, panel), (x_start, x_end)) in root
+        .split_evenly((panels.len(), 1))
+        .iter()
+        .zip(panels)
+        .zip(x_ranges)
+    {
+        let (low, high) = panel.y_range;
+        let (low, high) = if low.is_finite() && high.is_finite() && high > low {
+            (low, high)
         } else {
-            1.0
+            (-1.0, 1.0)
         };
+        let span = high - low;
         let mut chart = ChartBuilder::on(area)
             .caption(&panel.caption, ("sans-serif", 20))
             .margin(8)
             .margin_right(30)
             .x_label_area_size(35)
             .y_label_area_size(90)
-            .build_cartesian_2d(time_start..time_end, -limit..limit)
+            .build_cartesian_2d(x_start..x_end, low..high)
             .map_err(|error| plot_error(&error))?;
         chart
             .configure_mesh()
-            .x_desc("time (s)")
+            .x_desc(x_label)
             .y_desc(&panel.y_label)
             // Tick values are computed by stepping, so zero comes out as ±1e-21 or so.
             .y_label_formatter(&|value| {
-                if value.abs() < 1e-9 * limit {
+                if value.abs() < 1e-9 * span {
                     "0".to_string()
                 } else {
                     format!("{value:.1e}")
@@ -633,12 +657,16 @@ fn draw_panels(path: &Path, title: &str, panels: &[Panel]) -> Result<(), ReportE
                 .points
                 .iter()
                 .filter(|(_, value)| !value.is_nan())
-                .map(|&(time, value)| (time, value.clamp(-limit, limit)));
-            chart
+                .map(|&(x, value)| (x, value.clamp(low, high)));
+            let series = chart
                 .draw_series(LineSeries::new(points, color.stroke_width(2)))
-                .map_err(|error| plot_error(&error))?
-                .label(&curve.label)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
+                .map_err(|error| plot_error(&error))?;
+            // An unlabelled curve has no legend entry.
+            if !curve.label.is_empty() {
+                series
+                    .label(&curve.label)
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
+            }
         }
         chart
             .configure_series_labels()
@@ -689,7 +717,7 @@ pub fn plot_block(
             Panel {
                 caption: format!("{} {}", parameter.name(), axis.name()),
                 y_label: format!("estimate − truth ({})", parameter.unit()),
-                y_limit: limit,
+                y_range: symmetric(limit),
                 curves: vec![
                     Curve {
                         label: "estimate − truth".to_string(),
@@ -713,6 +741,7 @@ pub fn plot_block(
     draw_panels(
         path,
         &format!("{}: estimate − truth and ±3σ", parameter.name()),
+        "time (s)",
         &panels,
     )
 }
@@ -756,12 +785,17 @@ pub fn plot_navigation_errors(
             Panel {
                 caption: parameter.name().to_string(),
                 y_label: format!("error ({})", parameter.unit()),
-                y_limit: limit,
+                y_range: symmetric(limit),
                 curves,
             }
         })
         .collect();
-    draw_panels(path, "navigation errors (estimate − truth)", &panels)
+    draw_panels(
+        path,
+        "navigation errors (estimate − truth)",
+        "time (s)",
+        &panels,
+    )
 }
 
 /// Writes every plot into `directory`: `<block name>.png` for each block and
