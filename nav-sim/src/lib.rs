@@ -10,6 +10,8 @@
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
 //! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
+//! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
@@ -17,6 +19,8 @@
 //! Times are navigation time, seconds since the launch epoch.
 
 pub mod flight;
+pub mod monte_carlo;
+pub mod report;
 pub mod scenario;
 pub mod sensor_log;
 pub mod sensors;
