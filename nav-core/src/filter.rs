@@ -21,8 +21,8 @@ use crate::discretise::{CovarianceMatrix, DiscreteModel};
 use crate::error_model::set_block;
 use crate::measurement::LinearMeasurement;
 use crate::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
 

@@ -209,8 +209,8 @@ impl FswConfig {
         if !positive(self.gnss.max_jump_m) {
             return invalid(ConfigField::GnssMaxJump);
         }
-        let history_span_s = f64::from(u32::try_from(HISTORY_CAPACITY).unwrap_or(1) - 1)
-            * self.imu.period_s;
+        let history_span_s =
+            f64::from(u32::try_from(HISTORY_CAPACITY).unwrap_or(1) - 1) * self.imu.period_s;
         let latency = self.timing.max_latency_s;
         if !(latency.is_finite() && latency >= 0.0 && latency <= history_span_s) {
             return invalid(ConfigField::MaxLatency);

@@ -33,15 +33,18 @@ use nav_core::attitude;
 use nav_core::discretise::discretise;
 use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
 use nav_core::filter::{
-    apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
+    apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
+    FilterMode,
 };
 use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION,
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, STATE_DIMENSION,
 };
-use nav_core::strapdown::{ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown};
+use nav_core::strapdown::{
+    ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
+};
 use nav_core::NavError;
 
 use crate::calibration_manager::{
@@ -559,8 +562,14 @@ impl NavigationComputer {
 
     fn next_due(&mut self) -> Option<Due> {
         let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
-        let star_tag = self.star_queue.oldest_time_tag().filter(|t| *t <= due_before_s);
-        let gnss_tag = self.gnss_queue.oldest_time_tag().filter(|t| *t <= due_before_s);
+        let star_tag = self
+            .star_queue
+            .oldest_time_tag()
+            .filter(|t| *t <= due_before_s);
+        let gnss_tag = self
+            .gnss_queue
+            .oldest_time_tag()
+            .filter(|t| *t <= due_before_s);
         let star_first = match (star_tag, gnss_tag) {
             (Some(s), Some(g)) => s <= g,
             (Some(_), None) => true,
@@ -650,8 +659,8 @@ impl NavigationComputer {
             self.config.gnss.gate_nis
         };
         let frozen = self.manager.frozen_blocks();
-        let report = measurement
-            .and_then(|m| self.filter.update_with_frozen_blocks(&m, gate, &frozen));
+        let report =
+            measurement.and_then(|m| self.filter.update_with_frozen_blocks(&m, gate, &frozen));
         match report {
             Err(_) => {
                 count(&mut self.health.filter_errors);

@@ -106,6 +106,9 @@ mod tests {
         assert!(!monitor.record(40));
         assert!(monitor.record(120));
         assert!(!monitor.record(100));
-        assert_eq!((monitor.last, monitor.worst, monitor.overruns), (100, 120, 1));
+        assert_eq!(
+            (monitor.last, monitor.worst, monitor.overruns),
+            (100, 120, 1)
+        );
     }
 }

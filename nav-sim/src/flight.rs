@@ -19,6 +19,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
 use crate::sensor_log;
 use crate::sensors::SensorErrorTruth;
@@ -69,6 +70,8 @@ pub struct FlightSample {
     pub attitude_error_rad: [f64; 3],
     /// Position 1σ (m).
     pub position_sigma_m: [f64; 3],
+    /// Velocity 1σ (m/s).
+    pub velocity_sigma_mps: [f64; 3],
     /// Attitude 1σ as an angle (rad).
     pub attitude_sigma_rad: [f64; 3],
 }
@@ -82,15 +85,58 @@ pub struct FlightResult {
     pub table: CalibrationTable,
     /// Health counters at the end.
     pub health: HealthCounters,
-    /// Final error of the 18 calibration states in the filter's state coordinates
+    /// Final error of the 15 calibration states in the filter's state coordinates
     /// (truth − estimate; installation as the quaternion vector part).
     pub calibration_error: SVector<f64, CALIBRATION_STATE_COUNT>,
-    /// Final filter covariance of the 18 calibration states.
+    /// Final filter covariance of the 15 calibration states.
     pub calibration_covariance: SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>,
     /// Frames flown.
     pub frames: u64,
     /// Measurements lost because a frame's port capacity was exceeded.
     pub dropped_measurements: u32,
+}
+
+impl FlightSample {
+    /// The sample in the report's form: calibration blocks with estimate, 1σ and truth;
+    /// navigation blocks as errors (estimate − truth, truth 0) with their 1σ.
+    pub fn time_history(&self) -> TimeHistorySample {
+        let mut sample = TimeHistorySample {
+            time_s: self.time_s,
+            ..TimeHistorySample::default()
+        };
+        let navigation = [
+            (
+                Parameter::Attitude,
+                self.attitude_error_rad,
+                self.attitude_sigma_rad,
+            ),
+            (
+                Parameter::Position,
+                self.position_error_m,
+                self.position_sigma_m,
+            ),
+            (
+                Parameter::Velocity,
+                self.velocity_error_mps,
+                self.velocity_sigma_mps,
+            ),
+        ];
+        for (parameter, error, sigma) in navigation {
+            sample.blocks[parameter.index()] = BlockSample {
+                estimate: error,
+                sigma,
+                truth: [0.0; 3],
+            };
+        }
+        for (index, parameter) in Parameter::CALIBRATION.iter().enumerate() {
+            sample.blocks[parameter.index()] = BlockSample {
+                estimate: self.estimate[index],
+                sigma: self.sigma[index],
+                truth: self.truth[index],
+            };
+        }
+        sample
+    }
 }
 
 impl FlightResult {
@@ -167,9 +213,7 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
             accel_scale_factor: sigma.accel_scale_factor,
         },
         process_noise: ProcessNoise {
-            gyro_noise_density_rad_s_per_sqrt_hz: scenario
-                .gyro
-                .rate_noise_density_rad_per_sqrt_s(),
+            gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
             accel_noise_density_mps2_per_sqrt_hz: scenario
                 .accelerometer
                 .noise_density_mps2_per_sqrt_hz(period_s),
@@ -247,7 +291,9 @@ pub fn calibration_truth(errors: &SensorErrorTruth) -> CalibrationValues {
     [
         array3(&errors.gyro_bias_rad_per_s),
         array3(&errors.accel_bias_mps2),
-        array3(&attitude::log_rotation_vector(&errors.star_installation_q_psi)),
+        array3(&attitude::log_rotation_vector(
+            &errors.star_installation_q_psi,
+        )),
         array3(&errors.gyro_scale_factor),
         array3(&errors.accel_scale_factor),
     ]
@@ -301,6 +347,7 @@ fn record(
     ));
     let sigmas = computer.filter().standard_deviations();
     let position_sigma: Vector3<f64> = sigmas.fixed_rows::<3>(3).into_owned();
+    let velocity_sigma: Vector3<f64> = sigmas.fixed_rows::<3>(6).into_owned();
     let attitude_sigma: Vector3<f64> = sigmas.fixed_rows::<3>(0).into_owned() * 2.0;
     FlightSample {
         time_s: frame.time_s,
@@ -311,6 +358,7 @@ fn record(
         velocity_error_mps: array3(&(navigation.velocity_mps - frame.velocity_mps)),
         attitude_error_rad: array3(&attitude_error),
         position_sigma_m: array3(&position_sigma),
+        velocity_sigma_mps: array3(&velocity_sigma),
         attitude_sigma_rad: array3(&attitude_sigma),
     }
 }
@@ -325,7 +373,13 @@ pub fn fly(
     options: FlightOptions,
     progress: impl FnMut(u64, u64),
 ) -> Result<FlightResult, FlightError> {
-    fly_with(scenario, fsw_config(scenario)?, options, progress, |_, _| {})
+    fly_with(
+        scenario,
+        fsw_config(scenario)?,
+        options,
+        progress,
+        |_, _| {},
+    )
 }
 
 /// [`fly`] with an explicit flight-software configuration and a fault injector

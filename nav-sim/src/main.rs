@@ -1,8 +1,16 @@
-//! `nav-sim`: the host simulator. Runs the paper's on-line calibration experiment through the
-//! flight code. (The closed-loop experiment lands with the simulator issue; until then
-//! `calibrate` runs nav-core's reference workload.)
+//! `nav-sim`: the host simulator. Runs the paper's on-line calibration experiment (Section 3)
+//! through the flight code (nav-fsw), Monte Carlo campaigns over seeds, replays of recorded
+//! sensor logs, and prints or writes the scenarios and logs they use.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use nav_sim::flight::{self, FlightOptions, FlightResult};
+use nav_sim::monte_carlo::{self, RunOutcome};
+use nav_sim::report::{self, CalibrationResult, Parameter, TimeHistorySample};
+use nav_sim::Scenario;
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
 #[derive(Parser)]
@@ -14,38 +22,247 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run the calibration scenario (default: the paper's Section 3).
-    Calibrate,
+    /// Fly the calibration scenario through the flight software and report the calibration
+    /// (default: the paper's Section 3 scenario).
+    Calibrate {
+        /// Scenario TOML (default: the built-in one; `nav-sim scenario` prints it).
+        scenario: Option<PathBuf>,
+        /// Write time-history CSVs and PNG plots into this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print the table as JSON (one object per parameter and axis).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Monte Carlo over seeds: RMS error, mean filter 1σ and the NEES consistency test.
+    MonteCarlo {
+        /// Scenario TOML (default: the built-in one).
+        scenario: Option<PathBuf>,
+        /// Number of runs (seeds: the scenario's seed, +1, +2, ...).
+        #[arg(long, default_value_t = 50)]
+        runs: u64,
+        /// Write the NEES / RMS plot into this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Write a scenario's sensor log as CSV (the replay format, docs/replay-format.md).
+    Log {
+        /// Scenario TOML (default: the built-in one).
+        scenario: Option<PathBuf>,
+        /// The CSV file to write.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Replay a recorded sensor log (CSV) through the flight software and write its
+    /// per-second navigation and calibration output as CSV.
+    Replay {
+        /// The sensor log (CSV, docs/replay-format.md).
+        log: PathBuf,
+        /// Scenario TOML giving the flight software's setup (launch site, mounting, noise,
+        /// initial solution); default: the built-in one.
+        #[arg(long)]
+        scenario: Option<PathBuf>,
+        /// Output CSV.
+        #[arg(long, default_value = "replay-output.csv")]
+        out: PathBuf,
+    },
     /// Print the built-in default scenario (TOML) to standard output.
     Scenario,
 }
 
-fn main() {
-    let cli = Cli::parse();
-    match cli.command.unwrap_or(Command::Calibrate) {
-        Command::Calibrate => {
-            let scenario = nav_sim::Scenario::default_scenario().expect("default scenario");
-            let started = std::time::Instant::now();
-            let result = nav_sim::flight::fly(&scenario, Default::default(), |_, _| {})
-                .expect("flight");
-            println!("{} frames in {:.2?}", result.frames, started.elapsed());
-            let last = result.last().expect("samples");
-            let names = ["gyro bias", "accel bias", "installation", "gyro SF", "accel SF"];
-            for (i, name) in names.iter().enumerate() {
-                for axis in 0..3 {
-                    println!(
-                        "{name:>12} {axis} truth {:+.4e} est {:+.4e} err {:+.3e} sigma {:.3e}",
-                        last.truth[i][axis],
-                        last.estimate[i][axis],
-                        last.estimate[i][axis] - last.truth[i][axis],
-                        last.sigma[i][axis]
-                    );
+type Failure = Box<dyn std::error::Error>;
+
+fn load(scenario: Option<&Path>) -> Result<Scenario, Failure> {
+    Ok(match scenario {
+        Some(path) => Scenario::load(path)?,
+        None => Scenario::default_scenario()?,
+    })
+}
+
+fn progress_bar(total: u64, message: &'static str) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    if let Ok(style) =
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames ({eta} left)")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(message);
+    bar
+}
+
+fn history(result: &FlightResult) -> Vec<TimeHistorySample> {
+    result.samples.iter().map(|s| s.time_history()).collect()
+}
+
+fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<(), Failure> {
+    let scenario = load(scenario)?;
+    let bar = progress_bar(scenario.frame_count(), "calibrate");
+    if json {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let started = std::time::Instant::now();
+    let result = flight::fly(&scenario, FlightOptions::default(), |done, _| {
+        bar.set_position(done)
+    })?;
+    bar.finish_and_clear();
+    let history = history(&result);
+    let last = history.last().ok_or("the scenario has no frames")?;
+    let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
+    if json {
+        println!("{}", table.json()?);
+    } else {
+        println!(
+            "{} frames ({:.0} s of flight) through nav-fsw in {:.2?}",
+            result.frames,
+            result.frames as f64 * scenario.imu.frame_period_s(),
+            started.elapsed()
+        );
+        println!("{}", report::summary(&table));
+        if let Some(nees) = result.calibration_nees() {
+            println!("NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below 25.0)");
+        }
+        println!("health: {:?}", result.health);
+    }
+    if let Some(directory) = out {
+        std::fs::create_dir_all(directory)?;
+        let csv = report::write_time_histories(directory, &history)?;
+        let png = report::write_plots(directory, &history)?;
+        if !json {
+            println!(
+                "wrote {} CSV files and {} plots into {}",
+                csv.len(),
+                png.len(),
+                directory.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+fn monte_carlo(scenario: Option<&Path>, runs: u64, out: Option<&Path>) -> Result<(), Failure> {
+    let scenario = load(scenario)?;
+    let seeds: Vec<u64> = (0..runs)
+        .map(|run| scenario.simulation.seed.wrapping_add(run))
+        .collect();
+    let outcomes = monte_carlo::run_parallel(
+        &seeds,
+        |seed| {
+            let mut seeded = scenario.clone();
+            seeded.simulation.seed = seed;
+            flight::fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
+                seed,
+                error: -result.calibration_error,
+                covariance: result.calibration_covariance,
+            })
+        },
+        true,
+    )?;
+    let summary = monte_carlo::summarise::<15, flight::FlightError>(&outcomes)?;
+    println!("{}", summary.table(&monte_carlo::calibration_labels()));
+    println!("{}", summary.nees_line());
+    if let Some(directory) = out {
+        std::fs::create_dir_all(directory)?;
+        let path = directory.join("monte_carlo.png");
+        summary.plot(&path)?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn write_log(scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
+    let scenario = load(scenario)?;
+    let file = std::io::BufWriter::new(std::fs::File::create(out)?);
+    let rows = nav_sim::sensor_log::record_simulation(nav_sim::Simulation::new(&scenario)?, file)?;
+    println!("wrote {rows} sensor events to {}", out.display());
+    Ok(())
+}
+
+fn replay(log: &Path, scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
+    use nav_fsw::replay::FrameAssembler;
+    use nav_fsw::scheduler::NavigationComputer;
+    use std::io::Write;
+    let scenario = load(scenario)?;
+    let setup = flight::replay_setup(&scenario)?;
+    let mut computer = NavigationComputer::new(setup.config(), setup.initial)
+        .map_err(|error| format!("flight software configuration refused: {error:?}"))?;
+    let reader = nav_sim::sensor_log::SensorLogReader::new(std::fs::File::open(log)?)?;
+    let mut output = std::io::BufWriter::new(std::fs::File::create(out)?);
+    writeln!(
+        output,
+        "time_s,position_x_m,position_y_m,position_z_m,velocity_x_mps,velocity_y_mps,velocity_z_mps,\
+         gyro_bias_x,gyro_bias_y,gyro_bias_z,accel_bias_x,accel_bias_y,accel_bias_z,\
+         installation_x,installation_y,installation_z,gyro_sf_x,gyro_sf_y,gyro_sf_z,\
+         accel_sf_x,accel_sf_y,accel_sf_z"
+    )?;
+    let mut assembler = FrameAssembler::default();
+    let mut frames = 0_u64;
+    let mut run = |ports: Option<nav_fsw::replay::FramePorts>,
+                   output: &mut dyn Write|
+     -> Result<(), Failure> {
+        let Some(mut ports) = ports else {
+            return Ok(());
+        };
+        let telemetry = ports.run(&mut computer);
+        frames += 1;
+        if frames % 500 == 0 {
+            let mut line = format!("{}", telemetry.time_s);
+            for value in telemetry.position_m.iter().chain(&telemetry.velocity_mps) {
+                line += &format!(",{value}");
+            }
+            for (_, entry) in computer.calibration_table().entries() {
+                for value in entry.value {
+                    line += &format!(",{value}");
                 }
             }
-            println!("pos err {:?} att err {:?}", last.position_error_m, last.attitude_error_rad);
-            println!("NEES {:?}", result.calibration_nees());
-            println!("{:#?}", result.health);
+            writeln!(output, "{line}")?;
         }
-        Command::Scenario => print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML),
+        Ok(())
+    };
+    for record in reader {
+        let ports = assembler.push(&record?);
+        run(ports, &mut output)?;
+    }
+    run(assembler.finish(), &mut output)?;
+    output.flush()?;
+    println!(
+        "replayed {} frames of {}; health {:?}; output {}",
+        frames,
+        log.display(),
+        computer.health(),
+        out.display()
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command.unwrap_or(Command::Calibrate {
+        scenario: None,
+        out: None,
+        json: false,
+    }) {
+        Command::Calibrate {
+            scenario,
+            out,
+            json,
+        } => calibrate(scenario.as_deref(), out.as_deref(), json),
+        Command::MonteCarlo {
+            scenario,
+            runs,
+            out,
+        } => monte_carlo(scenario.as_deref(), runs, out.as_deref()),
+        Command::Log { scenario, out } => write_log(scenario.as_deref(), &out),
+        Command::Replay { log, scenario, out } => replay(&log, scenario.as_deref(), &out),
+        Command::Scenario => {
+            print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML);
+            Ok(())
+        }
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("nav-sim: {error}");
+            ExitCode::FAILURE
+        }
     }
 }

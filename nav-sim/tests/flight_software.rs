@@ -44,12 +44,12 @@ fn fly(scenario: &Scenario, inject: impl FnMut(u64, &mut FramePorts)) -> FlightR
     .unwrap()
 }
 
-/// χ²(18) 99.9 % point: the bound on the NEES of the 18 calibration states.
-const CALIBRATION_NEES_BOUND: f64 = 42.31;
+/// χ²(15) 99.9 % point: the bound on the NEES of the 15 calibration states.
+const CALIBRATION_NEES_BOUND: f64 = 37.70;
 
 /// The navigation solution within 3σ of the truth on every axis; the calibration states
-/// jointly consistent (NEES below the χ²(18) 99.9 % point) and each within 4σ (a per-state
-/// 3σ test on 18 states would fail 5 % of healthy runs); `P` positive definite.
+/// jointly consistent (NEES below the χ²(15) 99.9 % point) and each within 4σ (a per-state
+/// 3σ test on 15 states would fail 5 % of healthy runs); `P` positive definite.
 fn assert_consistent(result: &FlightResult, case: &str) {
     let last = result.last().unwrap();
     for axis in 0..3 {
@@ -290,7 +290,12 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
     ];
     for (name, mut inject, counter, expected) in cases {
         let result = fly(&scenario, |f, i| inject(f, i));
-        assert_eq!(counter(&result.health), expected, "{name}: {:#?}", result.health);
+        assert_eq!(
+            counter(&result.health),
+            expected,
+            "{name}: {:#?}",
+            result.health
+        );
         assert_eq!(result.health.filter_resets, 0, "{name}");
         assert_eq!(result.health.filter_errors, 0, "{name}");
         assert_consistent(&result, name);
@@ -327,7 +332,10 @@ fn a_failed_star_sensor_is_declared_faulty_and_navigation_continues_on_gnss() {
     .unwrap();
     let h = &result.health;
     assert_eq!(h.star_declared_faulty, 1);
-    assert_eq!(h.star_gate_rejections, config.timing.rejections_to_declare_faulty);
+    assert_eq!(
+        h.star_gate_rejections,
+        config.timing.rejections_to_declare_faulty
+    );
     // 28 s at 4 Hz after the failure, less the rejections before the declaration.
     assert_eq!(h.ignored_from_faulty_sensor, 112 - 20);
     assert_eq!(h.gnss_declared_faulty, 0);
@@ -357,7 +365,10 @@ fn a_failed_gnss_receiver_is_declared_faulty_and_navigation_continues_on_the_sta
     .unwrap();
     let h = &result.health;
     assert_eq!(h.gnss_declared_faulty, 1);
-    assert_eq!(h.gnss_gate_rejections, config.timing.rejections_to_declare_faulty);
+    assert_eq!(
+        h.gnss_gate_rejections,
+        config.timing.rejections_to_declare_faulty
+    );
     // 27 fixes fused after the failure within the run, 20 rejected before the declaration.
     assert_eq!(h.ignored_from_faulty_sensor, 7);
     assert_eq!(h.star_declared_faulty, 0);
