@@ -269,6 +269,34 @@ fn initial_navigation(scenario: &Scenario, truth_start: &truth::TruthState) -> N
     }
 }
 
+/// ChaCha8 stream of the sensor-error truth drawn by [`with_truth_drawn_from_prior`].
+const TRUTH_DRAW_STREAM: u64 = 101;
+
+/// The scenario with its sensor-error truth (gyro and accelerometer bias and scale factor,
+/// star installation error) drawn from the filter's initial 1σ with `seed` (ChaCha8,
+/// stream [`TRUTH_DRAW_STREAM`]) and the simulation seed set to `seed`: what a Monte Carlo
+/// needs so that the NEES tests the filter's covariance, prior included (with one fixed truth
+/// a weakly observed state would sit far inside its prior every run).
+pub fn with_truth_drawn_from_prior(scenario: &Scenario, seed: u64) -> Scenario {
+    let mut drawn = scenario.clone();
+    drawn.simulation.seed = seed;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(TRUTH_DRAW_STREAM);
+    let sigma = scenario.filter.initial_sigma.clone();
+    let mut draw = |scale: f64| -> [f64; 3] {
+        [0; 3].map(|_| {
+            let normal: f64 = StandardNormal.sample(&mut rng);
+            normal * scale
+        })
+    };
+    drawn.gyro.bias_rad_per_s = draw(sigma.gyro_bias_rad_per_s);
+    drawn.gyro.scale_factor = draw(sigma.gyro_scale_factor);
+    drawn.accelerometer.bias_mps2 = draw(sigma.accel_bias_mps2);
+    drawn.accelerometer.scale_factor = draw(sigma.accel_scale_factor);
+    drawn.star_sensor.installation_error_rotation_vector_rad = draw(sigma.star_installation_rad);
+    drawn
+}
+
 /// The phase the flight plan commands during a manoeuvre segment.
 pub fn phase_of(segment: &scenario::ManoeuvreSegment) -> ManoeuvrePhase {
     let rate_deg_s = Vector3::from(segment.body_rate_deg_per_s).norm();

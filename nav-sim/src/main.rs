@@ -34,7 +34,8 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Monte Carlo over seeds: RMS error, mean filter 1σ and the NEES consistency test.
+    /// Monte Carlo over seeds (each run's sensor-error truth drawn from the filter's prior):
+    /// RMS error, mean filter 1σ and the NEES consistency test.
     MonteCarlo {
         /// Scenario TOML (default: the built-in one).
         scenario: Option<PathBuf>,
@@ -147,8 +148,7 @@ fn monte_carlo(scenario: Option<&Path>, runs: u64, out: Option<&Path>) -> Result
     let outcomes = monte_carlo::run_parallel(
         &seeds,
         |seed| {
-            let mut seeded = scenario.clone();
-            seeded.simulation.seed = seed;
+            let seeded = flight::with_truth_drawn_from_prior(&scenario, seed);
             flight::fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
                 seed,
                 error: -result.calibration_error,

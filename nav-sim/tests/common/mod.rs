@@ -1,0 +1,23 @@
+//! Shared test scenarios.
+
+use nav_sim::scenario::ManoeuvreSegment;
+use nav_sim::Scenario;
+
+/// 42 s: 10 s coast, 12 s rotation about z at 100 °/s, 20 s coast (21,000 frames).
+pub fn short_scenario() -> Scenario {
+    let mut scenario = Scenario::default_scenario().unwrap();
+    let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3]| ManoeuvreSegment {
+        label: label.to_string(),
+        duration_s,
+        ramp_s,
+        body_rate_deg_per_s: rate,
+        specific_force_mps2: [0.0; 3],
+    };
+    scenario.manoeuvres = vec![
+        segment("coast", 10.0, 0.0, [2.4e-4; 3]),
+        segment("rotate z", 12.0, 1.0, [0.0, 0.0, 100.0]),
+        segment("coast", 20.0, 0.0, [2.4e-4; 3]),
+    ];
+    scenario.validate().unwrap();
+    scenario
+}

@@ -1,0 +1,44 @@
+//! Statistical consistency of the flight filter: a Monte Carlo over seeds of the short
+//! scenario (coast, rotation about z, coast) flown through nav-fsw, the sensor-error truth of
+//! each run drawn from the filter's prior; the average NEES of the 15 calibration states must
+//! lie inside its two-sided 95 % χ² interval. (The 50-run campaign
+//! of the default scenario is `nav-sim monte-carlo --runs 50`, README.)
+
+use nav_sim::flight::{fly, with_truth_drawn_from_prior, FlightOptions};
+use nav_sim::monte_carlo::{run_parallel, summarise, RunOutcome};
+
+mod common;
+
+#[test]
+#[ignore = "open finding: gyro bias, installation y and z gyro scale factor come out 1.5-2.8x \
+            overconfident after the 100 °/s rotation (average NEES 38 against [12.1, 18.3]); \
+            run with --ignored to reproduce"]
+fn calibration_nees_over_twelve_seeds_is_inside_the_95_percent_interval() {
+    let mut scenario = common::short_scenario();
+    // The prior the truth is drawn from (and the filter starts with): the paper's magnitudes.
+    // With the default 1e-3 rad/s gyro-bias prior, draws of ~3e-3 rad/s make it far worse
+    // (NEES ≈ 1000): the mismatch grows with the z gyro bias during the rotation about z.
+    scenario.filter.initial_sigma.gyro_bias_rad_per_s = 3e-4;
+    scenario.filter.initial_sigma.star_installation_rad = 3e-3;
+    let seeds: Vec<u64> = (0..12).map(|run| 1000 + run).collect();
+    let outcomes = run_parallel(
+        &seeds,
+        |seed| {
+            let seeded = with_truth_drawn_from_prior(&scenario, seed);
+            fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
+                seed,
+                error: -result.calibration_error,
+                covariance: result.calibration_covariance,
+            })
+        },
+        false,
+    )
+    .unwrap();
+    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    println!(
+        "{}",
+        summary.table(&nav_sim::monte_carlo::calibration_labels())
+    );
+    println!("{}", summary.nees_line());
+    assert!(summary.nees.consistent(), "{}", summary.nees_line());
+}
