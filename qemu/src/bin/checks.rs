@@ -1,6 +1,7 @@
 //! Target checks run on QEMU (`cargo run --release --bin checks`): verifies the
 //! instruction-count harness against a loop of known length, runs nav-core's reference
-//! workload and prints its results as bit patterns for the host's bit-for-bit comparison.
+//! workload, the filter path and the observability analysis of the paper's motion states,
+//! and prints their results as bit patterns for the host's bit-for-bit comparison.
 //! Exit status 0 only if every check passed; a panic or HardFault exits with failure.
 //!
 //! Output lines the host test parses (decoded defmt):
@@ -52,6 +53,10 @@ fn main() -> ! {
 
     // 3. The whole filter path: per-call costs, then the reference sequence's bits.
     all_passed &= filter_path(&mut counter);
+
+    // 4. The observability analysis of the paper's motion states I, II, III (Table 1):
+    //    24 singular values and the rank of each.
+    all_passed &= observability(&mut counter);
 
     if all_passed {
         defmt::println!("target checks: all passed");
@@ -122,6 +127,31 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
         }
     }
     passed
+}
+
+/// Runs the Table 1 observability workload and prints its singular values and ranks.
+fn observability(counter: &mut InstructionCounter) -> bool {
+    match counter.measure(nav_core::selftest::observability_workload) {
+        Ok((Ok(results), instructions)) => {
+            for (index, value) in results.iter().enumerate() {
+                defmt::println!(
+                    "BITS observability {=usize} {=u64:016x}",
+                    index,
+                    value.to_bits()
+                );
+            }
+            defmt::println!("COST observability {=u64}", instructions);
+            true
+        }
+        Ok((Err(error), _)) => {
+            defmt::error!("observability: {}", error);
+            false
+        }
+        Err(error) => {
+            defmt::error!("observability: {}", error);
+            false
+        }
+    }
 }
 
 /// Measures `known_length_loop(iterations)` and reports whether the harness agrees with the
