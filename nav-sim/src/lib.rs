@@ -9,11 +9,14 @@
 //! * [`sensors`]: the sensor error models (paper eqs. 1 and 3, star sensor, GNSS) producing a
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
+//! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
+//!   scenario's schedule (`nav-sim observability`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod observability_report;
 pub mod scenario;
 pub mod sensors;
 pub mod simulation;

@@ -18,6 +18,9 @@ enum Command {
     Calibrate,
     /// Print the built-in default scenario (TOML) to standard output.
     Scenario,
+    /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
+    /// manoeuvre schedule.
+    Observability(nav_sim::observability_report::ObservabilityArgs),
 }
 
 fn main() {
@@ -29,5 +32,11 @@ fn main() {
             println!("nav-core reference workload: {results:?}");
         }
         Command::Scenario => print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML),
+        Command::Observability(arguments) => {
+            if let Err(error) = arguments.run() {
+                eprintln!("nav-sim observability: {error}");
+                std::process::exit(1);
+            }
+        }
     }
 }
