@@ -42,6 +42,12 @@
 //! the segments, in information form on the initial state, reporting per state
 //! `prior variance / posterior variance` (≫ 1: learned from the measurements, ≈ 1: not).
 //! Its square-root information matrix is accumulated with the same Givens update.
+//!
+//! ## Paper states and the flight helper
+//! [`PaperMotionState`] holds the paper's motion states I, II, III (Table 1);
+//! [`motion_observability`] answers, for the calibration manager at a phase change, which
+//! blocks and axes a constant motion makes observable after a reference coast
+//! ([`AxisObservability`]).
 
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3, SVD};
 

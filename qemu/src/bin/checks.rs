@@ -36,13 +36,7 @@ fn main() -> ! {
     // 2. The reference workload, bit patterns for the host comparison.
     match counter.measure(nav_core::selftest::reference_workload) {
         Ok((results, instructions)) => {
-            for (index, value) in results.iter().enumerate() {
-                defmt::println!(
-                    "BITS reference_workload {=usize} {=u64:016x}",
-                    index,
-                    value.to_bits()
-                );
-            }
+            print_bits("reference_workload", &results);
             defmt::println!("COST reference_workload {=u64}", instructions);
         }
         Err(error) => {
@@ -108,13 +102,7 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
     };
     match counter.measure(|| sequence.run_sequence()) {
         Ok((Ok(()), instructions)) => {
-            for (index, value) in sequence.results().iter().enumerate() {
-                defmt::println!(
-                    "BITS filter_path {=usize} {=u64:016x}",
-                    index,
-                    value.to_bits()
-                );
-            }
+            print_bits("filter_path", &sequence.results());
             defmt::println!("COST filter_path_sequence {=u64}", instructions);
         }
         Ok((Err(error), _)) => {
@@ -129,17 +117,23 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
     passed
 }
 
+/// Prints `values` as `BITS <workload> <index> <hex>` lines for the host comparison.
+fn print_bits(workload: &str, values: &[f64]) {
+    for (index, value) in values.iter().enumerate() {
+        defmt::println!(
+            "BITS {=str} {=usize} {=u64:016x}",
+            workload,
+            index,
+            value.to_bits()
+        );
+    }
+}
+
 /// Runs the Table 1 observability workload and prints its singular values and ranks.
 fn observability(counter: &mut InstructionCounter) -> bool {
     match counter.measure(nav_core::selftest::observability_workload) {
         Ok((Ok(results), instructions)) => {
-            for (index, value) in results.iter().enumerate() {
-                defmt::println!(
-                    "BITS observability {=usize} {=u64:016x}",
-                    index,
-                    value.to_bits()
-                );
-            }
+            print_bits("observability", &results);
             defmt::println!("COST observability {=u64}", instructions);
             true
         }
