@@ -49,7 +49,9 @@ cargo test --workspace
 
 step "firmware build ($TARGET, cortex-m7)"
 (cd qemu && cargo build --release --bin checks)
-checks_elf=qemu/target/$TARGET/release/checks
+# Honour CARGO_TARGET_DIR (absolute) for the firmware too; the logs stay under ./target.
+checks_elf="${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/checks"
+mkdir -p target
 "$llvm_bin/llvm-objdump" -d --mcpu=cortex-m7 "$checks_elf" > target/checks.dis
 hardware_mul=$(grep -c 'vmul\.f64' target/checks.dis || true)
 hardware_add=$(grep -c 'vadd\.f64' target/checks.dis || true)

@@ -42,13 +42,19 @@
 //! the segments, in information form on the initial state, reporting per state
 //! `prior variance / posterior variance` (≫ 1: learned from the measurements, ≈ 1: not).
 //! Its square-root information matrix is accumulated with the same Givens update.
+//!
+//! ## Paper states and the flight helper
+//! [`PaperMotionState`] holds the paper's motion states I, II, III (Table 1);
+//! [`motion_observability`] answers, for the calibration manager at a phase change, which
+//! blocks and axes a constant motion makes observable after a reference coast
+//! ([`AxisObservability`]).
 
-use nalgebra::{SMatrix, SVector, SVD};
+use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3, SVD};
 
-use crate::error_model::SystemMatrix;
-use crate::measurement::MeasurementJacobian;
+use crate::error_model::{system_matrix, LinearisationPoint, SystemMatrix};
+use crate::measurement::{gnss_position, star_sensor, MeasurementJacobian};
 use crate::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
     MEASUREMENT_DIMENSION, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
@@ -612,19 +618,193 @@ impl InformationAccumulator {
     }
 }
 
+/// Degrees to radians (for the paper's rates, given in °/s).
+const RADIANS_PER_DEGREE: f64 = core::f64::consts::PI / 180.0;
+
+/// The paper's three motion states of Table 1 (Section 2.3): the constant motions whose
+/// observability the paper tabulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PaperMotionState {
+    /// State I, unpowered coast: body rate 2.4e-4 °/s about every axis, no specific force.
+    Coast,
+    /// State II, attitude manoeuvre: body rate (0, 0, 10) °/s, no specific force.
+    Rotation,
+    /// State III, linear acceleration: specific force (0, 20, 0) m/s², no rotation.
+    Acceleration,
+}
+
+impl PaperMotionState {
+    /// The three states in the paper's order (Table 1 columns I, II, III).
+    pub const ALL: [PaperMotionState; 3] = [Self::Coast, Self::Rotation, Self::Acceleration];
+    /// State I's rate about each axis (°/s).
+    pub const COAST_RATE_DEG_PER_S: f64 = 2.4e-4;
+    /// State II's rate about body z (°/s).
+    pub const ROTATION_RATE_DEG_PER_S: f64 = 10.0;
+    /// State III's specific force along body y (m/s²).
+    pub const ACCELERATION_MPS2: f64 = 20.0;
+
+    /// The paper's label: "I", "II" or "III".
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Coast => "I",
+            Self::Rotation => "II",
+            Self::Acceleration => "III",
+        }
+    }
+
+    /// Body rate of the state (rad/s).
+    pub fn body_rate_rad_s(self) -> Vector3<f64> {
+        match self {
+            Self::Coast => Vector3::repeat(Self::COAST_RATE_DEG_PER_S * RADIANS_PER_DEGREE),
+            Self::Rotation => {
+                Vector3::new(0.0, 0.0, Self::ROTATION_RATE_DEG_PER_S * RADIANS_PER_DEGREE)
+            }
+            Self::Acceleration => Vector3::zeros(),
+        }
+    }
+
+    /// Specific force of the state (m/s²).
+    pub fn specific_force_mps2(self) -> Vector3<f64> {
+        match self {
+            Self::Acceleration => Vector3::new(0.0, Self::ACCELERATION_MPS2, 0.0),
+            Self::Coast | Self::Rotation => Vector3::zeros(),
+        }
+    }
+
+    /// The linearisation point of this state at attitude `body_to_inertial` ([`constant_motion`]).
+    pub fn linearisation_point(self, body_to_inertial: &Matrix3<f64>) -> LinearisationPoint {
+        constant_motion(
+            &self.body_rate_rad_s(),
+            &self.specific_force_mps2(),
+            body_to_inertial,
+        )
+    }
+}
+
+/// A constant-motion segment of the PWCS as the paper analyses it: measured = corrected rate
+/// and specific force (the estimated sensor errors are zero at the start of an analysis),
+/// attitude frozen at `body_to_inertial` (`Ĉ`, body to launch-inertial), gravity gradient zero
+/// (paper eq. 14 ignores the gravity error).
+pub fn constant_motion(
+    body_rate_rad_s: &Vector3<f64>,
+    specific_force_mps2: &Vector3<f64>,
+    body_to_inertial: &Matrix3<f64>,
+) -> LinearisationPoint {
+    LinearisationPoint {
+        corrected_rate_rad_s: *body_rate_rad_s,
+        corrected_specific_force_mps2: *specific_force_mps2,
+        measured_rate_rad_s: *body_rate_rad_s,
+        measured_specific_force_mps2: *specific_force_mps2,
+        body_to_inertial: *body_to_inertial,
+        gravity_gradient_per_s2: Matrix3::zeros(),
+    }
+}
+
+/// `H` of a full update (star rows 0-2, GNSS rows 3-5) at attitude `q̂_ib` with the nominal
+/// star-sensor mounting `q_bs`, a zero installation estimate and a zero GNSS lever arm (the
+/// paper has none): the blocks of [`star_sensor`] and [`gnss_position`], stacked.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for NaN/Inf in a quaternion.
+pub fn full_update_measurement_matrix(
+    attitude: &Quaternion<f64>,
+    mounting: &Quaternion<f64>,
+) -> Result<MeasurementMatrix, NavError> {
+    let identity = Quaternion::identity();
+    let star = star_sensor(attitude, mounting, &identity, &identity, 0.0)?;
+    let zero = Vector3::zeros();
+    let gnss = gnss_position(attitude, &zero, &zero, &zero, 0.0)?;
+    Ok(stack_measurements(&star.jacobian, &gnss.jacobian))
+}
+
+/// Per block (the eight blocks of [`BLOCKS`], in order) and per axis: whether the state passes
+/// the null-space test. The flight calibration manager's view of an [`ObservabilityAnalysis`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AxisObservability {
+    /// `axes[b][k]`: state `k` (x, y, z) of block `BLOCKS[b]` is observable.
+    pub axes: [[bool; 3]; 8],
+}
+
+impl AxisObservability {
+    /// Regroups the per-state flags of `analysis` by block.
+    pub fn from_analysis(analysis: &ObservabilityAnalysis) -> Self {
+        let mut axes = [[false; 3]; 8];
+        for (block, states) in axes.iter_mut().zip(analysis.observable.chunks_exact(3)) {
+            for (flag, observable) in block.iter_mut().zip(states.iter()) {
+                *flag = *observable;
+            }
+        }
+        Self { axes }
+    }
+
+    /// The three flags of `block` (all `false` for a block not in [`BLOCKS`]).
+    pub fn block(&self, block: StateBlock) -> [bool; 3] {
+        BLOCKS
+            .iter()
+            .zip(self.axes.iter())
+            .find(|(candidate, _)| **candidate == block)
+            .map_or([false; 3], |(_, flags)| *flags)
+    }
+
+    /// Whether every axis of `block` is observable.
+    pub fn fully_observable(&self, block: StateBlock) -> bool {
+        self.block(block).iter().all(|flag| *flag)
+    }
+
+    /// Number of observable states (0..=24).
+    pub fn observable_count(&self) -> usize {
+        self.axes.iter().flatten().filter(|flag| **flag).count()
+    }
+}
+
+/// Which states the constant motion `point` makes observable, for the flight calibration
+/// manager at a phase change (estimate the blocks that are observable, freeze the others).
+///
+/// The question is asked in the paper's PWCS setting (Section 2; see the module docs and
+/// `docs/observability.md`): the stripped observability matrix of two continuous segments,
+/// an ideal coast (ω = 0, f = 0) at the same attitude and then `point`, scaled with
+/// [`Scaling::typical`]. A single constant segment on its own can never separate a scale
+/// factor from the bias on the same axis (they enter as `b + diag(ω) λ` with constant `ω`), so
+/// without the reference coast no manoeuvre would ever report a scale factor. Tolerance:
+/// `tolerance` (use [`RankTolerance::DEFAULT`]: singular values ≤ 1e-12 σ_max are zero, a
+/// state is observable when its unit vector's projection on that null space is ≤ 1e-6). This
+/// is structural observability: a state that passes may still be weak (see
+/// [`ObservabilityAnalysis::degree`]).
+///
+/// Cost: two segments of 144 Givens row updates on a 24×24 factor and one 24×24 SVD.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for NaN/Inf in `point` or `h`; [`NavError::SingularMatrix`] or
+/// [`NavError::NonFiniteState`] if the SVD fails.
+pub fn motion_observability(
+    point: &LinearisationPoint,
+    h: &MeasurementMatrix,
+    tolerance: &RankTolerance,
+) -> Result<AxisObservability, NavError> {
+    let reference_coast = constant_motion(
+        &Vector3::zeros(),
+        &Vector3::zeros(),
+        &point.body_to_inertial,
+    );
+    let mut stripped = StrippedObservability::new(Scaling::typical())?;
+    stripped.add_segment(&system_matrix(&reference_coast), h, SystemForm::Continuous)?;
+    stripped.add_segment(&system_matrix(point), h, SystemForm::Continuous)?;
+    let analysis = stripped.analyse(tolerance)?;
+    Ok(AxisObservability::from_analysis(&analysis))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::attitude::{exp_rotation_vector, rotation_matrix};
     use crate::discretise::discretise;
-    use crate::error_model::{noise_input_matrix, system_matrix, LinearisationPoint, ProcessNoise};
-    use crate::measurement::{gnss_position, star_sensor};
-    use crate::state::BLOCKS;
-    use nalgebra::{Matrix3, Quaternion, Vector3};
+    use crate::error_model::{noise_input_matrix, ProcessNoise};
+
+    use nalgebra::{Quaternion, Vector3};
 
     const DEG: f64 = core::f64::consts::PI / 180.0;
-    /// The paper's coast rate, 2.4e-4 °/s per axis.
-    const COAST_DEG_S: f64 = 2.4e-4;
     const STEP_S: f64 = 0.002;
 
     fn attitude() -> Quaternion<f64> {
@@ -632,19 +812,15 @@ mod tests {
     }
 
     fn motion(rate_deg_s: Vector3<f64>, force_mps2: Vector3<f64>) -> LinearisationPoint {
-        let rate = rate_deg_s * DEG;
-        LinearisationPoint {
-            corrected_rate_rad_s: rate,
-            corrected_specific_force_mps2: force_mps2,
-            measured_rate_rad_s: rate,
-            measured_specific_force_mps2: force_mps2,
-            body_to_inertial: rotation_matrix(&attitude()),
-            gravity_gradient_per_s2: Matrix3::zeros(),
-        }
+        constant_motion(
+            &(rate_deg_s * DEG),
+            &force_mps2,
+            &rotation_matrix(&attitude()),
+        )
     }
 
     fn coast() -> LinearisationPoint {
-        motion(Vector3::repeat(COAST_DEG_S), Vector3::zeros())
+        PaperMotionState::Coast.linearisation_point(&rotation_matrix(&attitude()))
     }
     fn ideal_coast() -> LinearisationPoint {
         motion(Vector3::zeros(), Vector3::zeros())
@@ -664,17 +840,7 @@ mod tests {
     /// (the paper has none).
     fn h() -> MeasurementMatrix {
         let mounting = exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25));
-        let one = Quaternion::identity();
-        let star = star_sensor(&attitude(), &mounting, &one, &one, 10.0 / 3600.0 * DEG).unwrap();
-        let gnss = gnss_position(
-            &attitude(),
-            &Vector3::zeros(),
-            &Vector3::zeros(),
-            &Vector3::zeros(),
-            10.0,
-        )
-        .unwrap();
-        stack_measurements(&star.jacobian, &gnss.jacobian)
+        full_update_measurement_matrix(&attitude(), &mounting).unwrap()
     }
 
     fn transition(point: &LinearisationPoint) -> SystemMatrix {
@@ -1016,5 +1182,69 @@ mod tests {
             print!("{:>11}", a.rank);
         }
         println!();
+    }
+
+    /// The flight helper on the paper's three states (after the reference ideal coast).
+    #[test]
+    fn motion_observability_of_the_paper_states() {
+        let attitude_matrix = rotation_matrix(&attitude());
+        let result = |state: PaperMotionState| {
+            motion_observability(
+                &state.linearisation_point(&attitude_matrix),
+                &h(),
+                &RankTolerance::DEFAULT,
+            )
+            .unwrap()
+        };
+        let all = [true; 3];
+        let none = [false; 3];
+        // I: position, velocity, both biases; attitude and installation only as their sum
+        // (the star sees C_sb ϑ + ψ), no scale factor (ω ≈ 0, f = 0).
+        let coast = result(PaperMotionState::Coast);
+        for (block, expected) in [
+            (ATTITUDE, none),
+            (POSITION, all),
+            (VELOCITY, all),
+            (GYRO_BIAS, all),
+            (ACCEL_BIAS, all),
+            (STAR_INSTALLATION, none),
+            (GYRO_SCALE_FACTOR, none),
+            (ACCEL_SCALE_FACTOR, none),
+        ] {
+            assert_eq!(coast.block(block), expected, "I {}", block.name);
+        }
+        assert_eq!(coast.observable_count(), 12);
+        // II: rotation about z separates attitude x, y from the installation and makes the
+        // z gyro scale factor observable.
+        let rotation = result(PaperMotionState::Rotation);
+        assert_eq!(rotation.block(ATTITUDE), [true, true, false]);
+        assert_eq!(rotation.block(GYRO_SCALE_FACTOR), [false, false, true]);
+        assert_eq!(rotation.block(STAR_INSTALLATION), none);
+        assert_eq!(rotation.block(ACCEL_SCALE_FACTOR), none);
+        assert!(rotation.fully_observable(GYRO_BIAS));
+        assert_eq!(rotation.observable_count(), 15);
+        // III: acceleration along y makes attitude ⊥ y visible in the velocity and the y
+        // accelerometer scale factor observable.
+        let acceleration = result(PaperMotionState::Acceleration);
+        assert_eq!(acceleration.block(ATTITUDE), [true, false, true]);
+        assert_eq!(acceleration.block(ACCEL_SCALE_FACTOR), [false, true, false]);
+        assert_eq!(acceleration.block(GYRO_SCALE_FACTOR), none);
+        assert_eq!(acceleration.block(STAR_INSTALLATION), none);
+        assert!(acceleration.fully_observable(ACCEL_BIAS));
+        assert_eq!(acceleration.observable_count(), 15);
+        // A block outside the table has no flags.
+        let unknown = StateBlock {
+            index: 0,
+            dimension: 3,
+            name: "unknown",
+        };
+        assert_eq!(acceleration.block(unknown), none);
+        // Bad input is a typed error.
+        let mut bad = PaperMotionState::Coast.linearisation_point(&attitude_matrix);
+        bad.corrected_rate_rad_s.x = f64::NAN;
+        assert_eq!(
+            motion_observability(&bad, &h(), &RankTolerance::DEFAULT),
+            Err(NavError::NonFiniteInput)
+        );
     }
 }

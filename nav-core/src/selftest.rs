@@ -13,6 +13,10 @@ use crate::filter::{
 };
 use crate::frames::{LaunchFrame, LaunchSite};
 use crate::measurement::{gnss_position, star_sensor};
+use crate::observability::{
+    full_update_measurement_matrix, PaperMotionState, RankTolerance, Scaling,
+    StrippedObservability, SystemForm,
+};
 use crate::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown, StrapdownConfig,
 };
@@ -290,6 +294,52 @@ impl FilterPathFixture {
     }
 }
 
+/// Singular values per paper state in [`observability_workload`] (one per error state).
+const SINGULAR_VALUES_PER_STATE: usize = 24;
+/// Number of f64 results of [`observability_workload`]: for each of the paper's motion states
+/// I, II, III its 24 singular values (descending) and its rank.
+pub const OBSERVABILITY_RESULT_COUNT: usize = 3 * (SINGULAR_VALUES_PER_STATE + 1);
+
+/// The Table 1 analysis on a fixed geometry: for each of the paper's motion states
+/// ([`PaperMotionState::ALL`]) alone, the SVD of its scaled continuous observability matrix
+/// (Givens-accumulated factor, [`Scaling::typical`], [`RankTolerance::DEFAULT`]) at the
+/// attitude `exp([0.2, 0.4, −0.1])` with the star-sensor mounting `exp([0.4, −1.1, 0.25])`.
+///
+/// Returns, per state, its 24 singular values then its rank (as f64, 15 for each state).
+///
+/// # Errors
+/// As [`StrippedObservability::add_segment`] and [`StrippedObservability::analyse`] (none for
+/// this fixed input).
+pub fn observability_workload() -> Result<[f64; OBSERVABILITY_RESULT_COUNT], NavError> {
+    let attitude = attitude::exp_rotation_vector(&Vector3::new(0.2, 0.4, -0.1));
+    let mounting = attitude::exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25));
+    let body_to_inertial = attitude::rotation_matrix(&attitude);
+    let h = full_update_measurement_matrix(&attitude, &mounting)?;
+    let mut results = [0.0; OBSERVABILITY_RESULT_COUNT];
+    for (state, chunk) in PaperMotionState::ALL
+        .iter()
+        .zip(results.chunks_exact_mut(SINGULAR_VALUES_PER_STATE + 1))
+    {
+        let mut stripped = StrippedObservability::new(Scaling::typical())?;
+        stripped.add_segment(
+            &system_matrix(&state.linearisation_point(&body_to_inertial)),
+            &h,
+            SystemForm::Continuous,
+        )?;
+        let analysis = stripped.analyse(&RankTolerance::DEFAULT)?;
+        let rank = u32::try_from(analysis.rank).map_err(|_| NavError::NonFiniteState)?;
+        for (slot, value) in chunk.iter_mut().zip(
+            analysis
+                .singular_values
+                .iter()
+                .chain([f64::from(rank)].iter()),
+        ) {
+            *slot = *value;
+        }
+    }
+    Ok(results)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -324,5 +374,18 @@ mod tests {
         assert!(results.iter().all(|value| value.is_finite()));
         assert!(results[0] > 0.0, "trace of a Gram matrix is positive");
         assert!(results[7].abs() < 1e-12);
+    }
+
+    #[test]
+    fn observability_workload_gives_rank_15_for_each_paper_state_alone() {
+        let results = observability_workload().unwrap();
+        for chunk in results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1) {
+            let (singular_values, rank) = chunk.split_at(SINGULAR_VALUES_PER_STATE);
+            assert!((rank[0] - 15.0).abs() < 1e-12, "{rank:?}");
+            assert!(singular_values.windows(2).all(|pair| pair[0] >= pair[1]));
+            // 15 clearly non-zero, 9 numerically zero (relative 1e-12).
+            assert!(singular_values[14] > 1e-8 * singular_values[0]);
+            assert!(singular_values[15] <= 1e-12 * singular_values[0]);
+        }
     }
 }

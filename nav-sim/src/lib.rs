@@ -13,6 +13,8 @@
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
+//! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
+//!   scenario's schedule (`nav-sim observability`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
@@ -20,6 +22,7 @@
 
 pub mod flight;
 pub mod monte_carlo;
+pub mod observability_report;
 pub mod report;
 pub mod scenario;
 pub mod sensor_log;

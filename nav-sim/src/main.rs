@@ -69,6 +69,9 @@ enum Command {
     },
     /// Print the built-in default scenario (TOML) to standard output.
     Scenario,
+    /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
+    /// manoeuvre schedule.
+    Observability(nav_sim::observability_report::ObservabilityArgs),
 }
 
 type Failure = Box<dyn std::error::Error>;
@@ -257,6 +260,7 @@ fn main() -> ExitCode {
             print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML);
             Ok(())
         }
+        Command::Observability(arguments) => arguments.run().map_err(Failure::from),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

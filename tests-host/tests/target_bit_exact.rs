@@ -78,3 +78,26 @@ fn filter_path_is_bit_identical_on_host_and_target() {
         println!("target cost {step}: {instructions} instructions");
     }
 }
+
+#[test]
+#[ignore = "needs the QEMU log: run scripts/test.sh"]
+fn observability_singular_values_are_bit_identical_on_host_and_target() {
+    let log = checks_log();
+    let host = nav_core::selftest::observability_workload().expect("fixed input is valid");
+    log.compare("observability", &host)
+        .unwrap_or_else(|mismatch| panic!("host and Cortex-M7 differ: {mismatch}"));
+    // Each state's rank (the 25th value of its block) is 15 on both.
+    for (label, block) in ["I", "II", "III"].iter().zip(host.chunks_exact(25)) {
+        let rank = block.last().copied().unwrap_or(f64::NAN);
+        assert!((rank - 15.0).abs() < 1e-12, "state {label}: rank {rank}");
+        println!(
+            "observability state {label}: rank {rank}, σ_max {:.6e}, σ_15 {:.6e}, σ_16 {:.3e}",
+            block[0], block[14], block[15]
+        );
+    }
+    println!(
+        "observability: {} results (3 × 24 singular values + 3 ranks) bit-identical ({} instructions on target)",
+        host.len(),
+        log.costs.get("observability").copied().unwrap_or(0)
+    );
+}

@@ -1,6 +1,7 @@
 //! Target checks run on QEMU (`cargo run --release --bin checks`): verifies the
 //! instruction-count harness against a loop of known length, runs nav-core's reference
-//! workload and prints its results as bit patterns for the host's bit-for-bit comparison.
+//! workload, the filter path and the observability analysis of the paper's motion states,
+//! and prints their results as bit patterns for the host's bit-for-bit comparison.
 //! Exit status 0 only if every check passed; a panic or HardFault exits with failure.
 //!
 //! Output lines the host test parses (decoded defmt):
@@ -35,13 +36,7 @@ fn main() -> ! {
     // 2. The reference workload, bit patterns for the host comparison.
     match counter.measure(nav_core::selftest::reference_workload) {
         Ok((results, instructions)) => {
-            for (index, value) in results.iter().enumerate() {
-                defmt::println!(
-                    "BITS reference_workload {=usize} {=u64:016x}",
-                    index,
-                    value.to_bits()
-                );
-            }
+            print_bits("reference_workload", &results);
             defmt::println!("COST reference_workload {=u64}", instructions);
         }
         Err(error) => {
@@ -52,6 +47,10 @@ fn main() -> ! {
 
     // 3. The whole filter path: per-call costs, then the reference sequence's bits.
     all_passed &= filter_path(&mut counter);
+
+    // 4. The observability analysis of the paper's motion states I, II, III (Table 1):
+    //    24 singular values and the rank of each.
+    all_passed &= observability(&mut counter);
 
     if all_passed {
         defmt::println!("target checks: all passed");
@@ -103,13 +102,7 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
     };
     match counter.measure(|| sequence.run_sequence()) {
         Ok((Ok(()), instructions)) => {
-            for (index, value) in sequence.results().iter().enumerate() {
-                defmt::println!(
-                    "BITS filter_path {=usize} {=u64:016x}",
-                    index,
-                    value.to_bits()
-                );
-            }
+            print_bits("filter_path", &sequence.results());
             defmt::println!("COST filter_path_sequence {=u64}", instructions);
         }
         Ok((Err(error), _)) => {
@@ -122,6 +115,37 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
         }
     }
     passed
+}
+
+/// Prints `values` as `BITS <workload> <index> <hex>` lines for the host comparison.
+fn print_bits(workload: &str, values: &[f64]) {
+    for (index, value) in values.iter().enumerate() {
+        defmt::println!(
+            "BITS {=str} {=usize} {=u64:016x}",
+            workload,
+            index,
+            value.to_bits()
+        );
+    }
+}
+
+/// Runs the Table 1 observability workload and prints its singular values and ranks.
+fn observability(counter: &mut InstructionCounter) -> bool {
+    match counter.measure(nav_core::selftest::observability_workload) {
+        Ok((Ok(results), instructions)) => {
+            print_bits("observability", &results);
+            defmt::println!("COST observability {=u64}", instructions);
+            true
+        }
+        Ok((Err(error), _)) => {
+            defmt::error!("observability: {}", error);
+            false
+        }
+        Err(error) => {
+            defmt::error!("observability: {}", error);
+            false
+        }
+    }
 }
 
 /// Measures `known_length_loop(iterations)` and reports whether the harness agrees with the
