@@ -14,6 +14,7 @@
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod covariance_design;
 pub mod scenario;
 pub mod sensors;
 pub mod simulation;
