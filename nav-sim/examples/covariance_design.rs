@@ -2,21 +2,38 @@
 //! against the paper's reported accuracy, the history per manoeuvre segment and the orbit check.
 //!
 //! ```sh
-//! cargo run --release -p nav-sim --example covariance_design -- [scenario.toml] [step_frames]
+//! cargo run --release -p nav-sim --example covariance_design -- [scenario.toml] [--step-frames N]
 //! ```
-//! Without a file: the built-in default scenario. `step_frames`: IMU frames per covariance
-//! step (default 5 = 10 ms at 500 Hz).
+//! Without a file: the built-in default scenario. `--help` lists the options.
 
-use std::path::Path;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::Parser;
+use nav_core::error_model::ProcessNoise;
 use nav_sim::covariance_design::{analyse, DesignOptions};
 use nav_sim::Scenario;
 
+/// Linear covariance analysis of a calibration scenario.
+#[derive(Parser)]
+struct Arguments {
+    /// Scenario file (default: the built-in default scenario).
+    scenario: Option<PathBuf>,
+    /// IMU frames per covariance step (5 = 10 ms at 500 Hz).
+    #[arg(long, default_value_t = 5)]
+    step_frames: u32,
+    /// Leave the gravity gradient out of the error model (as the paper does).
+    #[arg(long)]
+    no_gravity_gradient: bool,
+    /// Tune the filter with nav-core's `ProcessNoise::PAPER` instead of the scenario's noise.
+    #[arg(long)]
+    paper_process_noise: bool,
+}
+
 fn main() -> ExitCode {
-    let arguments: Vec<String> = std::env::args().skip(1).collect();
-    let scenario = match arguments.first() {
-        Some(path) => Scenario::load(Path::new(path)),
+    let arguments = Arguments::parse();
+    let scenario = match &arguments.scenario {
+        Some(path) => Scenario::load(path),
         None => Scenario::default_scenario(),
     };
     let scenario = match scenario {
@@ -26,14 +43,33 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let mut options = DesignOptions::default();
-    if let Some(text) = arguments.get(1) {
-        match text.parse::<u32>() {
-            Ok(frames) => options.step_frames = frames,
-            Err(error) => {
-                eprintln!("step_frames {text:?} is not a whole number: {error}");
-                return ExitCode::FAILURE;
-            }
+    let options = DesignOptions {
+        step_frames: arguments.step_frames,
+        gravity_gradient: !arguments.no_gravity_gradient,
+        process_noise: arguments.paper_process_noise.then_some(ProcessNoise::PAPER),
+        ..DesignOptions::default()
+    };
+    if let Ok([radial, along_track, normal]) =
+        nav_sim::covariance_design::initial_orbital_axes(&scenario)
+    {
+        println!(
+            "launch-inertial axes at the start: radial {:?}, along-track {:?}, normal {:?}",
+            radial.as_slice(),
+            along_track.as_slice(),
+            normal.as_slice()
+        );
+        let [x, y, z] = scenario.initial_attitude.rotation_vector_deg;
+        let attitude = nav_core::attitude::rotation_matrix(&nav_core::attitude::exp_rotation_vector(
+            &nalgebra::Vector3::new(x.to_radians(), y.to_radians(), z.to_radians()),
+        ));
+        for (axis, name) in ["x", "y", "z"].iter().enumerate() {
+            let body_axis = attitude.column(axis);
+            println!(
+                "initial body {name} axis: radial {:+.3}, along-track {:+.3}, normal {:+.3}",
+                body_axis.dot(&radial),
+                body_axis.dot(&along_track),
+                body_axis.dot(&normal)
+            );
         }
     }
     let started = std::time::Instant::now();

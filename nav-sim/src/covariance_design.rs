@@ -17,8 +17,10 @@
 //!   measurement epoch and segment boundary, so no update is moved in time. The step's
 //!   linearisation point is the mean body rate and specific force over the step (from the exact
 //!   IMU increments) and the truth attitude and position at the step's middle frame;
-//! * the error model is linearised at the truth (`ω̂ = ω_m = ω`, `f̂ = f_m = f`): the sensor
-//!   errors change the Jacobians only at second order (≤ 3e-5 relative);
+//! * the error model is linearised along the truth trajectory with the noise-free sensor
+//!   outputs `ω_m = (ω + b_g) ./ (1 − λ_g)`, `f_m = (f + b_a) ./ (1 − λ_a)` of the scenario's
+//!   true sensor errors (open loop: `ω̂ = ω_m`; closed loop: `ω̂ = ω`); the sensor errors
+//!   change the Jacobians only at relative order 1e-4, so the result barely depends on them;
 //! * GNSS fixes are used at their time of validity (latency ignored), no lever arm.
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
@@ -35,6 +37,7 @@ use nav_core::state::{
 use nav_core::NavError;
 
 use crate::scenario::{frames_in, Scenario};
+use crate::sensors::{SensorErrorTruth, SensorSimulator};
 use crate::truth::{launch_frame, TruthError, TruthFrame, TruthSimulator};
 
 /// Why the analysis could not run.
@@ -53,6 +56,9 @@ pub enum DesignError {
         /// nav-core's reason.
         error: NavError,
     },
+    /// The sensor models could not be built.
+    #[error("sensor models: {0}")]
+    Sensor(String),
     /// A setting is unusable.
     #[error("covariance design setting {key} {requirement}")]
     Setting {
@@ -320,9 +326,27 @@ pub fn perigee_apogee_radii_m(position_m: &Vector3<f64>, velocity_mps: &Vector3<
     (semi_latus_rectum_m / (1.0 + eccentricity), apogee_m)
 }
 
+/// The local orbital axes at the scenario start, in the launch-inertial frame: radial (up),
+/// along-track (the in-plane unit vector perpendicular to radial, prograde) and orbit normal
+/// (`r × v`). The default scenario's initial attitude is chosen against these.
+///
+/// # Errors
+/// [`DesignError::Truth`] if the initial state cannot be built.
+pub fn initial_orbital_axes(scenario: &Scenario) -> Result<[Vector3<f64>; 3], DesignError> {
+    let frame = launch_frame(scenario)?;
+    let state = crate::truth::initial_state(scenario, &frame)?;
+    let radial = frame
+        .geocentric_position_launch(&state.position_m)
+        .normalize();
+    let normal = radial.cross(&state.velocity_mps).normalize();
+    Ok([radial, normal.cross(&radial), normal])
+}
+
 /// The frames of one covariance step, reduced to what the linearisation needs.
 struct StepAccumulator {
     frames: Vec<TruthFrame>,
+    errors: SensorErrorTruth,
+    mode: FilterMode,
 }
 
 impl StepAccumulator {
@@ -347,15 +371,25 @@ impl StepAccumulator {
         );
         let rate = delta_angle / interval_s;
         let force = delta_velocity / interval_s;
+        // What the sensors output (paper eqs. 1, 3 solved for the measurement):
+        // ω_m = (ω + b_g) ./ (1 − λ_g), likewise f_m; open loop uses them uncorrected.
+        let measured_rate = (rate + self.errors.gyro_bias_rad_per_s)
+            .component_div(&self.errors.gyro_scale_factor.map(|lambda| 1.0 - lambda));
+        let measured_force = (force + self.errors.accel_bias_mps2)
+            .component_div(&self.errors.accel_scale_factor.map(|lambda| 1.0 - lambda));
+        let (corrected_rate, corrected_force) = match self.mode {
+            FilterMode::OpenLoop => (measured_rate, measured_force),
+            FilterMode::ClosedLoop => (rate, force),
+        };
         let gradient = gravity.map_or_else(Matrix3::zeros, |model| {
             model.gravity_gradient_launch(frame, &middle.position_m)
         });
         Some((
             LinearisationPoint {
-                corrected_rate_rad_s: rate,
-                corrected_specific_force_mps2: force,
-                measured_rate_rad_s: rate,
-                measured_specific_force_mps2: force,
+                corrected_rate_rad_s: corrected_rate,
+                corrected_specific_force_mps2: corrected_force,
+                measured_rate_rad_s: measured_rate,
+                measured_specific_force_mps2: measured_force,
                 body_to_inertial: rotation_matrix(&middle.attitude_q_ib),
                 gravity_gradient_per_s2: gradient,
             },
@@ -462,6 +496,10 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
     };
     let mut step = StepAccumulator {
         frames: Vec::with_capacity(step_frames),
+        errors: SensorSimulator::new(scenario)
+            .map_err(|error| DesignError::Sensor(error.to_string()))?
+            .error_truth(),
+        mode: config.mode,
     };
     let mut snapshots = Vec::new();
     let (mut star_updates, mut gnss_updates) = (0_u64, 0_u64);
