@@ -59,9 +59,10 @@ fn main() -> ExitCode {
             normal.as_slice()
         );
         let [x, y, z] = scenario.initial_attitude.rotation_vector_deg;
-        let attitude = nav_core::attitude::rotation_matrix(&nav_core::attitude::exp_rotation_vector(
-            &nalgebra::Vector3::new(x.to_radians(), y.to_radians(), z.to_radians()),
-        ));
+        let attitude =
+            nav_core::attitude::rotation_matrix(&nav_core::attitude::exp_rotation_vector(
+                &nalgebra::Vector3::new(x.to_radians(), y.to_radians(), z.to_radians()),
+            ));
         for (axis, name) in ["x", "y", "z"].iter().enumerate() {
             let body_axis = attitude.column(axis);
             println!(
