@@ -24,6 +24,7 @@ pub mod flight;
 pub mod monte_carlo;
 pub mod observability_report;
 pub mod report;
+pub mod covariance_design;
 pub mod scenario;
 pub mod sensor_log;
 pub mod sensors;

@@ -681,9 +681,9 @@ mod tests {
         assert_same(&[scenario.star_sensor.noise_arcsec], &[10.0]);
         assert_same(&[scenario.gnss.noise_m], &[10.0]);
         assert_eq!(scenario.filter.mode, FilterMode::OpenLoop);
-        // 10 + 3 x 12 + 6 x 10 + 120 s.
-        assert!((scenario.duration_s() - 226.0).abs() < 1e-9);
-        assert_eq!(scenario.frame_count(), 113_000);
+        // 20 + 3 x 19 + 6 x 41 + 300 + 4 x 319 + 739 + 439 s.
+        assert!((scenario.duration_s() - 3077.0).abs() < 1e-9);
+        assert_eq!(scenario.frame_count(), 1_538_500);
     }
 
     #[test]
@@ -728,7 +728,8 @@ mod tests {
     fn invalid_values_are_rejected_naming_the_key() {
         let cases = [
             ("rate_hz = 500.0", "rate_hz = 0.0", "imu.rate_hz"),
-            ("rate_hz = 4.0", "rate_hz = 3.0", "star_sensor.rate_hz"),
+            // The first "rate_hz = 10.0" is the star sensor's (GNSS comes after it).
+            ("rate_hz = 10.0", "rate_hz = 3.0", "star_sensor.rate_hz"),
             ("noise_m = 10.0", "noise_m = -1.0", "gnss.noise_m"),
             ("latency_s = 0.0", "latency_s = 0.0031", "gnss.latency_s"),
             (
@@ -771,14 +772,14 @@ mod tests {
 
     #[test]
     fn manoeuvre_errors_name_the_segment() {
-        // The second segment (index 1) is "rotate about body x", ramp 1 s.
+        // The second segment (index 1) is "rotate about body x", 19 s, ramp 1 s.
         let text = DEFAULT_SCENARIO_TOML.replacen(
-            "duration_s = 12.0\nramp_s = 1.0",
-            "duration_s = 12.0\nramp_s = 6.5",
+            "duration_s = 19.0\nramp_s = 1.0",
+            "duration_s = 19.0\nramp_s = 10.0",
             1,
         );
         assert_eq!(invalid_key(&text), "manoeuvre[1].ramp_s");
-        let text = DEFAULT_SCENARIO_TOML.replacen("duration_s = 12.0", "duration_s = 12.0001", 1);
+        let text = DEFAULT_SCENARIO_TOML.replacen("duration_s = 19.0", "duration_s = 19.0001", 1);
         assert_eq!(invalid_key(&text), "manoeuvre[1].duration_s");
         let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
         assert!(message.contains("whole number of IMU frames"), "{message}");
@@ -795,7 +796,10 @@ mod tests {
         let path = directory.join("bad.toml");
         std::fs::write(
             &path,
-            DEFAULT_SCENARIO_TOML.replace("rate_hz = 1.0", "rate_hz = -1.0"),
+            DEFAULT_SCENARIO_TOML.replace(
+                "rate_hz = 10.0\n# ECEF position noise",
+                "rate_hz = -1.0\n# ECEF position noise",
+            ),
         )
         .unwrap();
         let message = Scenario::load(&path).unwrap_err().to_string();

@@ -455,6 +455,15 @@ mod tests {
         (truths, events)
     }
 
+    /// The default scenario with the star sensor at 4 Hz and GNSS at 1 Hz (the sample counts
+    /// and time tags below are worked out for these rates, not the default's 10 Hz).
+    fn four_and_one_hz_scenario() -> Scenario {
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.star_sensor.rate_hz = 4.0;
+        scenario.gnss.rate_hz = 1.0;
+        scenario
+    }
+
     /// Every measurement at the IMU rate, so 10,000 frames give 10,000 samples of each.
     fn every_frame_scenario() -> Scenario {
         let mut scenario = Scenario::default_scenario().unwrap();
@@ -653,7 +662,7 @@ mod tests {
 
     #[test]
     fn same_seed_gives_identical_streams_and_sources_are_independent() {
-        let scenario = Scenario::default_scenario().unwrap();
+        let scenario = four_and_one_hz_scenario();
         let (_, first) = run(&scenario, 3_000);
         let (_, second) = run(&scenario, 3_000);
         assert_eq!(first.len(), 3_000 + 24 + 6);
@@ -741,7 +750,7 @@ mod tests {
 
     #[test]
     fn gnss_latency_delays_delivery_by_whole_frames() {
-        let mut scenario = Scenario::default_scenario().unwrap();
+        let mut scenario = four_and_one_hz_scenario();
         scenario.gnss.latency_s = 0.1;
         let (_, events) = run(&scenario, 1_200);
         // The fix valid at 601.0 s (end of frame 499) arrives right after frame 549's IMU event
@@ -782,7 +791,7 @@ mod tests {
 
     #[test]
     fn events_convert_to_flight_software_ports() {
-        let scenario = Scenario::default_scenario().unwrap();
+        let scenario = four_and_one_hz_scenario();
         let (_, events) = run(&scenario, 500);
         let imu = events[0].to_imu_sample().unwrap();
         assert_eq!(imu.sequence, 0);
