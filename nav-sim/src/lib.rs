@@ -20,11 +20,11 @@
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod covariance_design;
 pub mod flight;
 pub mod monte_carlo;
 pub mod observability_report;
 pub mod report;
-pub mod covariance_design;
 pub mod scenario;
 pub mod sensor_log;
 pub mod sensors;

@@ -971,7 +971,11 @@ mod tests {
         // PWCS cases carry no Table 1 value.
         assert!(paper_states[3]["states"][0]["paper_table_1"].is_null());
         let phases = value["phases"].as_array().unwrap();
-        assert_eq!(phases.len(), 11);
+        let scenario_phases = crate::Scenario::default_scenario()
+            .unwrap()
+            .manoeuvres
+            .len();
+        assert_eq!(phases.len(), scenario_phases);
         for phase in phases {
             for key in ["after_previous", "alone"] {
                 assert_eq!(phase[key]["states"].as_array().unwrap().len(), 24);

@@ -3,7 +3,7 @@
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::Scenario;
 
-/// 42 s: 10 s coast, 12 s rotation about z at 100 °/s, 20 s coast (21,000 frames).
+/// 42 s with a 4 Hz star sensor and 1 Hz GNSS: 10 s coast, 12 s rotation about z at 100 °/s, 20 s coast (21,000 frames).
 pub fn short_scenario() -> Scenario {
     let mut scenario = Scenario::default_scenario().unwrap();
     let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3]| ManoeuvreSegment {
@@ -18,6 +18,9 @@ pub fn short_scenario() -> Scenario {
         segment("rotate z", 12.0, 1.0, [0.0, 0.0, 100.0]),
         segment("coast", 20.0, 0.0, [2.4e-4; 3]),
     ];
+    // Rates the tests' counts are written for (the default scenario may change them).
+    scenario.star_sensor.rate_hz = 4.0;
+    scenario.gnss.rate_hz = 1.0;
     scenario.validate().unwrap();
     scenario
 }
