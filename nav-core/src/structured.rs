@@ -1,0 +1,985 @@
+//! Structured (block-sparse) covariance propagation, measurement update and reset: the same
+//! arithmetic as the dense reference ([`crate::discretise::discretise`] with
+//! [`crate::filter::ErrorStateFilter::predict`], and the dense Joseph update), computed only
+//! where the 3×3 blocks of `F`, `Γ`, `H` and the reset Jacobian are non-zero and
+//! non-identity, upper triangle only, symmetric by construction. The flight path uses these;
+//! the dense versions stay as the reference the tests compare against (relative 1e-12).
+//!
+//! ## Structure of the discrete model (derivation)
+//! Order the state as `d = (ϑ, δp, δv)` (9 "dynamic" states) and `c` (the 15 calibration
+//! states). [`crate::error_model::system_matrix`] has non-zero rows only in `d`:
+//! `A = [[M, B], [0, 0]]` with, in 3×3 blocks,
+//! `M = [[W, 0, 0], [0, 0, I], [V, N, 0]]` (`W = −[ω̂×]`, `V = −2Ĉ[f̂×]`, `N = ∂g/∂p`) and `B`
+//! non-zero only in `B_{ϑ,bg} = −½I`, `B_{ϑ,λg} = −½ diag(ω_m)`, `B_{δv,ba} = −Ĉ`,
+//! `B_{δv,λa} = −Ĉ diag(f_m)`. Hence `A^n = [[M^n, M^{n−1}B], [0, 0]]` for `n ≥ 1`, and the
+//! series of [`crate::discretise`] become
+//! * `F = Σ_{n=0..N} (AΔ)^n/n! = [[Φ, Ψ B Δ], [0, I]]`, `Φ = Σ_{n=0..N} (MΔ)^n/n!`,
+//!   `Ψ = Σ_{n=1..N} (MΔ)^{n−1}/n!`;
+//! * `S = Σ_{n=1..N} (AΔ)^{n−1}/n! = [[Ψ, Χ B Δ], [0, I]]`, `Χ = Σ_{n=2..N} (MΔ)^{n−2}/n!`,
+//!   and `Γ = S G Δ`.
+//!
+//! With `a = WΔ`, `b = VΔ`, `g = NΔ`, `d = Δ`, the powers of `MΔ` have only the blocks
+//! (ϑϑ, pϑ, pp, pv, vϑ, vp, vv) — rows `ϑ` never reach `δp`, `δv`:
+//!
+//! | n | ϑϑ  | pϑ            | pp    | pv   | vϑ          | vp    | vv    |
+//! |---|-----|---------------|-------|------|-------------|-------|-------|
+//! | 1 | a   | 0             | 0     | d I  | b           | g     | 0     |
+//! | 2 | a²  | d b           | d g   | 0    | b a         | 0     | d g   |
+//! | 3 | a³  | d b a         | 0     | d² g | b a² + d g b| d g²  | 0     |
+//! | 4 | a⁴  | d b a² + d² g b | d² g² | 0  | b a³ + d g b a | 0  | d² g² |
+//!
+//! (each row is the previous one times `MΔ` on the right: `X_{rϑ} a + X_{rv} b`,
+//! `X_{rv} g`, `X_{rp} d`). The calibration columns of `F` are
+//! `E_g = −½Δ Ψ_{·ϑ}` (gyro bias), `E_g diag(ω_m)` (gyro scale factor),
+//! `E_a = −Δ Ψ_{·v} Ĉ` (accelerometer bias, rows δp and δv) and `E_a diag(f_m)`
+//! (accelerometer scale factor); the installation column is zero. The noise columns of
+//! `Γ` are `E_g` (gyro noise), `E_a` (accelerometer noise), `[−½Δ² Χ_{·ϑ}; ΔI]` (gyro-bias
+//! walk) and `[−Δ² Χ_{·v} Ĉ; ΔI]` (accelerometer-bias walk), and
+//! `Qd = Σ_k (q_k/Δ) Γ_k Γ_kᵀ` over the noise blocks with a non-zero density.
+//!
+//! ## Propagation
+//! With `P = [[P_dd, P_dc], [P_cd, P_cc]]`: `F P Fᵀ` keeps `P_cc`; `U = [Φ E] P` (9×24) is the
+//! new `P_dc` in its calibration columns, and the new `P_dd = U [Φ E]ᵀ + Qd_dd` (upper block
+//! triangle only, diagonal blocks mirrored). The scale-factor columns are folded into the
+//! bias columns before multiplying: `E_g P_{bg,j} + E_g diag(ω_m) P_{λg,j} =
+//! E_g (P_{bg,j} + diag(ω_m) P_{λg,j})`, likewise for the accelerometer.
+//!
+//! ## Update
+//! For any gain `K` the Joseph form expands exactly (Bucy & Joseph 1968) to
+//! `(I − KH) P (I − KH)ᵀ + K R Kᵀ = P − K Mᵀ − M Kᵀ + K S Kᵀ` with `M = P Hᵀ`,
+//! `S = H P Hᵀ + R`; element-wise `P⁺_ij = P_ij − K_i·M_j + (K_i S − M_i)·K_j`, O(n²) with
+//! 6 multiply-adds per element of the upper triangle. `M` is summed only over the non-zero
+//! 3×3 blocks of `H` (found at run time, so a measurement referred to a later time with
+//! `H (I − AΔ)` is handled with its extra bias/scale-factor/velocity columns).
+//!
+//! ## Reset
+//! The reset Jacobian is the identity except the attitude and installation diagonal blocks,
+//! so only the block rows and columns of those two blocks change.
+
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+use crate::discretise::{CovarianceMatrix, MAX_ORDER};
+use crate::error_model::{LinearisationPoint, ProcessNoise};
+use crate::state::{
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, VELOCITY,
+};
+use crate::NavError;
+
+/// Number of states the process noise can reach: attitude, position, velocity, gyro bias and
+/// accelerometer bias (states 1-15; the installation error and scale factors have none).
+pub const NOISE_DRIVEN_DIMENSION: usize = 15;
+/// Number of dynamic states (attitude, position, velocity), the rows of `F` that differ from
+/// the identity.
+const DYNAMIC_DIMENSION: usize = 9;
+
+/// `1/n!` for `n = 0..=MAX_ORDER + 2` (the `Χ` series reaches `1/(N)!` with `N ≤ 4`).
+const INVERSE_FACTORIALS: [f64; 7] = [
+    1.0,
+    1.0,
+    0.5,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+];
+
+/// The seven 3×3 blocks over (ϑ, δp, δv) that a power of `MΔ` (and so `Φ`, `Ψ`, `Χ`) can
+/// have non-zero (module docs table); ϑp and ϑv are always zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct DynamicBlocks {
+    attitude_attitude: Matrix3<f64>,
+    position_attitude: Matrix3<f64>,
+    position_position: Matrix3<f64>,
+    position_velocity: Matrix3<f64>,
+    velocity_attitude: Matrix3<f64>,
+    velocity_position: Matrix3<f64>,
+    velocity_velocity: Matrix3<f64>,
+}
+
+impl DynamicBlocks {
+    fn zeros() -> Self {
+        let zero = Matrix3::zeros();
+        Self {
+            attitude_attitude: zero,
+            position_attitude: zero,
+            position_position: zero,
+            position_velocity: zero,
+            velocity_attitude: zero,
+            velocity_position: zero,
+            velocity_velocity: zero,
+        }
+    }
+
+    fn identity() -> Self {
+        let identity = Matrix3::identity();
+        Self {
+            attitude_attitude: identity,
+            position_position: identity,
+            velocity_velocity: identity,
+            ..Self::zeros()
+        }
+    }
+
+    /// `self += factor · other`, block by block.
+    fn add_scaled(&mut self, other: &Self, factor: f64) {
+        self.attitude_attitude += other.attitude_attitude * factor;
+        self.position_attitude += other.position_attitude * factor;
+        self.position_position += other.position_position * factor;
+        self.position_velocity += other.position_velocity * factor;
+        self.velocity_attitude += other.velocity_attitude * factor;
+        self.velocity_position += other.velocity_position * factor;
+        self.velocity_velocity += other.velocity_velocity * factor;
+    }
+
+    /// The powers `(MΔ)^n`, `n = 0..=order` (closed forms of the module docs table); powers
+    /// above `order` are left zero and never computed.
+    fn powers(point: &LinearisationPoint, interval_s: f64, order: u8) -> [Self; 5] {
+        let d = interval_s;
+        let a = -crate::attitude::skew(&(point.corrected_rate_rad_s * d));
+        let b = -2.0
+            * d
+            * point.body_to_inertial
+            * crate::attitude::skew(&point.corrected_specific_force_mps2);
+        let g = point.gravity_gradient_per_s2 * d;
+        let zero = Self::zeros();
+        let mut powers = [Self::identity(), zero, zero, zero, zero];
+        let [_, first, second, third, fourth] = &mut powers;
+        *first = Self {
+            attitude_attitude: a,
+            position_velocity: Matrix3::identity() * d,
+            velocity_attitude: b,
+            velocity_position: g,
+            ..zero
+        };
+        if order < 2 {
+            return powers;
+        }
+        let a2 = a * a;
+        let ba = b * a;
+        let dg = g * d;
+        *second = Self {
+            attitude_attitude: a2,
+            position_attitude: b * d,
+            position_position: dg,
+            velocity_attitude: ba,
+            velocity_velocity: dg,
+            ..zero
+        };
+        if order < 3 {
+            return powers;
+        }
+        let ba2 = ba * a;
+        let gb = g * b;
+        let g2 = g * g;
+        *third = Self {
+            attitude_attitude: a2 * a,
+            position_attitude: ba * d,
+            position_velocity: dg * d,
+            velocity_attitude: ba2 + gb * d,
+            velocity_position: g2 * d,
+            ..zero
+        };
+        if order < 4 {
+            return powers;
+        }
+        let d2g2 = g2 * (d * d);
+        *fourth = Self {
+            attitude_attitude: a2 * a2,
+            position_attitude: ba2 * d + gb * (d * d),
+            position_position: d2g2,
+            velocity_attitude: ba2 * a + g * ba * d,
+            velocity_velocity: d2g2,
+            ..zero
+        };
+        powers
+    }
+}
+
+/// Rows of `m` scaled by `scale` (`diag(scale) m`), without a full product.
+fn scale_rows(m: &Matrix3<f64>, scale: &Vector3<f64>) -> Matrix3<f64> {
+    let mut scaled = *m;
+    for (mut row, factor) in scaled.row_iter_mut().zip(scale.iter()) {
+        row *= *factor;
+    }
+    scaled
+}
+
+/// Columns of `m` scaled by `scale` (`m diag(scale)`), without a full product.
+fn scale_columns(m: &Matrix3<f64>, scale: &Vector3<f64>) -> Matrix3<f64> {
+    let mut scaled = *m;
+    for (mut column, factor) in scaled.column_iter_mut().zip(scale.iter()) {
+        column *= *factor;
+    }
+    scaled
+}
+
+/// The 3×3 block (`row`, `column`) of a matrix.
+fn block<const R: usize, const C: usize>(
+    matrix: &SMatrix<f64, R, C>,
+    row: StateBlock,
+    column: StateBlock,
+) -> Matrix3<f64> {
+    matrix
+        .fixed_view::<3, 3>(row.index, column.index)
+        .into_owned()
+}
+
+/// Writes the 3×3 block (`row`, `column`) of a matrix.
+fn set<const R: usize, const C: usize>(
+    matrix: &mut SMatrix<f64, R, C>,
+    row: StateBlock,
+    column: StateBlock,
+    value: &Matrix3<f64>,
+) {
+    matrix
+        .fixed_view_mut::<3, 3>(row.index, column.index)
+        .copy_from(value);
+}
+
+/// Writes block (`row`, `column`) and its mirror (`column`, `row`) = valueᵀ of a symmetric
+/// matrix; a diagonal block is made symmetric from its upper triangle.
+fn set_symmetric<const D: usize>(
+    matrix: &mut SMatrix<f64, D, D>,
+    row: StateBlock,
+    column: StateBlock,
+    value: &Matrix3<f64>,
+) {
+    if row == column {
+        let mut mirrored = *value;
+        mirrored.fill_lower_triangle_with_upper_triangle();
+        set(matrix, row, column, &mirrored);
+    } else {
+        set(matrix, row, column, value);
+        set(matrix, column, row, &value.transpose());
+    }
+}
+
+/// The discrete model of one interval in block form (module docs): the non-zero blocks of
+/// `F` and the non-zero upper-left 15×15 part of `Qd`. Equal to
+/// [`crate::discretise::discretise`] of `system_matrix`/`noise_input_matrix` at the same
+/// point (proven by the tests within relative 1e-12).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StructuredModel {
+    /// `Φ`: the (ϑ, δp, δv) × (ϑ, δp, δv) part of `F`.
+    transition: DynamicBlocks,
+    /// `E_g = −½Δ Ψ_{·ϑ}`: the gyro-bias column of `F`, rows ϑ, δp, δv.
+    gyro_bias_column: [Matrix3<f64>; 3],
+    /// `E_a = −Δ Ψ_{·v} Ĉ`: the accelerometer-bias column of `F`, rows δp, δv (row ϑ is 0).
+    accel_bias_column: [Matrix3<f64>; 2],
+    /// `ω_m`: the gyro scale-factor column of `F` is `E_g diag(ω_m)` (rad/s).
+    measured_rate_rad_s: Vector3<f64>,
+    /// `f_m`: the accelerometer scale-factor column is `E_a diag(f_m)` (m/s²).
+    measured_specific_force_mps2: Vector3<f64>,
+    /// `Qd` restricted to the noise-driven states 1-15 (zero elsewhere), symmetric.
+    process_noise: SMatrix<f64, NOISE_DRIVEN_DIMENSION, NOISE_DRIVEN_DIMENSION>,
+    /// Whether any bias random walk is non-zero (`Qd` reaches the bias rows).
+    bias_walk: bool,
+}
+
+impl StructuredModel {
+    /// Discretises the error model at `point` over `interval_s` with a series of `order`
+    /// terms (as [`crate::discretise::discretise`], module docs for the block derivation).
+    ///
+    /// # Errors
+    /// [`NavError::InvalidDiscretisationOrder`] for an order outside `1..=4`,
+    /// [`NavError::InvalidTimeStep`] for a non-positive or non-finite interval,
+    /// [`NavError::NonFiniteInput`] if the point or the noise densities hold NaN/Inf.
+    pub fn new(
+        point: &LinearisationPoint,
+        noise: &ProcessNoise,
+        interval_s: f64,
+        order: u8,
+    ) -> Result<Self, NavError> {
+        if !(1..=MAX_ORDER).contains(&order) {
+            return Err(NavError::InvalidDiscretisationOrder);
+        }
+        if !(interval_s.is_finite() && interval_s > 0.0) {
+            return Err(NavError::InvalidTimeStep);
+        }
+        let densities = noise.spectral_density_diagonal();
+        let all_finite = point.corrected_rate_rad_s.iter().all(|v| v.is_finite())
+            && point
+                .corrected_specific_force_mps2
+                .iter()
+                .all(|v| v.is_finite())
+            && point.measured_rate_rad_s.iter().all(|v| v.is_finite())
+            && point
+                .measured_specific_force_mps2
+                .iter()
+                .all(|v| v.is_finite())
+            && point.body_to_inertial.iter().all(|v| v.is_finite())
+            && point.gravity_gradient_per_s2.iter().all(|v| v.is_finite())
+            && densities.iter().all(|v| v.is_finite());
+        if !all_finite {
+            return Err(NavError::NonFiniteInput);
+        }
+        let powers = DynamicBlocks::powers(point, interval_s, order);
+        // Φ += P_n/n! (n ≤ N), Ψ += P_n/(n+1)! (n+1 ≤ N), Χ += P_n/(n+2)! (n+2 ≤ N).
+        let mut transition = DynamicBlocks::zeros();
+        let mut psi = DynamicBlocks::zeros();
+        let mut chi = DynamicBlocks::zeros();
+        let order = usize::from(order);
+        for (n, power) in powers.iter().enumerate() {
+            let coefficient = |shift: usize| {
+                if n + shift <= order {
+                    INVERSE_FACTORIALS.get(n + shift).copied()
+                } else {
+                    None
+                }
+            };
+            if let Some(c) = coefficient(0) {
+                transition.add_scaled(power, c);
+            }
+            if let Some(c) = coefficient(1) {
+                psi.add_scaled(power, c);
+            }
+            if let Some(c) = coefficient(2) {
+                chi.add_scaled(power, c);
+            }
+        }
+        let c = &point.body_to_inertial;
+        let half_interval = 0.5 * interval_s;
+        let gyro_bias_column = [
+            psi.attitude_attitude * -half_interval,
+            psi.position_attitude * -half_interval,
+            psi.velocity_attitude * -half_interval,
+        ];
+        let accel_bias_column = [
+            psi.position_velocity * c * -interval_s,
+            psi.velocity_velocity * c * -interval_s,
+        ];
+
+        // Qd = Σ_k (q_k/Δ) Γ_k Γ_kᵀ (module docs), upper blocks then mirrored.
+        let density =
+            |block: StateBlock| densities.get(block.index).copied().unwrap_or(0.0) / interval_s;
+        let gyro_noise = density(crate::error_model::NOISE_GYRO);
+        let accel_noise = density(crate::error_model::NOISE_ACCEL);
+        let gyro_walk = density(crate::error_model::NOISE_GYRO_BIAS_WALK);
+        let accel_walk = density(crate::error_model::NOISE_ACCEL_BIAS_WALK);
+        let zero = Matrix3::zeros();
+        // Columns of Γ per noise block: rows ϑ, δp, δv, then the bias row (ΔI for walks).
+        let squared = interval_s * interval_s;
+        let columns: [(f64, [Matrix3<f64>; 3], Option<StateBlock>); 4] = [
+            (gyro_noise, gyro_bias_column, None),
+            (
+                accel_noise,
+                [zero, accel_bias_column[0], accel_bias_column[1]],
+                None,
+            ),
+            (
+                gyro_walk,
+                [
+                    chi.attitude_attitude * (-0.5 * squared),
+                    chi.position_attitude * (-0.5 * squared),
+                    chi.velocity_attitude * (-0.5 * squared),
+                ],
+                Some(GYRO_BIAS),
+            ),
+            (
+                accel_walk,
+                [
+                    zero,
+                    chi.position_velocity * c * -squared,
+                    chi.velocity_velocity * c * -squared,
+                ],
+                Some(ACCEL_BIAS),
+            ),
+        ];
+        let mut process_noise =
+            SMatrix::<f64, NOISE_DRIVEN_DIMENSION, NOISE_DRIVEN_DIMENSION>::zeros();
+        let dynamic = [ATTITUDE, POSITION, VELOCITY];
+        for (scale, gamma, bias) in columns.iter() {
+            if *scale <= 0.0 {
+                continue;
+            }
+            let rows = dynamic.iter().zip(gamma.iter());
+            for (row_number, (row, gamma_row)) in rows.clone().enumerate() {
+                if gamma_row.iter().all(|v| *v == 0.0) {
+                    continue;
+                }
+                for (column, gamma_column) in rows.clone().skip(row_number) {
+                    let sum = block(&process_noise, *row, *column)
+                        + gamma_row * gamma_column.transpose() * *scale;
+                    set_symmetric(&mut process_noise, *row, *column, &sum);
+                }
+                if let Some(bias) = bias {
+                    let sum =
+                        block(&process_noise, *row, *bias) + gamma_row * (*scale * interval_s);
+                    set_symmetric(&mut process_noise, *row, *bias, &sum);
+                }
+            }
+            if let Some(bias) = bias {
+                let sum =
+                    block(&process_noise, *bias, *bias) + Matrix3::identity() * (*scale * squared);
+                set_symmetric(&mut process_noise, *bias, *bias, &sum);
+            }
+        }
+        let [accel_position, accel_velocity] = accel_bias_column;
+        Ok(Self {
+            transition,
+            gyro_bias_column,
+            accel_bias_column: [accel_position, accel_velocity],
+            measured_rate_rad_s: point.measured_rate_rad_s,
+            measured_specific_force_mps2: point.measured_specific_force_mps2,
+            process_noise,
+            bias_walk: gyro_walk > 0.0 || accel_walk > 0.0,
+        })
+    }
+
+    /// Removes the process noise of the `blocks` (their rows and columns of `Qd` set to zero),
+    /// as the flight scheduler does for frozen calibration blocks.
+    pub fn remove_process_noise(&mut self, blocks: &BlockMask) {
+        for block in BLOCKS {
+            if blocks.contains(block) && block.index < NOISE_DRIVEN_DIMENSION {
+                self.process_noise
+                    .fixed_rows_mut::<3>(block.index)
+                    .fill(0.0);
+                self.process_noise
+                    .fixed_columns_mut::<3>(block.index)
+                    .fill(0.0);
+            }
+        }
+    }
+
+    /// The dense 24×24 `F` (for tests and reports; the flight path never forms it).
+    pub fn transition_matrix(&self) -> CovarianceMatrix {
+        let mut f = CovarianceMatrix::identity();
+        let t = &self.transition;
+        set(&mut f, ATTITUDE, ATTITUDE, &t.attitude_attitude);
+        set(&mut f, POSITION, ATTITUDE, &t.position_attitude);
+        set(&mut f, POSITION, POSITION, &t.position_position);
+        set(&mut f, POSITION, VELOCITY, &t.position_velocity);
+        set(&mut f, VELOCITY, ATTITUDE, &t.velocity_attitude);
+        set(&mut f, VELOCITY, POSITION, &t.velocity_position);
+        set(&mut f, VELOCITY, VELOCITY, &t.velocity_velocity);
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        let rate = &self.measured_rate_rad_s;
+        let force = &self.measured_specific_force_mps2;
+        for (row, gyro) in [
+            (ATTITUDE, gyro_attitude),
+            (POSITION, gyro_position),
+            (VELOCITY, gyro_velocity),
+        ] {
+            set(&mut f, row, GYRO_BIAS, gyro);
+            set(&mut f, row, GYRO_SCALE_FACTOR, &scale_columns(gyro, rate));
+        }
+        for (row, accel) in [(POSITION, accel_position), (VELOCITY, accel_velocity)] {
+            set(&mut f, row, ACCEL_BIAS, accel);
+            set(
+                &mut f,
+                row,
+                ACCEL_SCALE_FACTOR,
+                &scale_columns(accel, force),
+            );
+        }
+        f
+    }
+
+    /// The dense 24×24 `Qd` (for tests and reports).
+    pub fn process_noise_matrix(&self) -> CovarianceMatrix {
+        let mut q = CovarianceMatrix::zeros();
+        q.fixed_view_mut::<NOISE_DRIVEN_DIMENSION, NOISE_DRIVEN_DIMENSION>(0, 0)
+            .copy_from(&self.process_noise);
+        q
+    }
+
+    /// `x_d ← Φ x_d + E_g (x_bg + diag(ω_m) x_λg) + E_a (x_ba + diag(f_m) x_λa)`; the
+    /// calibration states are unchanged (open-loop state propagation `x ← F x`).
+    pub(crate) fn propagate_state(&self, state: &SMatrix<f64, 24, 1>) -> SMatrix<f64, 24, 1> {
+        let part = |b: StateBlock| -> Vector3<f64> { state.fixed_rows::<3>(b.index).into_owned() };
+        let gyro =
+            part(GYRO_BIAS) + part(GYRO_SCALE_FACTOR).component_mul(&self.measured_rate_rad_s);
+        let accel = part(ACCEL_BIAS)
+            + part(ACCEL_SCALE_FACTOR).component_mul(&self.measured_specific_force_mps2);
+        let t = &self.transition;
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        let (attitude, position, velocity) = (part(ATTITUDE), part(POSITION), part(VELOCITY));
+        let mut propagated = *state;
+        propagated
+            .fixed_rows_mut::<3>(ATTITUDE.index)
+            .copy_from(&(t.attitude_attitude * attitude + gyro_attitude * gyro));
+        propagated.fixed_rows_mut::<3>(POSITION.index).copy_from(
+            &(t.position_attitude * attitude
+                + t.position_position * position
+                + t.position_velocity * velocity
+                + gyro_position * gyro
+                + accel_position * accel),
+        );
+        propagated.fixed_rows_mut::<3>(VELOCITY.index).copy_from(
+            &(t.velocity_attitude * attitude
+                + t.velocity_position * position
+                + t.velocity_velocity * velocity
+                + gyro_velocity * gyro
+                + accel_velocity * accel),
+        );
+        propagated
+    }
+
+    /// `F P Fᵀ + Qd` by blocks (module docs), or `None` if the result is not finite.
+    pub(crate) fn propagate_covariance(&self, p: &CovarianceMatrix) -> Option<CovarianceMatrix> {
+        let t = &self.transition;
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        let rate = &self.measured_rate_rad_s;
+        let force = &self.measured_specific_force_mps2;
+        // U = [Φ E] P, rows ϑ, δp, δv (9×24), one column block at a time.
+        let mut u = SMatrix::<f64, DYNAMIC_DIMENSION, 24>::zeros();
+        for column in BLOCKS {
+            let attitude = block(p, ATTITUDE, column);
+            let position = block(p, POSITION, column);
+            let velocity = block(p, VELOCITY, column);
+            let gyro = block(p, GYRO_BIAS, column)
+                + scale_rows(&block(p, GYRO_SCALE_FACTOR, column), rate);
+            let accel = block(p, ACCEL_BIAS, column)
+                + scale_rows(&block(p, ACCEL_SCALE_FACTOR, column), force);
+            set(
+                &mut u,
+                ATTITUDE,
+                column,
+                &(t.attitude_attitude * attitude + gyro_attitude * gyro),
+            );
+            set(
+                &mut u,
+                POSITION,
+                column,
+                &(t.position_attitude * attitude
+                    + t.position_position * position
+                    + t.position_velocity * velocity
+                    + gyro_position * gyro
+                    + accel_position * accel),
+            );
+            set(
+                &mut u,
+                VELOCITY,
+                column,
+                &(t.velocity_attitude * attitude
+                    + t.velocity_position * position
+                    + t.velocity_velocity * velocity
+                    + gyro_velocity * gyro
+                    + accel_velocity * accel),
+            );
+        }
+        // New P_dd = U [Φ E]ᵀ + Qd_dd, upper blocks (r ≤ s), scale factors folded into biases.
+        let rows = [ATTITUDE, POSITION, VELOCITY];
+        let folded = rows.map(|row| {
+            (
+                block(&u, row, ATTITUDE),
+                block(&u, row, POSITION),
+                block(&u, row, VELOCITY),
+                block(&u, row, GYRO_BIAS) + scale_columns(&block(&u, row, GYRO_SCALE_FACTOR), rate),
+                block(&u, row, ACCEL_BIAS)
+                    + scale_columns(&block(&u, row, ACCEL_SCALE_FACTOR), force),
+            )
+        });
+        let mut updated = *p;
+        for (row_number, (row, (u_attitude, u_position, u_velocity, u_gyro, u_accel))) in
+            rows.iter().zip(folded.iter()).enumerate()
+        {
+            for column in rows.iter().skip(row_number) {
+                let value = if *column == ATTITUDE {
+                    u_attitude * t.attitude_attitude.transpose()
+                        + u_gyro * gyro_attitude.transpose()
+                } else {
+                    let (f_attitude, f_position, f_velocity, e_gyro, e_accel) =
+                        if *column == POSITION {
+                            (
+                                &t.position_attitude,
+                                &t.position_position,
+                                &t.position_velocity,
+                                gyro_position,
+                                accel_position,
+                            )
+                        } else {
+                            (
+                                &t.velocity_attitude,
+                                &t.velocity_position,
+                                &t.velocity_velocity,
+                                gyro_velocity,
+                                accel_velocity,
+                            )
+                        };
+                    u_attitude * f_attitude.transpose()
+                        + u_position * f_position.transpose()
+                        + u_velocity * f_velocity.transpose()
+                        + u_gyro * e_gyro.transpose()
+                        + u_accel * e_accel.transpose()
+                };
+                let value = value + block(&self.process_noise, *row, *column);
+                set_symmetric(&mut updated, *row, *column, &value);
+            }
+        }
+        // New P_dc = U's calibration columns, mirrored into P_cd.
+        let calibration = u.fixed_columns::<15>(DYNAMIC_DIMENSION);
+        updated
+            .fixed_view_mut::<DYNAMIC_DIMENSION, 15>(0, DYNAMIC_DIMENSION)
+            .copy_from(&calibration);
+        updated
+            .fixed_view_mut::<15, DYNAMIC_DIMENSION>(DYNAMIC_DIMENSION, 0)
+            .tr_copy_from(&calibration);
+        if self.bias_walk {
+            // Qd outside P_dd: dynamic × bias and bias × bias blocks (symmetric).
+            let mut noise = self.process_noise;
+            noise
+                .fixed_view_mut::<DYNAMIC_DIMENSION, DYNAMIC_DIMENSION>(0, 0)
+                .fill(0.0);
+            let mut top_left =
+                updated.fixed_view_mut::<NOISE_DRIVEN_DIMENSION, NOISE_DRIVEN_DIMENSION>(0, 0);
+            top_left += noise;
+        }
+        let finite = updated
+            .fixed_rows::<DYNAMIC_DIMENSION>(0)
+            .iter()
+            .all(|v| v.is_finite())
+            && (!self.bias_walk || updated.iter().all(|v| v.is_finite()));
+        finite.then_some(updated)
+    }
+}
+
+/// `H`'s 3×3 blocks that are not all zero.
+fn observed_blocks(jacobian: &SMatrix<f64, 3, 24>) -> BlockMask {
+    let mut observed = BlockMask::NONE;
+    for state_block in BLOCKS {
+        let h = jacobian.fixed_columns::<3>(state_block.index);
+        if h.iter().any(|v| *v != 0.0) {
+            observed.insert(state_block);
+        }
+    }
+    observed
+}
+
+/// `H P` (3×24, = `Mᵀ`) summed over the non-zero blocks of `H` only.
+pub(crate) fn jacobian_times_covariance(
+    jacobian: &SMatrix<f64, 3, 24>,
+    p: &CovarianceMatrix,
+) -> SMatrix<f64, 3, 24> {
+    let observed = observed_blocks(jacobian);
+    let mut product = SMatrix::<f64, 3, 24>::zeros();
+    for inner in BLOCKS {
+        if !observed.contains(inner) {
+            continue;
+        }
+        let h = jacobian.fixed_columns::<3>(inner.index);
+        for column in BLOCKS {
+            let mut target = product.fixed_columns_mut::<3>(column.index);
+            target += h * p.fixed_view::<3, 3>(inner.index, column.index);
+        }
+    }
+    product
+}
+
+/// Joseph form expanded (module docs): `P⁺_ij = P_ij − K_i·M_j + (K_i S − M_i)·K_j` on the
+/// upper triangle, mirrored; `gain_t = Kᵀ`, `hp = H P = Mᵀ`, `s` symmetric. `None` if not
+/// finite.
+pub(crate) fn joseph_update(
+    p: &CovarianceMatrix,
+    gain_t: &SMatrix<f64, 3, 24>,
+    hp: &SMatrix<f64, 3, 24>,
+    s: &Matrix3<f64>,
+) -> Option<CovarianceMatrix> {
+    let excess_t = s * gain_t - hp;
+    let mut updated = *p;
+    let mut finite = true;
+    for (column_number, ((mut column, k_j), m_j)) in updated
+        .column_iter_mut()
+        .zip(gain_t.column_iter())
+        .zip(hp.column_iter())
+        .enumerate()
+    {
+        for (value, (k_i, n_i)) in column
+            .iter_mut()
+            .zip(gain_t.column_iter().zip(excess_t.column_iter()))
+            .take(column_number + 1)
+        {
+            *value += n_i.dot(&k_j) - k_i.dot(&m_j);
+            finite &= value.is_finite();
+        }
+    }
+    updated.fill_lower_triangle_with_upper_triangle();
+    finite.then_some(updated)
+}
+
+/// `J P Jᵀ` for the reset Jacobian `J` = identity except `J_ϑϑ = I − [ϑ̂×]` and
+/// `J_ψψ = I − [ψ̂×]`: only the attitude and installation block rows and columns change
+/// (upper blocks computed, mirrored).
+pub(crate) fn reset_covariance(
+    p: &CovarianceMatrix,
+    attitude_jacobian: &Matrix3<f64>,
+    installation_jacobian: &Matrix3<f64>,
+) -> CovarianceMatrix {
+    let mut updated = *p;
+    let jacobian_of = |b: StateBlock| {
+        if b == ATTITUDE {
+            Some(attitude_jacobian)
+        } else if b == STAR_INSTALLATION {
+            Some(installation_jacobian)
+        } else {
+            None
+        }
+    };
+    for (row_number, row) in BLOCKS.iter().enumerate() {
+        let left = jacobian_of(*row);
+        for column in BLOCKS.iter().skip(row_number) {
+            let right = jacobian_of(*column);
+            let value = match (left, right) {
+                (None, None) => continue,
+                (Some(l), None) => l * block(p, *row, *column),
+                (None, Some(r)) => block(p, *row, *column) * r.transpose(),
+                (Some(l), Some(r)) => l * block(p, *row, *column) * r.transpose(),
+            };
+            set_symmetric(&mut updated, *row, *column, &value);
+        }
+    }
+    updated
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attitude::{exp_rotation_vector, rotation_matrix};
+    use crate::discretise::discretise;
+    use crate::error_model::{noise_input_matrix, system_matrix};
+    use crate::filter::{
+        ErrorState, ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty,
+    };
+    use crate::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
+    use nalgebra::Quaternion;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Largest element-wise difference of two covariances in correlation units,
+    /// `max |A_ij − B_ij| / √(B_ii B_jj)` (a zero-variance pair must match exactly).
+    fn relative_difference(a: &CovarianceMatrix, b: &CovarianceMatrix) -> f64 {
+        let mut worst = 0.0f64;
+        for i in 0..24 {
+            for j in 0..24 {
+                let scale = (b[(i, i)] * b[(j, j)]).sqrt();
+                let difference = (a[(i, j)] - b[(i, j)]).abs();
+                let relative = if scale > 0.0 {
+                    difference / scale
+                } else if difference > 0.0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                };
+                worst = worst.max(relative);
+            }
+        }
+        worst
+    }
+
+    /// Largest difference of two error states in units of the 1σ of `p`.
+    fn state_difference(a: &ErrorState, b: &ErrorState, p: &CovarianceMatrix) -> f64 {
+        (0..24)
+            .map(|i| (a[i] - b[i]).abs() / p[(i, i)].sqrt())
+            .fold(0.0, f64::max)
+    }
+
+    fn random_vector(rng: &mut ChaCha8Rng, largest_norm: f64) -> Vector3<f64> {
+        let direction = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        direction.normalize() * rng.random_range(0.0..largest_norm)
+    }
+
+    /// Physical 1σ scale of each block (attitude rad, m, m/s, rad/s, m/s², rad, -, -).
+    const BLOCK_SCALES: [f64; 8] = [1e-3, 30.0, 0.3, 5e-4, 5e-3, 2e-3, 1e-4, 1e-4];
+
+    /// A random symmetric positive-definite P with physical block scales and strong
+    /// correlations: `D (B Bᵀ/24 + 0.05 I) D`.
+    fn random_covariance(rng: &mut ChaCha8Rng) -> CovarianceMatrix {
+        let b = CovarianceMatrix::from_fn(|_, _| rng.random_range(-1.0..1.0));
+        let d = CovarianceMatrix::from_diagonal(&SMatrix::<f64, 24, 1>::from_fn(|i, _| {
+            BLOCK_SCALES[i / 3] * rng.random_range(0.5..2.0)
+        }));
+        let p = d * (b * b.transpose() / 24.0 + CovarianceMatrix::identity() * 0.05) * d;
+        (p + p.transpose()) * 0.5
+    }
+
+    fn random_state(rng: &mut ChaCha8Rng) -> ErrorState {
+        ErrorState::from_fn(|i, _| BLOCK_SCALES[i / 3] * rng.random_range(-1.0..1.0))
+    }
+
+    /// Random motion: rates up to 2 rad/s, specific forces up to 50 m/s², random attitude,
+    /// point-mass gravity gradient at a random position 6,400-7,000 km from the centre.
+    fn random_point(rng: &mut ChaCha8Rng) -> LinearisationPoint {
+        let rate = random_vector(rng, 2.0);
+        let force = random_vector(rng, 50.0);
+        let radius = rng.random_range(6.4e6..7.0e6);
+        let position = random_vector(rng, 1.0).normalize() * radius;
+        LinearisationPoint {
+            corrected_rate_rad_s: rate,
+            corrected_specific_force_mps2: force,
+            measured_rate_rad_s: rate + random_vector(rng, 1e-3),
+            measured_specific_force_mps2: force + random_vector(rng, 1e-2),
+            body_to_inertial: rotation_matrix(&exp_rotation_vector(&random_vector(rng, 3.1))),
+            gravity_gradient_per_s2: crate::error_model::tests::point_mass_gradient(&position),
+        }
+    }
+
+    fn random_noise(rng: &mut ChaCha8Rng, with_bias_walk: bool) -> ProcessNoise {
+        let walk = if with_bias_walk { 1.0 } else { 0.0 };
+        ProcessNoise {
+            gyro_noise_density_rad_s_per_sqrt_hz: rng.random_range(1e-7..1e-5),
+            accel_noise_density_mps2_per_sqrt_hz: rng.random_range(1e-5..1e-3),
+            gyro_bias_walk_rad_s2_per_sqrt_hz: walk * rng.random_range(1e-9..1e-7),
+            accel_bias_walk_mps3_per_sqrt_hz: walk * rng.random_range(1e-7..1e-5),
+        }
+    }
+
+    fn random_mask(rng: &mut ChaCha8Rng) -> BlockMask {
+        let mut mask = BlockMask::NONE;
+        for block in BLOCKS {
+            if rng.random_bool(0.3) {
+                mask.insert(block);
+            }
+        }
+        mask
+    }
+
+    fn filter_with(mode: FilterMode, p: &CovarianceMatrix) -> ErrorStateFilter {
+        let mut filter = ErrorStateFilter::new(&FilterConfig {
+            mode,
+            discretisation_order: 3,
+            initial: InitialUncertainty {
+                attitude_rad: 1.0,
+                position_m: 1.0,
+                velocity_mps: 1.0,
+                gyro_bias_rad_s: 1.0,
+                accel_bias_mps2: 1.0,
+                star_installation_rad: 1.0,
+                gyro_scale_factor: 1.0,
+                accel_scale_factor: 1.0,
+            },
+        })
+        .unwrap();
+        filter.set_covariance(p).unwrap();
+        filter
+    }
+
+    /// Dense reference `F`, `Qd` with the frozen blocks' noise removed as the scheduler does.
+    fn dense_model(
+        point: &LinearisationPoint,
+        noise: &ProcessNoise,
+        interval_s: f64,
+        order: u8,
+        frozen: &BlockMask,
+    ) -> crate::discretise::DiscreteModel {
+        let mut model = discretise(
+            &system_matrix(point),
+            &noise_input_matrix(point),
+            &noise.spectral_density_diagonal(),
+            interval_s,
+            order,
+        )
+        .unwrap();
+        for block in BLOCKS {
+            if frozen.contains(block) {
+                model
+                    .process_noise
+                    .fixed_rows_mut::<3>(block.index)
+                    .fill(0.0);
+                model
+                    .process_noise
+                    .fixed_columns_mut::<3>(block.index)
+                    .fill(0.0);
+            }
+        }
+        model
+    }
+
+    #[test]
+    fn structured_model_blocks_equal_the_dense_series_for_every_order() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for order in 1..=MAX_ORDER {
+            for case in 0..100 {
+                let point = random_point(&mut rng);
+                let noise = random_noise(&mut rng, case % 2 == 0);
+                let interval_s = [0.002, 0.02, 0.1][case % 3];
+                let dense = dense_model(&point, &noise, interval_s, order, &BlockMask::NONE);
+                let model = StructuredModel::new(&point, &noise, interval_s, order).unwrap();
+                let f = model.transition_matrix();
+                let q = model.process_noise_matrix();
+                for row in BLOCKS {
+                    for column in BLOCKS {
+                        for (structured, reference, name) in [
+                            (&f, &dense.transition, "F"),
+                            (&q, &dense.process_noise, "Qd"),
+                        ] {
+                            let s = block(structured, row, column);
+                            let r = block(reference, row, column);
+                            let bound = 1e-12 * r.amax();
+                            assert!(
+                                (s - r).amax() <= bound,
+                                "order {order} case {case} {name}[{}, {}]: {:e} vs {:e}",
+                                row.name,
+                                column.name,
+                                (s - r).amax(),
+                                r.amax()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn structured_propagation_equals_the_dense_reference_for_every_order() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let mut worst = [0.0f64; 4];
+        for order in 1..=MAX_ORDER {
+            for case in 0..200 {
+                let point = random_point(&mut rng);
+                let noise = random_noise(&mut rng, case % 2 == 1);
+                let interval_s = [0.002, 0.004, 0.02, 0.1][case % 4];
+                let frozen = if case % 3 == 0 {
+                    random_mask(&mut rng)
+                } else {
+                    BlockMask::NONE
+                };
+                let p = random_covariance(&mut rng);
+                let dense_model = dense_model(&point, &noise, interval_s, order, &frozen);
+                let mut model = StructuredModel::new(&point, &noise, interval_s, order).unwrap();
+                model.remove_process_noise(&frozen);
+                let mut dense = filter_with(FilterMode::ClosedLoop, &p);
+                let mut structured = dense;
+                dense.predict(&dense_model).unwrap();
+                structured.predict_structured(&model).unwrap();
+                let p_dense = dense.covariance();
+                let p_structured = structured.covariance();
+                assert_eq!(
+                    p_structured,
+                    &p_structured.transpose(),
+                    "symmetric by construction"
+                );
+                let difference = relative_difference(p_structured, p_dense);
+                let slot = &mut worst[usize::from(order - 1)];
+                *slot = slot.max(difference);
+                assert!(
+                    difference <= 1e-12,
+                    "order {order} case {case}: {difference:e}"
+                );
+                // The untouched calibration block is bit-identical.
+                assert_eq!(
+                    p_structured.fixed_view::<15, 15>(9, 9),
+                    p.fixed_view::<15, 15>(9, 9).map(|v| v)
+                        + model.process_noise_matrix().fixed_view::<15, 15>(9, 9),
+                );
+                // Open loop: x ← F x.
+                let x = random_state(&mut rng);
+                let structured_x = model.propagate_state(&x);
+                let dense_x = dense_model.transition * x;
+                let state_error = state_difference(&structured_x, &dense_x, p_dense);
+                assert!(
+                    state_error <= 1e-12,
+                    "order {order} case {case}: x {state_error:e}"
+                );
+            }
+        }
+        println!(
+            "largest |structured − dense| / √(P_ii P_jj) per order 1..4: {:.2e} {:.2e} {:.2e} {:.2e}",
+            worst[0], worst[1], worst[2], worst[3]
+        );
+    }
+}
