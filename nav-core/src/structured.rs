@@ -752,10 +752,16 @@ mod tests {
     /// Largest element-wise difference of two covariances in correlation units,
     /// `max |A_ij − B_ij| / √(B_ii B_jj)` (a zero-variance pair must match exactly).
     fn relative_difference(a: &CovarianceMatrix, b: &CovarianceMatrix) -> f64 {
+        relative_to(a, b, b)
+    }
+
+    /// `max |A_ij − B_ij| / √(S_ii S_jj)`: the difference in units of the scale `S`.
+    fn relative_to(a: &CovarianceMatrix, b: &CovarianceMatrix, scale: &CovarianceMatrix) -> f64 {
+        let b_scale = scale;
         let mut worst = 0.0f64;
         for i in 0..24 {
             for j in 0..24 {
-                let scale = (b[(i, i)] * b[(j, j)]).sqrt();
+                let scale = (b_scale[(i, i)] * b_scale[(j, j)]).sqrt();
                 let difference = (a[(i, j)] - b[(i, j)]).abs();
                 let relative = if scale > 0.0 {
                     difference / scale
@@ -981,5 +987,172 @@ mod tests {
             "largest |structured − dense| / √(P_ii P_jj) per order 1..4: {:.2e} {:.2e} {:.2e} {:.2e}",
             worst[0], worst[1], worst[2], worst[3]
         );
+    }
+
+    fn random_quaternion(rng: &mut ChaCha8Rng, largest_angle_rad: f64) -> Quaternion<f64> {
+        exp_rotation_vector(&random_vector(rng, largest_angle_rad))
+    }
+
+    /// A star (`star = true`) or GNSS measurement at a random geometry, optionally referred
+    /// to a later time with `H (I − AΔ)` (extra bias, scale-factor and velocity columns).
+    fn random_measurement(rng: &mut ChaCha8Rng, star: bool, referred: bool) -> LinearMeasurement {
+        let attitude = random_quaternion(rng, 3.1);
+        let measurement = if star {
+            let mounting = random_quaternion(rng, 3.1);
+            let installation = random_quaternion(rng, 5e-3);
+            let offset = random_quaternion(rng, 1e-3);
+            let measured = crate::attitude::product(
+                &crate::attitude::product(&attitude, &offset),
+                &crate::attitude::product(&mounting, &installation),
+            );
+            star_sensor(
+                &attitude,
+                &mounting,
+                &installation,
+                &measured,
+                10.0 / 206_264.8,
+            )
+            .unwrap()
+        } else {
+            let position = random_vector(rng, 7e6);
+            let lever_arm = random_vector(rng, 3.0);
+            let fix = position
+                + crate::attitude::rotate(&attitude, &lever_arm)
+                + random_vector(rng, 50.0);
+            gnss_position(
+                &attitude,
+                &position,
+                &lever_arm,
+                &fix,
+                rng.random_range(0.1..10.0),
+            )
+            .unwrap()
+        };
+        if referred {
+            let point = random_point(rng);
+            refer_to_later_time(
+                &measurement,
+                &system_matrix(&point),
+                rng.random_range(0.0..0.1),
+            )
+            .unwrap()
+        } else {
+            measurement
+        }
+    }
+
+    #[test]
+    fn structured_update_equals_the_dense_joseph_update() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut worst_covariance = 0.0f64;
+        let mut worst_posterior = 0.0f64;
+        let mut worst_state = 0.0f64;
+        for case in 0..400 {
+            let star = case % 2 == 0;
+            let referred = case % 4 >= 2;
+            let mut prior = filter_with(FilterMode::OpenLoop, &random_covariance(&mut rng));
+            // A non-zero open-loop state, from an earlier (dense) update.
+            let earlier = random_measurement(&mut rng, !star, false);
+            prior.update(&earlier, f64::INFINITY).unwrap();
+            let frozen = if case % 3 == 0 {
+                random_mask(&mut rng)
+            } else {
+                BlockMask::NONE
+            };
+            let measurement = random_measurement(&mut rng, star, referred);
+            let mut dense = prior;
+            let mut structured = prior;
+            let dense_report = dense
+                .update_with_frozen_blocks(&measurement, f64::INFINITY, &frozen)
+                .unwrap();
+            let structured_report = structured
+                .update_structured(&measurement, f64::INFINITY, &frozen)
+                .unwrap();
+            assert!(dense_report.accepted && structured_report.accepted);
+            let nis = dense_report.normalised_innovation_squared;
+            assert!(
+                (structured_report.normalised_innovation_squared - nis).abs() <= 1e-12 * nis,
+                "case {case}: NIS"
+            );
+            let p = structured.covariance();
+            assert_eq!(p, &p.transpose(), "symmetric by construction");
+            // Both updates compute P⁺ = P⁻ − (…) and carry a rounding error of order ε·P⁻,
+            // so the difference is measured in units of the prior; in units of a posterior
+            // collapsed by a precise measurement it would measure the measurement's
+            // conditioning, not the implementation (printed for information).
+            let covariance_error = relative_to(p, dense.covariance(), prior.covariance());
+            worst_posterior = worst_posterior.max(relative_difference(p, dense.covariance()));
+            let state_error =
+                state_difference(structured.state(), dense.state(), prior.covariance());
+            worst_covariance = worst_covariance.max(covariance_error);
+            worst_state = worst_state.max(state_error);
+            assert!(
+                covariance_error <= 1e-12,
+                "case {case}: P {covariance_error:e}"
+            );
+            assert!(state_error <= 1e-12, "case {case}: x {state_error:e}");
+            // Frozen blocks: the estimate does not move (bit for bit), as in the dense update.
+            for block in BLOCKS {
+                if frozen.contains(block) {
+                    assert_eq!(
+                        structured.block(block),
+                        prior.block(block),
+                        "{}",
+                        block.name
+                    );
+                }
+            }
+        }
+        println!(
+            "structured vs dense update: P {worst_covariance:.2e} (prior correlation units; \
+             {worst_posterior:.2e} in posterior units), x {worst_state:.2e} prior σ"
+        );
+    }
+
+    #[test]
+    fn a_gated_structured_update_leaves_the_filter_bit_identical() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut filter = filter_with(FilterMode::OpenLoop, &random_covariance(&mut rng));
+        let measurement = random_measurement(&mut rng, false, true);
+        let before = filter;
+        let report = filter
+            .update_structured(&measurement, 1e-12, &BlockMask::NONE)
+            .unwrap();
+        assert!(!report.accepted);
+        assert!(report.normalised_innovation_squared > 1e-12);
+        assert_eq!(filter, before);
+        let mut nan = measurement;
+        nan.residual.x = f64::NAN;
+        assert_eq!(
+            filter.update_structured(&nan, f64::INFINITY, &BlockMask::NONE),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            filter.update_structured(&measurement, f64::NAN, &BlockMask::NONE),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(filter, before);
+    }
+
+    #[test]
+    fn structured_reset_equals_the_dense_reset() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        for case in 0..100 {
+            let mut filter = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+            filter
+                .update(
+                    &random_measurement(&mut rng, case % 2 == 0, false),
+                    f64::INFINITY,
+                )
+                .unwrap();
+            let mut dense = filter;
+            let error = filter.reset();
+            assert_eq!(error, dense.reset_dense());
+            assert_eq!(filter.state(), dense.state());
+            let p = filter.covariance();
+            assert_eq!(p, &p.transpose());
+            let difference = relative_difference(p, dense.covariance());
+            assert!(difference <= 1e-12, "case {case}: {difference:e}");
+        }
     }
 }
