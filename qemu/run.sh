@@ -2,7 +2,9 @@
 # The QEMU runner for the firmware (cargo's `runner`, see the root .cargo/config.toml):
 # runs ELF on QEMU's MPS2-AN500 (Cortex-M7) with semihosting and deterministic instruction
 # counting (-icount shift=0: one instruction = 1 ns of virtual time), and decodes the defmt
-# frames the firmware writes to semihosting stdout with `defmt-print -e ELF`.
+# frames the firmware writes to semihosting stdout with `defmt-print -e ELF`. `sleep=off`:
+# when the core idles in WFI (the replay waiting for its next frame interrupt), virtual time
+# jumps to the next timer event instead of waiting in real time.
 # The exit status is the firmware's semihosting exit code (0 = all checks passed).
 set -euo pipefail
 elf="$1"
@@ -10,5 +12,5 @@ shift || true
 : "${QEMU_TIMEOUT_S:=600}"
 timeout "$QEMU_TIMEOUT_S" qemu-system-arm \
   -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none -serial none \
-  -semihosting-config enable=on,target=native -icount shift=0 \
+  -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
   -kernel "$elf" "$@" | defmt-print -e "$elf"

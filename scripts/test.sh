@@ -81,3 +81,8 @@ step "flight build on QEMU"
 step "bit-for-bit: host build vs Cortex-M7 build"
 NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
   cargo test -p tests-host --test target_bit_exact -- --include-ignored --nocapture
+
+step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, bit for bit"
+(cd qemu && cargo build --release --bin replay)
+NAV_QEMU_REPLAY_ELF="$root/qemu/target/$TARGET/release/replay" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-60}" \
+  cargo test --release -p tests-host --test replay_bit_exact -- --include-ignored --nocapture

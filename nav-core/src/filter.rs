@@ -160,8 +160,18 @@ pub struct ErrorStateFilter {
     mode: FilterMode,
 }
 
-fn block_of(state: &ErrorState, block: StateBlock) -> Vector3<f64> {
-    state.fixed_rows::<3>(block.index).into()
+/// The three states of `block` (NaN for an index outside the state, which the state layout
+/// never produces: no panic path).
+pub fn block_of(state: &ErrorState, block: StateBlock) -> Vector3<f64> {
+    let component = |offset: usize| {
+        block
+            .index
+            .checked_add(offset)
+            .and_then(|index| state.get(index))
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
+    Vector3::new(component(0), component(1), component(2))
 }
 
 fn add3(target: &mut [f64; 3], delta: &Vector3<f64>) {
@@ -360,9 +370,11 @@ impl ErrorStateFilter {
         // K = P Hᵀ S⁻¹, computed as (S⁻¹ H P)ᵀ since S and P are symmetric.
         let mut gain: SMatrix<f64, STATE_DIMENSION, 3> =
             cholesky.solve(&(h * self.covariance)).transpose();
-        for block in BLOCKS {
-            if frozen.contains(block) {
-                gain.fixed_rows_mut::<3>(block.index).fill(0.0);
+        if !frozen.is_empty() {
+            for (state_index, mut row) in gain.row_iter_mut().enumerate() {
+                if frozen.contains_state(state_index) {
+                    row.fill(0.0);
+                }
             }
         }
         let state = self.state + gain * report.innovation;

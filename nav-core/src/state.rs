@@ -110,6 +110,15 @@ impl BlockMask {
         u8::try_from(position).map_or(0, |p| 1u8.checked_shl(u32::from(p)).unwrap_or(0))
     }
 
+    /// Whether the state with index `state_index` (0..24) belongs to a block in the set.
+    pub fn contains_state(&self, state_index: usize) -> bool {
+        let position = state_index / 3;
+        u32::try_from(position)
+            .ok()
+            .and_then(|p| 1u8.checked_shl(p))
+            .is_some_and(|bit| self.bits & bit != 0)
+    }
+
     /// Whether `block` is in the set.
     pub fn contains(&self, block: StateBlock) -> bool {
         self.bits & Self::bit(block) != 0

@@ -27,8 +27,10 @@ pub mod config;
 pub mod error;
 pub mod health;
 pub mod input_check;
+pub mod log_record;
 pub mod measurement_buffer;
 pub mod ports;
+pub mod replay;
 pub mod scheduler;
 pub mod telemetry;
 

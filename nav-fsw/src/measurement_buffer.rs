@@ -5,7 +5,7 @@
 //! navigation solution has been propagated to (or past) their time; anything that can't be
 //! fused correctly is refused with a reason the scheduler counts.
 
-use heapless::Vec;
+use heapless::Deque;
 
 /// Why a measurement was refused by the buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,7 +25,7 @@ pub enum BufferRefusal {
 /// A time-ordered queue of measurements of type `M`, capacity `N`.
 #[derive(Debug, Clone)]
 pub struct MeasurementBuffer<M, const N: usize> {
-    entries: Vec<(f64, M), N>,
+    entries: Deque<(f64, M), N>,
     last_accepted_time_s: Option<f64>,
 }
 
@@ -39,7 +39,7 @@ impl<M: Copy, const N: usize> MeasurementBuffer<M, N> {
     /// An empty buffer.
     pub const fn new() -> Self {
         Self {
-            entries: Vec::new(),
+            entries: Deque::new(),
             last_accepted_time_s: None,
         }
     }
@@ -80,15 +80,9 @@ impl<M: Copy, const N: usize> MeasurementBuffer<M, N> {
         if time_tag_s < now_s - max_latency_s || not_newer {
             return Err(BufferRefusal::Stale);
         }
-        // Keep sorted by time tag: insert after every entry with an earlier or equal tag. The
-        // accepted tags are strictly increasing, so this is an append in practice.
-        let position = self
-            .entries
-            .iter()
-            .take_while(|(tag, _)| *tag <= time_tag_s)
-            .count();
+        // Accepted tags strictly increase (checked above), so appending keeps the queue sorted.
         self.entries
-            .insert(position, (time_tag_s, measurement))
+            .push_back((time_tag_s, measurement))
             .map_err(|_| BufferRefusal::Overflow)?;
         self.last_accepted_time_s = Some(time_tag_s);
         Ok(())
@@ -96,14 +90,14 @@ impl<M: Copy, const N: usize> MeasurementBuffer<M, N> {
 
     /// Time tag of the oldest queued measurement.
     pub fn oldest_time_tag(&self) -> Option<f64> {
-        self.entries.first().map(|(tag, _)| *tag)
+        self.entries.front().map(|(tag, _)| *tag)
     }
 
     /// Removes and returns the oldest measurement whose time tag is at or before `up_to_s`.
     pub fn pop_due(&mut self, up_to_s: f64) -> Option<(f64, M)> {
-        let due = self.entries.first().is_some_and(|(tag, _)| *tag <= up_to_s);
+        let due = self.entries.front().is_some_and(|(tag, _)| *tag <= up_to_s);
         if due {
-            Some(self.entries.remove(0))
+            self.entries.pop_front()
         } else {
             None
         }

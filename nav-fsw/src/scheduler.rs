@@ -32,13 +32,13 @@ use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;
 use nav_core::error_model::{system_matrix, LinearisationPoint};
 use nav_core::filter::{
-    apply_error_state, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
+    apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig, FilterMode,
 };
 use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    POSITION, STAR_INSTALLATION,
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION,
 };
 use nav_core::strapdown::{ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown};
 use nav_core::structured::StructuredModel;
@@ -234,6 +234,11 @@ impl NavigationComputer {
         if self.cost.record(cost) {
             count(&mut self.health.frame_overruns);
         }
+    }
+
+    /// Worst frame cost reported by the platform so far.
+    pub fn worst_frame_cost(&self) -> u32 {
+        self.cost.worst
     }
 
     /// Executes a command.
@@ -460,8 +465,12 @@ impl NavigationComputer {
                 clamped = true;
             } else if variance > ceiling {
                 let scale = libm::sqrt(ceiling / variance);
-                covariance.row_mut(index).scale_mut(scale);
-                covariance.column_mut(index).scale_mut(scale);
+                for (element, value) in covariance.iter_mut().enumerate() {
+                    let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
+                    if row == index || column == index {
+                        *value *= scale;
+                    }
+                }
                 clamped = true;
             }
         }
@@ -713,10 +722,8 @@ impl NavigationComputer {
             self.recover_filter();
             return;
         }
-        let attitude_correction =
-            attitude::from_vector_part(&error.fixed_rows::<3>(ATTITUDE.index).into_owned());
-        let position_correction: Vector3<f64> =
-            error.fixed_rows::<3>(POSITION.index).into_owned();
+        let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
+        let position_correction = block_of(&error, POSITION);
         if let Ok(correction) = attitude_correction {
             for snapshot in self.history.iter_mut() {
                 snapshot.attitude = attitude::product(&snapshot.attitude, &correction);
@@ -733,7 +740,7 @@ impl NavigationComputer {
     fn block_estimate(&self, block: StateBlock) -> ([f64; 3], [f64; 3]) {
         let estimate = self.calibration_estimate();
         let sigmas = self.filter.standard_deviations();
-        let sigma: Vector3<f64> = sigmas.fixed_rows::<3>(block.index).into_owned();
+        let sigma = block_of(&sigmas, block);
         let c = &estimate;
         match block {
             b if b == STAR_INSTALLATION => {

@@ -3,18 +3,16 @@
 //! its ports, the manoeuvre phase is commanded from the schedule, and the estimates, their
 //! 1σ and the truth are recorded for the reports.
 
-use std::collections::VecDeque;
-
 use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
 use nav_core::attitude;
 use nav_core::error_model::ProcessNoise;
-use nav_core::filter::{CalibrationEstimate, FilterConfig, FilterMode, InitialUncertainty};
+use nav_core::filter::{CalibrationEstimate, FilterMode, InitialUncertainty};
 use nav_core::state::CALIBRATION_BLOCKS;
 use nav_core::strapdown::NavigationState;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
 use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
-use nav_fsw::ports::{GnssFix, GnssPort, ImuPort, ImuSample, StarMeasurement, StarSensorPort};
+use nav_fsw::replay::{FramePorts, ReplaySetup};
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::FswError;
 use rand::SeedableRng;
@@ -22,7 +20,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 use crate::scenario::{self, Scenario};
-use crate::sensors::{SensorErrorTruth, SensorEvent};
+use crate::sensor_log;
+use crate::sensors::SensorErrorTruth;
 use crate::simulation::{Simulation, SimulationError};
 use crate::truth::{self, TruthFrame};
 
@@ -90,6 +89,8 @@ pub struct FlightResult {
     pub calibration_covariance: SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>,
     /// Frames flown.
     pub frames: u64,
+    /// Measurements lost because a frame's port capacity was exceeded.
+    pub dropped_measurements: u32,
 }
 
 impl FlightResult {
@@ -124,20 +125,38 @@ impl Default for FlightOptions {
     }
 }
 
-/// The flight software configuration for a scenario: its launch site, filter settings,
-/// sensor noise (process noise densities from the scenario's sensor models), star mounting
-/// and gates; everything else the flight defaults ([`FswConfig::paper_defaults`]).
-pub fn fsw_config(scenario: &Scenario) -> FswConfig {
-    let mut config = FswConfig::paper_defaults(truth::launch_site(scenario));
+/// What the scenario decides about the flight software (its launch site, filter settings,
+/// sensor noise as process-noise densities, star mounting, gates) and its initial navigation
+/// solution: the truth at the start with errors drawn from the configured initial 1σ
+/// (ChaCha8, stream [`INITIAL_ERROR_STREAM`] of the scenario seed), so the initial
+/// covariance is honest. The replay files carry exactly this.
+///
+/// # Errors
+/// [`FlightError`] if the launch site or the initial state cannot be computed.
+pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
+    let frame = truth::launch_frame(scenario)
+        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
+    let truth_start = truth::initial_state(scenario, &frame)
+        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
     let settings = &scenario.filter;
     let sigma = &settings.initial_sigma;
-    config.filter = FilterConfig {
+    let period_s = scenario.imu.frame_period_s();
+    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
+    let mounting = attitude::exp_rotation_vector(&Vector3::new(
+        x.to_radians(),
+        y.to_radians(),
+        z.to_radians(),
+    ));
+    let defaults = FswConfig::paper_defaults(truth::launch_site(scenario));
+    Ok(ReplaySetup {
+        launch_site: truth::launch_site(scenario),
+        initial: initial_navigation(scenario, &truth_start),
         mode: match settings.mode {
             scenario::FilterMode::OpenLoop => FilterMode::OpenLoop,
             scenario::FilterMode::ClosedLoop => FilterMode::ClosedLoop,
         },
         discretisation_order: u8::try_from(settings.discretisation_order).unwrap_or(u8::MAX),
-        initial: InitialUncertainty {
+        initial_sigma: InitialUncertainty {
             attitude_rad: sigma.attitude_rad,
             position_m: sigma.position_m,
             velocity_mps: sigma.velocity_mps,
@@ -147,45 +166,42 @@ pub fn fsw_config(scenario: &Scenario) -> FswConfig {
             gyro_scale_factor: sigma.gyro_scale_factor,
             accel_scale_factor: sigma.accel_scale_factor,
         },
-    };
-    let period_s = scenario.imu.frame_period_s();
-    config.imu.period_s = period_s;
-    config.process_noise = ProcessNoise {
-        gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
-        accel_noise_density_mps2_per_sqrt_hz: scenario
-            .accelerometer
-            .noise_density_mps2_per_sqrt_hz(period_s),
-        gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
-        accel_bias_walk_mps3_per_sqrt_hz: scenario
-            .accelerometer
-            .bias_random_walk_mps2_per_sqrt_s,
-    };
-    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
-    let mounting = attitude::exp_rotation_vector(&Vector3::new(
-        x.to_radians(),
-        y.to_radians(),
-        z.to_radians(),
-    ));
-    config.star.mounting_wxyz = [mounting.w, mounting.i, mounting.j, mounting.k];
-    // A zero-noise sensor (a test setting) still needs a positive R.
-    config.star.noise_rad = scenario.star_sensor.noise_rad().max(1e-12);
-    config.star.gate_nis = settings.nis_gate.star_threshold;
-    config.gnss.noise_m = scenario.gnss.noise_m.max(1e-6);
-    config.gnss.gate_nis = settings.nis_gate.gnss_threshold;
-    config.timing.max_latency_s = config
-        .timing
-        .max_latency_s
-        .max(scenario.gnss.latency_s + period_s);
-    config
+        process_noise: ProcessNoise {
+            gyro_noise_density_rad_s_per_sqrt_hz: scenario
+                .gyro
+                .rate_noise_density_rad_per_sqrt_s(),
+            accel_noise_density_mps2_per_sqrt_hz: scenario
+                .accelerometer
+                .noise_density_mps2_per_sqrt_hz(period_s),
+            gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+            accel_bias_walk_mps3_per_sqrt_hz: scenario
+                .accelerometer
+                .bias_random_walk_mps2_per_sqrt_s,
+        },
+        imu_period_s: period_s,
+        star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
+        // A zero-noise sensor (a test setting) still needs a positive R.
+        star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
+        star_gate_nis: settings.nis_gate.star_threshold,
+        gnss_noise_m: scenario.gnss.noise_m.max(1e-6),
+        gnss_gate_nis: settings.nis_gate.gnss_threshold,
+        max_latency_s: defaults
+            .timing
+            .max_latency_s
+            .max(scenario.gnss.latency_s + period_s),
+    })
 }
 
-/// The flight software's initial navigation solution: the truth at the start with errors
-/// drawn from the configured initial 1σ (ChaCha8, stream [`INITIAL_ERROR_STREAM`] of the
-/// scenario seed), so the initial covariance is honest.
-pub fn initial_navigation(
-    scenario: &Scenario,
-    truth_start: &truth::TruthState,
-) -> NavigationState {
+/// The flight software configuration for a scenario ([`replay_setup`]).
+///
+/// # Errors
+/// As [`replay_setup`].
+pub fn fsw_config(scenario: &Scenario) -> Result<FswConfig, FlightError> {
+    Ok(replay_setup(scenario)?.config())
+}
+
+/// The truth at the start with errors drawn from the scenario's initial 1σ.
+fn initial_navigation(scenario: &Scenario, truth_start: &truth::TruthState) -> NavigationState {
     let mut rng = ChaCha8Rng::seed_from_u64(scenario.simulation.seed);
     rng.set_stream(INITIAL_ERROR_STREAM);
     let sigma = &scenario.filter.initial_sigma;
@@ -272,48 +288,6 @@ fn calibration_state_error(
     SVector::from_iterator(blocks.iter().flat_map(|b| b.iter().copied()))
 }
 
-/// IMU port fed by the simulator, one sample per frame.
-#[derive(Debug, Default)]
-pub struct SimulatedImu(pub Option<ImuSample>);
-
-impl ImuPort for SimulatedImu {
-    fn read(&mut self) -> Option<ImuSample> {
-        self.0.take()
-    }
-}
-
-/// Star-sensor port fed by the simulator.
-#[derive(Debug, Default)]
-pub struct SimulatedStarSensor(pub VecDeque<StarMeasurement>);
-
-impl StarSensorPort for SimulatedStarSensor {
-    fn poll(&mut self) -> Option<StarMeasurement> {
-        self.0.pop_front()
-    }
-}
-
-/// GNSS port fed by the simulator.
-#[derive(Debug, Default)]
-pub struct SimulatedGnss(pub VecDeque<GnssFix>);
-
-/// What the ports hold for one frame, before the flight software reads them (a fault
-/// injector may change anything here).
-#[derive(Debug, Default)]
-pub struct FrameInputs {
-    /// The IMU sample of the frame.
-    pub imu: SimulatedImu,
-    /// Star-sensor measurements delivered in the frame.
-    pub star: SimulatedStarSensor,
-    /// GNSS fixes delivered in the frame.
-    pub gnss: SimulatedGnss,
-}
-
-impl GnssPort for SimulatedGnss {
-    fn poll(&mut self) -> Option<GnssFix> {
-        self.0.pop_front()
-    }
-}
-
 fn record(
     computer: &NavigationComputer,
     frame: &TruthFrame,
@@ -351,11 +325,11 @@ pub fn fly(
     options: FlightOptions,
     progress: impl FnMut(u64, u64),
 ) -> Result<FlightResult, FlightError> {
-    fly_with(scenario, fsw_config(scenario), options, progress, |_, _| {})
+    fly_with(scenario, fsw_config(scenario)?, options, progress, |_, _| {})
 }
 
 /// [`fly`] with an explicit flight-software configuration and a fault injector
-/// `inject(frame_index, inputs)` called on every frame's port contents before the flight
+/// `inject(frame_index, ports)` called on every frame's port contents before the flight
 /// software reads them.
 ///
 /// # Errors
@@ -365,12 +339,13 @@ pub fn fly_with(
     config: FswConfig,
     options: FlightOptions,
     mut progress: impl FnMut(u64, u64),
-    mut inject: impl FnMut(u64, &mut FrameInputs),
+    mut inject: impl FnMut(u64, &mut FramePorts),
 ) -> Result<FlightResult, FlightError> {
     let mut simulation = Simulation::new(scenario)?;
     let start = *simulation.truth().state();
-    let mut computer = NavigationComputer::new(config, initial_navigation(scenario, &start))
-        .map_err(FlightError::Configuration)?;
+    let initial = replay_setup(scenario)?.initial;
+    let mut computer =
+        NavigationComputer::new(config, initial).map_err(FlightError::Configuration)?;
     let total_frames = scenario.frame_count();
     let segment_frames: Vec<(u64, ManoeuvrePhase)> = {
         let period_s = scenario.imu.frame_period_s();
@@ -385,7 +360,7 @@ pub fn fly_with(
             })
             .collect()
     };
-    let mut inputs = FrameInputs::default();
+    let mut dropped = 0u32;
     let mut events = Vec::new();
     let mut samples = Vec::new();
     let mut next_record_s = start.time_s;
@@ -395,15 +370,13 @@ pub fn fly_with(
         if let Some((_, phase)) = segment_frames.iter().find(|(f, _)| *f == frame.frame_index) {
             computer.command(Command::SetPhase(*phase));
         }
+        let mut ports = FramePorts::default();
         for event in events.drain(..) {
-            match event {
-                SensorEvent::Imu { .. } => inputs.imu.0 = event.to_imu_sample(),
-                SensorEvent::Star { .. } => inputs.star.0.extend(event.to_star_measurement()),
-                SensorEvent::Gnss { .. } => inputs.gnss.0.extend(event.to_gnss_fix()),
-            }
+            ports.add(&sensor_log::record_of(&event));
         }
-        inject(frame.frame_index, &mut inputs);
-        computer.run_frame(&mut inputs.imu, &mut inputs.star, &mut inputs.gnss);
+        inject(frame.frame_index, &mut ports);
+        dropped = dropped.saturating_add(ports.dropped);
+        ports.run(&mut computer);
         frames += 1;
         let errors = simulation.error_truth();
         if frame.time_s >= next_record_s - 1e-9 {
@@ -435,5 +408,6 @@ pub fn fly_with(
             .fixed_view::<CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>(first, first)
             .into_owned(),
         frames,
+        dropped_measurements: dropped,
     })
 }

@@ -10,15 +10,22 @@
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
 //! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
+//! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
+//! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
 pub mod flight;
+pub mod monte_carlo;
+pub mod report;
 pub mod scenario;
+pub mod sensor_log;
 pub mod sensors;
 pub mod simulation;
+pub mod target_replay;
 pub mod truth;
 
 pub use scenario::{Scenario, ScenarioError};

@@ -5,7 +5,8 @@
 
 use nalgebra::Vector3;
 use nav_fsw::health::HealthCounters;
-use nav_sim::flight::{fly_with, fsw_config, FlightOptions, FlightResult, FrameInputs};
+use nav_fsw::replay::FramePorts;
+use nav_sim::flight::{fly_with, fsw_config, FlightOptions, FlightResult};
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::Scenario;
 
@@ -30,10 +31,10 @@ fn short_scenario() -> Scenario {
 
 const FAULT_FRAME: u64 = 7_000; // 14 s: during the rotation
 
-fn fly(scenario: &Scenario, inject: impl FnMut(u64, &mut FrameInputs)) -> FlightResult {
+fn fly(scenario: &Scenario, inject: impl FnMut(u64, &mut FramePorts)) -> FlightResult {
     fly_with(
         scenario,
-        fsw_config(scenario),
+        fsw_config(scenario).unwrap(),
         FlightOptions {
             record_interval_s: 1.0,
         },
@@ -79,17 +80,19 @@ fn delayed_measurements_give_the_on_time_result() {
     let mut held_star = std::collections::VecDeque::new();
     let mut held_gnss = std::collections::VecDeque::new();
     let delayed = fly(&scenario, |frame, inputs| {
-        for measurement in inputs.star.0.drain(..) {
+        while let Some(measurement) = inputs.star.0.pop_front() {
             held_star.push_back((frame + 25, measurement));
         }
-        for fix in inputs.gnss.0.drain(..) {
+        while let Some(fix) = inputs.gnss.0.pop_front() {
             held_gnss.push_back((frame + 40, fix));
         }
         while held_star.front().is_some_and(|(due, _)| *due <= frame) {
-            inputs.star.0.extend(held_star.pop_front().map(|(_, m)| m));
+            let (_, measurement) = held_star.pop_front().unwrap();
+            inputs.star.0.push_back(measurement).unwrap();
         }
         while held_gnss.front().is_some_and(|(due, _)| *due <= frame) {
-            inputs.gnss.0.extend(held_gnss.pop_front().map(|(_, m)| m));
+            let (_, fix) = held_gnss.pop_front().unwrap();
+            inputs.gnss.0.push_back(fix).unwrap();
         }
     });
     assert_eq!(delayed.health.measurement_stale, 0);
@@ -110,7 +113,7 @@ fn delayed_measurements_give_the_on_time_result() {
     assert_consistent(&delayed, "delayed");
 }
 
-type Injector = Box<dyn FnMut(u64, &mut FrameInputs)>;
+type Injector = Box<dyn FnMut(u64, &mut FramePorts)>;
 type Counter = fn(&HealthCounters) -> u32;
 
 fn in_window(frame: u64, length: u64) -> bool {
@@ -277,7 +280,7 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
             Box::new(|f, i| {
                 if in_window(f, 125) {
                     if let Some(m) = i.star.0.front().copied() {
-                        i.star.0.push_back(m);
+                        i.star.0.push_back(m).unwrap();
                     }
                 }
             }),
@@ -297,7 +300,7 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
 #[test]
 fn a_failed_star_sensor_is_declared_faulty_and_navigation_continues_on_gnss() {
     let scenario = short_scenario();
-    let config = fsw_config(&scenario);
+    let config = fsw_config(&scenario).unwrap();
     let result = fly_with(
         &scenario,
         config,
@@ -334,7 +337,7 @@ fn a_failed_star_sensor_is_declared_faulty_and_navigation_continues_on_gnss() {
 #[test]
 fn a_failed_gnss_receiver_is_declared_faulty_and_navigation_continues_on_the_star_sensor() {
     let scenario = short_scenario();
-    let config = fsw_config(&scenario);
+    let config = fsw_config(&scenario).unwrap();
     let result = fly_with(
         &scenario,
         config,

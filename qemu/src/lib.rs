@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod cost;
+pub mod host_file;
 pub mod logger;
 
 use cortex_m_rt::{exception, ExceptionFrame};

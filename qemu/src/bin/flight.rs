@@ -30,9 +30,73 @@ fn main() -> ! {
         }
         Err(error) => defmt::error!("flight filter path: {}", error),
     }
+    scheduler_frames();
     #[cfg(feature = "demo-panic-path")]
     demo_panic_path();
     exit_success()
+}
+
+/// The flight scheduler (input checks, strapdown, propagation, delayed fusion, calibration
+/// manager, telemetry and the replay output record) over a few frames with a star
+/// measurement and a GNSS fix, inputs through `black_box`: all of it must be panic-free.
+fn scheduler_frames() {
+    use nalgebra::{Quaternion, Vector3};
+    use nav_core::frames::LaunchSite;
+    use nav_core::strapdown::NavigationState;
+    use nav_fsw::config::FswConfig;
+    use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
+    use nav_fsw::replay::{output_words, FramePorts};
+    use nav_fsw::scheduler::NavigationComputer;
+
+    let site = black_box(LaunchSite {
+        latitude_rad: 0.715,
+        longitude_rad: 1.750,
+        height_m: 1000.0,
+        azimuth_rad: 3.316,
+        epoch_s: 0.0,
+    });
+    let initial = black_box(NavigationState {
+        attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
+        position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+        velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+        time_s: 600.0,
+    });
+    let Ok(mut computer) = NavigationComputer::new(FswConfig::paper_defaults(site), initial) else {
+        defmt::error!("flight scheduler: configuration refused");
+        return;
+    };
+    for frame in 1..=10_u32 {
+        let time_s = 600.0 + 0.002 * f64::from(frame);
+        let mut ports = FramePorts::default();
+        ports.imu.0 = Some(black_box(ImuSample {
+            sequence: frame,
+            time_s,
+            delta_angle_rad: [1e-5, -2e-5, 3e-3],
+            delta_velocity_mps: [0.0, 1e-4, -2e-5],
+        }));
+        if frame == 5 {
+            let _ = ports.star.0.push_back(black_box(StarMeasurement {
+                time_tag_s: time_s,
+                attitude_wxyz: [1.0, 1e-5, 0.0, 0.0],
+            }));
+        }
+        if frame == 10 {
+            let _ = ports.gnss.0.push_back(black_box(GnssFix {
+                time_tag_s: time_s,
+                position_ecef_m: [-1.1e6, 5.0e6, 4.2e6],
+            }));
+        }
+        let telemetry = ports.run(&mut computer);
+        let words = black_box(output_words(&telemetry, &computer, ports.dropped));
+        if frame == 10 {
+            defmt::println!(
+                "flight scheduler: frame {=u32}, {=usize} output words, fusion {}",
+                telemetry.frame,
+                words.len(),
+                telemetry.fusion
+            );
+        }
+    }
 }
 
 /// A deliberately panicking slice index (enabled only by the `demo-panic-path` feature) that

@@ -1,0 +1,771 @@
+//! The binary replay log: the compact form of the sensor log (`docs/replay-format.md`) that the
+//! QEMU firmware streams from the host through semihosting. Fixed-size little-endian records,
+//! so a reader needs one 80-byte buffer and no allocator; decoding checks everything and never
+//! panics, whatever the bytes.
+//!
+//! ## File layout
+//! A 16-byte header, then records of [`RECORD_SIZE`] = 80 bytes each, in delivery order
+//! (non-decreasing arrival time; the host writer guarantees it, the flight input checks handle a
+//! log that breaks it).
+//!
+//! | header bytes | content |
+//! |---|---|
+//! | 0..8 | magic [`MAGIC`] = `b"NAVLOG\0\0"` |
+//! | 8..12 | format version, u32 LE = [`FORMAT_VERSION`] (1) |
+//! | 12..16 | record size in bytes, u32 LE = 80 |
+//!
+//! ## Record layout
+//! Byte 0 is the tag, bytes 1..8 are reserved (zero), then nine 8-byte little-endian words at
+//! offsets 8, 16, …, 72. Floats are IEEE-754 binary64 bit patterns (`f64::to_le_bytes`), so the
+//! record is bit-exact; every float must be finite. Unused words are zero.
+//!
+//! | offset | IMU (tag 1) | star (tag 2) | GNSS (tag 3) |
+//! |---|---|---|---|
+//! | 8 | sequence (u64) | arrival time (s) | arrival time (s) |
+//! | 16 | time tag = arrival (s) | time tag (s) | time tag (s) |
+//! | 24 | interval (s) | q w | ECEF x (m) |
+//! | 32 | Δθ x (rad) | q x | ECEF y (m) |
+//! | 40 | Δθ y (rad) | q y | ECEF z (m) |
+//! | 48 | Δθ z (rad) | q z | 0 |
+//! | 56 | Δv x (m/s) | 0 | 0 |
+//! | 64 | Δv y (m/s) | 0 | 0 |
+//! | 72 | Δv z (m/s) | 0 | 0 |
+//!
+//! Decoding accepts only this canonical form (known tag, zero reserved and unused bytes, finite
+//! floats), so `encode(decode(bytes)) == bytes` for every accepted record.
+
+use crate::ports::{GnssFix, ImuSample, StarMeasurement};
+
+/// Size of one record (bytes).
+pub const RECORD_SIZE: usize = 80;
+/// Size of the file header (bytes).
+pub const HEADER_SIZE: usize = 16;
+/// The file's first eight bytes.
+pub const MAGIC: [u8; 8] = *b"NAVLOG\0\0";
+/// The layout version this module reads and writes.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Tag byte of an IMU record.
+pub const TAG_IMU: u8 = 1;
+/// Tag byte of a star-sensor record.
+pub const TAG_STAR: u8 = 2;
+/// Tag byte of a GNSS record.
+pub const TAG_GNSS: u8 = 3;
+
+/// Number of 8-byte words after the tag word.
+const WORDS: usize = 9;
+/// Bytes per word.
+const WORD: usize = 8;
+
+/// One IMU output: the increments over one sampling period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ImuRecord {
+    /// Frame counter of the log (the simulator's frame index); the IMU port's 32-bit sequence
+    /// is its low 32 bits.
+    pub sequence: u64,
+    /// End of the sampling interval, which is also when the sample arrives (s).
+    pub time_s: f64,
+    /// Sampling interval (s).
+    pub interval_s: f64,
+    /// Measured delta angle (rad, body axes).
+    pub delta_angle_rad: [f64; 3],
+    /// Measured delta velocity (m/s, body axes).
+    pub delta_velocity_mps: [f64; 3],
+}
+
+/// One star-sensor attitude measurement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StarRecord {
+    /// When the measurement reaches the flight code (s).
+    pub arrival_time_s: f64,
+    /// Time of validity (s).
+    pub time_tag_s: f64,
+    /// Measured `q_is`, `[w, x, y, z]` (Hamilton, scalar first).
+    pub attitude_wxyz: [f64; 4],
+}
+
+/// One GNSS position fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GnssRecord {
+    /// When the fix reaches the flight code (s).
+    pub arrival_time_s: f64,
+    /// Time of validity (s).
+    pub time_tag_s: f64,
+    /// Measured position in ECEF, WGS-84 (m).
+    pub position_ecef_m: [f64; 3],
+}
+
+/// One sensor event of the replay log.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LogRecord {
+    /// IMU increments.
+    Imu(ImuRecord),
+    /// Star-sensor attitude.
+    Star(StarRecord),
+    /// GNSS position.
+    Gnss(GnssRecord),
+}
+
+/// A field of a record (named in errors).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum RecordField {
+    /// IMU `time_s`.
+    Time,
+    /// IMU `interval_s`.
+    Interval,
+    /// IMU `delta_angle_rad`.
+    DeltaAngle,
+    /// IMU `delta_velocity_mps`.
+    DeltaVelocity,
+    /// Star/GNSS `arrival_time_s`.
+    ArrivalTime,
+    /// Star/GNSS `time_tag_s`.
+    TimeTag,
+    /// Star `attitude_wxyz`.
+    Attitude,
+    /// GNSS `position_ecef_m`.
+    Position,
+}
+
+/// Why bytes are not a valid log header or record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LogRecordError {
+    /// The header does not start with [`MAGIC`].
+    BadMagic,
+    /// The header's version is not [`FORMAT_VERSION`].
+    UnsupportedVersion(u32),
+    /// The header's record size is not [`RECORD_SIZE`].
+    RecordSizeMismatch(u32),
+    /// Fewer bytes than a whole record (or header) remain.
+    Truncated {
+        /// Bytes needed.
+        needed: usize,
+        /// Bytes available.
+        available: usize,
+    },
+    /// The tag byte is not [`TAG_IMU`], [`TAG_STAR`] or [`TAG_GNSS`].
+    UnknownTag(u8),
+    /// A reserved or unused byte is not zero.
+    NonZeroPadding {
+        /// Byte offset within the record.
+        offset: usize,
+    },
+    /// A float is NaN or infinite.
+    NonFinite {
+        /// The field.
+        field: RecordField,
+        /// Byte offset of the offending component within the record.
+        offset: usize,
+    },
+}
+
+impl core::fmt::Display for LogRecordError {
+    fn fmt(&self, formatter: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::BadMagic => write!(formatter, "not a replay log (bad magic)"),
+            Self::UnsupportedVersion(version) => {
+                write!(
+                    formatter,
+                    "format version {version} (expected {FORMAT_VERSION})"
+                )
+            }
+            Self::RecordSizeMismatch(size) => {
+                write!(formatter, "record size {size} (expected {RECORD_SIZE})")
+            }
+            Self::Truncated { needed, available } => {
+                write!(formatter, "truncated: {available} of {needed} bytes")
+            }
+            Self::UnknownTag(tag) => write!(formatter, "unknown tag {tag}"),
+            Self::NonZeroPadding { offset } => {
+                write!(formatter, "reserved/unused byte {offset} is not zero")
+            }
+            Self::NonFinite { field, offset } => {
+                write!(formatter, "{field:?} at byte {offset} is not finite")
+            }
+        }
+    }
+}
+
+impl core::error::Error for LogRecordError {}
+
+/// The file header.
+pub fn encode_header() -> [u8; HEADER_SIZE] {
+    let mut header = [0_u8; HEADER_SIZE];
+    let version = FORMAT_VERSION.to_le_bytes();
+    let record_size = RECORD_SIZE_U32.to_le_bytes();
+    let source = MAGIC.iter().chain(version.iter()).chain(record_size.iter());
+    for (destination, byte) in header.iter_mut().zip(source) {
+        *destination = *byte;
+    }
+    header
+}
+
+/// [`RECORD_SIZE`] as written in the header.
+const RECORD_SIZE_U32: u32 = 80;
+
+// The layout constants agree: a tag word plus the payload words make a record.
+const _: () = assert!(RECORD_SIZE == WORD * (WORDS + 1));
+const _: () = assert!(RECORD_SIZE_U32 == 80 && RECORD_SIZE == 80);
+const _: () = assert!(HEADER_SIZE == MAGIC.len() + 4 + 4);
+
+/// Checks a file header.
+///
+/// # Errors
+/// [`LogRecordError::BadMagic`], [`LogRecordError::UnsupportedVersion`] or
+/// [`LogRecordError::RecordSizeMismatch`].
+pub fn decode_header(header: &[u8; HEADER_SIZE]) -> Result<(), LogRecordError> {
+    let (magic, rest) = split_word(header);
+    let mut version = [0_u8; 4];
+    let mut record_size = [0_u8; 4];
+    for (destination, byte) in version
+        .iter_mut()
+        .chain(record_size.iter_mut())
+        .zip(rest.iter())
+    {
+        *destination = *byte;
+    }
+    if magic != MAGIC {
+        return Err(LogRecordError::BadMagic);
+    }
+    let version = u32::from_le_bytes(version);
+    if version != FORMAT_VERSION {
+        return Err(LogRecordError::UnsupportedVersion(version));
+    }
+    let record_size = u32::from_le_bytes(record_size);
+    if record_size != RECORD_SIZE_U32 {
+        return Err(LogRecordError::RecordSizeMismatch(record_size));
+    }
+    Ok(())
+}
+
+/// The first 8 bytes of a slice as a word (zero-filled if shorter) and the rest.
+fn split_word(bytes: &[u8]) -> ([u8; WORD], &[u8]) {
+    let mut word = [0_u8; WORD];
+    for (destination, byte) in word.iter_mut().zip(bytes.iter()) {
+        *destination = *byte;
+    }
+    (word, bytes.get(WORD..).unwrap_or(&[]))
+}
+
+/// Byte offset of payload word `index` (0-based) within a record.
+const fn offset_of(index: usize) -> usize {
+    WORD + WORD * index
+}
+
+impl LogRecord {
+    /// When the event reaches the flight code (s): the IMU time tag, the measurement's arrival.
+    pub fn arrival_time_s(&self) -> f64 {
+        match self {
+            Self::Imu(imu) => imu.time_s,
+            Self::Star(star) => star.arrival_time_s,
+            Self::Gnss(gnss) => gnss.arrival_time_s,
+        }
+    }
+
+    /// The time of validity (s): the IMU time tag, the measurement's time tag.
+    pub fn time_tag_s(&self) -> f64 {
+        match self {
+            Self::Imu(imu) => imu.time_s,
+            Self::Star(star) => star.time_tag_s,
+            Self::Gnss(gnss) => gnss.time_tag_s,
+        }
+    }
+
+    /// The tag byte of this kind of record.
+    pub fn tag(&self) -> u8 {
+        match self {
+            Self::Imu(_) => TAG_IMU,
+            Self::Star(_) => TAG_STAR,
+            Self::Gnss(_) => TAG_GNSS,
+        }
+    }
+
+    /// The payload words and the field each float word belongs to (`None`: not a float).
+    fn words(&self) -> [(u64, Option<RecordField>); WORDS] {
+        let float = |value: f64, field| (value.to_bits(), Some(field));
+        let zero = (0, None);
+        match self {
+            Self::Imu(imu) => {
+                let [angle_x, angle_y, angle_z] = imu.delta_angle_rad;
+                let [velocity_x, velocity_y, velocity_z] = imu.delta_velocity_mps;
+                [
+                    (imu.sequence, None),
+                    float(imu.time_s, RecordField::Time),
+                    float(imu.interval_s, RecordField::Interval),
+                    float(angle_x, RecordField::DeltaAngle),
+                    float(angle_y, RecordField::DeltaAngle),
+                    float(angle_z, RecordField::DeltaAngle),
+                    float(velocity_x, RecordField::DeltaVelocity),
+                    float(velocity_y, RecordField::DeltaVelocity),
+                    float(velocity_z, RecordField::DeltaVelocity),
+                ]
+            }
+            Self::Star(star) => {
+                let [w, x, y, z] = star.attitude_wxyz;
+                [
+                    float(star.arrival_time_s, RecordField::ArrivalTime),
+                    float(star.time_tag_s, RecordField::TimeTag),
+                    float(w, RecordField::Attitude),
+                    float(x, RecordField::Attitude),
+                    float(y, RecordField::Attitude),
+                    float(z, RecordField::Attitude),
+                    zero,
+                    zero,
+                    zero,
+                ]
+            }
+            Self::Gnss(gnss) => {
+                let [x, y, z] = gnss.position_ecef_m;
+                [
+                    float(gnss.arrival_time_s, RecordField::ArrivalTime),
+                    float(gnss.time_tag_s, RecordField::TimeTag),
+                    float(x, RecordField::Position),
+                    float(y, RecordField::Position),
+                    float(z, RecordField::Position),
+                    zero,
+                    zero,
+                    zero,
+                    zero,
+                ]
+            }
+        }
+    }
+
+    /// Encodes the record (layout in the module docs).
+    ///
+    /// # Errors
+    /// [`LogRecordError::NonFinite`] if a float is NaN or infinite (the decoder would refuse it).
+    pub fn encode(&self) -> Result<[u8; RECORD_SIZE], LogRecordError> {
+        let words = self.words();
+        for (index, (bits, field)) in words.iter().enumerate() {
+            if let Some(field) = field {
+                if !f64::from_bits(*bits).is_finite() {
+                    return Err(LogRecordError::NonFinite {
+                        field: *field,
+                        offset: offset_of(index),
+                    });
+                }
+            }
+        }
+        let mut record = [0_u8; RECORD_SIZE];
+        let head = [self.tag(), 0, 0, 0, 0, 0, 0, 0];
+        let bytes = head
+            .into_iter()
+            .chain(words.into_iter().flat_map(|(bits, _)| bits.to_le_bytes()));
+        for (destination, byte) in record.iter_mut().zip(bytes) {
+            *destination = byte;
+        }
+        Ok(record)
+    }
+
+    /// Decodes one record, accepting only the canonical form (module docs).
+    ///
+    /// # Errors
+    /// [`LogRecordError::UnknownTag`], [`LogRecordError::NonZeroPadding`] or
+    /// [`LogRecordError::NonFinite`], naming the byte offset.
+    pub fn decode(record: &[u8; RECORD_SIZE]) -> Result<Self, LogRecordError> {
+        let (head, mut rest) = split_word(record);
+        let [tag, reserved @ ..] = head;
+        if let Some(position) = reserved.iter().position(|byte| *byte != 0) {
+            return Err(LogRecordError::NonZeroPadding {
+                offset: position.saturating_add(1),
+            });
+        }
+        let mut words = [0_u64; WORDS];
+        for word in words.iter_mut() {
+            let (bytes, tail) = split_word(rest);
+            *word = u64::from_le_bytes(bytes);
+            rest = tail;
+        }
+        let float = |index: usize, field: RecordField| -> Result<f64, LogRecordError> {
+            let value = f64::from_bits(words.get(index).copied().unwrap_or(0));
+            if value.is_finite() {
+                Ok(value)
+            } else {
+                Err(LogRecordError::NonFinite {
+                    field,
+                    offset: offset_of(index),
+                })
+            }
+        };
+        let unused_from = |first: usize| -> Result<(), LogRecordError> {
+            match words
+                .iter()
+                .enumerate()
+                .skip(first)
+                .find(|(_, word)| **word != 0)
+            {
+                // The first non-zero byte of the word: its offset within the record.
+                Some((index, word)) => Err(LogRecordError::NonZeroPadding {
+                    offset: offset_of(index).saturating_add(
+                        word.to_le_bytes()
+                            .iter()
+                            .position(|byte| *byte != 0)
+                            .unwrap_or(0),
+                    ),
+                }),
+                None => Ok(()),
+            }
+        };
+        match tag {
+            TAG_IMU => Ok(Self::Imu(ImuRecord {
+                sequence: words.first().copied().unwrap_or(0),
+                time_s: float(1, RecordField::Time)?,
+                interval_s: float(2, RecordField::Interval)?,
+                delta_angle_rad: [
+                    float(3, RecordField::DeltaAngle)?,
+                    float(4, RecordField::DeltaAngle)?,
+                    float(5, RecordField::DeltaAngle)?,
+                ],
+                delta_velocity_mps: [
+                    float(6, RecordField::DeltaVelocity)?,
+                    float(7, RecordField::DeltaVelocity)?,
+                    float(8, RecordField::DeltaVelocity)?,
+                ],
+            })),
+            TAG_STAR => {
+                let star = StarRecord {
+                    arrival_time_s: float(0, RecordField::ArrivalTime)?,
+                    time_tag_s: float(1, RecordField::TimeTag)?,
+                    attitude_wxyz: [
+                        float(2, RecordField::Attitude)?,
+                        float(3, RecordField::Attitude)?,
+                        float(4, RecordField::Attitude)?,
+                        float(5, RecordField::Attitude)?,
+                    ],
+                };
+                unused_from(6)?;
+                Ok(Self::Star(star))
+            }
+            TAG_GNSS => {
+                let gnss = GnssRecord {
+                    arrival_time_s: float(0, RecordField::ArrivalTime)?,
+                    time_tag_s: float(1, RecordField::TimeTag)?,
+                    position_ecef_m: [
+                        float(2, RecordField::Position)?,
+                        float(3, RecordField::Position)?,
+                        float(4, RecordField::Position)?,
+                    ],
+                };
+                unused_from(5)?;
+                Ok(Self::Gnss(gnss))
+            }
+            unknown => Err(LogRecordError::UnknownTag(unknown)),
+        }
+    }
+
+    /// Decodes the record at the start of `bytes` and returns it with the bytes after it (for
+    /// a buffer holding several records).
+    ///
+    /// # Errors
+    /// [`LogRecordError::Truncated`] if fewer than [`RECORD_SIZE`] bytes remain, else as
+    /// [`LogRecord::decode`].
+    pub fn decode_prefix(bytes: &[u8]) -> Result<(Self, &[u8]), LogRecordError> {
+        let (record, rest) =
+            bytes
+                .split_first_chunk::<RECORD_SIZE>()
+                .ok_or(LogRecordError::Truncated {
+                    needed: RECORD_SIZE,
+                    available: bytes.len(),
+                })?;
+        Ok((Self::decode(record)?, rest))
+    }
+}
+
+impl ImuRecord {
+    /// The IMU port's sample: the sequence is the low 32 bits of the log's frame counter (a
+    /// real IMU's counter wraps).
+    pub fn to_imu_sample(&self) -> ImuSample {
+        let [b0, b1, b2, b3, ..] = self.sequence.to_le_bytes();
+        ImuSample {
+            sequence: u32::from_le_bytes([b0, b1, b2, b3]),
+            time_s: self.time_s,
+            delta_angle_rad: self.delta_angle_rad,
+            delta_velocity_mps: self.delta_velocity_mps,
+        }
+    }
+}
+
+impl StarRecord {
+    /// The star-sensor port's measurement.
+    pub fn to_star_measurement(&self) -> StarMeasurement {
+        StarMeasurement {
+            time_tag_s: self.time_tag_s,
+            attitude_wxyz: self.attitude_wxyz,
+        }
+    }
+}
+
+impl GnssRecord {
+    /// The GNSS port's fix.
+    pub fn to_gnss_fix(&self) -> GnssFix {
+        GnssFix {
+            time_tag_s: self.time_tag_s,
+            position_ecef_m: self.position_ecef_m,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The record's fields as bit patterns, for bitwise equality (`-0.0 != 0.0`).
+    fn field_bits(record: &LogRecord) -> (u8, [u64; WORDS]) {
+        (record.tag(), record.words().map(|(bits, _)| bits))
+    }
+
+    fn finite() -> impl Strategy<Value = f64> {
+        any::<f64>().prop_filter("finite", |value| value.is_finite())
+    }
+
+    fn record() -> impl Strategy<Value = LogRecord> {
+        let imu = (
+            any::<u64>(),
+            finite(),
+            finite(),
+            proptest::array::uniform3(finite()),
+            proptest::array::uniform3(finite()),
+        )
+            .prop_map(|(sequence, time_s, interval_s, angle, velocity)| {
+                LogRecord::Imu(ImuRecord {
+                    sequence,
+                    time_s,
+                    interval_s,
+                    delta_angle_rad: angle,
+                    delta_velocity_mps: velocity,
+                })
+            });
+        let star = (finite(), finite(), proptest::array::uniform4(finite())).prop_map(
+            |(arrival_time_s, time_tag_s, attitude_wxyz)| {
+                LogRecord::Star(StarRecord {
+                    arrival_time_s,
+                    time_tag_s,
+                    attitude_wxyz,
+                })
+            },
+        );
+        let gnss = (finite(), finite(), proptest::array::uniform3(finite())).prop_map(
+            |(arrival_time_s, time_tag_s, position_ecef_m)| {
+                LogRecord::Gnss(GnssRecord {
+                    arrival_time_s,
+                    time_tag_s,
+                    position_ecef_m,
+                })
+            },
+        );
+        prop_oneof![imu, star, gnss]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        #[test]
+        fn decode_inverts_encode_bitwise(record in record()) {
+            let bytes = record.encode().unwrap();
+            let decoded = LogRecord::decode(&bytes).unwrap();
+            prop_assert_eq!(field_bits(&decoded), field_bits(&record));
+            prop_assert_eq!(decoded.encode().unwrap(), bytes);
+        }
+
+        /// Whatever the bytes: no panic, and what is accepted is canonical.
+        #[test]
+        fn decoding_arbitrary_bytes_never_panics(bytes in proptest::array::uniform::<_, 80>(any::<u8>())) {
+            if let Ok(record) = LogRecord::decode(&bytes) {
+                prop_assert_eq!(record.encode().unwrap(), bytes);
+            }
+        }
+
+        /// A valid tag and zero reserved bytes, then words mixing finite floats, NaN, infinity,
+        /// zero and arbitrary bits: every rejection is the typed error of the first bad word.
+        #[test]
+        fn rejections_name_the_first_bad_word(
+            tag in 1_u8..=3,
+            words in proptest::array::uniform9(prop_oneof![
+                any::<u64>(),
+                finite().prop_map(f64::to_bits),
+                Just(0_u64),
+                Just(f64::NAN.to_bits()),
+                Just(f64::NEG_INFINITY.to_bits()),
+            ]),
+        ) {
+            let mut bytes = [0_u8; RECORD_SIZE];
+            bytes[0] = tag;
+            for (index, word) in words.iter().enumerate() {
+                bytes[offset_of(index)..offset_of(index) + WORD].copy_from_slice(&word.to_le_bytes());
+            }
+            // Words carrying floats, and the first unused word, per tag (module-doc table).
+            let (float_words, first_unused) = match tag {
+                TAG_IMU => (1..9, 9),
+                TAG_STAR => (0..6, 6),
+                _ => (0..5, 5),
+            };
+            let first_non_finite = float_words
+                .clone()
+                .find(|index| !f64::from_bits(words[*index]).is_finite());
+            let first_padding = (first_unused..WORDS).find(|index| words[*index] != 0);
+            match LogRecord::decode(&bytes) {
+                Ok(record) => {
+                    prop_assert!(first_non_finite.is_none() && first_padding.is_none());
+                    prop_assert_eq!(record.encode().unwrap(), bytes);
+                }
+                Err(LogRecordError::NonFinite { offset, .. }) => {
+                    prop_assert_eq!(Some(offset), first_non_finite.map(offset_of));
+                }
+                Err(LogRecordError::NonZeroPadding { offset }) => {
+                    prop_assert!(first_non_finite.is_none());
+                    let index = first_padding.unwrap();
+                    prop_assert!(offset >= offset_of(index) && offset < offset_of(index) + WORD);
+                    prop_assert_ne!(bytes[offset], 0);
+                }
+                Err(other) => prop_assert!(false, "unexpected {:?}", other),
+            }
+        }
+    }
+
+    #[test]
+    fn known_layout() {
+        let record = LogRecord::Gnss(GnssRecord {
+            arrival_time_s: 1.5,
+            time_tag_s: 1.0,
+            position_ecef_m: [-2.0, 0.25, 6.4e6],
+        });
+        let bytes = record.encode().unwrap();
+        assert_eq!(bytes[0], TAG_GNSS);
+        assert_eq!(bytes[8..16], 1.5_f64.to_le_bytes());
+        assert_eq!(bytes[16..24], 1.0_f64.to_le_bytes());
+        assert_eq!(bytes[24..32], (-2.0_f64).to_le_bytes());
+        assert_eq!(bytes[40..48], 6.4e6_f64.to_le_bytes());
+        assert!(bytes[48..].iter().all(|byte| *byte == 0));
+
+        let imu = LogRecord::Imu(ImuRecord {
+            sequence: 0x0000_0001_0000_0005,
+            time_s: 0.004,
+            interval_s: 0.002,
+            delta_angle_rad: [1e-6, 0.0, -0.0],
+            delta_velocity_mps: [0.0, 0.0, -0.0196],
+        });
+        let bytes = imu.encode().unwrap();
+        assert_eq!(bytes[0], TAG_IMU);
+        assert_eq!(bytes[8..16], 0x0000_0001_0000_0005_u64.to_le_bytes());
+        assert_eq!(bytes[48..56], (-0.0_f64).to_le_bytes());
+        assert_eq!(bytes[72..80], (-0.0196_f64).to_le_bytes());
+        let LogRecord::Imu(decoded) = LogRecord::decode(&bytes).unwrap() else {
+            panic!("not an IMU record");
+        };
+        // The port's 32-bit counter is the low half of the log's 64-bit counter.
+        assert_eq!(decoded.to_imu_sample().sequence, 5);
+    }
+
+    #[test]
+    fn typed_errors() {
+        let star = LogRecord::Star(StarRecord {
+            arrival_time_s: 2.0,
+            time_tag_s: 2.0,
+            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+        });
+        let good = star.encode().unwrap();
+
+        let mut bytes = good;
+        bytes[0] = 0;
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::UnknownTag(0))
+        );
+        bytes[0] = 4;
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::UnknownTag(4))
+        );
+
+        let mut bytes = good;
+        bytes[3] = 1;
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::NonZeroPadding { offset: 3 })
+        );
+        let mut bytes = good;
+        bytes[61] = 0x80;
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::NonZeroPadding { offset: 61 })
+        );
+
+        let mut bytes = good;
+        bytes[40..48].copy_from_slice(&f64::NAN.to_le_bytes());
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::NonFinite {
+                field: RecordField::Attitude,
+                offset: 40
+            })
+        );
+        let mut bytes = good;
+        bytes[16..24].copy_from_slice(&f64::NEG_INFINITY.to_le_bytes());
+        assert_eq!(
+            LogRecord::decode(&bytes),
+            Err(LogRecordError::NonFinite {
+                field: RecordField::TimeTag,
+                offset: 16
+            })
+        );
+
+        let infinite = LogRecord::Imu(ImuRecord {
+            sequence: 0,
+            time_s: 0.0,
+            interval_s: 0.002,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0, f64::INFINITY, 0.0],
+        });
+        assert_eq!(
+            infinite.encode(),
+            Err(LogRecordError::NonFinite {
+                field: RecordField::DeltaVelocity,
+                offset: 64
+            })
+        );
+
+        assert_eq!(
+            LogRecord::decode_prefix(&good[..79]),
+            Err(LogRecordError::Truncated {
+                needed: 80,
+                available: 79
+            })
+        );
+        let mut two = [0_u8; 160];
+        two[..80].copy_from_slice(&good);
+        two[80..].copy_from_slice(&good);
+        let (first, rest) = LogRecord::decode_prefix(&two).unwrap();
+        assert_eq!(first, star);
+        assert_eq!(rest.len(), 80);
+    }
+
+    #[test]
+    fn header() {
+        let header = encode_header();
+        assert_eq!(&header[..8], b"NAVLOG\0\0");
+        assert_eq!(decode_header(&header), Ok(()));
+        let mut bad = header;
+        bad[0] = b'X';
+        assert_eq!(decode_header(&bad), Err(LogRecordError::BadMagic));
+        let mut bad = header;
+        bad[8] = 2;
+        assert_eq!(
+            decode_header(&bad),
+            Err(LogRecordError::UnsupportedVersion(2))
+        );
+        let mut bad = header;
+        bad[12] = 81;
+        assert_eq!(
+            decode_header(&bad),
+            Err(LogRecordError::RecordSizeMismatch(81))
+        );
+    }
+}

@@ -1,0 +1,540 @@
+//! Monte Carlo statistics of the calibration states: runs a scenario over many seeds in
+//! parallel and checks the filter's consistency, i.e. that its covariance describes its actual
+//! errors (Bar-Shalom, Li & Kirubarajan, *Estimation with Applications to Tracking and
+//! Navigation*, 2001, §5.4.2: the NEES test).
+//!
+//! For run `i` with final calibration error `eᵢ = x̂ᵢ − xᵢ` (n states) and filter covariance
+//! `Pᵢ`, the normalised estimation error squared is `εᵢ = eᵢᵀ Pᵢ⁻¹ eᵢ`. If the filter is
+//! consistent, `εᵢ ~ χ²(n)` and the average over N independent runs satisfies
+//! `N·ε̄ ~ χ²(N n)`, so the two-sided 95% acceptance interval of `ε̄` is
+//! `[χ²⁻¹(0.025; N n) / N, χ²⁻¹(0.975; N n) / N]` (statrs' χ² quantiles).
+//!
+//! Per state the statistics are the RMS error `√(mean eᵢ²)` and the mean filter 1σ
+//! `mean √Pᵢ,jj`; for a consistent filter their ratio is near 1.
+//!
+//! The calibration states are nav-core's five calibration blocks (`nav_core::state::
+//! CALIBRATION_BLOCKS`), 5 × 3 = [`CALIBRATION_STATES`] = 15 states; the functions are generic
+//! in the dimension `n` so any sub-state can be tested.
+
+use std::path::Path;
+
+use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
+use indicatif::{ParallelProgressIterator, ProgressBar, ProgressStyle};
+use nalgebra::{SMatrix, SVector};
+use rayon::prelude::*;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+use crate::report::{self, Axis, Curve, Panel, Parameter, ReportError};
+
+/// Number of calibration states: gyro bias, accelerometer bias, star installation, gyro and
+/// accelerometer scale factors, three axes each (nav-core's `CALIBRATION_BLOCKS`).
+pub const CALIBRATION_STATES: usize = 15;
+
+const _: () = assert!(CALIBRATION_STATES == 3 * nav_core::state::CALIBRATION_BLOCKS.len());
+
+/// The (parameter, axis) of each calibration state, in nav-core's state order.
+pub fn calibration_labels() -> [(Parameter, Axis); CALIBRATION_STATES] {
+    let mut labels = [(Parameter::GyroBias, Axis::X); CALIBRATION_STATES];
+    let all = Parameter::CALIBRATION
+        .iter()
+        .flat_map(|&parameter| Axis::ALL.map(|axis| (parameter, axis)));
+    for (label, value) in labels.iter_mut().zip(all) {
+        *label = value;
+    }
+    labels
+}
+
+/// What one run leaves for the statistics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
+    /// The run's seed.
+    pub seed: u64,
+    /// Final error `estimate − truth` of each state.
+    pub error: SVector<f64, N>,
+    /// Final filter covariance of the states.
+    pub covariance: SMatrix<f64, N, N>,
+}
+
+/// Why the Monte Carlo statistics or a run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MonteCarloError<E: std::error::Error + 'static> {
+    /// A run failed.
+    #[error("run with seed {seed}: {source}")]
+    Run {
+        /// The run's seed.
+        seed: u64,
+        /// The run's error.
+        source: E,
+    },
+    /// A run's covariance is not symmetric positive definite (its NEES is undefined).
+    #[error("run with seed {seed}: the covariance is not positive definite")]
+    CovarianceNotPositiveDefinite {
+        /// The run's seed.
+        seed: u64,
+    },
+    /// No runs.
+    #[error("no runs")]
+    NoRuns,
+    /// statrs refused the χ² degrees of freedom.
+    #[error("χ² distribution with {degrees_of_freedom} degrees of freedom: {message}")]
+    ChiSquared {
+        /// Degrees of freedom.
+        degrees_of_freedom: f64,
+        /// statrs' message.
+        message: String,
+    },
+}
+
+/// Per-state statistics over the runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StateStatistics {
+    /// RMS of the final errors over the runs.
+    pub rms_error: f64,
+    /// Mean of the filter's final 1σ over the runs.
+    pub mean_sigma: f64,
+}
+
+/// The NEES consistency test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NeesTest {
+    /// NEES of each run, in run order.
+    pub per_run: Vec<f64>,
+    /// Average NEES `ε̄`.
+    pub average: f64,
+    /// Lower bound of the 95% interval, `χ²⁻¹(0.025; N n) / N`.
+    pub lower_bound: f64,
+    /// Upper bound, `χ²⁻¹(0.975; N n) / N`.
+    pub upper_bound: f64,
+    /// Degrees of freedom of one run, `n`.
+    pub states: usize,
+}
+
+impl NeesTest {
+    /// Whether the average lies inside the 95% interval.
+    pub fn consistent(&self) -> bool {
+        self.lower_bound <= self.average && self.average <= self.upper_bound
+    }
+}
+
+/// Statistics of a Monte Carlo campaign.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MonteCarloSummary<const N: usize = CALIBRATION_STATES> {
+    /// Number of runs.
+    pub runs: usize,
+    /// Per state, in state order.
+    pub states: [StateStatistics; N],
+    /// The NEES test.
+    pub nees: NeesTest,
+}
+
+/// The two-sided 95% interval of the average NEES of `runs` runs of `states` states.
+///
+/// # Errors
+/// [`MonteCarloError::NoRuns`], or [`MonteCarloError::ChiSquared`] if statrs refuses the
+/// degrees of freedom.
+pub fn nees_bounds<E: std::error::Error>(
+    runs: usize,
+    states: usize,
+) -> Result<(f64, f64), MonteCarloError<E>> {
+    if runs == 0 || states == 0 {
+        return Err(MonteCarloError::NoRuns);
+    }
+    // Run and state counts are far below 2⁵³: exact in f64.
+    let runs_f64 = runs as f64;
+    let degrees_of_freedom = runs_f64 * states as f64;
+    let distribution =
+        ChiSquared::new(degrees_of_freedom).map_err(|error| MonteCarloError::ChiSquared {
+            degrees_of_freedom,
+            message: error.to_string(),
+        })?;
+    Ok((
+        distribution.inverse_cdf(0.025) / runs_f64,
+        distribution.inverse_cdf(0.975) / runs_f64,
+    ))
+}
+
+/// Computes the per-state statistics and the NEES test of the runs.
+///
+/// # Errors
+/// [`MonteCarloError::NoRuns`], [`MonteCarloError::CovarianceNotPositiveDefinite`] naming the
+/// run's seed, or [`MonteCarloError::ChiSquared`].
+pub fn summarise<const N: usize, E: std::error::Error>(
+    outcomes: &[RunOutcome<N>],
+) -> Result<MonteCarloSummary<N>, MonteCarloError<E>> {
+    let (lower_bound, upper_bound) = nees_bounds(outcomes.len(), N)?;
+    let per_run = outcomes
+        .iter()
+        .map(|outcome| {
+            // εᵢ = eᵀ P⁻¹ e = |L⁻¹ e|² with P = L Lᵀ.
+            let cholesky = outcome
+                .covariance
+                .cholesky()
+                .ok_or(MonteCarloError::CovarianceNotPositiveDefinite { seed: outcome.seed })?;
+            let whitened = cholesky
+                .l()
+                .solve_lower_triangular(&outcome.error)
+                .ok_or(MonteCarloError::CovarianceNotPositiveDefinite { seed: outcome.seed })?;
+            Ok(whitened.norm_squared())
+        })
+        .collect::<Result<Vec<f64>, _>>()?;
+    let runs_f64 = outcomes.len() as f64;
+    let average = per_run.iter().sum::<f64>() / runs_f64;
+    let states = std::array::from_fn(|state| StateStatistics {
+        rms_error: (outcomes
+            .iter()
+            .map(|outcome| outcome.error[state].powi(2))
+            .sum::<f64>()
+            / runs_f64)
+            .sqrt(),
+        mean_sigma: outcomes
+            .iter()
+            .map(|outcome| outcome.covariance[(state, state)].sqrt())
+            .sum::<f64>()
+            / runs_f64,
+    });
+    Ok(MonteCarloSummary {
+        runs: outcomes.len(),
+        states,
+        nees: NeesTest {
+            per_run,
+            average,
+            lower_bound,
+            upper_bound,
+            states: N,
+        },
+    })
+}
+
+/// Runs `run` for every seed in parallel (rayon), with a progress bar on standard error if
+/// `show_progress`. Outcomes are returned in seed order whatever the scheduling.
+///
+/// # Errors
+/// [`MonteCarloError::Run`] with the seed of a failed run (the first in seed order).
+pub fn run_parallel<const N: usize, E, F>(
+    seeds: &[u64],
+    run: F,
+    show_progress: bool,
+) -> Result<Vec<RunOutcome<N>>, MonteCarloError<E>>
+where
+    E: std::error::Error + Send + 'static,
+    F: Fn(u64) -> Result<RunOutcome<N>, E> + Sync,
+{
+    let bar = if show_progress {
+        let bar = ProgressBar::new(u64::try_from(seeds.len()).unwrap_or(u64::MAX));
+        if let Ok(style) =
+            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} runs")
+        {
+            bar.set_style(style);
+        }
+        bar.set_message("Monte Carlo");
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let outcomes = seeds
+        .par_iter()
+        .progress_with(bar.clone())
+        .map(|&seed| run(seed).map_err(|source| MonteCarloError::Run { seed, source }))
+        .collect();
+    bar.finish();
+    outcomes
+}
+
+impl<const N: usize> MonteCarloSummary<N> {
+    /// The table: one row per state (parameter, axis, RMS error, mean 1σ, their ratio), then
+    /// the NEES test. `labels` names the states in order (e.g. [`calibration_labels`]).
+    pub fn table(&self, labels: &[(Parameter, Axis); N]) -> Table {
+        let mut table = Table::new();
+        table.load_preset(UTF8_FULL_CONDENSED).set_header([
+            "parameter",
+            "axis",
+            "RMS error",
+            "mean filter 1σ",
+            "RMS / 1σ",
+        ]);
+        let right = |text: String| Cell::new(text).set_alignment(CellAlignment::Right);
+        for ((parameter, axis), state) in labels.iter().zip(&self.states) {
+            table.add_row([
+                Cell::new(format!("{} ({})", parameter.name(), parameter.unit())),
+                Cell::new(axis.name()),
+                right(format!("{:.3e}", state.rms_error)),
+                right(format!("{:.3e}", state.mean_sigma)),
+                right(format!("{:.2}", state.rms_error / state.mean_sigma)),
+            ]);
+        }
+        table
+    }
+
+    /// One line on the NEES test.
+    pub fn nees_line(&self) -> String {
+        let nees = &self.nees;
+        format!(
+            "NEES of {} states over {} runs: average {:.3}, 95% interval [{:.3}, {:.3}]: {}",
+            nees.states,
+            self.runs,
+            nees.average,
+            nees.lower_bound,
+            nees.upper_bound,
+            if nees.consistent() {
+                "consistent"
+            } else {
+                "NOT consistent"
+            }
+        )
+    }
+
+    /// The plot: NEES per run with the average and its 95% interval, and RMS error / mean 1σ
+    /// per state (1 for a consistent filter).
+    ///
+    /// # Errors
+    /// [`ReportError`] from the plotting.
+    pub fn plot(&self, path: &Path) -> Result<(), ReportError> {
+        let nees = &self.nees;
+        let runs: Vec<f64> = (1..=self.runs).map(|run| run as f64).collect();
+        let constant = |value: f64| runs.iter().map(|&run| (run, value)).collect::<Vec<_>>();
+        let highest_nees = nees
+            .per_run
+            .iter()
+            .copied()
+            .fold(nees.upper_bound, f64::max);
+        let ratios: Vec<(f64, f64)> = self
+            .states
+            .iter()
+            .enumerate()
+            .map(|(index, state)| ((index + 1) as f64, state.rms_error / state.mean_sigma))
+            .collect();
+        let highest_ratio = ratios.iter().map(|(_, ratio)| *ratio).fold(2.0, f64::max);
+        let panels = [
+            Panel {
+                caption: format!("NEES per run ({} states)", nees.states),
+                y_label: "NEES".to_string(),
+                y_range: (0.0, 1.1 * highest_nees),
+                curves: vec![
+                    Curve {
+                        label: "run".to_string(),
+                        color: plotters::style::BLUE,
+                        points: runs.iter().copied().zip(nees.per_run.clone()).collect(),
+                    },
+                    Curve {
+                        label: "average".to_string(),
+                        color: plotters::style::BLACK,
+                        points: constant(nees.average),
+                    },
+                    Curve {
+                        label: "95% interval of the average".to_string(),
+                        color: plotters::style::RED,
+                        points: constant(nees.lower_bound),
+                    },
+                    Curve {
+                        label: String::new(),
+                        color: plotters::style::RED,
+                        points: constant(nees.upper_bound),
+                    },
+                ],
+            },
+            Panel {
+                caption: "RMS error / mean filter 1σ per state (state number)".to_string(),
+                y_label: "ratio".to_string(),
+                y_range: (0.0, 1.1 * highest_ratio),
+                curves: vec![
+                    Curve {
+                        label: "RMS / 1σ".to_string(),
+                        color: plotters::style::BLUE,
+                        points: ratios.clone(),
+                    },
+                    Curve {
+                        label: "1".to_string(),
+                        color: plotters::style::BLACK,
+                        points: ratios.iter().map(|(index, _)| (*index, 1.0)).collect(),
+                    },
+                ],
+            },
+        ];
+        report::draw_panels(
+            path,
+            "Monte Carlo consistency",
+            "run (top) / state number (bottom)",
+            &panels,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+    use rand_distr::{Distribution, StandardNormal};
+
+    type Never = std::convert::Infallible;
+
+    /// A fixed symmetric positive definite 15×15 covariance with correlations and scales from
+    /// 1e-12 to 1 (like the calibration states').
+    fn known_covariance() -> SMatrix<f64, CALIBRATION_STATES, CALIBRATION_STATES> {
+        let mut rng = ChaCha8Rng::seed_from_u64(99);
+        let mixing = SMatrix::<f64, CALIBRATION_STATES, CALIBRATION_STATES>::from_fn(|_, _| {
+            StandardNormal.sample(&mut rng)
+        });
+        let correlation = mixing * mixing.transpose()
+            + SMatrix::<f64, CALIBRATION_STATES, CALIBRATION_STATES>::identity();
+        let scale = SVector::<f64, CALIBRATION_STATES>::from_fn(|index, _| {
+            10_f64.powi(-(i32::try_from(index).unwrap() % 7) * 2)
+        });
+        SMatrix::from_diagonal(&scale) * correlation * SMatrix::from_diagonal(&scale)
+    }
+
+    /// `runs` outcomes whose errors are drawn from `N(0, true_scale · P)` while the filter
+    /// reports `P`.
+    fn synthetic_runs(
+        runs: usize,
+        true_scale: f64,
+        first_seed: u64,
+    ) -> Vec<RunOutcome<CALIBRATION_STATES>> {
+        let covariance = known_covariance();
+        let factor = covariance.cholesky().unwrap().l() * true_scale.sqrt();
+        (first_seed..)
+            .take(runs)
+            .map(|seed| {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let white = SVector::<f64, CALIBRATION_STATES>::from_fn(|_, _| {
+                    StandardNormal.sample(&mut rng)
+                });
+                RunOutcome {
+                    seed,
+                    error: factor * white,
+                    covariance,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn chi_square_bounds_match_the_tables() {
+        // Reference quantiles from the regularised incomplete gamma function (mpmath, 30
+        // digits, bisection): χ²⁻¹(0.025; 15) = 6.262137795, χ²⁻¹(0.975; 15) = 27.48839286;
+        // χ²⁻¹(0.025; 750) / 50 = 13.52005229, χ²⁻¹(0.975; 750) / 50 = 16.55570541.
+        let (lower, upper) = nees_bounds::<Never>(1, 15).unwrap();
+        assert!((lower - 6.262_137_795).abs() < 1e-7, "{lower}");
+        assert!((upper - 27.488_392_86).abs() < 1e-7, "{upper}");
+        let (lower, upper) = nees_bounds::<Never>(50, 15).unwrap();
+        assert!((lower - 13.520_052_29).abs() < 1e-7, "{lower}");
+        assert!((upper - 16.555_705_41).abs() < 1e-7, "{upper}");
+        assert!(matches!(
+            nees_bounds::<Never>(0, 15),
+            Err(MonteCarloError::NoRuns)
+        ));
+    }
+
+    #[test]
+    fn consistent_errors_pass_and_scaled_errors_fail() {
+        let consistent = summarise::<_, Never>(&synthetic_runs(50, 1.0, 1000)).unwrap();
+        let too_large = summarise::<_, Never>(&synthetic_runs(50, 4.0, 1000)).unwrap();
+        let too_small = summarise::<_, Never>(&synthetic_runs(50, 0.25, 1000)).unwrap();
+        println!("{}", consistent.nees_line());
+        println!("{}", too_large.nees_line());
+        println!("{}", too_small.nees_line());
+        assert!(consistent.nees.consistent());
+        assert!((consistent.nees.average - 15.0).abs() < 2.0);
+        // Errors twice as large as the filter claims: NEES ≈ 4 × 15.
+        assert!(!too_large.nees.consistent());
+        assert!((too_large.nees.average / consistent.nees.average - 4.0).abs() < 1e-9);
+        assert!(too_large.nees.average > too_large.nees.upper_bound);
+        assert!(too_small.nees.average < too_small.nees.lower_bound);
+    }
+
+    /// The interval is a 95% interval: over 400 independent campaigns of 50 consistent runs,
+    /// about 95% pass (binomial σ ≈ 1.1%).
+    #[test]
+    fn the_interval_covers_95_percent_of_consistent_campaigns() {
+        let campaigns = 400_u32;
+        let passed = (0..campaigns)
+            .filter(|campaign| {
+                let runs = synthetic_runs(50, 1.0, 10_000 + u64::from(*campaign) * 50);
+                summarise::<_, Never>(&runs).unwrap().nees.consistent()
+            })
+            .count();
+        let fraction = f64::from(u32::try_from(passed).unwrap()) / f64::from(campaigns);
+        println!("coverage of the 95% interval: {fraction:.3}");
+        assert!((0.915..=0.985).contains(&fraction), "{fraction}");
+    }
+
+    #[test]
+    fn rms_error_and_mean_sigma_agree_for_a_consistent_filter() {
+        let summary = summarise::<_, Never>(&synthetic_runs(4000, 1.0, 1)).unwrap();
+        let covariance = known_covariance();
+        for (state, statistics) in summary.states.iter().enumerate() {
+            let sigma = covariance[(state, state)].sqrt();
+            assert!((statistics.mean_sigma / sigma - 1.0).abs() < 1e-12);
+            // RMS of 4000 normal draws: relative σ ≈ 1/√8000 = 1.1%.
+            let ratio = statistics.rms_error / sigma;
+            assert!((ratio - 1.0).abs() < 0.05, "state {state}: {ratio}");
+        }
+    }
+
+    #[test]
+    fn bad_covariance_is_named_by_seed() {
+        let mut runs = synthetic_runs(3, 1.0, 40);
+        runs[1].covariance[(4, 4)] = -1.0;
+        assert!(matches!(
+            summarise::<_, Never>(&runs),
+            Err(MonteCarloError::CovarianceNotPositiveDefinite { seed: 41 })
+        ));
+        assert!(matches!(
+            summarise::<CALIBRATION_STATES, Never>(&[]),
+            Err(MonteCarloError::NoRuns)
+        ));
+    }
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("diverged")]
+    struct Diverged;
+
+    #[test]
+    fn parallel_runner_keeps_seed_order_and_reports_the_failed_seed() {
+        let seeds: Vec<u64> = (100..164).collect();
+        let run = |seed: u64| -> Result<RunOutcome, Diverged> {
+            Ok(synthetic_runs(1, 1.0, seed).remove(0))
+        };
+        let outcomes = run_parallel(&seeds, run, false).unwrap();
+        assert_eq!(
+            outcomes
+                .iter()
+                .map(|outcome| outcome.seed)
+                .collect::<Vec<_>>(),
+            seeds
+        );
+        assert_eq!(outcomes, synthetic_runs(64, 1.0, 100));
+
+        let failing = |seed: u64| -> Result<RunOutcome, Diverged> {
+            if seed % 20 == 7 {
+                Err(Diverged)
+            } else {
+                run(seed)
+            }
+        };
+        let error = run_parallel(&seeds, failing, false).unwrap_err();
+        assert_eq!(error.to_string(), "run with seed 107: diverged");
+    }
+
+    #[test]
+    fn table_and_plot() {
+        let summary = summarise::<_, Never>(&synthetic_runs(50, 1.0, 1000)).unwrap();
+        let text = summary.table(&calibration_labels()).to_string();
+        println!("{text}\n{}", summary.nees_line());
+        assert_eq!(
+            text.lines()
+                .filter(|line| line.contains("gyro_bias"))
+                .count(),
+            3
+        );
+        assert!(text.contains("accel_scale_factor (-)"));
+        assert!(summary.nees_line().ends_with(": consistent"));
+        let directory = tempfile::tempdir().unwrap();
+        let path = directory.path().join("monte_carlo.png");
+        summary.plot(&path).unwrap();
+        assert!(std::fs::metadata(&path).unwrap().len() > 20_000);
+        if let Ok(keep) = std::env::var("NAV_SIM_KEEP_PLOTS") {
+            std::fs::copy(&path, Path::new(&keep).join("monte_carlo.png")).unwrap();
+        }
+    }
+}

@@ -1,0 +1,239 @@
+//! Whole-scenario replay on the target: reads a sensor log written by `nav-sim`
+//! (`replay-in.bin` in QEMU's working directory: the [`ReplaySetup`] words, then the binary
+//! log of `docs/replay-format.md`) through semihosting, runs it through nav-fsw in 2 ms frames
+//! driven by the SysTick interrupt (500 Hz in QEMU's virtual time), and streams every frame's
+//! output record plus its measured cost to `replay-out.bin`. Memory is static and the log is
+//! streamed, so a mission of any length fits.
+//!
+//! Output file: per frame, [`OUTPUT_WORDS`] words of nav-fsw's output record followed by one
+//! word: the frame's cost in instructions (`-icount shift=0`: one instruction = 1 ns). All
+//! words little-endian u64.
+//!
+//! Prints (defmt) `REPLAY frames=… worst=… overruns=…` and exits 0 when the whole log was
+//! replayed with no frame overrun.
+#![no_std]
+#![no_main]
+
+use core::sync::atomic::{AtomicU32, Ordering};
+
+use cortex_m::peripheral::syst::SystClkSource;
+use cortex_m::peripheral::SYST;
+use cortex_m_rt::{entry, exception};
+use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
+use nav_fsw::replay::{
+    output_words, FrameAssembler, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
+};
+use nav_fsw::scheduler::NavigationComputer;
+use nav_qemu::cost::INSTRUCTIONS_PER_TICK;
+use nav_qemu::host_file::{read_full, HostFile};
+use nav_qemu::{exit_failure, exit_success};
+
+/// SysTick ticks per 2 ms frame at the MPS2 system clock of 25 MHz.
+const FRAME_TICKS: u32 = 50_000;
+/// Frame budget in instructions (2 ms at one instruction per virtual nanosecond).
+const FRAME_BUDGET_INSTRUCTIONS: u32 = 2_000_000;
+/// Records read from the host per semihosting call.
+const RECORDS_PER_READ: usize = 64;
+/// Frames buffered per semihosting write.
+const FRAMES_PER_WRITE: usize = 16;
+/// Words per output frame (record + cost).
+const FRAME_WORDS: usize = OUTPUT_WORDS + 1;
+
+/// Frame interrupts since start.
+static FRAME_TICKS_ELAPSED: AtomicU32 = AtomicU32::new(0);
+
+#[exception]
+fn SysTick() {
+    FRAME_TICKS_ELAPSED.fetch_add(1, Ordering::Release);
+}
+
+/// The log, streamed record by record.
+struct LogStream {
+    file: HostFile,
+    buffer: [u8; RECORD_SIZE * RECORDS_PER_READ],
+    filled: usize,
+    position: usize,
+}
+
+impl LogStream {
+    /// The next record; `Ok(None)` at the end of the log.
+    fn next(&mut self) -> Result<Option<LogRecord>, ()> {
+        if self.position >= self.filled {
+            self.filled = read_full(&mut self.file, &mut self.buffer);
+            self.position = 0;
+            if self.filled == 0 {
+                return Ok(None);
+            }
+        }
+        let bytes = self.buffer.get(self.position..self.filled).ok_or(())?;
+        match LogRecord::decode_prefix(bytes) {
+            Ok((record, _)) => {
+                self.position += RECORD_SIZE;
+                Ok(Some(record))
+            }
+            Err(error) => {
+                defmt::error!("replay log record: {}", error);
+                Err(())
+            }
+        }
+    }
+}
+
+/// Starts the 500 Hz frame interrupt.
+fn start_frame_timer(mut systick: SYST) -> SYST {
+    systick.set_clock_source(SystClkSource::Core);
+    systick.set_reload(FRAME_TICKS - 1);
+    systick.clear_current();
+    systick.enable_interrupt();
+    systick.enable_counter();
+    systick
+}
+
+fn read_setup(file: &mut HostFile) -> Option<ReplaySetup> {
+    let mut bytes = [0_u8; SETUP_WORDS * 8];
+    if read_full(file, &mut bytes) != bytes.len() {
+        defmt::error!("replay: setup truncated");
+        return None;
+    }
+    let mut words = [0_u64; SETUP_WORDS];
+    for (word, chunk) in words.iter_mut().zip(bytes.chunks_exact(8)) {
+        let mut le = [0_u8; 8];
+        le.copy_from_slice(chunk);
+        *word = u64::from_le_bytes(le);
+    }
+    ReplaySetup::from_words(&words).ok()
+}
+
+#[entry]
+fn main() -> ! {
+    let Some(peripherals) = cortex_m::Peripherals::take() else {
+        exit_failure()
+    };
+    let Ok(mut input) = HostFile::open_read("replay-in.bin\0") else {
+        defmt::error!("replay: cannot open replay-in.bin");
+        exit_failure()
+    };
+    let Ok(mut output) = HostFile::create("replay-out.bin\0") else {
+        defmt::error!("replay: cannot create replay-out.bin");
+        exit_failure()
+    };
+    let Some(setup) = read_setup(&mut input) else {
+        defmt::error!("replay: bad setup");
+        exit_failure()
+    };
+    let mut header = [0_u8; HEADER_SIZE];
+    if read_full(&mut input, &mut header) != HEADER_SIZE || decode_header(&header).is_err() {
+        defmt::error!("replay: bad log header");
+        exit_failure()
+    }
+    let Ok(mut computer) = NavigationComputer::new(setup.config(), setup.initial) else {
+        defmt::error!("replay: configuration refused");
+        exit_failure()
+    };
+    computer.set_frame_budget(FRAME_BUDGET_INSTRUCTIONS);
+    let mut log = LogStream {
+        file: input,
+        buffer: [0; RECORD_SIZE * RECORDS_PER_READ],
+        filled: 0,
+        position: 0,
+    };
+    let mut assembler = FrameAssembler::default();
+    let mut out_words = [0_u64; FRAME_WORDS * FRAMES_PER_WRITE];
+    let mut out_frames = 0_usize;
+    let mut out_bytes = [0_u8; FRAME_WORDS * FRAMES_PER_WRITE * 8];
+    let mut frames = 0_u32;
+    let mut dropped = 0_u32;
+    let mut log_ended = false;
+    let _systick = start_frame_timer(peripherals.SYST);
+    let mut frames_started = 0_u32;
+    loop {
+        // Assemble the next frame from the log (outside the measured frame).
+        let mut next: Option<FramePorts> = None;
+        while next.is_none() && !log_ended {
+            match log.next() {
+                Ok(Some(record)) => next = assembler.push(&record),
+                Ok(None) => {
+                    log_ended = true;
+                    next = assembler.finish();
+                }
+                Err(()) => exit_failure(),
+            }
+        }
+        let Some(mut ports) = next else {
+            break;
+        };
+        // Wait for the frame interrupt.
+        while FRAME_TICKS_ELAPSED.load(Ordering::Acquire) <= frames_started {
+            cortex_m::asm::wfi();
+        }
+        frames_started = FRAME_TICKS_ELAPSED.load(Ordering::Acquire);
+        let start_current = SYST::get_current();
+        let telemetry = ports.run(&mut computer);
+        let end_current = SYST::get_current();
+        let ticks_passed = FRAME_TICKS_ELAPSED.load(Ordering::Acquire) - frames_started;
+        // SysTick counts down to 0 (where it interrupts; read right after, it still shows 0)
+        // and reloads FRAME_TICKS − 1 on the next tick: ticks into the period = (N − c) mod N.
+        let into_period = |current: u32| (FRAME_TICKS - current) % FRAME_TICKS;
+        let (start_position, end_position) = (into_period(start_current), into_period(end_current));
+        let mut elapsed_ticks = ticks_passed * FRAME_TICKS + end_position;
+        if elapsed_ticks < start_position {
+            // Wrapped between the last read and the interrupt being taken.
+            elapsed_ticks += FRAME_TICKS;
+        }
+        let elapsed_ticks = elapsed_ticks - start_position;
+        let cost = elapsed_ticks.saturating_mul(INSTRUCTIONS_PER_TICK as u32);
+        computer.report_frame_cost(cost);
+        if ticks_passed > 0 {
+            // The frame ran into the next one: skip the interrupts it overlapped.
+            frames_started += ticks_passed;
+        }
+        dropped = dropped.saturating_add(ports.dropped);
+        let record = output_words(&telemetry, &computer, dropped);
+        let base = out_frames * FRAME_WORDS;
+        if let Some(slot) = out_words.get_mut(base..base + FRAME_WORDS) {
+            let (record_slot, cost_slot) = slot.split_at_mut(OUTPUT_WORDS);
+            record_slot.copy_from_slice(&record);
+            if let Some(word) = cost_slot.first_mut() {
+                *word = u64::from(cost);
+            }
+        }
+        out_frames += 1;
+        frames += 1;
+        if out_frames == FRAMES_PER_WRITE || log_ended {
+            let words = out_words.get(..out_frames * FRAME_WORDS).unwrap_or(&[]);
+            for (chunk, word) in out_bytes.chunks_exact_mut(8).zip(words) {
+                chunk.copy_from_slice(&word.to_le_bytes());
+            }
+            if output.write_all(out_bytes.get(..words.len() * 8).unwrap_or(&[])).is_err() {
+                defmt::error!("replay: output write failed");
+                exit_failure()
+            }
+            out_frames = 0;
+        }
+    }
+    let health = computer.health();
+    defmt::println!(
+        "REPLAY frames={=u32} worst={=u32} overruns={=u32} budget={=u32}",
+        frames,
+        telemetry_worst(&computer),
+        health.frame_overruns,
+        FRAME_BUDGET_INSTRUCTIONS
+    );
+    drop(output);
+    if frames > 0 && health.frame_overruns == 0 {
+        exit_success()
+    } else {
+        exit_failure()
+    }
+}
+
+/// Worst frame cost reported so far (instructions).
+fn telemetry_worst(computer: &NavigationComputer) -> u32 {
+    computer.worst_frame_cost()
+}
+
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    defmt::error!("panic on target");
+    exit_failure()
+}
