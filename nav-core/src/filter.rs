@@ -447,9 +447,11 @@ impl ErrorStateFilter {
             Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
         // Kᵀ = S⁻¹ H P, frozen blocks' gain set to zero.
         let mut gain_t = cholesky.solve(&hp);
-        for block in BLOCKS {
-            if frozen.contains(block) {
-                gain_t.fixed_columns_mut::<3>(block.index).fill(0.0);
+        if !frozen.is_empty() {
+            for (state_index, mut column) in gain_t.column_iter_mut().enumerate() {
+                if frozen.contains_state(state_index) {
+                    column.fill(0.0);
+                }
             }
         }
         let state = self.state + gain_t.tr_mul(&report.innovation);

@@ -60,9 +60,10 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::discretise::{CovarianceMatrix, MAX_ORDER};
 use crate::error_model::{LinearisationPoint, ProcessNoise};
+use crate::filter::block_of;
 use crate::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, VELOCITY,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, VELOCITY,
 };
 use crate::NavError;
 
@@ -214,17 +215,6 @@ fn scale_columns(m: &Matrix3<f64>, scale: &Vector3<f64>) -> Matrix3<f64> {
     scaled
 }
 
-/// The 3×3 block (`row`, `column`) of a matrix.
-fn block<const R: usize, const C: usize>(
-    matrix: &SMatrix<f64, R, C>,
-    row: StateBlock,
-    column: StateBlock,
-) -> Matrix3<f64> {
-    matrix
-        .fixed_view::<3, 3>(row.index, column.index)
-        .into_owned()
-}
-
 /// Writes the 3×3 block (`row`, `column`) of a matrix.
 fn set<const R: usize, const C: usize>(
     matrix: &mut SMatrix<f64, R, C>,
@@ -237,23 +227,39 @@ fn set<const R: usize, const C: usize>(
         .copy_from(value);
 }
 
-/// Writes block (`row`, `column`) and its mirror (`column`, `row`) = valueᵀ of a symmetric
-/// matrix; a diagonal block is made symmetric from its upper triangle.
-fn set_symmetric<const D: usize>(
-    matrix: &mut SMatrix<f64, D, D>,
-    row: StateBlock,
-    column: StateBlock,
+/// Writes block (`R`, `C`) and its mirror (`C`, `R`) = valueᵀ of a symmetric matrix; a
+/// diagonal block is made symmetric from its upper triangle.
+fn set_symmetric<const R: usize, const C: usize>(
+    matrix: &mut CovarianceMatrix,
     value: &Matrix3<f64>,
 ) {
-    if row == column {
+    if R == C {
         let mut mirrored = *value;
         mirrored.fill_lower_triangle_with_upper_triangle();
-        set(matrix, row, column, &mirrored);
+        matrix.fixed_view_mut::<3, 3>(R, C).copy_from(&mirrored);
     } else {
-        set(matrix, row, column, value);
-        set(matrix, column, row, &value.transpose());
+        matrix.fixed_view_mut::<3, 3>(R, C).copy_from(value);
+        matrix.fixed_view_mut::<3, 3>(C, R).tr_copy_from(value);
     }
 }
+
+/// `U_B + U_S diag(scale)`: a scale-factor column block `S` of `U` folded into its bias
+/// column block `B`.
+fn fold<const B: usize, const S: usize>(
+    u: &DynamicRows,
+    scale: &Vector3<f64>,
+) -> SMatrix<f64, DYNAMIC_DIMENSION, 3> {
+    let mut folded = u.fixed_columns::<3>(S).into_owned();
+    for (mut column, factor) in folded.column_iter_mut().zip(scale.iter()) {
+        column *= *factor;
+    }
+    folded + u.fixed_columns::<3>(B)
+}
+
+/// The 9×24 block rows (ϑ, δp, δv) of a 24-column matrix.
+type DynamicRows = SMatrix<f64, DYNAMIC_DIMENSION, 24>;
+/// Number of calibration states (the rows of `F` equal to the identity).
+const CALIBRATION_DIMENSION: usize = 15;
 
 /// The discrete model of one interval in block form (module docs): the non-zero blocks of
 /// `F` and the non-zero upper-left 15×15 part of `Qd`. Equal to
@@ -350,70 +356,74 @@ impl StructuredModel {
             psi.velocity_velocity * c * -interval_s,
         ];
 
-        // Qd = Σ_k (q_k/Δ) Γ_k Γ_kᵀ (module docs), upper blocks then mirrored.
+        // Qd = Σ_k (q_k/Δ) Γ_k Γ_kᵀ (module docs) over the noise-driven states 1-15; each
+        // Γ_k Γ_kᵀ is symmetric bit for bit (element (i, j) and (j, i) are the same sum).
         let density =
             |block: StateBlock| densities.get(block.index).copied().unwrap_or(0.0) / interval_s;
         let gyro_noise = density(crate::error_model::NOISE_GYRO);
         let accel_noise = density(crate::error_model::NOISE_ACCEL);
         let gyro_walk = density(crate::error_model::NOISE_GYRO_BIAS_WALK);
         let accel_walk = density(crate::error_model::NOISE_ACCEL_BIAS_WALK);
-        let zero = Matrix3::zeros();
-        // Columns of Γ per noise block: rows ϑ, δp, δv, then the bias row (ΔI for walks).
         let squared = interval_s * interval_s;
-        let columns: [(f64, [Matrix3<f64>; 3], Option<StateBlock>); 4] = [
-            (gyro_noise, gyro_bias_column, None),
-            (
-                accel_noise,
-                [zero, accel_bias_column[0], accel_bias_column[1]],
-                None,
-            ),
-            (
-                gyro_walk,
-                [
-                    chi.attitude_attitude * (-0.5 * squared),
-                    chi.position_attitude * (-0.5 * squared),
-                    chi.velocity_attitude * (-0.5 * squared),
-                ],
-                Some(GYRO_BIAS),
-            ),
-            (
-                accel_walk,
-                [
-                    zero,
-                    chi.position_velocity * c * -squared,
-                    chi.velocity_velocity * c * -squared,
-                ],
-                Some(ACCEL_BIAS),
-            ),
-        ];
         let mut process_noise =
             SMatrix::<f64, NOISE_DRIVEN_DIMENSION, NOISE_DRIVEN_DIMENSION>::zeros();
-        let dynamic = [ATTITUDE, POSITION, VELOCITY];
-        for (scale, gamma, bias) in columns.iter() {
-            if *scale <= 0.0 {
-                continue;
-            }
-            let rows = dynamic.iter().zip(gamma.iter());
-            for (row_number, (row, gamma_row)) in rows.clone().enumerate() {
-                if gamma_row.iter().all(|v| *v == 0.0) {
-                    continue;
-                }
-                for (column, gamma_column) in rows.clone().skip(row_number) {
-                    let sum = block(&process_noise, *row, *column)
-                        + gamma_row * gamma_column.transpose() * *scale;
-                    set_symmetric(&mut process_noise, *row, *column, &sum);
-                }
-                if let Some(bias) = bias {
-                    let sum =
-                        block(&process_noise, *row, *bias) + gamma_row * (*scale * interval_s);
-                    set_symmetric(&mut process_noise, *row, *bias, &sum);
-                }
-            }
-            if let Some(bias) = bias {
-                let sum =
-                    block(&process_noise, *bias, *bias) + Matrix3::identity() * (*scale * squared);
-                set_symmetric(&mut process_noise, *bias, *bias, &sum);
-            }
+        if gyro_noise > 0.0 {
+            // Γ = E_g (rows ϑ, δp, δv).
+            let mut gamma = SMatrix::<f64, DYNAMIC_DIMENSION, 3>::zeros();
+            let [attitude, position, velocity] = &gyro_bias_column;
+            gamma
+                .fixed_rows_mut::<3>(ATTITUDE.index)
+                .copy_from(attitude);
+            gamma
+                .fixed_rows_mut::<3>(POSITION.index)
+                .copy_from(position);
+            gamma
+                .fixed_rows_mut::<3>(VELOCITY.index)
+                .copy_from(velocity);
+            let mut target =
+                process_noise.fixed_view_mut::<DYNAMIC_DIMENSION, DYNAMIC_DIMENSION>(0, 0);
+            target += gamma * gamma.transpose() * gyro_noise;
+        }
+        if accel_noise > 0.0 {
+            // Γ = E_a (rows δp, δv; row ϑ is zero).
+            let mut gamma = SMatrix::<f64, 6, 3>::zeros();
+            let [position, velocity] = &accel_bias_column;
+            gamma.fixed_rows_mut::<3>(0).copy_from(position);
+            gamma.fixed_rows_mut::<3>(3).copy_from(velocity);
+            let mut target = process_noise.fixed_view_mut::<6, 6>(POSITION.index, POSITION.index);
+            target += gamma * gamma.transpose() * accel_noise;
+        }
+        if gyro_walk > 0.0 {
+            // Γ = [−½Δ² Χ_{·ϑ}; ΔI] (rows ϑ, δp, δv, gyro bias).
+            let mut gamma = SMatrix::<f64, NOISE_DRIVEN_DIMENSION, 3>::zeros();
+            let factor = -0.5 * squared;
+            gamma
+                .fixed_rows_mut::<3>(ATTITUDE.index)
+                .copy_from(&(chi.attitude_attitude * factor));
+            gamma
+                .fixed_rows_mut::<3>(POSITION.index)
+                .copy_from(&(chi.position_attitude * factor));
+            gamma
+                .fixed_rows_mut::<3>(VELOCITY.index)
+                .copy_from(&(chi.velocity_attitude * factor));
+            gamma
+                .fixed_rows_mut::<3>(GYRO_BIAS.index)
+                .copy_from(&(Matrix3::identity() * interval_s));
+            process_noise += gamma * gamma.transpose() * gyro_walk;
+        }
+        if accel_walk > 0.0 {
+            // Γ = [−Δ² Χ_{·v} Ĉ; ΔI] (rows δp, δv, accelerometer bias; row ϑ is zero).
+            let mut gamma = SMatrix::<f64, NOISE_DRIVEN_DIMENSION, 3>::zeros();
+            gamma
+                .fixed_rows_mut::<3>(POSITION.index)
+                .copy_from(&(chi.position_velocity * c * -squared));
+            gamma
+                .fixed_rows_mut::<3>(VELOCITY.index)
+                .copy_from(&(chi.velocity_velocity * c * -squared));
+            gamma
+                .fixed_rows_mut::<3>(ACCEL_BIAS.index)
+                .copy_from(&(Matrix3::identity() * interval_s));
+            process_noise += gamma * gamma.transpose() * accel_walk;
         }
         let [accel_position, accel_velocity] = accel_bias_column;
         Ok(Self {
@@ -430,14 +440,17 @@ impl StructuredModel {
     /// Removes the process noise of the `blocks` (their rows and columns of `Qd` set to zero),
     /// as the flight scheduler does for frozen calibration blocks.
     pub fn remove_process_noise(&mut self, blocks: &BlockMask) {
-        for block in BLOCKS {
-            if blocks.contains(block) && block.index < NOISE_DRIVEN_DIMENSION {
-                self.process_noise
-                    .fixed_rows_mut::<3>(block.index)
-                    .fill(0.0);
-                self.process_noise
-                    .fixed_columns_mut::<3>(block.index)
-                    .fill(0.0);
+        if blocks.is_empty() {
+            return;
+        }
+        // Column-major storage: element k is (k mod 15, k div 15).
+        for (element, value) in self.process_noise.iter_mut().enumerate() {
+            let (row, column) = (
+                element % NOISE_DRIVEN_DIMENSION,
+                element / NOISE_DRIVEN_DIMENSION,
+            );
+            if blocks.contains_state(row) || blocks.contains_state(column) {
+                *value = 0.0;
             }
         }
     }
@@ -488,7 +501,7 @@ impl StructuredModel {
     /// `x_d ← Φ x_d + E_g (x_bg + diag(ω_m) x_λg) + E_a (x_ba + diag(f_m) x_λa)`; the
     /// calibration states are unchanged (open-loop state propagation `x ← F x`).
     pub(crate) fn propagate_state(&self, state: &SMatrix<f64, 24, 1>) -> SMatrix<f64, 24, 1> {
-        let part = |b: StateBlock| -> Vector3<f64> { state.fixed_rows::<3>(b.index).into_owned() };
+        let part = |b: StateBlock| block_of(state, b);
         let gyro =
             part(GYRO_BIAS) + part(GYRO_SCALE_FACTOR).component_mul(&self.measured_rate_rad_s);
         let accel = part(ACCEL_BIAS)
@@ -518,106 +531,152 @@ impl StructuredModel {
         propagated
     }
 
-    /// `F P Fᵀ + Qd` by blocks (module docs), or `None` if the result is not finite.
-    pub(crate) fn propagate_covariance(&self, p: &CovarianceMatrix) -> Option<CovarianceMatrix> {
+    /// Column block `C` of `U = [Φ E] P` (rows ϑ, δp, δv), scale factors folded into the
+    /// biases (module docs). Block indices are compile-time constants: no bounds check, no
+    /// panic path.
+    fn propagate_column<const C: usize>(&self, p: &CovarianceMatrix, u: &mut DynamicRows) {
         let t = &self.transition;
         let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
         let [accel_position, accel_velocity] = &self.accel_bias_column;
-        let rate = &self.measured_rate_rad_s;
-        let force = &self.measured_specific_force_mps2;
+        let attitude = p.fixed_view::<3, 3>(ATTITUDE.index, C).into_owned();
+        let position = p.fixed_view::<3, 3>(POSITION.index, C).into_owned();
+        let velocity = p.fixed_view::<3, 3>(VELOCITY.index, C).into_owned();
+        let gyro = p.fixed_view::<3, 3>(GYRO_BIAS.index, C)
+            + scale_rows(
+                &p.fixed_view::<3, 3>(GYRO_SCALE_FACTOR.index, C)
+                    .into_owned(),
+                &self.measured_rate_rad_s,
+            );
+        let accel = p.fixed_view::<3, 3>(ACCEL_BIAS.index, C)
+            + scale_rows(
+                &p.fixed_view::<3, 3>(ACCEL_SCALE_FACTOR.index, C)
+                    .into_owned(),
+                &self.measured_specific_force_mps2,
+            );
+        u.fixed_view_mut::<3, 3>(ATTITUDE.index, C)
+            .copy_from(&(t.attitude_attitude * attitude + gyro_attitude * gyro));
+        u.fixed_view_mut::<3, 3>(POSITION.index, C).copy_from(
+            &(t.position_attitude * attitude
+                + t.position_position * position
+                + t.position_velocity * velocity
+                + gyro_position * gyro
+                + accel_position * accel),
+        );
+        u.fixed_view_mut::<3, 3>(VELOCITY.index, C).copy_from(
+            &(t.velocity_attitude * attitude
+                + t.velocity_position * position
+                + t.velocity_velocity * velocity
+                + gyro_velocity * gyro
+                + accel_velocity * accel),
+        );
+    }
+
+    /// Block (`R`, `S`), `R ≤ S` dynamic, of the new `P_dd = U [Φ E]ᵀ + Qd_dd`; `folded` is
+    /// `U`'s calibration columns folded to (gyro, accelerometer) (9×6).
+    fn propagate_dynamic_pair<const R: usize, const S: usize>(
+        &self,
+        u: &DynamicRows,
+        folded: &SMatrix<f64, DYNAMIC_DIMENSION, 6>,
+        updated: &mut CovarianceMatrix,
+    ) {
+        let t = &self.transition;
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        let u_attitude = u.fixed_view::<3, 3>(R, ATTITUDE.index);
+        let u_gyro = folded.fixed_view::<3, 3>(R, 0);
+        let value = if S == ATTITUDE.index {
+            u_attitude * t.attitude_attitude.transpose() + u_gyro * gyro_attitude.transpose()
+        } else {
+            let (f_attitude, f_position, f_velocity, e_gyro, e_accel) = if S == POSITION.index {
+                (
+                    &t.position_attitude,
+                    &t.position_position,
+                    &t.position_velocity,
+                    gyro_position,
+                    accel_position,
+                )
+            } else {
+                (
+                    &t.velocity_attitude,
+                    &t.velocity_position,
+                    &t.velocity_velocity,
+                    gyro_velocity,
+                    accel_velocity,
+                )
+            };
+            u_attitude * f_attitude.transpose()
+                + u.fixed_view::<3, 3>(R, POSITION.index) * f_position.transpose()
+                + u.fixed_view::<3, 3>(R, VELOCITY.index) * f_velocity.transpose()
+                + u_gyro * e_gyro.transpose()
+                + folded.fixed_view::<3, 3>(R, 3) * e_accel.transpose()
+        };
+        let value = value + self.process_noise.fixed_view::<3, 3>(R, S);
+        set_symmetric::<R, S>(updated, &value);
+    }
+
+    /// `F P Fᵀ + Qd` by blocks (module docs), or `None` if the result is not finite.
+    pub(crate) fn propagate_covariance(&self, p: &CovarianceMatrix) -> Option<CovarianceMatrix> {
         // U = [Φ E] P, rows ϑ, δp, δv (9×24), one column block at a time.
-        let mut u = SMatrix::<f64, DYNAMIC_DIMENSION, 24>::zeros();
-        for column in BLOCKS {
-            let attitude = block(p, ATTITUDE, column);
-            let position = block(p, POSITION, column);
-            let velocity = block(p, VELOCITY, column);
-            let gyro = block(p, GYRO_BIAS, column)
-                + scale_rows(&block(p, GYRO_SCALE_FACTOR, column), rate);
-            let accel = block(p, ACCEL_BIAS, column)
-                + scale_rows(&block(p, ACCEL_SCALE_FACTOR, column), force);
-            set(
-                &mut u,
-                ATTITUDE,
-                column,
-                &(t.attitude_attitude * attitude + gyro_attitude * gyro),
-            );
-            set(
-                &mut u,
-                POSITION,
-                column,
-                &(t.position_attitude * attitude
-                    + t.position_position * position
-                    + t.position_velocity * velocity
-                    + gyro_position * gyro
-                    + accel_position * accel),
-            );
-            set(
-                &mut u,
-                VELOCITY,
-                column,
-                &(t.velocity_attitude * attitude
-                    + t.velocity_position * position
-                    + t.velocity_velocity * velocity
-                    + gyro_velocity * gyro
-                    + accel_velocity * accel),
-            );
-        }
-        // New P_dd = U [Φ E]ᵀ + Qd_dd, upper blocks (r ≤ s), scale factors folded into biases.
-        let rows = [ATTITUDE, POSITION, VELOCITY];
-        let folded = rows.map(|row| {
-            (
-                block(&u, row, ATTITUDE),
-                block(&u, row, POSITION),
-                block(&u, row, VELOCITY),
-                block(&u, row, GYRO_BIAS) + scale_columns(&block(&u, row, GYRO_SCALE_FACTOR), rate),
-                block(&u, row, ACCEL_BIAS)
-                    + scale_columns(&block(&u, row, ACCEL_SCALE_FACTOR), force),
-            )
-        });
+        let mut u = DynamicRows::zeros();
+        self.propagate_column::<{ ATTITUDE.index }>(p, &mut u);
+        self.propagate_column::<{ POSITION.index }>(p, &mut u);
+        self.propagate_column::<{ VELOCITY.index }>(p, &mut u);
+        self.propagate_column::<{ GYRO_BIAS.index }>(p, &mut u);
+        self.propagate_column::<{ ACCEL_BIAS.index }>(p, &mut u);
+        self.propagate_column::<{ STAR_INSTALLATION.index }>(p, &mut u);
+        self.propagate_column::<{ GYRO_SCALE_FACTOR.index }>(p, &mut u);
+        self.propagate_column::<{ ACCEL_SCALE_FACTOR.index }>(p, &mut u);
+        // U's calibration columns folded: U_bg + U_λg diag(ω_m), U_ba + U_λa diag(f_m).
+        let mut folded = SMatrix::<f64, DYNAMIC_DIMENSION, 6>::zeros();
+        folded.fixed_columns_mut::<3>(0).copy_from(&fold::<
+            { GYRO_BIAS.index },
+            { GYRO_SCALE_FACTOR.index },
+        >(&u, &self.measured_rate_rad_s));
+        folded.fixed_columns_mut::<3>(3).copy_from(&fold::<
+            { ACCEL_BIAS.index },
+            { ACCEL_SCALE_FACTOR.index },
+        >(
+            &u, &self.measured_specific_force_mps2
+        ));
+        // New P_dd: upper blocks, mirrored.
         let mut updated = *p;
-        for (row_number, (row, (u_attitude, u_position, u_velocity, u_gyro, u_accel))) in
-            rows.iter().zip(folded.iter()).enumerate()
-        {
-            for column in rows.iter().skip(row_number) {
-                let value = if *column == ATTITUDE {
-                    u_attitude * t.attitude_attitude.transpose()
-                        + u_gyro * gyro_attitude.transpose()
-                } else {
-                    let (f_attitude, f_position, f_velocity, e_gyro, e_accel) =
-                        if *column == POSITION {
-                            (
-                                &t.position_attitude,
-                                &t.position_position,
-                                &t.position_velocity,
-                                gyro_position,
-                                accel_position,
-                            )
-                        } else {
-                            (
-                                &t.velocity_attitude,
-                                &t.velocity_position,
-                                &t.velocity_velocity,
-                                gyro_velocity,
-                                accel_velocity,
-                            )
-                        };
-                    u_attitude * f_attitude.transpose()
-                        + u_position * f_position.transpose()
-                        + u_velocity * f_velocity.transpose()
-                        + u_gyro * e_gyro.transpose()
-                        + u_accel * e_accel.transpose()
-                };
-                let value = value + block(&self.process_noise, *row, *column);
-                set_symmetric(&mut updated, *row, *column, &value);
-            }
-        }
+        self.propagate_dynamic_pair::<{ ATTITUDE.index }, { ATTITUDE.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
+        self.propagate_dynamic_pair::<{ ATTITUDE.index }, { POSITION.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
+        self.propagate_dynamic_pair::<{ ATTITUDE.index }, { VELOCITY.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
+        self.propagate_dynamic_pair::<{ POSITION.index }, { POSITION.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
+        self.propagate_dynamic_pair::<{ POSITION.index }, { VELOCITY.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
+        self.propagate_dynamic_pair::<{ VELOCITY.index }, { VELOCITY.index }>(
+            &u,
+            &folded,
+            &mut updated,
+        );
         // New P_dc = U's calibration columns, mirrored into P_cd.
-        let calibration = u.fixed_columns::<15>(DYNAMIC_DIMENSION);
+        let calibration = u.fixed_columns::<CALIBRATION_DIMENSION>(DYNAMIC_DIMENSION);
         updated
-            .fixed_view_mut::<DYNAMIC_DIMENSION, 15>(0, DYNAMIC_DIMENSION)
+            .fixed_view_mut::<DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>(0, DYNAMIC_DIMENSION)
             .copy_from(&calibration);
         updated
-            .fixed_view_mut::<15, DYNAMIC_DIMENSION>(DYNAMIC_DIMENSION, 0)
+            .fixed_view_mut::<CALIBRATION_DIMENSION, DYNAMIC_DIMENSION>(DYNAMIC_DIMENSION, 0)
             .tr_copy_from(&calibration);
         if self.bias_walk {
             // Qd outside P_dd: dynamic × bias and bias × bias blocks (symmetric).
@@ -638,35 +697,33 @@ impl StructuredModel {
     }
 }
 
-/// `H`'s 3×3 blocks that are not all zero.
-fn observed_blocks(jacobian: &SMatrix<f64, 3, 24>) -> BlockMask {
-    let mut observed = BlockMask::NONE;
-    for state_block in BLOCKS {
-        let h = jacobian.fixed_columns::<3>(state_block.index);
-        if h.iter().any(|v| *v != 0.0) {
-            observed.insert(state_block);
-        }
+/// `product += H_K P_{K,·}` for the block `K` of `H` if it is not all zero (`K` a
+/// compile-time constant: no bounds check, no panic path).
+fn add_observed_block<const K: usize>(
+    jacobian: &SMatrix<f64, 3, 24>,
+    p: &CovarianceMatrix,
+    product: &mut SMatrix<f64, 3, 24>,
+) {
+    let h = jacobian.fixed_columns::<3>(K);
+    if h.iter().any(|v| *v != 0.0) {
+        *product += h * p.fixed_rows::<3>(K);
     }
-    observed
 }
 
-/// `H P` (3×24, = `Mᵀ`) summed over the non-zero blocks of `H` only.
+/// `H P` (3×24, = `Mᵀ`) summed over the non-zero 3×3 blocks of `H` only.
 pub(crate) fn jacobian_times_covariance(
     jacobian: &SMatrix<f64, 3, 24>,
     p: &CovarianceMatrix,
 ) -> SMatrix<f64, 3, 24> {
-    let observed = observed_blocks(jacobian);
     let mut product = SMatrix::<f64, 3, 24>::zeros();
-    for inner in BLOCKS {
-        if !observed.contains(inner) {
-            continue;
-        }
-        let h = jacobian.fixed_columns::<3>(inner.index);
-        for column in BLOCKS {
-            let mut target = product.fixed_columns_mut::<3>(column.index);
-            target += h * p.fixed_view::<3, 3>(inner.index, column.index);
-        }
-    }
+    add_observed_block::<{ ATTITUDE.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ POSITION.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ VELOCITY.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ GYRO_BIAS.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ ACCEL_BIAS.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ STAR_INSTALLATION.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ GYRO_SCALE_FACTOR.index }>(jacobian, p, &mut product);
+    add_observed_block::<{ ACCEL_SCALE_FACTOR.index }>(jacobian, p, &mut product);
     product
 }
 
@@ -701,38 +758,51 @@ pub(crate) fn joseph_update(
     finite.then_some(updated)
 }
 
+/// Block (`R`, `C`) of `J P Jᵀ` with `J_R = left` and `J_C = right` (`None`: identity).
+fn reset_pair<const R: usize, const C: usize>(
+    p: &CovarianceMatrix,
+    updated: &mut CovarianceMatrix,
+    left: Option<&Matrix3<f64>>,
+    right: Option<&Matrix3<f64>>,
+) {
+    let block = p.fixed_view::<3, 3>(R, C);
+    let value = match (left, right) {
+        (Some(l), Some(r)) => l * block * r.transpose(),
+        (Some(l), None) => l * block,
+        (None, Some(r)) => block * r.transpose(),
+        (None, None) => block.into_owned(),
+    };
+    set_symmetric::<R, C>(updated, &value);
+}
+
 /// `J P Jᵀ` for the reset Jacobian `J` = identity except `J_ϑϑ = I − [ϑ̂×]` and
 /// `J_ψψ = I − [ψ̂×]`: only the attitude and installation block rows and columns change
 /// (upper blocks computed, mirrored).
 pub(crate) fn reset_covariance(
     p: &CovarianceMatrix,
-    attitude_jacobian: &Matrix3<f64>,
-    installation_jacobian: &Matrix3<f64>,
+    attitude: &Matrix3<f64>,
+    installation: &Matrix3<f64>,
 ) -> CovarianceMatrix {
-    let mut updated = *p;
-    let jacobian_of = |b: StateBlock| {
-        if b == ATTITUDE {
-            Some(attitude_jacobian)
-        } else if b == STAR_INSTALLATION {
-            Some(installation_jacobian)
-        } else {
-            None
-        }
-    };
-    for (row_number, row) in BLOCKS.iter().enumerate() {
-        let left = jacobian_of(*row);
-        for column in BLOCKS.iter().skip(row_number) {
-            let right = jacobian_of(*column);
-            let value = match (left, right) {
-                (None, None) => continue,
-                (Some(l), None) => l * block(p, *row, *column),
-                (None, Some(r)) => block(p, *row, *column) * r.transpose(),
-                (Some(l), Some(r)) => l * block(p, *row, *column) * r.transpose(),
-            };
-            set_symmetric(&mut updated, *row, *column, &value);
-        }
-    }
-    updated
+    const A: usize = ATTITUDE.index;
+    const I: usize = STAR_INSTALLATION.index;
+    let mut u = *p;
+    let (a, i) = (Some(attitude), Some(installation));
+    reset_pair::<A, A>(p, &mut u, a, a);
+    reset_pair::<A, { POSITION.index }>(p, &mut u, a, None);
+    reset_pair::<A, { VELOCITY.index }>(p, &mut u, a, None);
+    reset_pair::<A, { GYRO_BIAS.index }>(p, &mut u, a, None);
+    reset_pair::<A, { ACCEL_BIAS.index }>(p, &mut u, a, None);
+    reset_pair::<A, I>(p, &mut u, a, i);
+    reset_pair::<A, { GYRO_SCALE_FACTOR.index }>(p, &mut u, a, None);
+    reset_pair::<A, { ACCEL_SCALE_FACTOR.index }>(p, &mut u, a, None);
+    reset_pair::<{ POSITION.index }, I>(p, &mut u, None, i);
+    reset_pair::<{ VELOCITY.index }, I>(p, &mut u, None, i);
+    reset_pair::<{ GYRO_BIAS.index }, I>(p, &mut u, None, i);
+    reset_pair::<{ ACCEL_BIAS.index }, I>(p, &mut u, None, i);
+    reset_pair::<I, I>(p, &mut u, i, i);
+    reset_pair::<I, { GYRO_SCALE_FACTOR.index }>(p, &mut u, i, None);
+    reset_pair::<I, { ACCEL_SCALE_FACTOR.index }>(p, &mut u, i, None);
+    u
 }
 
 #[cfg(test)]
@@ -745,6 +815,19 @@ mod tests {
         ErrorState, ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty,
     };
     use crate::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
+    use crate::state::BLOCKS;
+
+    /// The 3×3 block (`row`, `column`) of a matrix.
+    fn block<const R: usize, const C: usize>(
+        matrix: &SMatrix<f64, R, C>,
+        row: StateBlock,
+        column: StateBlock,
+    ) -> Matrix3<f64> {
+        matrix
+            .fixed_view::<3, 3>(row.index, column.index)
+            .into_owned()
+    }
+
     use nalgebra::Quaternion;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
