@@ -59,5 +59,6 @@ pub mod observability;
 pub mod selftest;
 pub mod state;
 pub mod strapdown;
+pub mod structured;
 
 pub use error::NavError;

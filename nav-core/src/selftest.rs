@@ -12,14 +12,16 @@ use crate::filter::{
     InitialUncertainty,
 };
 use crate::frames::{LaunchFrame, LaunchSite};
-use crate::measurement::{gnss_position, star_sensor};
+use crate::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use crate::observability::{
     full_update_measurement_matrix, PaperMotionState, RankTolerance, Scaling,
     StrippedObservability, SystemForm,
 };
+use crate::state::BlockMask;
 use crate::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown, StrapdownConfig,
 };
+use crate::structured::StructuredModel;
 use crate::NavError;
 
 /// Number of f64 results produced by [`reference_workload`].
@@ -65,12 +67,23 @@ pub fn reference_workload() -> [f64; REFERENCE_RESULT_COUNT] {
     ]
 }
 
+/// Which implementation of the filter's matrix arithmetic a fixture step uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Implementation {
+    /// The flight path: block-sparse propagation, update and reset ([`crate::structured`]).
+    Structured,
+    /// The dense 24×24 reference.
+    Dense,
+}
+
 /// Number of f64 results of [`FilterPathFixture::results`].
 pub const FILTER_PATH_RESULT_COUNT: usize = 16;
 
 /// The whole filter path on a fixed, deterministic input sequence: linearisation and
 /// 3rd-order discretisation, covariance prediction, star-sensor and GNSS updates, and the
-/// closed-loop reset with feedback into the navigation solution. Each step is a separate
+/// closed-loop reset with feedback into the navigation solution, with the flight (structured)
+/// implementation; each step also exists with the dense reference for cost comparisons. Each step is a separate
 /// method so the firmware can cost it; host and target run the same sequence and must agree
 /// bit for bit.
 #[derive(Debug, Clone, Copy)]
@@ -161,14 +174,10 @@ impl FilterPathFixture {
         Ok(())
     }
 
-    /// One 2 ms covariance propagation about the last strapdown step: builds `A` (with the
-    /// J2 gravity gradient) and `G`, discretises (order 3) and predicts.
-    ///
-    /// # Errors
-    /// As [`discretise`] and [`ErrorStateFilter::predict`].
-    pub fn propagate(&mut self) -> Result<(), NavError> {
+    /// The linearisation point of the last strapdown step (with the J2 gravity gradient).
+    fn linearisation_point(&self) -> LinearisationPoint {
         let step = &self.last_step;
-        let point = LinearisationPoint {
+        LinearisationPoint {
             corrected_rate_rad_s: step.corrected_rate_rad_s,
             corrected_specific_force_mps2: step.corrected_specific_force_mps2,
             measured_rate_rad_s: step.measured_rate_rad_s,
@@ -179,22 +188,74 @@ impl FilterPathFixture {
                 .config()
                 .gravity
                 .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
-        };
-        let model = discretise(
-            &system_matrix(&point),
-            &noise_input_matrix(&point),
-            &ProcessNoise::PAPER.spectral_density_diagonal(),
-            0.002,
-            3,
-        )?;
-        self.filter.predict(&model)
+        }
     }
 
-    /// A star-sensor update with a fixed small attitude offset (10″-class noise model).
+    /// One 2 ms covariance propagation about the last strapdown step with the flight
+    /// (structured) implementation.
     ///
     /// # Errors
-    /// As [`star_sensor`] and [`ErrorStateFilter::update`].
+    /// As [`FilterPathFixture::propagate_with`].
+    pub fn propagate(&mut self) -> Result<(), NavError> {
+        self.propagate_with(Implementation::Structured)
+    }
+
+    /// One 2 ms covariance propagation about the last strapdown step (order 3): structured
+    /// ([`StructuredModel`], [`ErrorStateFilter::predict_structured`]) or dense (`A` and `G`,
+    /// [`discretise`], [`ErrorStateFilter::predict`]).
+    ///
+    /// # Errors
+    /// As [`StructuredModel::new`]/[`discretise`] and the predict.
+    pub fn propagate_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+        let point = self.linearisation_point();
+        match implementation {
+            Implementation::Structured => {
+                let model = StructuredModel::new(&point, &ProcessNoise::PAPER, 0.002, 3)?;
+                self.filter.predict_structured(&model)
+            }
+            Implementation::Dense => {
+                let model = discretise(
+                    &system_matrix(&point),
+                    &noise_input_matrix(&point),
+                    &ProcessNoise::PAPER.spectral_density_diagonal(),
+                    0.002,
+                    3,
+                )?;
+                self.filter.predict(&model)
+            }
+        }
+    }
+
+    /// Applies `measurement` with the chosen update implementation (no gate, nothing frozen).
+    fn apply(
+        &mut self,
+        measurement: &LinearMeasurement,
+        implementation: Implementation,
+    ) -> Result<(), NavError> {
+        let report = match implementation {
+            Implementation::Structured => {
+                self.filter
+                    .update_structured(measurement, f64::INFINITY, &BlockMask::NONE)
+            }
+            Implementation::Dense => self.filter.update(measurement, f64::INFINITY),
+        };
+        report.map(|_| ())
+    }
+
+    /// A star-sensor update with a fixed small attitude offset (10″-class noise model), with
+    /// the flight (structured) update.
+    ///
+    /// # Errors
+    /// As [`FilterPathFixture::star_update_with`].
     pub fn star_update(&mut self) -> Result<(), NavError> {
+        self.star_update_with(Implementation::Structured)
+    }
+
+    /// [`FilterPathFixture::star_update`] with the chosen implementation.
+    ///
+    /// # Errors
+    /// As [`star_sensor`] and the update.
+    pub fn star_update_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
         let mounting = attitude::exp_rotation_vector(&Vector3::new(0.0, 0.5, 0.0));
         let truth_offset = attitude::exp_rotation_vector(&Vector3::new(2e-4, -1e-4, 3e-4));
         let measured = attitude::product(
@@ -209,34 +270,66 @@ impl FilterPathFixture {
             &measured,
             10.0 / 206_264.806_247_096_36,
         )?;
-        self.filter.update(&measurement, f64::INFINITY).map(|_| ())
+        self.apply(&measurement, implementation)
     }
 
-    /// A GNSS update 12 m away from the predicted antenna position.
+    /// A GNSS update 12 m away from the predicted antenna position, with the flight
+    /// (structured) update.
     ///
     /// # Errors
-    /// As [`gnss_position`] and [`ErrorStateFilter::update`].
+    /// As [`FilterPathFixture::gnss_update_with`].
     pub fn gnss_update(&mut self) -> Result<(), NavError> {
+        self.gnss_update_with(Implementation::Structured, 0.0)
+    }
+
+    /// [`FilterPathFixture::gnss_update`] with the chosen implementation; a positive
+    /// `latency_s` refers the fix to the current error state with `H (I − AΔ)` (as the
+    /// flight scheduler does for a late fix), which adds the velocity, gyro-bias and
+    /// gyro-scale-factor columns to `H`.
+    ///
+    /// # Errors
+    /// As [`gnss_position`], [`refer_to_later_time`] and the update.
+    pub fn gnss_update_with(
+        &mut self,
+        implementation: Implementation,
+        latency_s: f64,
+    ) -> Result<(), NavError> {
         let lever_arm = Vector3::new(0.5, 1.0, -0.2);
         let antenna = self.navigation.position_m
             + attitude::rotate(&self.navigation.attitude, &lever_arm)
             + Vector3::new(12.0, -5.0, 3.0);
-        let measurement = gnss_position(
+        let mut measurement = gnss_position(
             &self.navigation.attitude,
             &self.navigation.position_m,
             &lever_arm,
             &antenna,
             10.0,
         )?;
-        self.filter.update(&measurement, f64::INFINITY).map(|_| ())
+        if latency_s > 0.0 {
+            let point = self.linearisation_point();
+            measurement = refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?;
+        }
+        self.apply(&measurement, implementation)
     }
 
-    /// Closed-loop reset and feedback into the navigation solution and calibration.
+    /// Closed-loop reset and feedback into the navigation solution and calibration (the
+    /// flight, block-wise reset).
+    ///
+    /// # Errors
+    /// As [`FilterPathFixture::reset_with`].
+    pub fn reset(&mut self) -> Result<(), NavError> {
+        self.reset_with(Implementation::Structured)
+    }
+
+    /// [`FilterPathFixture::reset`] with the chosen implementation of `J P Jᵀ`.
     ///
     /// # Errors
     /// As [`apply_error_state`].
-    pub fn reset(&mut self) -> Result<(), NavError> {
-        let error = self.filter.reset();
+    pub fn reset_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+        let error = match implementation {
+            Implementation::Structured => self.filter.reset(),
+            Implementation::Dense => self.filter.reset_dense(),
+        };
         apply_error_state(
             &error,
             &mut self.navigation.attitude,
@@ -246,22 +339,44 @@ impl FilterPathFixture {
         )
     }
 
-    /// Runs the reference sequence: 100 strapdown steps each followed by a propagation, a star update every 25, a GNSS update
+    /// The worst 2 ms frame of the flight scheduler: a strapdown step, a covariance
+    /// propagation, one measurement update (the costliest: a GNSS fix 10 ms late, referred
+    /// to the current state) and the closed-loop reset.
+    ///
+    /// # Errors
+    /// The first error of any step.
+    pub fn worst_frame_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+        self.navigate()?;
+        self.propagate_with(implementation)?;
+        self.gnss_update_with(implementation, 0.01)?;
+        self.reset_with(implementation)
+    }
+
+    /// Runs the reference sequence with the flight (structured) implementation: 100
+    /// strapdown steps each followed by a propagation, a star update every 25, a GNSS update
     /// every 50, a reset after every update.
     ///
     /// # Errors
     /// The first error of any step.
     pub fn run_sequence(&mut self) -> Result<(), NavError> {
+        self.run_sequence_with(Implementation::Structured)
+    }
+
+    /// [`FilterPathFixture::run_sequence`] with the chosen implementation.
+    ///
+    /// # Errors
+    /// The first error of any step.
+    pub fn run_sequence_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
         for frame in 1..=100u32 {
             self.navigate()?;
-            self.propagate()?;
+            self.propagate_with(implementation)?;
             if frame % 25 == 0 {
-                self.star_update()?;
-                self.reset()?;
+                self.star_update_with(implementation)?;
+                self.reset_with(implementation)?;
             }
             if frame % 50 == 0 {
-                self.gnss_update()?;
-                self.reset()?;
+                self.gnss_update_with(implementation, 0.0)?;
+                self.reset_with(implementation)?;
             }
         }
         Ok(())
@@ -366,6 +481,50 @@ mod tests {
         assert!(moved_x > 14.0 && moved_x < 19.0, "{moved_x}");
         // Updates shrink the attitude variance below its prior.
         assert!(after[14] < (0.5e-3f64).powi(2), "{}", after[14]);
+    }
+
+    #[test]
+    fn structured_and_dense_sequences_agree() {
+        let mut structured = FilterPathFixture::new().unwrap();
+        structured
+            .run_sequence_with(Implementation::Structured)
+            .unwrap();
+        let mut dense = FilterPathFixture::new().unwrap();
+        dense.run_sequence_with(Implementation::Dense).unwrap();
+        let (s, d) = (structured.results(), dense.results());
+        // Attitude (unit quaternion), position (1e5-1e6 m), velocity (7.5e3 m/s), gyro bias,
+        // P entries: relative to each quantity's own scale.
+        let scales = [
+            1.0, 1.0, 1.0, 1.0, 1e6, 1e6, 1e6, 1e4, 1e4, 1e4, 5e-4, 5e-4, 5e-4,
+        ];
+        for (index, scale) in scales.iter().enumerate() {
+            let difference = (s[index] - d[index]).abs() / scale;
+            assert!(
+                difference < 1e-12,
+                "result {index}: {} vs {}",
+                s[index],
+                d[index]
+            );
+        }
+        for index in 13..FILTER_PATH_RESULT_COUNT {
+            let difference = (s[index] - d[index]).abs() / d[13];
+            assert!(
+                difference < 1e-12,
+                "result {index}: {} vs {}",
+                s[index],
+                d[index]
+            );
+        }
+        // Another latency path: a late GNSS fix, structured vs dense, in one worst frame.
+        let mut late_structured = structured;
+        let mut late_dense = structured;
+        late_structured
+            .worst_frame_with(Implementation::Structured)
+            .unwrap();
+        late_dense.worst_frame_with(Implementation::Dense).unwrap();
+        let (s, d) = (late_structured.results(), late_dense.results());
+        assert!((s[4] - d[4]).abs() < 1e-9, "{} vs {}", s[4], d[4]);
+        assert!((s[13] - d[13]).abs() < 1e-12 * d[13]);
     }
 
     #[test]

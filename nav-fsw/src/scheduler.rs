@@ -30,8 +30,7 @@
 use heapless::Deque;
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;
-use nav_core::discretise::discretise;
-use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
+use nav_core::error_model::{system_matrix, LinearisationPoint};
 use nav_core::filter::{
     apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
     FilterMode,
@@ -45,6 +44,7 @@ use nav_core::state::{
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
+use nav_core::structured::StructuredModel;
 use nav_core::NavError;
 
 use crate::calibration_manager::{
@@ -415,25 +415,18 @@ impl NavigationComputer {
                 .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
         };
         self.last_point = Some(point);
-        let model = discretise(
-            &system_matrix(&point),
-            &noise_input_matrix(&point),
-            &self.config.process_noise.spectral_density_diagonal(),
+        // Block-structured discretisation and F P Fᵀ + Qd (nav-core `structured`); frozen
+        // blocks get no process noise.
+        let model = StructuredModel::new(
+            &point,
+            &self.config.process_noise,
             interval_s,
             self.config.filter.discretisation_order,
         );
         let frozen = self.manager.frozen_blocks();
         let result = model.and_then(|mut model| {
-            if !frozen.is_empty() {
-                // Column-major storage: element k is (k mod 24, k div 24).
-                for (index, value) in model.process_noise.iter_mut().enumerate() {
-                    let (row, column) = (index % STATE_DIMENSION, index / STATE_DIMENSION);
-                    if frozen.contains_state(row) || frozen.contains_state(column) {
-                        *value = 0.0;
-                    }
-                }
-            }
-            self.filter.predict(&model)
+            model.remove_process_noise(&frozen);
+            self.filter.predict_structured(&model)
         });
         match result {
             Ok(()) => self.protect_covariance(),
@@ -659,8 +652,7 @@ impl NavigationComputer {
             self.config.gnss.gate_nis
         };
         let frozen = self.manager.frozen_blocks();
-        let report =
-            measurement.and_then(|m| self.filter.update_with_frozen_blocks(&m, gate, &frozen));
+        let report = measurement.and_then(|m| self.filter.update_structured(&m, gate, &frozen));
         match report {
             Err(_) => {
                 count(&mut self.health.filter_errors);
