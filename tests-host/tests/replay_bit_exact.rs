@@ -4,8 +4,8 @@
 //! by frame type and writes it to `target/qemu/replay-report.txt`.
 //!
 //! Ignored by default (needs QEMU and the firmware): `scripts/test.sh` builds the firmware
-//! and runs it with `NAV_QEMU_REPLAY_ELF` set; `NAV_REPLAY_SECONDS` (default 60) sets how
-//! much of the scenario is replayed.
+//! and runs it with `NAV_QEMU_REPLAY_ELF` set; `NAV_REPLAY_SECONDS` (default 300) sets how
+//! much of the scenario is replayed (scripts/test.sh: 300 s).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -26,7 +26,7 @@ fn default_scenario_replays_bit_for_bit_on_host_and_target() {
     let seconds: u64 = std::env::var("NAV_REPLAY_SECONDS")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(60);
+        .unwrap_or(300);
     let directory = root.join("target/qemu/replay");
     std::fs::create_dir_all(&directory).unwrap();
     let scenario = Scenario::default_scenario().unwrap();
