@@ -5,8 +5,7 @@
 
 use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
 use nav_core::attitude;
-use nav_core::error_model::ProcessNoise;
-use nav_core::filter::{CalibrationEstimate, FilterMode, InitialUncertainty};
+use nav_core::filter::CalibrationEstimate;
 use nav_core::state::CALIBRATION_BLOCKS;
 use nav_core::strapdown::NavigationState;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
@@ -19,6 +18,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::covariance_design;
 use crate::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
 use crate::sensor_log;
@@ -44,6 +44,9 @@ pub enum FlightError {
     /// The scenario's launch site was refused.
     #[error("launch site refused: {0}")]
     LaunchSite(String),
+    /// A scenario setting the flight software cannot take.
+    #[error("scenario setting: {0}")]
+    Setting(String),
 }
 
 /// Values of the five calibration blocks, per axis, in [`CALIBRATION_BLOCKS`] order (gyro
@@ -185,7 +188,8 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
     let truth_start = truth::initial_state(scenario, &frame)
         .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
     let settings = &scenario.filter;
-    let sigma = &settings.initial_sigma;
+    let filter = covariance_design::filter_config(scenario)
+        .map_err(|error| FlightError::Setting(error.to_string()))?;
     let period_s = scenario.imu.frame_period_s();
     let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
     let mounting = attitude::exp_rotation_vector(&Vector3::new(
@@ -197,31 +201,10 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
     Ok(ReplaySetup {
         launch_site: truth::launch_site(scenario),
         initial: initial_navigation(scenario, &truth_start),
-        mode: match settings.mode {
-            scenario::FilterMode::OpenLoop => FilterMode::OpenLoop,
-            scenario::FilterMode::ClosedLoop => FilterMode::ClosedLoop,
-        },
-        discretisation_order: u8::try_from(settings.discretisation_order).unwrap_or(u8::MAX),
-        initial_sigma: InitialUncertainty {
-            attitude_rad: sigma.attitude_rad,
-            position_m: sigma.position_m,
-            velocity_mps: sigma.velocity_mps,
-            gyro_bias_rad_s: sigma.gyro_bias_rad_per_s,
-            accel_bias_mps2: sigma.accel_bias_mps2,
-            star_installation_rad: sigma.star_installation_rad,
-            gyro_scale_factor: sigma.gyro_scale_factor,
-            accel_scale_factor: sigma.accel_scale_factor,
-        },
-        process_noise: ProcessNoise {
-            gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
-            accel_noise_density_mps2_per_sqrt_hz: scenario
-                .accelerometer
-                .noise_density_mps2_per_sqrt_hz(period_s),
-            gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
-            accel_bias_walk_mps3_per_sqrt_hz: scenario
-                .accelerometer
-                .bias_random_walk_mps2_per_sqrt_s,
-        },
+        mode: filter.mode,
+        discretisation_order: filter.discretisation_order,
+        initial_sigma: filter.initial,
+        process_noise: covariance_design::scenario_process_noise(scenario),
         imu_period_s: period_s,
         star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
         // A zero-noise sensor (a test setting) still needs a positive R.
