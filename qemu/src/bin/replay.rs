@@ -204,7 +204,10 @@ fn main() -> ! {
             for (chunk, word) in out_bytes.chunks_exact_mut(8).zip(words) {
                 chunk.copy_from_slice(&word.to_le_bytes());
             }
-            if output.write_all(out_bytes.get(..words.len() * 8).unwrap_or(&[])).is_err() {
+            if output
+                .write_all(out_bytes.get(..words.len() * 8).unwrap_or(&[]))
+                .is_err()
+            {
                 defmt::error!("replay: output write failed");
                 exit_failure()
             }
