@@ -49,7 +49,7 @@
 //! blocks and axes a constant motion makes observable after a reference coast
 //! ([`AxisObservability`]).
 
-use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3, SVD};
+use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, SymmetricEigen, Vector3, SVD};
 
 use crate::error_model::{system_matrix, LinearisationPoint, SystemMatrix};
 use crate::measurement::{gnss_position, star_sensor, MeasurementJacobian};
@@ -358,6 +358,49 @@ impl ObservabilityAnalysis {
             *flag = *observable;
         }
         out
+    }
+
+    /// Number of independent observable directions inside `block` (0..=3): linear
+    /// combinations `uᵀ x_block` that are observable although the single states may not be.
+    ///
+    /// Derivation: a combination `u` (a 24-vector supported on the block) is observable iff it
+    /// lies in the row space of the observability matrix, i.e. `Nᵀu = 0` for the null-space
+    /// basis `N` (right singular vectors with `σ ≤` [`Self::zero_threshold`]). With `N_b` the
+    /// block's three rows of `N`, the observable directions are the null space of
+    /// `P_b = N_b N_bᵀ` (3×3, eigenvalues in [0, 1]); an eigenvalue counts as zero when it is
+    /// ≤ `tolerance.projection²`, the per-state test's threshold squared. Example: a rotation
+    /// about one body axis leaves the installation error about that axis (in sensor axes a
+    /// mix of all three) inseparable from the attitude error, so no single installation state
+    /// is observable, yet two installation directions are.
+    ///
+    /// # Errors
+    /// [`NavError::SingularMatrix`] if the 3×3 eigen-decomposition does not converge.
+    pub fn observable_directions(
+        &self,
+        block: StateBlock,
+        tolerance: &RankTolerance,
+    ) -> Result<usize, NavError> {
+        let mut projection = Matrix3::<f64>::zeros();
+        let null_columns = self
+            .right_singular_vectors
+            .column_iter()
+            .zip(self.singular_values.iter())
+            .filter(|(_, sigma)| **sigma <= self.zero_threshold);
+        for (column, _) in null_columns {
+            let mut part = Vector3::<f64>::zeros();
+            for (value, component) in part.iter_mut().zip(column.iter().skip(block.index)) {
+                *value = *component;
+            }
+            projection += part * part.transpose();
+        }
+        let eigen = SymmetricEigen::try_new(projection, SVD_EPSILON, SVD_MAX_ITERATIONS)
+            .ok_or(NavError::SingularMatrix)?;
+        let zero = tolerance.projection * tolerance.projection;
+        Ok(eigen
+            .eigenvalues
+            .iter()
+            .filter(|value| **value <= zero)
+            .count())
     }
 }
 
@@ -783,6 +826,21 @@ pub fn motion_observability(
     h: &MeasurementMatrix,
     tolerance: &RankTolerance,
 ) -> Result<AxisObservability, NavError> {
+    let analysis = motion_observability_analysis(point, h, tolerance)?;
+    Ok(AxisObservability::from_analysis(&analysis))
+}
+
+/// The analysis behind [`motion_observability`] (reference coast, then `point`; scaled
+/// continuous segments), for callers that need more than the per-state flags, e.g.
+/// [`ObservabilityAnalysis::observable_directions`].
+///
+/// # Errors
+/// As [`motion_observability`].
+pub fn motion_observability_analysis(
+    point: &LinearisationPoint,
+    h: &MeasurementMatrix,
+    tolerance: &RankTolerance,
+) -> Result<ObservabilityAnalysis, NavError> {
     let reference_coast = constant_motion(
         &Vector3::zeros(),
         &Vector3::zeros(),
@@ -791,8 +849,7 @@ pub fn motion_observability(
     let mut stripped = StrippedObservability::new(Scaling::typical())?;
     stripped.add_segment(&system_matrix(&reference_coast), h, SystemForm::Continuous)?;
     stripped.add_segment(&system_matrix(point), h, SystemForm::Continuous)?;
-    let analysis = stripped.analyse(tolerance)?;
-    Ok(AxisObservability::from_analysis(&analysis))
+    stripped.analyse(tolerance)
 }
 
 #[cfg(test)]
@@ -1076,6 +1133,29 @@ mod tests {
         assert_eq!(analysis.observable_count(), STATE_DIMENSION);
         let discrete = analyse(&full_schedule(), SystemForm::Discrete, Scaling::typical());
         assert_eq!(discrete.rank, STATE_DIMENSION);
+    }
+
+    #[test]
+    fn observable_directions_count_combinations_inside_a_block() {
+        // Rotation about body x after a coast, generic star mounting: the installation error
+        // about body x (a mix of all three sensor axes) stays glued to the attitude error, so
+        // no single installation state passes the per-state test, yet two directions do; the
+        // gyro scale factor has exactly one observable direction (x).
+        let mounting = exp_rotation_vector(&Vector3::new(0.3, -0.2, 0.5));
+        let h = full_update_measurement_matrix(&attitude(), &mounting).unwrap();
+        let analysis =
+            motion_observability_analysis(&rotation(0), &h, &RankTolerance::DEFAULT).unwrap();
+        assert_eq!(analysis.block_observable(STAR_INSTALLATION), [false; 3]);
+        let count = |block| {
+            analysis
+                .observable_directions(block, &RankTolerance::DEFAULT)
+                .unwrap()
+        };
+        assert_eq!(count(STAR_INSTALLATION), 2);
+        assert_eq!(count(GYRO_SCALE_FACTOR), 1);
+        assert_eq!(count(ACCEL_SCALE_FACTOR), 0);
+        assert_eq!(count(GYRO_BIAS), 3);
+        assert_eq!(count(ATTITUDE), 2);
     }
 
     #[test]

@@ -8,10 +8,21 @@
 //! `update_with_frozen_blocks`; calibration blocks have no process noise unless a bias random
 //! walk is configured, and the scheduler zeroes that too for a frozen block), and keeps the
 //! calibration table (value, 1σ, time converged) that the ground reads.
+//!
+//! Which blocks may move is chosen by [`EstimationPolicy`]: all of them (default), the
+//! paper's phase schedule, or the observability of the current motion
+//! ([`EstimationPolicy::MotionObservability`]: the manager classifies the measured body rate
+//! and specific force into a [`MotionSignature`] every frame and looks up which blocks that
+//! motion makes observable in the configured [`MotionObservabilityTable`], the result of
+//! nav-core's stripped-observability analysis for every signature).
 
+use nalgebra::{Matrix3, Quaternion, Vector3};
+use nav_core::observability::{
+    constant_motion, full_update_measurement_matrix, motion_observability_analysis, RankTolerance,
+};
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, CALIBRATION_BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, STAR_INSTALLATION,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, VELOCITY,
 };
 
 use crate::error::{ConfigField, FswError};
@@ -46,6 +57,201 @@ pub enum EstimationPolicy {
     /// installation error. The other calibration blocks are frozen in that phase.
     /// `Unknown` estimates all.
     PaperSchedule,
+    /// Observability-driven (issue 9): a calibration block is frozen while the current motion
+    /// (its [`MotionSignature`], from the measured body rate and specific force) makes no
+    /// direction of it observable **and** an earlier motion did; otherwise it is estimated.
+    /// "Observable" is nav-core's structural test ([`motion_observability_analysis`]: the
+    /// paper's PWCS setting, a reference coast then the motion, null space of the stripped
+    /// observability matrix, per-block directions as
+    /// [`MotionObservabilityTable::ESTIMABLE`]), tabulated for all 64 signatures at start-up
+    /// ([`MotionObservabilityTable`]), so the per-frame cost is a table look-up. The
+    /// manoeuvre phase is not used.
+    ///
+    /// Why "and an earlier motion did": freezing is a consider (Schmidt) update, which throws
+    /// away what a measurement says about the frozen block. Freezing a block that no motion has
+    /// revealed yet loses the correlations the filter builds before its manoeuvre (e.g. the
+    /// installation error tied to the attitude prior during the first coast): measured on the
+    /// short test scenario, the z gyro scale factor then ends at 1σ = 6.2e-5 instead of 1.1e-6.
+    /// So the policy protects what a manoeuvre has taught the filter from being dragged by
+    /// unmodelled effects in phases that cannot see it, and leaves the rest to the filter's
+    /// own gains. Freezing is per block: a block with at least one observable direction moves
+    /// as a whole (e.g. under a rotation about body z the gyro scale factor block moves, whose
+    /// z axis alone is observable).
+    MotionObservability,
+}
+
+/// The structure of the current motion: which body axes rotate faster than
+/// [`CalibrationManagerConfig::motion_rate_threshold_rad_s`] (bits 0-2, x y z) and which
+/// carry a specific force above [`CalibrationManagerConfig::motion_force_threshold_mps2`]
+/// (bits 3-5). Structural observability depends on this pattern only (not on the magnitudes,
+/// for generic values), which is why 64 entries describe every motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MotionSignature {
+    bits: u8,
+}
+
+impl MotionSignature {
+    /// Number of distinct signatures (6 bits).
+    pub const COUNT: usize = 64;
+
+    /// Classifies a body rate (rad/s) and specific force (m/s²) against the thresholds
+    /// (absolute value per axis; NaN counts as "not moving").
+    pub fn classify(
+        body_rate_rad_s: &Vector3<f64>,
+        specific_force_mps2: &Vector3<f64>,
+        rate_threshold_rad_s: f64,
+        force_threshold_mps2: f64,
+    ) -> Self {
+        let mut bits = 0u8;
+        for (bit, rate) in [1u8, 2, 4].iter().zip(body_rate_rad_s.iter()) {
+            if rate.abs() > rate_threshold_rad_s {
+                bits |= bit;
+            }
+        }
+        for (bit, force) in [8u8, 16, 32].iter().zip(specific_force_mps2.iter()) {
+            if force.abs() > force_threshold_mps2 {
+                bits |= bit;
+            }
+        }
+        Self { bits }
+    }
+
+    /// From its 6 bits (higher bits ignored).
+    pub fn from_bits(bits: u8) -> Self {
+        Self { bits: bits & 0x3f }
+    }
+
+    /// The 6 bits (0-2 rotating axes, 3-5 specific-force axes).
+    pub fn bits(&self) -> u8 {
+        self.bits
+    }
+
+    /// A representative constant motion of this signature for the analysis: 10, 12 and
+    /// 14 °/s about the flagged axes and 20, 22 and 24 m/s² along the flagged axes (the
+    /// paper's state II and III magnitudes, made distinct so that no accidental symmetry
+    /// between axes enters the structural test).
+    fn representative_motion(&self) -> (Vector3<f64>, Vector3<f64>) {
+        const RADIANS_PER_DEGREE: f64 = core::f64::consts::PI / 180.0;
+        let flag = |bit: u8, value: f64| if self.bits & bit != 0 { value } else { 0.0 };
+        let rate = Vector3::new(
+            flag(1, 10.0 * RADIANS_PER_DEGREE),
+            flag(2, 12.0 * RADIANS_PER_DEGREE),
+            flag(4, 14.0 * RADIANS_PER_DEGREE),
+        );
+        let force = Vector3::new(flag(8, 20.0), flag(16, 22.0), flag(32, 24.0));
+        (rate, force)
+    }
+}
+
+/// For each [`MotionSignature`], the calibration blocks in which that motion makes at least
+/// one direction observable ([`nav_core::observability::ObservabilityAnalysis::observable_directions`]).
+///
+/// The table is configuration, not computed in flight: the analysis needs nalgebra's SVD and
+/// symmetric eigen-decomposition, which contain panic paths (the panic-never flight build
+/// refuses to link them), so [`Self::compute`] runs on the ground (nav-sim, or the QEMU
+/// checks where the singular values are compared bit for bit with the host) and the flight
+/// software only looks entries up. The default is [`Self::structural`], the pattern the
+/// analysis gives for any mounting (proven by this module's tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MotionObservabilityTable {
+    estimable: [BlockMask; MotionSignature::COUNT],
+}
+
+impl Default for MotionObservabilityTable {
+    fn default() -> Self {
+        Self::structural()
+    }
+}
+
+impl MotionObservabilityTable {
+    /// Rank and null space as [`RankTolerance::DEFAULT`], but a direction inside a block
+    /// counts as estimable when at most 10 % of it (scaled coordinates, projection 0.1) lies
+    /// in the unobservable subspace. The structural 1e-6 would be right for axis-aligned
+    /// motions, whose null vectors are exact, but under an oblique rotation the unobservable
+    /// scale-factor combinations (perpendicular to the rotation axis: their drift only tilts
+    /// the body-frame attitude by a constant) carry installation components of order 1e-3,
+    /// which would hide the two installation directions that the rotation does reveal.
+    pub const ESTIMABLE: RankTolerance = RankTolerance {
+        projection: 0.1,
+        ..RankTolerance::DEFAULT
+    };
+
+    /// The analysis' result in closed form: the biases in every motion; a rotation adds the
+    /// installation error and the gyro scale factor, a specific force adds the installation
+    /// error and the accelerometer scale factor. Why (module tests prove that
+    /// [`Self::compute`] gives exactly this): after the reference coast a constant rotation
+    /// separates the scale-factor drift along its axis from the bias, and the turning body
+    /// separates the installation directions perpendicular to it from the attitude error;
+    /// a specific force reveals the accelerometer scale factor along it and the attitude
+    /// about the perpendicular axes through the velocity, hence installation directions.
+    pub fn structural() -> Self {
+        let mut estimable = [BlockMask::NONE; MotionSignature::COUNT];
+        for (bits, mask) in (0u8..).zip(estimable.iter_mut()) {
+            mask.insert(GYRO_BIAS);
+            mask.insert(ACCEL_BIAS);
+            if bits & 0b00_0111 != 0 {
+                mask.insert(STAR_INSTALLATION);
+                mask.insert(GYRO_SCALE_FACTOR);
+            }
+            if bits & 0b11_1000 != 0 {
+                mask.insert(STAR_INSTALLATION);
+                mask.insert(ACCEL_SCALE_FACTOR);
+            }
+        }
+        Self { estimable }
+    }
+
+    /// A table from explicit entries (index = [`MotionSignature::bits`]), e.g. one computed
+    /// on the ground for another model. Checked by [`CalibrationManagerConfig::validate`].
+    pub fn from_entries(estimable: [BlockMask; MotionSignature::COUNT]) -> Self {
+        Self { estimable }
+    }
+
+    /// Only calibration blocks in every entry.
+    fn is_valid(&self) -> bool {
+        self.estimable.iter().all(|mask| {
+            !(mask.contains(ATTITUDE) || mask.contains(POSITION) || mask.contains(VELOCITY))
+        })
+    }
+
+    /// Runs the structural analysis for the 64 signatures (ground work: 64 × two
+    /// 144-row Givens segments and one 24×24 SVD; not for the flight image, see the type's
+    /// docs).
+    ///
+    /// The attitude is the identity: a rotation of the launch-inertial frame maps the
+    /// stripped observability matrix of body-frame states onto one with the same row space
+    /// (position and velocity rows rotate, `H` of the star sensor is `C_sb` in body axes), so
+    /// the answer does not depend on it. The star-sensor mounting `q_bs` does enter `H` and is
+    /// the configured one.
+    ///
+    /// # Errors
+    /// [`FswError::Navigation`] if the analysis fails (a non-finite mounting, or an SVD that
+    /// does not converge).
+    pub fn compute(star_mounting: &Quaternion<f64>) -> Result<Self, FswError> {
+        let h = full_update_measurement_matrix(&Quaternion::identity(), star_mounting)?;
+        let mut estimable = [BlockMask::NONE; MotionSignature::COUNT];
+        for (bits, mask) in (0u8..).zip(estimable.iter_mut()) {
+            let (rate, force) = MotionSignature::from_bits(bits).representative_motion();
+            let point = constant_motion(&rate, &force, &Matrix3::identity());
+            let analysis = motion_observability_analysis(&point, &h, &RankTolerance::DEFAULT)?;
+            for block in CALIBRATION_BLOCKS {
+                if analysis.observable_directions(block, &Self::ESTIMABLE)? > 0 {
+                    mask.insert(block);
+                }
+            }
+        }
+        Ok(Self { estimable })
+    }
+
+    /// The calibration blocks `signature` makes observable.
+    pub fn estimable(&self, signature: MotionSignature) -> BlockMask {
+        self.estimable
+            .get(usize::from(signature.bits))
+            .copied()
+            .unwrap_or(BlockMask::NONE)
+    }
 }
 
 /// Per calibration block thresholds (units of the block).
@@ -106,6 +312,17 @@ pub struct CalibrationManagerConfig {
     pub freeze_converged: bool,
     /// Which blocks are estimated in which phase.
     pub policy: EstimationPolicy,
+    /// [`EstimationPolicy::MotionObservability`]: a body axis counts as rotating above this
+    /// rate (rad/s). Default 0.5 °/s: far above an orbital coast's rate (the paper's state I is
+    /// 2.4e-4 °/s) and the gyro noise of one 2 ms sample, far below a calibration rotation.
+    pub motion_rate_threshold_rad_s: f64,
+    /// [`EstimationPolicy::MotionObservability`]: a body axis counts as thrusting above this
+    /// specific force (m/s²). Default 0.5 m/s²: above the drag and accelerometer noise of a
+    /// coast, far below a calibration burn.
+    pub motion_force_threshold_mps2: f64,
+    /// [`EstimationPolicy::MotionObservability`]: which blocks each motion signature makes
+    /// observable. Default [`MotionObservabilityTable::structural`].
+    pub motion_observability: MotionObservabilityTable,
 }
 
 impl Default for CalibrationManagerConfig {
@@ -123,6 +340,9 @@ impl Default for CalibrationManagerConfig {
             stability_fraction: 1.0,
             freeze_converged: false,
             policy: EstimationPolicy::AllBlocks,
+            motion_rate_threshold_rad_s: 0.5 * core::f64::consts::PI / 180.0,
+            motion_force_threshold_mps2: 0.5,
+            motion_observability: MotionObservabilityTable::structural(),
         }
     }
 }
@@ -146,6 +366,19 @@ impl CalibrationManagerConfig {
         if !(self.stability_fraction.is_finite() && self.stability_fraction > 0.0) {
             return Err(FswError::InvalidConfiguration(
                 ConfigField::CalibrationStability,
+            ));
+        }
+        let positive = |value: f64| value.is_finite() && value > 0.0;
+        if !(positive(self.motion_rate_threshold_rad_s)
+            && positive(self.motion_force_threshold_mps2))
+        {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::CalibrationMotionThreshold,
+            ));
+        }
+        if !self.motion_observability.is_valid() {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::CalibrationObservabilityTable,
             ));
         }
         Ok(())
@@ -231,6 +464,9 @@ pub struct CalibrationManager {
     phase: ManoeuvrePhase,
     table: CalibrationTable,
     windows: [Window; CALIBRATION_BLOCK_COUNT],
+    motion: MotionSignature,
+    /// Blocks some motion since start (or the last restart) has made observable.
+    revealed: BlockMask,
 }
 
 fn max_abs_difference(a: &[f64; 3], b: &[f64; 3]) -> f64 {
@@ -241,7 +477,8 @@ fn max_abs_difference(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 
 fn phase_estimates(policy: EstimationPolicy, phase: ManoeuvrePhase, block: StateBlock) -> bool {
     match (policy, phase) {
-        (EstimationPolicy::AllBlocks, _) | (_, ManoeuvrePhase::Unknown) => true,
+        (EstimationPolicy::AllBlocks | EstimationPolicy::MotionObservability, _)
+        | (_, ManoeuvrePhase::Unknown) => true,
         (EstimationPolicy::PaperSchedule, ManoeuvrePhase::Coast) => {
             block == GYRO_BIAS || block == ACCEL_BIAS
         }
@@ -266,7 +503,47 @@ impl CalibrationManager {
             phase: ManoeuvrePhase::Unknown,
             table: CalibrationTable::default(),
             windows: [Window::default(); CALIBRATION_BLOCK_COUNT],
+            motion: MotionSignature::default(),
+            revealed: BlockMask::NONE,
         })
+    }
+
+    /// Tells the manager the current motion (corrected body rate in rad/s and specific force
+    /// in m/s², as used for the covariance propagation); it is classified into a
+    /// [`MotionSignature`] for [`EstimationPolicy::MotionObservability`].
+    pub fn observe_motion(
+        &mut self,
+        body_rate_rad_s: &Vector3<f64>,
+        specific_force_mps2: &Vector3<f64>,
+    ) {
+        self.motion = MotionSignature::classify(
+            body_rate_rad_s,
+            specific_force_mps2,
+            self.config.motion_rate_threshold_rad_s,
+            self.config.motion_force_threshold_mps2,
+        );
+        let estimable = self.config.motion_observability.estimable(self.motion);
+        for block in CALIBRATION_BLOCKS {
+            if estimable.contains(block) {
+                self.revealed.insert(block);
+            }
+        }
+    }
+
+    /// The current motion's signature (last [`Self::observe_motion`]).
+    pub fn motion(&self) -> MotionSignature {
+        self.motion
+    }
+
+    /// Whether the policy lets the filter move `block` now (convergence freezing aside).
+    fn estimates(&self, block: StateBlock) -> bool {
+        match self.config.policy {
+            EstimationPolicy::MotionObservability => {
+                let table = &self.config.motion_observability;
+                table.estimable(self.motion).contains(block) || !self.revealed.contains(block)
+            }
+            policy => phase_estimates(policy, self.phase, block),
+        }
     }
 
     /// The current phase.
@@ -286,6 +563,7 @@ impl CalibrationManager {
             entry.frozen = false;
         }
         self.windows = [Window::default(); CALIBRATION_BLOCK_COUNT];
+        self.revealed = BlockMask::NONE;
     }
 
     /// The calibration table.
@@ -315,16 +593,19 @@ impl CalibrationManager {
     ) {
         let thresholds = self.config.convergence_sigma.values();
         let config = self.config;
-        let phase = self.phase;
+        let mut estimated = [true; CALIBRATION_BLOCK_COUNT];
+        for (flag, block) in estimated.iter_mut().zip(CALIBRATION_BLOCKS.iter()) {
+            *flag = self.estimates(*block);
+        }
         let rows = self
             .table
             .entries_mut()
             .into_iter()
             .zip(self.windows.iter_mut())
-            .zip(CALIBRATION_BLOCKS.iter())
+            .zip(estimated.iter())
             .zip(values.iter().zip(sigmas.iter()))
             .zip(thresholds.iter());
-        for ((((entry, window), block), (value, sigma)), threshold) in rows {
+        for ((((entry, window), estimated), (value, sigma)), threshold) in rows {
             entry.value = *value;
             entry.sigma = *sigma;
             if entry.converged_at_s.is_none() {
@@ -349,7 +630,7 @@ impl CalibrationManager {
                 }
             }
             let converged_frozen = config.freeze_converged && entry.converged_at_s.is_some();
-            entry.frozen = converged_frozen || !phase_estimates(config.policy, phase, *block);
+            entry.frozen = converged_frozen || !*estimated;
         }
     }
 }
@@ -419,6 +700,152 @@ mod tests {
             manager.set_phase(phase);
             manager.evaluate(0.0, &uniform(0.0), &uniform(1.0));
             assert_eq!(manager.frozen_blocks().bits(), bits, "{phase:?}");
+        }
+    }
+
+    /// Bits of [`BlockMask`] for the calibration blocks: 3 gyro bias, 4 accel bias,
+    /// 5 installation, 6 gyro scale factor, 7 accel scale factor.
+    fn mask(blocks: &[StateBlock]) -> u8 {
+        let mut mask = BlockMask::NONE;
+        for block in blocks {
+            mask.insert(*block);
+        }
+        mask.bits()
+    }
+
+    #[test]
+    fn the_observability_table_matches_the_analytical_pattern() {
+        // A generic mounting, so that sensor axes and body axes do not coincide.
+        let mounting = nav_core::attitude::exp_rotation_vector(&Vector3::new(0.3, -0.2, 0.5));
+        let table = MotionObservabilityTable::compute(&mounting).unwrap();
+        assert_eq!(table, MotionObservabilityTable::structural());
+        assert_eq!(
+            MotionObservabilityTable::compute(&Quaternion::identity()).unwrap(),
+            table
+        );
+        for bits in 0..64u8 {
+            let rotating = bits & 0b00_0111 != 0;
+            let thrusting = bits & 0b11_1000 != 0;
+            // Coast after coast: the biases show in the star attitude and the GNSS position;
+            // the installation error is not separable from the attitude error, and the scale
+            // factors multiply a zero rate and specific force.
+            let mut expected = vec![GYRO_BIAS, ACCEL_BIAS];
+            // Rotating (after the reference coast): the scale-factor drift along the rotation
+            // axis separates from the bias, and the turning body separates the installation
+            // directions perpendicular to the axis from the attitude error.
+            if rotating {
+                expected.extend([STAR_INSTALLATION, GYRO_SCALE_FACTOR]);
+            }
+            // Thrusting: the accelerometer scale factor along the thrust, and the attitude
+            // about axes perpendicular to it (through the velocity), hence installation.
+            if thrusting {
+                expected.extend([STAR_INSTALLATION, ACCEL_SCALE_FACTOR]);
+            }
+            assert_eq!(
+                table.estimable(MotionSignature::from_bits(bits)).bits(),
+                mask(&expected),
+                "signature {bits:06b}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_motion_observability_policy_freezes_what_the_motion_cannot_see() {
+        let config = CalibrationManagerConfig {
+            policy: EstimationPolicy::MotionObservability,
+            ..CalibrationManagerConfig::default()
+        };
+        let mut manager = CalibrationManager::new(config).unwrap();
+        let degrees = core::f64::consts::PI / 180.0;
+        let coast = (
+            Vector3::new(1e-6, -2e-6, 1e-6),
+            Vector3::new(1e-3, 0.0, -1e-3),
+        );
+        let cases = [
+            // (rate rad/s, specific force m/s², expected signature, frozen blocks)
+            // First coast: nothing revealed yet, so nothing to protect.
+            (coast.0, coast.1, 0, 0),
+            // Rotation about z reveals installation and gyro scale factor.
+            (
+                Vector3::new(0.0, 0.0, -100.0 * degrees),
+                Vector3::zeros(),
+                4,
+                0,
+            ),
+            // Thrust along y (the 0.4 °/s rate is below the 0.5 °/s threshold) reveals the
+            // accelerometer scale factor and cannot see the gyro scale factor: protected.
+            (
+                Vector3::new(0.4 * degrees, 0.0, 0.0),
+                Vector3::new(0.0, 20.0, 0.0),
+                16,
+                mask(&[GYRO_SCALE_FACTOR]),
+            ),
+            // Coast again: every revealed block it cannot see is protected.
+            (
+                coast.0,
+                coast.1,
+                0,
+                mask(&[STAR_INSTALLATION, GYRO_SCALE_FACTOR, ACCEL_SCALE_FACTOR]),
+            ),
+        ];
+        for (rate, force, signature, frozen) in cases {
+            manager.observe_motion(&rate, &force);
+            assert_eq!(manager.motion().bits(), signature);
+            // The manoeuvre phase is ignored by this policy.
+            manager.set_phase(ManoeuvrePhase::Coast);
+            manager.evaluate(0.0, &uniform(0.0), &uniform(1.0));
+            assert_eq!(
+                manager.frozen_blocks().bits(),
+                frozen,
+                "signature {signature}"
+            );
+        }
+        // A restart forgets what was revealed.
+        manager.restart();
+        manager.evaluate(0.0, &uniform(0.0), &uniform(1.0));
+        assert!(manager.frozen_blocks().is_empty());
+        // NaN classifies as not moving (the filter refuses such samples anyway).
+        manager.observe_motion(&Vector3::repeat(f64::NAN), &Vector3::repeat(f64::NAN));
+        assert_eq!(manager.motion().bits(), 0);
+    }
+
+    #[test]
+    fn an_observability_table_naming_navigation_blocks_is_refused() {
+        let mut entries = [BlockMask::NONE; MotionSignature::COUNT];
+        if let Some(entry) = entries.get_mut(5) {
+            entry.insert(VELOCITY);
+        }
+        let config = CalibrationManagerConfig {
+            motion_observability: MotionObservabilityTable::from_entries(entries),
+            ..CalibrationManagerConfig::default()
+        };
+        assert_eq!(
+            CalibrationManager::new(config),
+            Err(FswError::InvalidConfiguration(
+                ConfigField::CalibrationObservabilityTable
+            ))
+        );
+    }
+
+    #[test]
+    fn motion_thresholds_are_validated() {
+        for (rate, force) in [
+            (0.0, 0.5),
+            (f64::NAN, 0.5),
+            (0.01, -1.0),
+            (0.01, f64::INFINITY),
+        ] {
+            let config = CalibrationManagerConfig {
+                motion_rate_threshold_rad_s: rate,
+                motion_force_threshold_mps2: force,
+                ..CalibrationManagerConfig::default()
+            };
+            assert_eq!(
+                CalibrationManager::new(config),
+                Err(FswError::InvalidConfiguration(
+                    ConfigField::CalibrationMotionThreshold
+                ))
+            );
         }
     }
 }

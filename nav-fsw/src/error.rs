@@ -55,6 +55,10 @@ pub enum ConfigField {
     CalibrationWindow,
     /// `calibration.stability_fraction`
     CalibrationStability,
+    /// `calibration.motion_rate_threshold_rad_s` or `calibration.motion_force_threshold_mps2`
+    CalibrationMotionThreshold,
+    /// `calibration.motion_observability` (an entry names a navigation block)
+    CalibrationObservabilityTable,
     /// The initial navigation state (non-finite, or attitude not a unit quaternion).
     InitialNavigation,
 }

@@ -415,6 +415,10 @@ impl NavigationComputer {
                 .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
         };
         self.last_point = Some(point);
+        self.manager.observe_motion(
+            &point.corrected_rate_rad_s,
+            &point.corrected_specific_force_mps2,
+        );
         // Block-structured discretisation and F P Fᵀ + Qd (nav-core `structured`); frozen
         // blocks get no process noise.
         let model = StructuredModel::new(

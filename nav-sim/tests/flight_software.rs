@@ -357,3 +357,88 @@ fn a_failed_gnss_receiver_is_declared_faulty_and_navigation_continues_on_the_sta
     assert_eq!(h.star_declared_faulty, 0);
     assert_consistent(&result, "failed GNSS");
 }
+
+/// The observability-driven calibration policy (issue 9) through the whole flight code, on the
+/// short scenario (coast, rotation about z, coast): before the rotation nothing is frozen
+/// (nothing revealed yet, so the result is the all-blocks one bit for bit); in the final coast
+/// the installation error and gyro scale factor that the rotation revealed are frozen (their
+/// estimates do not move by a single bit), the biases stay estimated, and the accelerometer
+/// scale factor, which no motion of this scenario reveals, is never frozen.
+#[test]
+fn the_motion_observability_policy_protects_what_the_rotation_revealed() {
+    use nav_fsw::calibration_manager::EstimationPolicy;
+    let scenario = short_scenario();
+    let fly_policy = |policy| {
+        let mut config = fsw_config(&scenario).unwrap();
+        config.calibration.policy = policy;
+        fly_with(
+            &scenario,
+            config,
+            FlightOptions {
+                record_interval_s: 1.0,
+            },
+            |_, _| {},
+            |_, _| {},
+        )
+        .unwrap()
+    };
+    let all_blocks = fly_policy(EstimationPolicy::AllBlocks);
+    let observability = fly_policy(EstimationPolicy::MotionObservability);
+    assert_consistent(&observability, "motion observability policy");
+    const INSTALLATION: usize = 2;
+    const GYRO_SCALE_FACTOR: usize = 3;
+    let start_s = observability.samples.first().unwrap().time_s;
+    // Segments: coast 10 s, rotation 12 s (1 s ramps), coast 20 s.
+    let rotation_start_s = start_s + 10.0;
+    let final_coast_s = start_s + 23.0; // one second after the ramp down, rate below 0.5 °/s
+    let pairs = observability.samples.iter().zip(all_blocks.samples.iter());
+    for (sample, reference) in pairs.clone().filter(|(s, _)| s.time_s <= rotation_start_s) {
+        for block in 0..5 {
+            // Bit-identical: the policy has not frozen anything yet.
+            assert_eq!(
+                sample.estimate[block].map(f64::to_bits),
+                reference.estimate[block].map(f64::to_bits),
+                "{}",
+                sample.time_s
+            );
+        }
+    }
+    let frozen_from = observability
+        .samples
+        .iter()
+        .find(|s| s.time_s >= final_coast_s)
+        .unwrap();
+    for sample in observability
+        .samples
+        .iter()
+        .filter(|s| s.time_s >= final_coast_s)
+    {
+        for block in [INSTALLATION, GYRO_SCALE_FACTOR] {
+            // Frozen: gain rows zero, so the fed-back estimate never changes by a bit.
+            assert_eq!(
+                sample.estimate[block].map(f64::to_bits),
+                frozen_from.estimate[block].map(f64::to_bits),
+                "{}",
+                sample.time_s
+            );
+        }
+    }
+    let last = observability.last().unwrap();
+    let reference = all_blocks.last().unwrap();
+    // What the rotation taught is kept: the z gyro scale factor from 1e-4 (prior) to a few
+    // 1e-6, close to the all-blocks filter, which keeps refining it in the final coast.
+    let sigma_z = last.sigma[GYRO_SCALE_FACTOR][2];
+    let reference_z = reference.sigma[GYRO_SCALE_FACTOR][2];
+    eprintln!(
+        "gyro scale factor z 1σ: motion observability {sigma_z:.3e}, all blocks {reference_z:.3e}"
+    );
+    assert!(
+        sigma_z < 3.0 * reference_z,
+        "{sigma_z:.3e} vs {reference_z:.3e}"
+    );
+    assert!(observability.table.gyro_scale_factor.frozen);
+    assert!(observability.table.star_installation.frozen);
+    assert!(!observability.table.accel_scale_factor.frozen);
+    assert!(!observability.table.gyro_bias.frozen);
+    assert!(!observability.table.accel_bias.frozen);
+}
