@@ -72,6 +72,26 @@ enum Command {
     /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
     /// manoeuvre schedule.
     Observability(nav_sim::observability_report::ObservabilityArgs),
+    /// Target benchmark: replay the scenario's first SECONDS on the Cortex-M7 firmware under
+    /// QEMU and on the host, compare every output bit for bit, and print the per-frame cost
+    /// (min / median / worst by frame type), the stack high-water mark and the image's flash
+    /// and static RAM (`scripts/bench-target.sh` builds the firmware and runs this).
+    TargetBench {
+        /// Scenario TOML (default: the built-in one).
+        scenario: Option<PathBuf>,
+        /// The replay firmware ELF (qemu/target/thumbv7em-none-eabihf/release/replay).
+        #[arg(long)]
+        elf: PathBuf,
+        /// Scenario seconds to replay (500 frames each).
+        #[arg(long, default_value_t = 60)]
+        seconds: u64,
+        /// QEMU runner script.
+        #[arg(long, default_value = "qemu/run.sh")]
+        runner: PathBuf,
+        /// Working directory for the replay files; the report is written there too.
+        #[arg(long, default_value = "target/qemu/bench")]
+        out: PathBuf,
+    },
 }
 
 type Failure = Box<dyn std::error::Error>;
@@ -237,6 +257,26 @@ fn replay(log: &Path, scenario: Option<&Path>, out: &Path) -> Result<(), Failure
     Ok(())
 }
 
+fn target_bench(
+    scenario: Option<&Path>,
+    elf: &Path,
+    seconds: u64,
+    runner: &Path,
+    out: &Path,
+) -> Result<(), Failure> {
+    let scenario = load(scenario)?;
+    let report = nav_sim::target_replay::replay_on_target(&scenario, seconds, elf, runner, out)?;
+    let text = report.text();
+    print!("{text}");
+    let path = out.join("target-bench-report.txt");
+    std::fs::write(&path, &text)?;
+    println!("report written to {}", path.display());
+    if let Some(difference) = report.difference {
+        return Err(format!("host and target differ first at {difference:?}").into());
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command.unwrap_or(Command::Calibrate {
@@ -261,6 +301,13 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Observability(arguments) => arguments.run().map_err(Failure::from),
+        Command::TargetBench {
+            scenario,
+            elf,
+            seconds,
+            runner,
+            out,
+        } => target_bench(scenario.as_deref(), &elf, seconds, &runner, &out),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

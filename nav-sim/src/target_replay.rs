@@ -218,3 +218,168 @@ pub fn cost_statistics(target: &[u64]) -> [(&'static str, CostStatistics); 4] {
         (name, statistics)
     })
 }
+
+/// Static memory of a firmware image, from its ELF section headers (bytes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ImageMemory {
+    /// Code and read-only data in flash: vector table, `.text`, `.rodata` and the initial
+    /// values of `.data` (copied to RAM at reset).
+    pub flash_bytes: u64,
+    /// Static RAM: `.data`, `.bss` and `.uninit` (the stack lives above it).
+    pub static_ram_bytes: u64,
+}
+
+/// Reads the static memory figures of an ELF image.
+///
+/// # Errors
+/// [`ReplayError::Input`] if the file is not an ELF object.
+pub fn image_memory(elf: &[u8]) -> Result<ImageMemory, ReplayError> {
+    use object::{Object, ObjectSection, SectionKind};
+    let file =
+        object::File::parse(elf).map_err(|error| ReplayError::Input(format!("ELF: {error}")))?;
+    let mut memory = ImageMemory::default();
+    for section in file.sections() {
+        match section.kind() {
+            SectionKind::Text | SectionKind::ReadOnlyData | SectionKind::ReadOnlyString => {
+                memory.flash_bytes += section.size();
+            }
+            SectionKind::Data => {
+                memory.flash_bytes += section.size();
+                memory.static_ram_bytes += section.size();
+            }
+            SectionKind::UninitializedData => memory.static_ram_bytes += section.size(),
+            _ => {}
+        }
+    }
+    Ok(memory)
+}
+
+/// Stack use measured by the firmware (`replay-stack.bin`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StackUsage {
+    /// Deepest stack use over the whole replay (bytes).
+    pub high_water_bytes: u64,
+    /// Size of the stack region (bytes): RAM above the static data.
+    pub region_bytes: u64,
+}
+
+/// Stack budget of the flight software (bytes): the replay fails if the painted stack shows a
+/// deeper use. 32 KiB: four times the measured high-water mark of the flight path (README),
+/// and what an avionics image would reserve for the navigation task.
+pub const STACK_BUDGET_BYTES: u64 = 32 * 1024;
+
+/// Everything one target replay measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TargetReplayReport {
+    /// Frames replayed.
+    pub frames: u64,
+    /// Replayed scenario time (s).
+    pub seconds: f64,
+    /// Cost statistics by frame type (instructions).
+    pub costs: [(&'static str, CostStatistics); 4],
+    /// Stack use.
+    pub stack: StackUsage,
+    /// Static memory of the image.
+    pub memory: ImageMemory,
+    /// QEMU wall-clock time.
+    pub qemu_wall_time: std::time::Duration,
+    /// The first host/target difference, if any.
+    pub difference: Option<FirstDifference>,
+}
+
+impl TargetReplayReport {
+    /// The report as text (what the test command and `nav-sim target-bench` print).
+    pub fn text(&self) -> String {
+        let mut text = match &self.difference {
+            None => format!(
+                "Replay of the default scenario's first {} frames ({:.0} s): host and target \
+                 outputs identical bit for bit ({} words per frame).\n",
+                self.frames,
+                self.seconds,
+                FRAME_WORDS - 1
+            ),
+            Some(difference) => format!(
+                "Replay of {} frames: host and target DIFFER, first at {difference:?}\n",
+                self.frames
+            ),
+        };
+        text += "Target cost per frame (instructions, QEMU -icount shift=0; budget 2,000,000 = 2 ms):\n";
+        for (name, statistics) in &self.costs {
+            text += &format!(
+                "  {name:<18} frames {:>7}  min {:>9}  median {:>9}  worst {:>9}\n",
+                statistics.frames, statistics.minimum, statistics.median, statistics.worst
+            );
+        }
+        text += &format!(
+            "Stack high-water mark {} bytes (budget {} bytes; stack region {} bytes)\n\
+             Image: flash {} bytes, static RAM {} bytes\n\
+             QEMU wall time {:.1?}\n",
+            self.stack.high_water_bytes,
+            STACK_BUDGET_BYTES,
+            self.stack.region_bytes,
+            self.memory.flash_bytes,
+            self.memory.static_ram_bytes,
+            self.qemu_wall_time
+        );
+        text
+    }
+}
+
+/// Writes the replay input of the first `seconds` of `scenario` into `directory`, runs the
+/// firmware `elf` on QEMU there (`runner`: the project's `qemu/run.sh`), runs the same input
+/// on the host and compares every output word; returns what was measured (a difference is
+/// reported in the result, not as an error).
+///
+/// # Errors
+/// [`ReplayError`] if a file cannot be written or read, or QEMU fails.
+pub fn replay_on_target(
+    scenario: &Scenario,
+    seconds: u64,
+    elf: &std::path::Path,
+    runner: &std::path::Path,
+    directory: &std::path::Path,
+) -> Result<TargetReplayReport, ReplayError> {
+    std::fs::create_dir_all(directory)?;
+    let frames = seconds.saturating_mul(500);
+    let input_path = directory.join("replay-in.bin");
+    let written = write_input(
+        scenario,
+        frames,
+        std::io::BufWriter::new(std::fs::File::create(&input_path)?),
+    )?;
+    let runner = runner.canonicalize()?;
+    let started = std::time::Instant::now();
+    let status = std::process::Command::new(runner)
+        .arg(elf.canonicalize()?)
+        .current_dir(directory)
+        .status()?;
+    let qemu_wall_time = started.elapsed();
+    if !status.success() {
+        return Err(ReplayError::Input(format!(
+            "firmware replay failed: {status}"
+        )));
+    }
+    let target = output_file_words(&std::fs::read(directory.join("replay-out.bin"))?);
+    let host = run_on_host(&std::fs::read(&input_path)?)?;
+    let stack_words = words_of(&std::fs::read(directory.join("replay-stack.bin"))?);
+    let stack = match stack_words.as_slice() {
+        [high_water_bytes, region_bytes] => StackUsage {
+            high_water_bytes: *high_water_bytes,
+            region_bytes: *region_bytes,
+        },
+        _ => {
+            return Err(ReplayError::Input(
+                "replay-stack.bin: expected two words".into(),
+            ))
+        }
+    };
+    Ok(TargetReplayReport {
+        frames: written,
+        seconds: f64::from(u32::try_from(written).unwrap_or(u32::MAX)) * 0.002,
+        costs: cost_statistics(&target),
+        stack,
+        memory: image_memory(&std::fs::read(elf)?)?,
+        qemu_wall_time,
+        difference: first_difference(&host, &target),
+    })
+}

@@ -3,13 +3,15 @@
 //! * a defmt global logger over semihosting stdout with no panic path (frames only: nothing
 //!   else is ever printed on that channel, so `defmt-print` decodes the whole stream);
 //! * semihosting exit codes, and a HardFault handler that exits QEMU with failure;
-//! * the instruction-count harness ([`cost`]), based on SysTick under `-icount shift=0`.
+//! * the instruction-count harness ([`cost`]), based on SysTick under `-icount shift=0`;
+//! * the stack high-water mark ([`stack`]) from cortex-m-rt's stack painting.
 #![no_std]
 #![deny(missing_docs)]
 
 pub mod cost;
 pub mod host_file;
 pub mod logger;
+pub mod stack;
 
 use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::debug;

@@ -9,8 +9,11 @@
 //! word: the frame's cost in instructions (`-icount shift=0`: one instruction = 1 ns). All
 //! words little-endian u64.
 //!
-//! Prints (defmt) `REPLAY frames=… worst=… overruns=…` and exits 0 when the whole log was
-//! replayed with no frame overrun.
+//! Stack file (`replay-stack.bin`): two little-endian u64 words, the stack high-water mark and
+//! the size of the stack region in bytes ([`nav_qemu::stack`], measured after the last frame).
+//!
+//! Prints (defmt) `REPLAY frames=… worst=… overruns=… stack=…` and exits 0 when the whole log
+//! was replayed with no frame overrun.
 #![no_std]
 #![no_main]
 
@@ -215,14 +218,27 @@ fn main() -> ! {
         }
     }
     let health = computer.health();
+    let stack = nav_qemu::stack::usage();
     defmt::println!(
-        "REPLAY frames={=u32} worst={=u32} overruns={=u32} budget={=u32}",
+        "REPLAY frames={=u32} worst={=u32} overruns={=u32} budget={=u32} stack={=u32}/{=u32} bytes",
         frames,
         telemetry_worst(&computer),
         health.frame_overruns,
-        FRAME_BUDGET_INSTRUCTIONS
+        FRAME_BUDGET_INSTRUCTIONS,
+        stack.high_water_bytes,
+        stack.region_bytes
     );
     drop(output);
+    let mut stack_bytes = [0_u8; 16];
+    let (high_water, region) = stack_bytes.split_at_mut(8);
+    high_water.copy_from_slice(&u64::from(stack.high_water_bytes).to_le_bytes());
+    region.copy_from_slice(&u64::from(stack.region_bytes).to_le_bytes());
+    let written =
+        HostFile::create("replay-stack.bin\0").and_then(|mut file| file.write_all(&stack_bytes));
+    if written.is_err() {
+        defmt::error!("replay: cannot write replay-stack.bin");
+        exit_failure()
+    }
     if frames > 0 && health.frame_overruns == 0 {
         exit_success()
     } else {
