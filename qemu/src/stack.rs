@@ -21,6 +21,25 @@ pub struct StackUsage {
     pub region_bytes: u32,
 }
 
+/// Paints the part of the stack region below the current stack pointer again (leaving a
+/// 256-byte margin under it for this function's own frame), so that a later [`usage`]
+/// measures only what runs after this call: the replay calls it after start-up, before the
+/// first frame, to separate the cyclic flight path from one-off initialisation.
+#[inline(never)]
+pub fn repaint_below_current_stack_pointer() {
+    const MARGIN_BYTES: usize = 256;
+    let bottom = core::ptr::addr_of!(_stack_end) as usize;
+    let stack_pointer = cortex_m::register::msp::read() as usize;
+    let limit = stack_pointer.saturating_sub(MARGIN_BYTES) & !3;
+    let mut address = bottom;
+    while address < limit {
+        // SAFETY: `address` is word aligned and inside [_stack_end, SP − 256): stack-region
+        // RAM below anything live (the stack grows down and nothing lives below SP).
+        unsafe { core::ptr::write_volatile(address as *mut u32, STACK_PAINT_VALUE) };
+        address += 4;
+    }
+}
+
 /// Scans the painted region from its bottom up (bounded: one read per word of the region).
 pub fn usage() -> StackUsage {
     // Only the addresses of the linker symbols are taken. The words in between are RAM of
