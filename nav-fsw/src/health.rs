@@ -19,7 +19,8 @@ pub struct HealthCounters {
     pub star_non_finite: u32,
     /// Star quaternions rejected as not unit (zero included).
     pub star_not_unit: u32,
-    /// Star quaternion sign flips undone.
+    /// Sign changes of the star quaternion between consecutive samples (q and −q are one
+    /// attitude: undone, and harmless; a sensor that keeps w ≥ 0 changes sign twice per turn).
     pub star_sign_flip: u32,
     /// GNSS fixes rejected as non-finite.
     pub gnss_non_finite: u32,

@@ -507,7 +507,10 @@ impl NavigationComputer {
                     if flipped {
                         count(&mut self.health.star_sign_flip);
                     }
-                    self.last_star = Some(quaternion);
+                    // Remember the sensor's own sign, so that a sensor that changes its sign
+                    // convention (e.g. keeps w ≥ 0 while the attitude turns) is counted once
+                    // per change, not on every later sample.
+                    self.last_star = Some(if flipped { -quaternion } else { quaternion });
                     let pushed = self.star_queue.push(
                         measurement.time_tag_s,
                         quaternion,

@@ -442,3 +442,57 @@ fn the_motion_observability_policy_protects_what_the_rotation_revealed() {
     assert!(!observability.table.gyro_bias.frozen);
     assert!(!observability.table.accel_bias.frozen);
 }
+
+/// A star sensor that reports its quaternion with w ≥ 0 (a common convention, and what the
+/// simulator emits) changes sign whenever the attitude quaternion's w crosses zero, which the
+/// 100 °/s turn does several times. q and −q are one attitude: the flight is bit-identical to
+/// the one fed a sign-continuous stream, and the sign-change counter counts each change in the
+/// stream once (0 for the continuous stream), not every sample after the first change.
+#[test]
+fn a_star_sensor_that_keeps_w_positive_changes_nothing_and_is_counted_per_sign_change() {
+    let scenario = short_scenario();
+    // Rewrites every star quaternion with `convention` applied against the previous one sent,
+    // and counts the sign changes of the stream as sent.
+    let fly_convention = |keep_w_positive: bool| {
+        let mut previous: Option<[f64; 4]> = None;
+        let mut changes = 0_u32;
+        let result = fly(&scenario, |_, inputs| {
+            for measurement in inputs.star.0.iter_mut() {
+                let q = &mut measurement.attitude_wxyz;
+                let dot = |p: &[f64; 4], q: &[f64; 4]| -> f64 {
+                    p.iter().zip(q.iter()).map(|(a, b)| a * b).sum()
+                };
+                let negate = if keep_w_positive {
+                    q[0] < 0.0
+                } else {
+                    previous.is_some_and(|p| dot(&p, q) < 0.0)
+                };
+                if negate {
+                    q.iter_mut().for_each(|c| *c = -*c);
+                }
+                if previous.is_some_and(|p| dot(&p, q) < 0.0) {
+                    changes += 1;
+                }
+                previous = Some(*q);
+            }
+        });
+        (result, changes)
+    };
+    let (continuous, continuous_changes) = fly_convention(false);
+    let (positive, positive_changes) = fly_convention(true);
+    assert_eq!(continuous_changes, 0);
+    assert_eq!(continuous.health.star_sign_flip, 0);
+    assert!(
+        positive_changes >= 2,
+        "the turn should make the w ≥ 0 sensor change sign: {positive_changes}"
+    );
+    assert_eq!(positive.health.star_sign_flip, positive_changes);
+    let (a, b) = (continuous.last().unwrap(), positive.last().unwrap());
+    for block in 0..5 {
+        assert_eq!(
+            a.estimate[block].map(f64::to_bits),
+            b.estimate[block].map(f64::to_bits),
+            "block {block}"
+        );
+    }
+}
