@@ -403,8 +403,24 @@ pub fn fly_with(
     scenario: &Scenario,
     config: FswConfig,
     options: FlightOptions,
+    progress: impl FnMut(u64, u64),
+    inject: impl FnMut(u64, &mut FramePorts),
+) -> Result<FlightResult, FlightError> {
+    fly_observed(scenario, config, options, progress, inject, |_, _| {})
+}
+
+/// [`fly_with`] with an observer `observe(frame_index, computer)` called after every frame,
+/// for tests that look inside the flight software (covariance conditioning, frozen blocks).
+///
+/// # Errors
+/// As [`fly`].
+pub fn fly_observed(
+    scenario: &Scenario,
+    config: FswConfig,
+    options: FlightOptions,
     mut progress: impl FnMut(u64, u64),
     mut inject: impl FnMut(u64, &mut FramePorts),
+    mut observe: impl FnMut(u64, &NavigationComputer),
 ) -> Result<FlightResult, FlightError> {
     let mut simulation = Simulation::new(scenario)?;
     let start = *simulation.truth().state();
@@ -442,6 +458,7 @@ pub fn fly_with(
         inject(frame.frame_index, &mut ports);
         dropped = dropped.saturating_add(ports.dropped);
         ports.run(&mut computer);
+        observe(frame.frame_index, &computer);
         frames += 1;
         let errors = simulation.error_truth();
         if frame.time_s >= next_record_s - 1e-9 {
