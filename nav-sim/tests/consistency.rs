@@ -3,28 +3,24 @@
 //! each run drawn from the filter's prior; the average NEES of the 15 calibration states must
 //! lie inside its two-sided 95 % χ² interval. (The 50-run campaign
 //! of the default scenario is `nav-sim monte-carlo --runs 50`, README.)
+//!
+//! The filter is the default scenario's, closed loop. With the paper's open-loop filter the
+//! same runs average NEES 38 (gyro bias, installation y and z gyro scale factor 1.5-2.8×
+//! overconfident): its linear model drops terms that the uncorrected navigation errors make
+//! large (`tests/model_mismatch.rs`).
 
 use nav_sim::flight::{fly, with_truth_drawn_from_prior, FlightOptions};
 use nav_sim::monte_carlo::{run_parallel, summarise, RunOutcome};
 
 mod common;
 
-#[test]
-#[ignore = "open finding: gyro bias, installation y and z gyro scale factor come out 1.5-2.8x \
-            overconfident after the 100 °/s rotation (average NEES 38 against [12.1, 18.3]); \
-            run with --ignored to reproduce"]
-fn calibration_nees_over_twelve_seeds_is_inside_the_95_percent_interval() {
-    let mut scenario = common::short_scenario();
-    // The prior the truth is drawn from (and the filter starts with): the paper's magnitudes.
-    // With the default 1e-3 rad/s gyro-bias prior, draws of ~3e-3 rad/s make it far worse
-    // (NEES ≈ 1000): the mismatch grows with the z gyro bias during the rotation about z.
-    scenario.filter.initial_sigma.gyro_bias_rad_per_s = 3e-4;
-    scenario.filter.initial_sigma.star_installation_rad = 3e-3;
+/// Average NEES of 12 seeds of the short scenario, truth drawn from `scenario`'s prior.
+fn average_nees_is_consistent(scenario: &nav_sim::Scenario) {
     let seeds: Vec<u64> = (0..12).map(|run| 1000 + run).collect();
     let outcomes = run_parallel(
         &seeds,
         |seed| {
-            let seeded = with_truth_drawn_from_prior(&scenario, seed);
+            let seeded = with_truth_drawn_from_prior(scenario, seed);
             fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
                 seed,
                 error: -result.calibration_error,
@@ -41,4 +37,21 @@ fn calibration_nees_over_twelve_seeds_is_inside_the_95_percent_interval() {
     );
     println!("{}", summary.nees_line());
     assert!(summary.nees.consistent(), "{}", summary.nees_line());
+}
+
+#[test]
+fn calibration_nees_over_twelve_seeds_is_inside_the_95_percent_interval() {
+    let mut scenario = common::short_scenario();
+    // The prior the truth is drawn from (and the filter starts with): the paper's magnitudes.
+    // (Measured: average NEES 15.5; open loop 38.2.)
+    scenario.filter.initial_sigma.gyro_bias_rad_per_s = 3e-4;
+    scenario.filter.initial_sigma.star_installation_rad = 3e-3;
+    average_nees_is_consistent(&scenario);
+}
+
+#[test]
+fn calibration_nees_is_consistent_with_the_default_wide_prior() {
+    // The default 1e-3 rad/s gyro-bias and 1e-2 rad installation prior: draws up to 3e-3 rad/s
+    // (measured: average NEES 15.5; open loop 1255).
+    average_nees_is_consistent(&common::short_scenario());
 }
