@@ -58,9 +58,21 @@ fn the_default_scenario_meets_every_accuracy_the_paper_reports() {
 fn made_up_truth_errors_are_estimated_just_as_well() {
     let made_up = Scenario::from_toml_str(MADE_UP_ERRORS_TOML).unwrap();
     let default = Scenario::default_scenario().unwrap();
-    // Really different truths, same manoeuvres and sensors.
-    assert!(made_up.gyro.bias_rad_per_s != default.gyro.bias_rad_per_s);
-    assert!(made_up.accelerometer.scale_factor != default.accelerometer.scale_factor);
+    // Really different truths (every component at least 1e-5 relative away from the paper's),
+    // same manoeuvres and sensors.
+    let differs = |a: &[f64; 3], b: &[f64; 3]| {
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| (x - y).abs() > 1e-5 * y.abs().max(1e-12))
+    };
+    assert!(differs(
+        &made_up.gyro.bias_rad_per_s,
+        &default.gyro.bias_rad_per_s
+    ));
+    assert!(differs(
+        &made_up.accelerometer.scale_factor,
+        &default.accelerometer.scale_factor
+    ));
     assert_eq!(made_up.manoeuvres, default.manoeuvres);
     assert_paper_accuracy(&fly_whole(&made_up), "made-up errors");
 }
