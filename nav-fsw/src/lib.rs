@@ -32,6 +32,7 @@ pub mod measurement_buffer;
 pub mod ports;
 pub mod replay;
 pub mod scheduler;
+pub mod stream_ports;
 pub mod telemetry;
 
 pub use error::{ConfigField, FswError};

@@ -1,6 +1,9 @@
 //! Sensor ports: what the scheduler reads, as traits, so the same flight code runs on real
-//! hardware (an adapter over embedded-hal / embedded-io drivers), in the host simulator and in
-//! the QEMU firmware. nav-core does no I/O; only these ports do.
+//! hardware, in the host simulator and in the QEMU firmware. nav-core does no I/O; only these
+//! ports do. On hardware, [`crate::stream_ports`] adapts any `embedded_io` byte stream (a HAL's
+//! UART) carrying the documented 80-byte records; a device with its own protocol needs its own
+//! small decoder behind these traits. (embedded-hal 1.0 has no monotonic-clock trait, so a
+//! [`ClockPort`] is written over the target's timer directly.)
 
 use nalgebra::{Quaternion, Vector3};
 
