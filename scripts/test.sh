@@ -4,7 +4,7 @@
 # 1. installs what is missing (idempotent): the thumbv7em-none-eabihf target, llvm-tools,
 #    qemu-system-arm (apt-get when root), defmt-print;
 # 2. formatting and clippy (host workspace and firmware workspace);
-# 3. host tests;
+# 3. host tests, then the fault-injection campaign with its table;
 # 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
 #    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
 # 5. the panic-free flight build, and proof that it rejects a deliberately added panic path;
@@ -46,6 +46,9 @@ step "clippy (firmware workspace, $TARGET)"
 
 step "host tests"
 cargo test --workspace
+
+step "fault-injection campaign (nav_sim::faults): the table, every row met"
+cargo test -p tests-host --test fault_campaign -- --include-ignored --nocapture
 
 step "firmware build ($TARGET, cortex-m7)"
 (cd qemu && cargo build --release --bin checks)

@@ -61,6 +61,9 @@ pub struct MeasurementTiming {
     pub max_latency_s: f64,
     /// A time tag later than navigation time by more than this is refused as future (s).
     pub future_tolerance_s: f64,
+    /// An aiding sensor silent for longer than this is in an outage (counted once in
+    /// `star_outages` / `gnss_outages`) (s); longer than the slowest nominal message interval.
+    pub outage_timeout_s: f64,
     /// Consecutive gate rejections after which a sensor is declared faulty (its
     /// measurements are then ignored until [`crate::scheduler::Command::ClearSensorFaults`]).
     pub rejections_to_declare_faulty: u32,
@@ -146,6 +149,7 @@ impl FswConfig {
             timing: MeasurementTiming {
                 max_latency_s: 0.1,
                 future_tolerance_s: 0.001,
+                outage_timeout_s: 2.0,
                 rejections_to_declare_faulty: 20,
             },
             covariance: CovarianceConfig {
@@ -218,6 +222,9 @@ impl FswConfig {
         let future = self.timing.future_tolerance_s;
         if !(future.is_finite() && future >= 0.0 && future < self.imu.period_s) {
             return invalid(ConfigField::FutureTolerance);
+        }
+        if !positive(self.timing.outage_timeout_s) {
+            return invalid(ConfigField::OutageTimeout);
         }
         if self.timing.rejections_to_declare_faulty == 0 {
             return invalid(ConfigField::RejectionsToDeclareFaulty);

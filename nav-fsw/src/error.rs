@@ -41,6 +41,8 @@ pub enum ConfigField {
     GnssGate,
     /// `timing.future_tolerance_s`
     FutureTolerance,
+    /// `timing.outage_timeout_s`
+    OutageTimeout,
     /// `timing.rejections_to_declare_faulty`
     RejectionsToDeclareFaulty,
     /// `covariance.propagation_interval_frames`

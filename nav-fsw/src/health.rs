@@ -9,7 +9,7 @@ pub struct HealthCounters {
     pub imu_non_finite: u32,
     /// IMU samples beyond the saturation limits.
     pub imu_saturated: u32,
-    /// Repeated IMU samples (same sequence number).
+    /// Repeated IMU samples (same sequence number) and late, out-of-order ones.
     pub imu_duplicate: u32,
     /// IMU samples missing (sequence gaps and frames with no sample).
     pub imu_missing: u32,
@@ -48,6 +48,11 @@ pub struct HealthCounters {
     pub gnss_declared_faulty: u32,
     /// Measurements discarded because their sensor is declared faulty.
     pub ignored_from_faulty_sensor: u32,
+    /// Star-sensor outages: no measurement received for longer than
+    /// `timing.outage_timeout_s` (counted once per outage, when the timeout elapses).
+    pub star_outages: u32,
+    /// GNSS outages, as [`HealthCounters::star_outages`].
+    pub gnss_outages: u32,
     /// Filter operations refused by nav-core (measurement model or update errors).
     pub filter_errors: u32,
     /// Strapdown steps refused (the navigation state was held).
@@ -58,4 +63,56 @@ pub struct HealthCounters {
 #[inline]
 pub fn count(counter: &mut u32) {
     *counter = counter.saturating_add(1);
+}
+
+/// Detects an aiding-sensor outage: the sensor silent for longer than a timeout. Reports each
+/// outage once, when the timeout elapses; a message ends it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct OutageMonitor {
+    last_heard_s: Option<f64>,
+    in_outage: bool,
+}
+
+impl OutageMonitor {
+    /// Called once a frame with the navigation time and whether the sensor delivered anything
+    /// (valid or not) in the frame; true when a new outage has just begun. The first call
+    /// starts the clock (a sensor that never speaks is an outage too).
+    pub fn observe(&mut self, now_s: f64, heard: bool, timeout_s: f64) -> bool {
+        let last = *self.last_heard_s.get_or_insert(now_s);
+        if heard {
+            self.last_heard_s = Some(now_s);
+            self.in_outage = false;
+            return false;
+        }
+        let began = !self.in_outage && now_s - last > timeout_s;
+        self.in_outage |= began;
+        began
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_outage_is_reported_once_when_its_timeout_elapses() {
+        let mut monitor = OutageMonitor::default();
+        let reports: usize = (0..100)
+            .map(|frame| {
+                let now_s = f64::from(frame) * 0.1;
+                // Heard every frame, then silent from 1.0 s to 5.0 s, then heard again.
+                let heard = !(10..50).contains(&frame);
+                usize::from(monitor.observe(now_s, heard, 2.0))
+            })
+            .sum();
+        assert_eq!(reports, 1);
+        let mut short = OutageMonitor::default();
+        let reports: usize = (0..100)
+            .map(|frame| {
+                let heard = !(10..25).contains(&frame); // 1.6 s of silence: within 2 s
+                usize::from(short.observe(f64::from(frame) * 0.1, heard, 2.0))
+            })
+            .sum();
+        assert_eq!(reports, 0);
+    }
 }

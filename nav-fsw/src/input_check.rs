@@ -72,14 +72,21 @@ pub enum ImuFault {
     /// A rate or specific force beyond the configured limits (saturation or spike). Reaction:
     /// as [`ImuFault::NonFinite`].
     Saturated,
-    /// Same sequence number as the previous sample (repeated sample). Reaction: discarded,
-    /// nothing propagated for it.
+    /// Same sequence number as the previous sample (repeated sample), or one at most
+    /// [`OUT_OF_ORDER_WINDOW`] behind it (a late, out-of-order sample). Reaction: discarded,
+    /// the frame is propagated with the last good sample (hold).
     Duplicate,
     /// The time step disagrees with the period (zero, negative or a jump). Reaction: the
     /// sample's increments are used over the nominal period, and the time base is re-anchored
     /// to the sample's time.
     TimeJump,
 }
+
+/// A sequence number at most this many samples behind the last accepted one is a late
+/// (out-of-order) sample, discarded as [`ImuFault::Duplicate`]. Farther behind is taken as a
+/// counter restart, accepted as a forward gap (2 s at 500 Hz; without this window a late
+/// sample read as a forward gap of about 2³² missing samples).
+pub const OUT_OF_ORDER_WINDOW: u32 = 1000;
 
 /// What an accepted IMU sample implies about the frames before it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -131,7 +138,11 @@ impl ImuChecker {
         if delta_angle.amax() > max_angle || delta_velocity.amax() > max_velocity {
             return Err(ImuFault::Saturated);
         }
-        if self.last_sequence == Some(sample.sequence) {
+        let behind = self
+            .last_sequence
+            .map(|last| last.wrapping_sub(sample.sequence))
+            .is_some_and(|behind| behind <= OUT_OF_ORDER_WINDOW);
+        if behind {
             return Err(ImuFault::Duplicate);
         }
         let missing_samples = self
@@ -248,6 +259,8 @@ mod tests {
             Ok(ImuContinuity { missing_samples: 0 })
         );
         assert_eq!(checker.check(&sample(8, 0.016)), Err(ImuFault::Duplicate));
+        // A late sample (behind the last) is out of order, not a gap of 2³² − 2 samples.
+        assert_eq!(checker.check(&sample(7, 0.014)), Err(ImuFault::Duplicate));
         assert_eq!(
             checker.check(&sample(11, 0.022)),
             Ok(ImuContinuity { missing_samples: 2 })

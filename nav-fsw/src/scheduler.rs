@@ -52,7 +52,7 @@ use crate::calibration_manager::{
 };
 use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
 use crate::error::{ConfigField, FswError};
-use crate::health::{count, HealthCounters};
+use crate::health::{count, HealthCounters, OutageMonitor};
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
 use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
@@ -142,6 +142,8 @@ pub struct NavigationComputer {
     last_star: Option<Quaternion<f64>>,
     star: AidingSensor,
     gnss: AidingSensor,
+    star_outage: OutageMonitor,
+    gnss_outage: OutageMonitor,
     sums: PropagationSums,
     /// Motion of the last covariance propagation (for referring late measurements).
     last_point: Option<LinearisationPoint>,
@@ -214,6 +216,8 @@ impl NavigationComputer {
             last_star: None,
             star: AidingSensor::default(),
             gnss: AidingSensor::default(),
+            star_outage: OutageMonitor::default(),
+            gnss_outage: OutageMonitor::default(),
             sums: PropagationSums::EMPTY,
             last_point: None,
             variance_floor: floors.covariance().diagonal(),
@@ -492,10 +496,12 @@ impl NavigationComputer {
     fn poll_measurements<S: StarSensorPort, G: GnssPort>(&mut self, star: &mut S, gnss: &mut G) {
         let now_s = self.navigation.time_s;
         let timing = self.config.timing;
+        let (mut star_heard, mut gnss_heard) = (false, false);
         for _ in 0..MAX_POLLS_PER_FRAME {
             let Some(measurement) = star.poll() else {
                 break;
             };
+            star_heard = true;
             match check_star(
                 &measurement,
                 self.last_star.as_ref(),
@@ -528,6 +534,7 @@ impl NavigationComputer {
             let Some(fix) = gnss.poll() else {
                 break;
             };
+            gnss_heard = true;
             let converted = self
                 .launch_frame
                 .ecef_to_launch_inertial(&ports::vector(&fix.position_ecef_m), fix.time_tag_s);
@@ -546,6 +553,13 @@ impl NavigationComputer {
                     }
                 }
             }
+        }
+        let timeout_s = timing.outage_timeout_s;
+        if self.star_outage.observe(now_s, star_heard, timeout_s) {
+            count(&mut self.health.star_outages);
+        }
+        if self.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
+            count(&mut self.health.gnss_outages);
         }
     }
 

@@ -10,6 +10,7 @@
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
 //! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
+//! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
@@ -21,6 +22,7 @@
 //! Times are navigation time, seconds since the launch epoch.
 
 pub mod covariance_design;
+pub mod faults;
 pub mod flight;
 pub mod monte_carlo;
 pub mod observability_report;

@@ -69,6 +69,13 @@ enum Command {
     },
     /// Print the built-in default scenario (TOML) to standard output.
     Scenario,
+    /// Fault-injection campaign: one flight per fault class through the flight software,
+    /// printed as a table (fault, expected reaction, counters, calibration, met); exits
+    /// non-zero if a row is not met.
+    Faults {
+        /// Scenario TOML (default: the built-in one).
+        scenario: Option<PathBuf>,
+    },
     /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
     /// manoeuvre schedule.
     Observability(nav_sim::observability_report::ObservabilityArgs),
@@ -257,6 +264,22 @@ fn replay(log: &Path, scenario: Option<&Path>, out: &Path) -> Result<(), Failure
     Ok(())
 }
 
+fn faults(scenario: Option<&Path>) -> Result<(), Failure> {
+    let scenario = load(scenario)?;
+    let total = nav_sim::faults::campaign().len() as u64;
+    let bar = ProgressBar::new(total);
+    bar.set_message("fault classes");
+    let result = nav_sim::faults::run_campaign(&scenario, |done, _| bar.set_position(done))?;
+    bar.finish_and_clear();
+    println!("{}", result.table());
+    println!("{}", result.summary_line());
+    if result.all_met() {
+        Ok(())
+    } else {
+        Err("fault campaign: a row is not met".into())
+    }
+}
+
 fn target_bench(
     scenario: Option<&Path>,
     elf: &Path,
@@ -300,6 +323,7 @@ fn main() -> ExitCode {
             print!("{}", nav_sim::scenario::DEFAULT_SCENARIO_TOML);
             Ok(())
         }
+        Command::Faults { scenario } => faults(scenario.as_deref()),
         Command::Observability(arguments) => arguments.run().map_err(Failure::from),
         Command::TargetBench {
             scenario,
