@@ -37,7 +37,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
+use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, ContentArrangement, Table};
 use nalgebra::Vector3;
 use nav_core::attitude;
 use nav_fsw::health::HealthCounters;
@@ -66,6 +66,8 @@ pub const SPD_CHECK_INTERVAL_FRAMES: i64 = 50;
 /// The count window extends this long past the last injected frame (s): a measurement is
 /// fused within a frame of its arrival, an outage counted 2 s into it.
 pub const COUNT_MARGIN_S: f64 = 1.0;
+/// Width of the printed table (characters; cells wrap).
+pub const TABLE_WIDTH: u16 = 160;
 /// Calibration criterion: every state within this many σ of its truth.
 pub const CALIBRATION_SIGMA_BOUND: f64 = 3.0;
 
@@ -1221,7 +1223,9 @@ impl CampaignResult {
             "calibration (worst |e|/σ, NEES)",
             "met",
         ]);
-        table.set_width(200);
+        table
+            .set_content_arrangement(ContentArrangement::Dynamic)
+            .set_width(TABLE_WIDTH);
         for (index, (class, outcome)) in self.classes.iter().zip(&self.outcomes).enumerate() {
             let counters: Vec<&str> = class.counts.iter().map(|(c, _)| c.name).collect();
             let expected: Vec<String> = class.counts.iter().map(|(_, e)| e.text()).collect();
