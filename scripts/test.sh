@@ -77,6 +77,18 @@ echo "as expected, the link failed on the injected panic path"
 step "target checks on QEMU (mps2-an500, -icount shift=0), decoded defmt log"
 mkdir -p target/qemu
 (cd qemu && cargo run --release --bin checks) | tee target/qemu/checks.log
+step "stack overflow faults on the MPU guard (must fail with a HardFault)"
+(cd qemu && cargo build --release --bin stack_guard_demo)
+guard_elf="${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/stack_guard_demo"
+if QEMU_TIMEOUT_S=60 qemu/run.sh "$guard_elf" > target/qemu/stack-guard.log 2>&1; then
+  cat target/qemu/stack-guard.log
+  echo "FAIL: the stack overflow was not caught" >&2
+  exit 1
+fi
+cat target/qemu/stack-guard.log
+grep -q "HardFault" target/qemu/stack-guard.log
+grep -q "STACK depth 3072 KiB" target/qemu/stack-guard.log
+echo "as expected, the overflow faulted at the guard after using the whole stack region"
 step "flight build on QEMU"
 (cd qemu && cargo run --release --bin flight --features panic-never)
 
