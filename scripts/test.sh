@@ -66,6 +66,11 @@ fi
 step "panic-free flight build"
 (cd qemu && cargo build --release --bin flight --features panic-never)
 echo "flight build links with no panic path"
+step "no recursion and no indirect call in the flight binary's call graph"
+flight_elf="$(cd "$(dirname "${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/flight")" && pwd)/flight"
+"$llvm_bin/llvm-objdump" -d --no-show-raw-insn --mcpu=cortex-m7 "$flight_elf" > target/flight.dis
+NAV_FLIGHT_ELF="$flight_elf" NAV_FLIGHT_DISASSEMBLY="$root/target/flight.dis" \
+  cargo test -p tests-host --test call_graph -- --include-ignored --nocapture
 step "panic-free build rejects a deliberately added panic path"
 if (cd qemu && cargo build --release --bin flight --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
   echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
