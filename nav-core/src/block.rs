@@ -17,9 +17,9 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 use crate::discretise::CovarianceMatrix;
 
 /// A row of three (or a 3-vector).
-pub type Row = [f64; 3];
+pub(crate) type Row = [f64; 3];
 /// A 3×3 block, row-major: `block[row][column]`.
-pub type Block = [Row; 3];
+pub(crate) type Block = [Row; 3];
 
 /// The zero block.
 pub(crate) const ZERO: Block = [[0.0; 3]; 3];

@@ -291,6 +291,36 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// Covariance protection in place: each variance below its `floor` is raised to it; for
+    /// each variance above its `ceiling`, every element of its row and column (the variance
+    /// itself once) is multiplied by `√(ceiling/variance)`, keeping the correlations. Returns
+    /// whether anything was changed. Only the diagonal is read unless a bound is crossed.
+    pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
+        let mut clamped = false;
+        for (index, (floor, ceiling)) in floor.iter().zip(ceiling.iter()).enumerate() {
+            let Some(variance) = self.covariance.get((index, index)).copied() else {
+                continue;
+            };
+            if variance < *floor {
+                if let Some(entry) = self.covariance.get_mut((index, index)) {
+                    *entry = *floor;
+                }
+                clamped = true;
+            } else if variance > *ceiling {
+                let scale = libm::sqrt(ceiling / variance);
+                for (column_index, mut column) in self.covariance.column_iter_mut().enumerate() {
+                    if column_index == index {
+                        column.iter_mut().for_each(|value| *value *= scale);
+                    } else if let Some(value) = column.get_mut(index) {
+                        *value *= scale;
+                    }
+                }
+                clamped = true;
+            }
+        }
+        clamped
+    }
+
     /// Time update with a discretised model.
     ///
     /// # Errors

@@ -48,7 +48,7 @@
 )]
 
 pub mod attitude;
-pub mod block;
+mod block;
 pub mod discretise;
 pub mod error;
 pub mod error_model;

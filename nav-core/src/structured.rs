@@ -73,7 +73,7 @@ use crate::block::{
 };
 use crate::discretise::{CovarianceMatrix, MAX_ORDER};
 use crate::error_model::{LinearisationPoint, ProcessNoise};
-use crate::measurement::MeasurementJacobian;
+use crate::measurement::{LinearMeasurement, MeasurementJacobian};
 use crate::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
     POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
@@ -662,50 +662,6 @@ impl StructuredModel {
         mul_add(&value, accel, e_accel)
     }
 
-    #[doc(hidden)]
-    pub fn diag_observe(h: &MeasurementJacobian, p: &CovarianceMatrix) -> ObservedCovariance {
-        ObservedCovariance::new(h, p)
-    }
-    #[doc(hidden)]
-    pub fn diag_gain(o: &ObservedCovariance) -> StateRows {
-        let c = Cholesky3::new(&Matrix3::identity()).unwrap_or(Cholesky3 {
-            l10: 0.0,
-            l20: 0.0,
-            l21: 0.0,
-            inverse_diagonal: [1.0; 3],
-        });
-        o.gain(&c, &BlockMask::NONE)
-    }
-    #[doc(hidden)]
-    pub fn diag_joseph(p: &mut CovarianceMatrix, g: &StateRows, o: &ObservedCovariance) -> bool {
-        joseph_update(p, g, o, &Matrix3::identity())
-    }
-    #[doc(hidden)]
-    pub fn diag_mirror(p: &mut CovarianceMatrix) {
-        block::mirror_upper_to_lower(p, 24)
-    }
-    #[doc(hidden)]
-    pub fn diag_column(&self, p: &CovarianceMatrix) -> [Block; 3] {
-        let [_, _, _, _, _, _, _, _, _, c9, c10, c11, ..] = &p.data.0;
-        self.propagate_column([c9, c10, c11])
-    }
-    #[doc(hidden)]
-    pub fn diag_pair(&self, p: &CovarianceMatrix) -> Block {
-        let b = [ZERO; 3];
-        let t = &self.transition;
-        core::hint::black_box(p);
-        Self::dynamic_pair(
-            &b,
-            [&b[0], &b[1]],
-            [
-                &t.position_attitude,
-                &t.position_position,
-                &t.position_velocity,
-            ],
-            [&b[0], &b[1]],
-        )
-    }
-
     /// Block (`R`, ϑ) of the new `P_dd`: `Φ_ϑp = Φ_ϑv = 0` and `E_a` has no attitude row.
     #[inline(never)]
     fn attitude_pair(&self, u_attitude: &Block, gyro: &Block) -> Block {
@@ -852,12 +808,12 @@ impl StructuredModel {
 }
 
 /// One 3-vector per state: row `j` of a 24×3 matrix such as `P Hᵀ` or `K`.
-pub type StateRows = [Row; STATE_DIMENSION];
+pub(crate) type StateRows = [Row; STATE_DIMENSION];
 
 /// `P Hᵀ` and `H P Hᵀ` of a measurement, summed over the non-zero 3×3 blocks of `H` only
 /// (module docs).
 #[derive(Debug, Clone, Copy)]
-pub struct ObservedCovariance {
+pub(crate) struct ObservedCovariance {
     /// `M = P Hᵀ`, row `j` for state `j`.
     products: StateRows,
     /// `H P Hᵀ` (without `R`).
@@ -1127,6 +1083,79 @@ pub(crate) fn reset_covariance(
     reset_diagonal::<PSI>(p, &installation);
     reset_pair::<PSI, SG>(p, i, None);
     reset_pair::<PSI, SA>(p, i, None);
+}
+
+/// [`crate::measurement::refer_to_later_time`] without forming `A`: `H' = H − (H A) Δ`
+/// computed from the blocks of `A` at `point` (only its attitude, position and velocity rows
+/// are non-zero, [`crate::error_model`]):
+/// `(H A)_ϑ = H_ϑ W + H_v V`, `(H A)_p = H_v N`, `(H A)_v = H_p`, `(H A)_bg = −½ H_ϑ`,
+/// `(H A)_ba = −H_v Ĉ`, `(H A)_λg = −½ H_ϑ diag(ω_m)`, `(H A)_λa = −H_v Ĉ diag(f_m)`,
+/// `(H A)_ψ = 0`, with `W = −[ω̂×]`, `V = −2Ĉ[f̂×]`, `N = ∂g/∂p`. Equal to the dense
+/// version (proven by the tests).
+///
+/// # Errors
+/// [`NavError::InvalidTimeStep`] for a negative or non-finite latency,
+/// [`NavError::NonFiniteInput`] for a non-finite point.
+pub fn refer_to_later_time_at(
+    measurement: &LinearMeasurement,
+    point: &LinearisationPoint,
+    latency_s: f64,
+) -> Result<LinearMeasurement, NavError> {
+    if !(latency_s.is_finite() && latency_s >= 0.0) {
+        return Err(NavError::InvalidTimeStep);
+    }
+    let rate = block::from_vector(&point.corrected_rate_rad_s);
+    let force = block::from_vector(&point.corrected_specific_force_mps2);
+    let measured_rate = block::from_vector(&point.measured_rate_rad_s);
+    let measured_force = block::from_vector(&point.measured_specific_force_mps2);
+    let c = block::from_matrix(&point.body_to_inertial);
+    let gradient = block::from_matrix(&point.gravity_gradient_per_s2);
+    let mut check = FiniteCheck::new();
+    for value in rate
+        .iter()
+        .chain(&force)
+        .chain(&measured_rate)
+        .chain(&measured_force)
+    {
+        check.value(*value);
+    }
+    check.block(&c);
+    check.block(&gradient);
+    if !check.all_finite() {
+        return Err(NavError::NonFiniteInput);
+    }
+    let h = &measurement.jacobian;
+    let (h_attitude, h_position, h_velocity) = (
+        read::<0, A, 3, 24>(h),
+        read::<0, P, 3, 24>(h),
+        read::<0, V, 3, 24>(h),
+    );
+    let w = scale(&block::skew(rate), -1.0);
+    let v = mul(&scale(&c, -2.0), &block::skew(force));
+    let negative_c = scale(&c, -1.0);
+    let accel = mul(&h_velocity, &negative_c);
+    let half_attitude = scale(&h_attitude, -0.5);
+    let mut jacobian = *h;
+    let mut subtract = |offset: usize, product: &Block| {
+        for (i, row) in product.iter().enumerate() {
+            for (j, value) in row.iter().enumerate() {
+                if let Some(entry) = jacobian.get_mut((i, offset + j)) {
+                    *entry -= value * latency_s;
+                }
+            }
+        }
+    };
+    subtract(A, &mul_add(&mul(&h_attitude, &w), &h_velocity, &v));
+    subtract(P, &mul(&h_velocity, &gradient));
+    subtract(V, &h_position);
+    subtract(BG, &half_attitude);
+    subtract(BA, &accel);
+    subtract(SG, &scale_columns(&half_attitude, measured_rate));
+    subtract(SA, &scale_columns(&accel, measured_force));
+    Ok(LinearMeasurement {
+        jacobian,
+        ..*measurement
+    })
 }
 
 #[cfg(test)]
@@ -1539,6 +1568,48 @@ mod tests {
             Err(NavError::NonFiniteInput)
         );
         assert_eq!(filter, before);
+    }
+
+    #[test]
+    fn referring_by_blocks_equals_the_dense_reference() {
+        let mut rng = ChaCha8Rng::seed_from_u64(13);
+        for case in 0..200 {
+            let measurement = random_measurement(&mut rng, case % 2 == 0, false);
+            let point = random_point(&mut rng);
+            let latency_s = rng.random_range(0.0..0.126);
+            let dense =
+                refer_to_later_time(&measurement, &system_matrix(&point), latency_s).unwrap();
+            let structured = refer_to_later_time_at(&measurement, &point, latency_s).unwrap();
+            assert_eq!(structured.residual, dense.residual);
+            assert_eq!(structured.noise_covariance, dense.noise_covariance);
+            let scale = dense.jacobian.amax();
+            let difference = (structured.jacobian - dense.jacobian).amax();
+            assert!(
+                difference <= 1e-15 * scale,
+                "case {case}: {difference:e} of {scale:e}"
+            );
+            // The columns A never reaches (installation) are untouched bit for bit.
+            assert_eq!(
+                structured
+                    .jacobian
+                    .fixed_columns::<3>(STAR_INSTALLATION.index),
+                measurement
+                    .jacobian
+                    .fixed_columns::<3>(STAR_INSTALLATION.index)
+            );
+        }
+        let measurement = random_measurement(&mut rng, false, false);
+        let point = random_point(&mut rng);
+        assert_eq!(
+            refer_to_later_time_at(&measurement, &point, -1.0),
+            Err(NavError::InvalidTimeStep)
+        );
+        let mut bad = point;
+        bad.gravity_gradient_per_s2[(0, 0)] = f64::NAN;
+        assert_eq!(
+            refer_to_later_time_at(&measurement, &bad, 0.01),
+            Err(NavError::NonFiniteInput)
+        );
     }
 
     #[test]
