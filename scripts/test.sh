@@ -86,5 +86,7 @@ NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
 
 step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, bit for bit"
 (cd qemu && cargo build --release --bin replay)
-NAV_QEMU_REPLAY_ELF="$root/qemu/target/$TARGET/release/replay" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
+# As for the checks ELF above: honour an (absolute) CARGO_TARGET_DIR.
+replay_elf="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/replay"
+NAV_QEMU_REPLAY_ELF="$replay_elf" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
   cargo test --release -p tests-host --test replay_bit_exact -- --include-ignored --nocapture
