@@ -8,9 +8,10 @@
 //! 2. History: the navigation solution of the frame goes into a ring of
 //!    [`HISTORY_CAPACITY`] frames, so a late measurement is fused against the solution at
 //!    its own time of validity (interpolated between frames).
-//! 3. Covariance: every `propagation_interval_frames` frames, `A` and `G` at the mean
-//!    rates/forces of the interval (nav-core `error_model`), 3rd-order `F` (paper §1.3.3),
-//!    `P ← F P Fᵀ + Qd`, then covariance protection (variance floors and ceilings, counted).
+//! 3. Covariance: every `propagation_interval_frames` frames, the error model at the mean
+//!    rates/forces of the interval, 3rd-order `F` and `P ← F P Fᵀ + Qd` by blocks, in place
+//!    (nav-core `structured`; paper §1.3.3), then covariance protection (variance floors
+//!    and ceilings, counted; only the diagonal is read unless a bound is crossed).
 //! 4. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
 //!    queued; then **at most one** due measurement (the oldest) is fused. A second due
 //!    measurement waits for the next frame: the worst frame is therefore strapdown + one
@@ -18,9 +19,11 @@
 //! 5. Calibration manager: table, convergence, frozen set.
 //!
 //! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
-//! measurement's time of validity and applied to the current error state and covariance,
-//! neglecting the error dynamics over the latency (≤ 126 ms): exact for the constant
-//! calibration states, and for the navigation errors a lag of order `|A| × latency`.
+//! measurement's time of validity and referred to the current error state with
+//! `H (I − A Δ)` (nav-core `refer_to_later_time_at`, by blocks of `A`).
+//!
+//! [`FilterArithmetic::DenseReference`] runs the same frame with nav-core's dense 24×24
+//! reference arithmetic (equal within round-off), for cost comparisons only.
 //!
 //! Closed loop (the default): after every accepted update the error state is fed back into
 //! the navigation solution, the history and the sensor corrections, and the filter is reset
