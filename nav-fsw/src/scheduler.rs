@@ -90,6 +90,50 @@ pub enum FilterArithmetic {
     DenseReference,
 }
 
+// The dense reference paths (cost comparisons only) live in their own never-inlined
+// functions: inlined, their 24×24 temporaries (84 KB in `propagate_covariance`) would be
+// reserved in the flight path's stack frames even though flight never takes these branches.
+
+/// Dense reference propagation ([`FilterArithmetic::DenseReference`]).
+#[inline(never)]
+fn dense_predict(
+    filter: &mut ErrorStateFilter,
+    point: &LinearisationPoint,
+    noise: &nav_core::error_model::ProcessNoise,
+    interval_s: f64,
+    order: u8,
+    frozen: &BlockMask,
+) -> Result<(), NavError> {
+    dense_model(point, noise, interval_s, order, frozen).and_then(|model| filter.predict(&model))
+}
+
+/// Dense reference late-measurement referral.
+#[inline(never)]
+fn dense_referral(
+    measurement: &LinearMeasurement,
+    point: &LinearisationPoint,
+    latency_s: f64,
+) -> Result<LinearMeasurement, NavError> {
+    refer_to_later_time(measurement, &system_matrix(point), latency_s)
+}
+
+/// Dense reference Joseph update.
+#[inline(never)]
+fn dense_update(
+    filter: &mut ErrorStateFilter,
+    measurement: &LinearMeasurement,
+    gate: f64,
+    frozen: &BlockMask,
+) -> Result<nav_core::filter::InnovationReport, NavError> {
+    filter.update_with_frozen_blocks(measurement, gate, frozen)
+}
+
+/// Dense reference reset.
+#[inline(never)]
+fn dense_reset(filter: &mut ErrorStateFilter) -> nav_core::filter::ErrorState {
+    filter.reset_dense()
+}
+
 /// The dense reference discrete model with the process noise of the `frozen` blocks removed
 /// (as [`StructuredModel::remove_process_noise`]).
 fn dense_model(
@@ -485,14 +529,14 @@ impl NavigationComputer {
                     Err(error) => Err(error),
                 }
             }
-            FilterArithmetic::DenseReference => dense_model(
+            FilterArithmetic::DenseReference => dense_predict(
+                &mut self.filter,
                 &point,
                 &self.config.process_noise,
                 interval_s,
                 order,
                 &frozen,
-            )
-            .and_then(|model| self.filter.predict(&model)),
+            ),
         };
         match result {
             Ok(()) => self.protect_covariance(),
@@ -688,9 +732,7 @@ impl NavigationComputer {
             (Ok(m), Some(point)) if latency_s > 1e-6 * self.config.imu.period_s => {
                 match self.arithmetic {
                     FilterArithmetic::Structured => refer_to_later_time_at(&m, &point, latency_s),
-                    FilterArithmetic::DenseReference => {
-                        refer_to_later_time(&m, &system_matrix(&point), latency_s)
-                    }
+                    FilterArithmetic::DenseReference => dense_referral(&m, &point, latency_s),
                 }
             }
             (other, _) => other,
@@ -703,9 +745,7 @@ impl NavigationComputer {
         let frozen = self.manager.frozen_blocks();
         let report = measurement.and_then(|m| match self.arithmetic {
             FilterArithmetic::Structured => self.filter.update_structured(&m, gate, &frozen),
-            FilterArithmetic::DenseReference => {
-                self.filter.update_with_frozen_blocks(&m, gate, &frozen)
-            }
+            FilterArithmetic::DenseReference => dense_update(&mut self.filter, &m, gate, &frozen),
         });
         match report {
             Err(_) => {
@@ -788,7 +828,7 @@ impl NavigationComputer {
         }
         match self.arithmetic {
             FilterArithmetic::Structured => self.filter.reset(),
-            FilterArithmetic::DenseReference => self.filter.reset_dense(),
+            FilterArithmetic::DenseReference => dense_reset(&mut self.filter),
         };
         let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
         let position_correction = block_of(&error, POSITION);
