@@ -31,6 +31,7 @@ if ! command -v qemu-system-arm >/dev/null; then
   fi
 fi
 if ! command -v defmt-print >/dev/null; then cargo install --locked defmt-print; fi
+if ! command -v cargo-fuzz >/dev/null; then cargo install --locked cargo-fuzz; fi
 qemu-system-arm --version | head -1
 defmt-print --version
 llvm_bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin"
@@ -46,6 +47,17 @@ step "clippy (firmware workspace, $TARGET)"
 
 step "host tests"
 cargo test --workspace
+
+step "fuzzing the firmware's input decoders (cargo-fuzz on stable, --sanitizer none, 30 s)"
+# New inputs go to a scratch corpus; the kept corpus (fuzz/corpus/log_decoder) is only read.
+mkdir -p target/fuzz-corpus
+if ! cargo fuzz run log_decoder --sanitizer none target/fuzz-corpus fuzz/corpus/log_decoder -- \
+  -max_total_time=30 > target/fuzz.log 2>&1; then
+  tail -40 target/fuzz.log
+  echo "FAIL: the fuzzer found a crash (input saved under fuzz/artifacts/log_decoder/)" >&2
+  exit 1
+fi
+grep -E "^Done [0-9]+ runs" target/fuzz.log
 
 step "firmware build ($TARGET, cortex-m7)"
 (cd qemu && cargo build --release --bin checks)
