@@ -173,20 +173,29 @@ pub fn nees_bounds<E: std::error::Error>(
     runs: usize,
     states: usize,
 ) -> Result<(f64, f64), MonteCarloError<E>> {
-    if runs == 0 || states == 0 {
+    average_interval(runs as u64, states)
+}
+
+/// The two-sided 95 % interval of the average of `count` independent χ²(`dimension`)
+/// variables: `[χ²⁻¹(0.025; count·dimension), χ²⁻¹(0.975; count·dimension)] / count`.
+fn average_interval<E: std::error::Error>(
+    count: u64,
+    dimension: usize,
+) -> Result<(f64, f64), MonteCarloError<E>> {
+    if count == 0 || dimension == 0 {
         return Err(MonteCarloError::NoRuns);
     }
-    // Run and state counts are far below 2⁵³: exact in f64.
-    let runs_f64 = runs as f64;
-    let degrees_of_freedom = runs_f64 * states as f64;
+    // Counts and dimensions are far below 2⁵³: exact in f64.
+    let count = count as f64;
+    let degrees_of_freedom = count * dimension as f64;
     let distribution =
         ChiSquared::new(degrees_of_freedom).map_err(|error| MonteCarloError::ChiSquared {
             degrees_of_freedom,
             message: error.to_string(),
         })?;
     Ok((
-        distribution.inverse_cdf(0.025) / runs_f64,
-        distribution.inverse_cdf(0.975) / runs_f64,
+        distribution.inverse_cdf(0.025) / count,
+        distribution.inverse_cdf(0.975) / count,
     ))
 }
 
@@ -221,21 +230,12 @@ impl NisTest {
     ) -> Result<Self, MonteCarloError<E>> {
         let updates: u64 = runs.iter().map(|run| run.updates).sum();
         let sum: f64 = runs.iter().map(|run| run.sum).sum();
-        if updates == 0 || dimension == 0 {
-            return Err(MonteCarloError::NoRuns);
-        }
-        // Update counts are far below 2⁵³: exact in f64.
-        let count = updates as f64;
-        let degrees_of_freedom = count * dimension as f64;
-        let distribution =
-            ChiSquared::new(degrees_of_freedom).map_err(|error| MonteCarloError::ChiSquared {
-                degrees_of_freedom,
-                message: error.to_string(),
-            })?;
+        let (lower_bound, upper_bound) = average_interval(updates, dimension)?;
         Ok(Self {
-            average: sum / count,
-            lower_bound: distribution.inverse_cdf(0.025) / count,
-            upper_bound: distribution.inverse_cdf(0.975) / count,
+            // Update counts are far below 2⁵³: exact in f64.
+            average: sum / updates as f64,
+            lower_bound,
+            upper_bound,
             updates,
             dimension,
         })
