@@ -31,6 +31,7 @@ if ! command -v qemu-system-arm >/dev/null; then
   fi
 fi
 if ! command -v defmt-print >/dev/null; then cargo install --locked defmt-print; fi
+if ! command -v cargo-fuzz >/dev/null; then cargo install --locked cargo-fuzz; fi
 qemu-system-arm --version | head -1
 defmt-print --version
 llvm_bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin"
@@ -49,6 +50,17 @@ cargo test --workspace
 
 step "fault-injection campaign (nav_sim::faults): the table, every row met"
 cargo test -p tests-host --test fault_campaign -- --include-ignored --nocapture
+
+step "fuzzing the firmware's input decoders (cargo-fuzz on stable, --sanitizer none, 30 s)"
+# New inputs go to a scratch corpus; the kept corpus (fuzz/corpus/log_decoder) is only read.
+mkdir -p target/fuzz-corpus
+if ! cargo fuzz run log_decoder --sanitizer none target/fuzz-corpus fuzz/corpus/log_decoder -- \
+  -max_total_time=30 > target/fuzz.log 2>&1; then
+  tail -40 target/fuzz.log
+  echo "FAIL: the fuzzer found a crash (input saved under fuzz/artifacts/log_decoder/)" >&2
+  exit 1
+fi
+grep -E "^Done [0-9]+ runs" target/fuzz.log
 
 step "firmware build ($TARGET, cortex-m7)"
 (cd qemu && cargo build --release --bin checks)
@@ -69,6 +81,11 @@ fi
 step "panic-free flight build"
 (cd qemu && cargo build --release --bin flight --features panic-never)
 echo "flight build links with no panic path"
+step "no recursion and no indirect call in the flight binary's call graph"
+flight_elf="$(cd "$(dirname "${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/flight")" && pwd)/flight"
+"$llvm_bin/llvm-objdump" -d --no-show-raw-insn --mcpu=cortex-m7 "$flight_elf" > target/flight.dis
+NAV_FLIGHT_ELF="$flight_elf" NAV_FLIGHT_DISASSEMBLY="$root/target/flight.dis" \
+  cargo test -p tests-host --test call_graph -- --include-ignored --nocapture
 step "panic-free build rejects a deliberately added panic path"
 if (cd qemu && cargo build --release --bin flight --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
   echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
@@ -80,6 +97,18 @@ echo "as expected, the link failed on the injected panic path"
 step "target checks on QEMU (mps2-an500, -icount shift=0), decoded defmt log"
 mkdir -p target/qemu
 (cd qemu && cargo run --release --bin checks) | tee target/qemu/checks.log
+step "stack overflow faults on the MPU guard (must fail with a HardFault)"
+(cd qemu && cargo build --release --bin stack_guard_demo)
+guard_elf="${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/stack_guard_demo"
+if QEMU_TIMEOUT_S=60 qemu/run.sh "$guard_elf" > target/qemu/stack-guard.log 2>&1; then
+  cat target/qemu/stack-guard.log
+  echo "FAIL: the stack overflow was not caught" >&2
+  exit 1
+fi
+cat target/qemu/stack-guard.log
+grep -q "HardFault" target/qemu/stack-guard.log
+grep -q "STACK depth 3072 KiB" target/qemu/stack-guard.log
+echo "as expected, the overflow faulted at the guard after using the whole stack region"
 step "flight build on QEMU"
 (cd qemu && cargo run --release --bin flight --features panic-never)
 

@@ -291,6 +291,36 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// Covariance protection in place: each variance below its `floor` is raised to it; for
+    /// each variance above its `ceiling`, every element of its row and column (the variance
+    /// itself once) is multiplied by `√(ceiling/variance)`, keeping the correlations. Returns
+    /// whether anything was changed. Only the diagonal is read unless a bound is crossed.
+    pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
+        let mut clamped = false;
+        for (index, (floor, ceiling)) in floor.iter().zip(ceiling.iter()).enumerate() {
+            let Some(variance) = self.covariance.get((index, index)).copied() else {
+                continue;
+            };
+            if variance < *floor {
+                if let Some(entry) = self.covariance.get_mut((index, index)) {
+                    *entry = *floor;
+                }
+                clamped = true;
+            } else if variance > *ceiling {
+                let scale = libm::sqrt(ceiling / variance);
+                for (column_index, mut column) in self.covariance.column_iter_mut().enumerate() {
+                    if column_index == index {
+                        column.iter_mut().for_each(|value| *value *= scale);
+                    } else if let Some(value) = column.get_mut(index) {
+                        *value *= scale;
+                    }
+                }
+                clamped = true;
+            }
+        }
+        clamped
+    }
+
     /// Time update with a discretised model.
     ///
     /// # Errors
@@ -401,24 +431,30 @@ impl ErrorStateFilter {
     /// [`NavError::NonFiniteState`] if the result is not finite (filter unchanged).
     pub fn predict_structured(&mut self, model: &StructuredModel) -> Result<(), NavError> {
         let state = match self.mode {
-            FilterMode::OpenLoop => model.propagate_state(&self.state),
-            FilterMode::ClosedLoop => self.state,
+            FilterMode::OpenLoop => {
+                let state = model.propagate_state(&self.state);
+                if !state.iter().all(|v| v.is_finite()) {
+                    return Err(NavError::NonFiniteState);
+                }
+                Some(state)
+            }
+            // Closed loop: x = 0 stays 0.
+            FilterMode::ClosedLoop => None,
         };
-        if !state.iter().all(|v| v.is_finite()) {
+        if !model.propagate_covariance(&mut self.covariance) {
             return Err(NavError::NonFiniteState);
         }
-        self.covariance = model
-            .propagate_covariance(&self.covariance)
-            .ok_or(NavError::NonFiniteState)?;
-        self.state = state;
+        if let Some(state) = state {
+            self.state = state;
+        }
         Ok(())
     }
 
     /// Structured measurement update (the flight path): the same gated, frozen-block
     /// Joseph-form update as [`ErrorStateFilter::update_with_frozen_blocks`], with `P Hᵀ`
-    /// summed over the non-zero 3×3 blocks of `H` only and the Joseph form expanded to
-    /// O(n²) (derivation in [`crate::structured`]); equal to the dense update within
-    /// relative 1e-12.
+    /// summed over the non-zero 3×3 blocks of `H` only, a 3×3 Cholesky of `S`, and the Joseph
+    /// form expanded to O(n²) in place (derivation in [`crate::structured`]); equal to the
+    /// dense update within relative 1e-12.
     ///
     /// # Errors
     /// As [`ErrorStateFilter::update_with_frozen_blocks`]; the filter is unchanged on any
@@ -434,46 +470,50 @@ impl ErrorStateFilter {
         }
         check_measurement(measurement)?;
         let h = &measurement.jacobian;
-        // H P = Mᵀ (3×24), over the non-zero blocks of H.
-        let hp = structured::jacobian_times_covariance(h, &self.covariance);
-        let mut report = innovation_report(
-            measurement.residual - h * self.state,
-            &(hp * h.transpose() + measurement.noise_covariance),
-        )?;
-        if report.normalised_innovation_squared > gate_nis {
+        // H P = Mᵀ and H P Hᵀ, over the non-zero blocks of H.
+        let observed = structured::ObservedCovariance::new(h, &self.covariance);
+        let covariance = symmetrised3(&(observed.projected() + measurement.noise_covariance));
+        let innovation = measurement.residual - h * self.state;
+        let cholesky = structured::Cholesky3::new(&covariance)
+            .ok_or(NavError::NonPositiveInnovationCovariance)?;
+        // NIS = νᵀ S⁻¹ ν = |L⁻¹ ν|².
+        let whitened = Vector3::from(cholesky.whiten([innovation.x, innovation.y, innovation.z]));
+        let nis = whitened.norm_squared();
+        if !nis.is_finite() {
+            return Err(NavError::NonPositiveInnovationCovariance);
+        }
+        let mut report = InnovationReport {
+            innovation,
+            covariance,
+            normalised_innovation_squared: nis,
+            accepted: false,
+        };
+        if nis > gate_nis {
             return Ok(report);
         }
-        let cholesky =
-            Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
-        // Kᵀ = S⁻¹ H P, frozen blocks' gain set to zero.
-        let mut gain_t = cholesky.solve(&hp);
-        if !frozen.is_empty() {
-            for (state_index, mut column) in gain_t.column_iter_mut().enumerate() {
-                if frozen.contains_state(state_index) {
-                    column.fill(0.0);
-                }
-            }
-        }
-        let state = self.state + gain_t.tr_mul(&report.innovation);
+        // K = P Hᵀ S⁻¹ by state blocks, frozen blocks' gain zero.
+        let gains = observed.gain(&cholesky, frozen);
+        let state = self.state + structured::gain_times(&gains, &innovation);
         if !state.iter().all(|v| v.is_finite()) {
             return Err(NavError::NonFiniteState);
         }
-        self.covariance =
-            structured::joseph_update(&self.covariance, &gain_t, &hp, &report.covariance)
-                .ok_or(NavError::NonFiniteState)?;
+        if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
+            return Err(NavError::NonFiniteState);
+        }
         self.state = state;
         report.accepted = true;
         Ok(report)
     }
 
     /// Closed-loop reset: returns the error state to feed back (see [`apply_error_state`]),
-    /// zeroes `x` and applies the reset Jacobian to `P` (module docs), by blocks: only the
-    /// attitude and installation block rows and columns change ([`crate::structured`]).
+    /// zeroes `x` and applies the reset Jacobian to `P` (module docs), by blocks and in
+    /// place: only the attitude and installation block rows and columns change
+    /// ([`crate::structured`]).
     pub fn reset(&mut self) -> ErrorState {
         let error = self.state;
         let [attitude, installation] =
             [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&error, block));
-        self.covariance = structured::reset_covariance(&self.covariance, &attitude, &installation);
+        structured::reset_covariance(&mut self.covariance, &attitude, &installation);
         self.state = ErrorState::zeros();
         error
     }

@@ -48,6 +48,7 @@
 )]
 
 pub mod attitude;
+mod block;
 pub mod discretise;
 pub mod error;
 pub mod error_model;

@@ -284,8 +284,8 @@ impl FilterPathFixture {
 
     /// [`FilterPathFixture::gnss_update`] with the chosen implementation; a positive
     /// `latency_s` refers the fix to the current error state with `H (I − AΔ)` (as the
-    /// flight scheduler does for a late fix), which adds the velocity, gyro-bias and
-    /// gyro-scale-factor columns to `H`.
+    /// flight scheduler does for a late fix: by blocks, or with the dense `A`), which adds
+    /// the velocity, gyro-bias and gyro-scale-factor columns to `H`.
     ///
     /// # Errors
     /// As [`gnss_position`], [`refer_to_later_time`] and the update.
@@ -307,7 +307,14 @@ impl FilterPathFixture {
         )?;
         if latency_s > 0.0 {
             let point = self.linearisation_point();
-            measurement = refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?;
+            measurement = match implementation {
+                Implementation::Structured => {
+                    crate::structured::refer_to_later_time_at(&measurement, &point, latency_s)?
+                }
+                Implementation::Dense => {
+                    refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?
+                }
+            };
         }
         self.apply(&measurement, implementation)
     }

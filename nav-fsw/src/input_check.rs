@@ -352,4 +352,65 @@ mod tests {
             Err(GnssFault::NonFinite)
         );
     }
+
+    /// Boundaries of every check (found by mutation testing: `>` vs `>=` at the limits,
+    /// `&&` vs `||` in the tolerance check, and the sign of the GNSS difference were not
+    /// pinned by the other tests).
+    #[test]
+    fn limits_are_inclusive_and_validation_refuses_each_edge() {
+        let limits = ImuLimits::default();
+        let refused = |change: fn(&mut ImuLimits)| {
+            let mut bad = limits;
+            change(&mut bad);
+            bad.validate().is_err()
+        };
+        assert!(refused(|l| l.period_s = 0.0));
+        assert!(refused(|l| l.period_tolerance = 1.0));
+        assert!(refused(|l| l.period_tolerance = 2.0));
+        assert!(refused(|l| l.period_tolerance = 0.0));
+        assert!(limits.validate().is_ok());
+
+        // An increment exactly at the saturation limit is accepted.
+        let mut checker = ImuChecker::new(limits).unwrap();
+        let max_angle = limits.max_rate_rad_s * limits.period_s;
+        let max_velocity = limits.max_specific_force_mps2 * limits.period_s;
+        let at_limit = ImuSample {
+            sequence: 1,
+            time_s: 0.002,
+            delta_angle_rad: [max_angle, -max_angle, 0.0],
+            delta_velocity_mps: [0.0, max_velocity, -max_velocity],
+        };
+        assert!(checker.check(&at_limit).is_ok());
+
+        // Star: a norm exactly at the tolerance is accepted; a zero dot product with the
+        // previous sample is not a sign change.
+        let long = StarMeasurement {
+            time_tag_s: 1.0,
+            attitude_wxyz: [1.5, 0.0, 0.0, 0.0],
+        };
+        assert!(check_star(&long, None, 0.5).is_ok());
+        let previous = Quaternion::new(1.0, 0.0, 0.0, 0.0);
+        let orthogonal = StarMeasurement {
+            time_tag_s: 1.0,
+            attitude_wxyz: [0.0, 1.0, 0.0, 0.0],
+        };
+        assert_eq!(
+            check_star(&orthogonal, Some(&previous), 1e-3).map(|(_, f)| f),
+            Ok(false)
+        );
+
+        // GNSS: a jump of exactly the limit is accepted (3-4-5 triangle), and a fix equal to a
+        // far-away prediction is no jump at all.
+        let fix = GnssFix {
+            time_tag_s: 1.0,
+            position_ecef_m: [0.0; 3],
+        };
+        let origin = Vector3::zeros();
+        assert_eq!(
+            check_gnss(&fix, &Vector3::new(3.0, 4.0, 0.0), &origin, 5.0),
+            Ok(())
+        );
+        let far = Vector3::new(7.0e6, -1.0e6, 2.0e6);
+        assert_eq!(check_gnss(&fix, &far, &far, 1.0), Ok(()));
+    }
 }

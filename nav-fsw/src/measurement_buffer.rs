@@ -142,4 +142,30 @@ mod tests {
         assert_eq!(buffer.pop_due(10.0), Some((9.9, 2)));
         assert!(buffer.is_empty());
     }
+
+    /// The acceptance window is closed at both ends (found by mutation testing: `<` vs `<=`
+    /// at the edges, and the sign of the future tolerance, were not pinned).
+    #[test]
+    fn the_acceptance_window_includes_its_edges_and_reports_the_oldest_tag() {
+        let mut buffer: MeasurementBuffer<u8, 4> = MeasurementBuffer::new();
+        assert!(buffer.is_empty());
+        assert_eq!(buffer.len(), 0);
+        assert_eq!(buffer.oldest_time_tag(), None);
+        // now 10 s, latency 0.25 s, future tolerance 0.5 s: all exact in binary.
+        assert_eq!(buffer.push(9.75, 1, 10.0, 0.25, 0.5), Ok(()));
+        assert_eq!(buffer.push(10.25, 2, 10.0, 0.25, 0.5), Ok(()));
+        assert_eq!(buffer.push(10.5, 3, 10.0, 0.25, 0.5), Ok(()));
+        assert!(!buffer.is_empty());
+        assert_eq!(buffer.len(), 3);
+        assert_eq!(
+            buffer.oldest_time_tag().map(f64::to_bits),
+            Some(9.75_f64.to_bits())
+        );
+        assert_eq!(buffer.pop_due(10.0), Some((9.75, 1)));
+        assert_eq!(
+            buffer.oldest_time_tag().map(f64::to_bits),
+            Some(10.25_f64.to_bits())
+        );
+        assert_eq!(buffer.len(), 2);
+    }
 }

@@ -8,9 +8,10 @@
 //! 2. History: the navigation solution of the frame goes into a ring of
 //!    [`HISTORY_CAPACITY`] frames, so a late measurement is fused against the solution at
 //!    its own time of validity (interpolated between frames).
-//! 3. Covariance: every `propagation_interval_frames` frames, `A` and `G` at the mean
-//!    rates/forces of the interval (nav-core `error_model`), 3rd-order `F` (paper §1.3.3),
-//!    `P ← F P Fᵀ + Qd`, then covariance protection (variance floors and ceilings, counted).
+//! 3. Covariance: every `propagation_interval_frames` frames, the error model at the mean
+//!    rates/forces of the interval, 3rd-order `F` and `P ← F P Fᵀ + Qd` by blocks, in place
+//!    (nav-core `structured`; paper §1.3.3), then covariance protection (variance floors
+//!    and ceilings, counted; only the diagonal is read unless a bound is crossed).
 //! 4. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
 //!    queued; then **at most one** due measurement (the oldest) is fused. A second due
 //!    measurement waits for the next frame: the worst frame is therefore strapdown + one
@@ -18,9 +19,11 @@
 //! 5. Calibration manager: table, convergence, frozen set.
 //!
 //! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
-//! measurement's time of validity and applied to the current error state and covariance,
-//! neglecting the error dynamics over the latency (≤ 126 ms): exact for the constant
-//! calibration states, and for the navigation errors a lag of order `|A| × latency`.
+//! measurement's time of validity and referred to the current error state with
+//! `H (I − A Δ)` (nav-core `refer_to_later_time_at`, by blocks of `A`).
+//!
+//! [`FilterArithmetic::DenseReference`] runs the same frame with nav-core's dense 24×24
+//! reference arithmetic (equal within round-off), for cost comparisons only.
 //!
 //! Closed loop (the default): after every accepted update the error state is fed back into
 //! the navigation solution, the history and the sensor corrections, and the filter is reset
@@ -30,7 +33,8 @@
 use heapless::Deque;
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;
-use nav_core::error_model::{system_matrix, LinearisationPoint};
+use nav_core::discretise::{discretise, DiscreteModel};
+use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
 use nav_core::filter::{
     apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
     FilterMode,
@@ -44,7 +48,7 @@ use nav_core::state::{
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
-use nav_core::structured::StructuredModel;
+use nav_core::structured::{refer_to_later_time_at, StructuredModel};
 use nav_core::NavError;
 
 use crate::calibration_manager::{
@@ -71,6 +75,90 @@ pub enum Command {
     ClearSensorFaults,
     /// Forget calibration convergence (unfreeze every block).
     RestartCalibration,
+}
+
+/// Which implementation of the filter's matrix arithmetic the scheduler uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FilterArithmetic {
+    /// The flight path: block-structured propagation, update, referral and reset
+    /// (nav-core `structured`).
+    #[default]
+    Structured,
+    /// The dense 24×24 reference (nav-core `discretise`, `predict`, Joseph update,
+    /// `refer_to_later_time`, `reset_dense`): equal within round-off, for cost comparisons.
+    DenseReference,
+}
+
+// The dense reference paths (cost comparisons only) live in their own never-inlined
+// functions: inlined, their 24×24 temporaries (84 KB in `propagate_covariance`) would be
+// reserved in the flight path's stack frames even though flight never takes these branches.
+
+/// Dense reference propagation ([`FilterArithmetic::DenseReference`]).
+#[inline(never)]
+fn dense_predict(
+    filter: &mut ErrorStateFilter,
+    point: &LinearisationPoint,
+    noise: &nav_core::error_model::ProcessNoise,
+    interval_s: f64,
+    order: u8,
+    frozen: &BlockMask,
+) -> Result<(), NavError> {
+    dense_model(point, noise, interval_s, order, frozen).and_then(|model| filter.predict(&model))
+}
+
+/// Dense reference late-measurement referral.
+#[inline(never)]
+fn dense_referral(
+    measurement: &LinearMeasurement,
+    point: &LinearisationPoint,
+    latency_s: f64,
+) -> Result<LinearMeasurement, NavError> {
+    refer_to_later_time(measurement, &system_matrix(point), latency_s)
+}
+
+/// Dense reference Joseph update.
+#[inline(never)]
+fn dense_update(
+    filter: &mut ErrorStateFilter,
+    measurement: &LinearMeasurement,
+    gate: f64,
+    frozen: &BlockMask,
+) -> Result<nav_core::filter::InnovationReport, NavError> {
+    filter.update_with_frozen_blocks(measurement, gate, frozen)
+}
+
+/// Dense reference reset.
+#[inline(never)]
+fn dense_reset(filter: &mut ErrorStateFilter) -> nav_core::filter::ErrorState {
+    filter.reset_dense()
+}
+
+/// The dense reference discrete model with the process noise of the `frozen` blocks removed
+/// (as [`StructuredModel::remove_process_noise`]).
+fn dense_model(
+    point: &LinearisationPoint,
+    noise: &nav_core::error_model::ProcessNoise,
+    interval_s: f64,
+    order: u8,
+    frozen: &BlockMask,
+) -> Result<DiscreteModel, NavError> {
+    let mut model = discretise(
+        &system_matrix(point),
+        &noise_input_matrix(point),
+        &noise.spectral_density_diagonal(),
+        interval_s,
+        order,
+    )?;
+    if !frozen.is_empty() {
+        for (element, value) in model.process_noise.iter_mut().enumerate() {
+            let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
+            if frozen.contains_state(row) || frozen.contains_state(column) {
+                *value = 0.0;
+            }
+        }
+    }
+    Ok(model)
 }
 
 /// Navigation solution of one frame, kept for delayed fusion.
@@ -152,6 +240,7 @@ pub struct NavigationComputer {
     health: HealthCounters,
     cost: FrameCostMonitor,
     frame: u32,
+    arithmetic: FilterArithmetic,
 }
 
 fn sensor_corrections(calibration: &CalibrationEstimate) -> SensorCorrections {
@@ -226,9 +315,16 @@ impl NavigationComputer {
             health: HealthCounters::default(),
             cost: FrameCostMonitor::new(u32::MAX),
             frame: 0,
+            arithmetic: FilterArithmetic::Structured,
         };
         computer.record_snapshot();
         Ok(computer)
+    }
+
+    /// Selects the filter arithmetic (default: structured, the flight path); the dense
+    /// reference is for cost and equality comparisons.
+    pub fn set_arithmetic(&mut self, arithmetic: FilterArithmetic) {
+        self.arithmetic = arithmetic;
     }
 
     /// Sets the frame budget for overrun counting (unit of [`Self::report_frame_cost`]).
@@ -425,17 +521,27 @@ impl NavigationComputer {
         );
         // Block-structured discretisation and F P Fᵀ + Qd (nav-core `structured`); frozen
         // blocks get no process noise.
-        let model = StructuredModel::new(
-            &point,
-            &self.config.process_noise,
-            interval_s,
-            self.config.filter.discretisation_order,
-        );
         let frozen = self.manager.frozen_blocks();
-        let result = model.and_then(|mut model| {
-            model.remove_process_noise(&frozen);
-            self.filter.predict_structured(&model)
-        });
+        let order = self.config.filter.discretisation_order;
+        let result = match self.arithmetic {
+            FilterArithmetic::Structured => {
+                match StructuredModel::new(&point, &self.config.process_noise, interval_s, order) {
+                    Ok(mut model) => {
+                        model.remove_process_noise(&frozen);
+                        self.filter.predict_structured(&model)
+                    }
+                    Err(error) => Err(error),
+                }
+            }
+            FilterArithmetic::DenseReference => dense_predict(
+                &mut self.filter,
+                &point,
+                &self.config.process_noise,
+                interval_s,
+                order,
+                &frozen,
+            ),
+        };
         match result {
             Ok(()) => self.protect_covariance(),
             Err(_) => self.recover_filter(),
@@ -454,40 +560,15 @@ impl NavigationComputer {
         self.manager.restart();
     }
 
-    /// Variance floors and ceilings (module docs); symmetry is enforced by nav-core on every
-    /// predict and update.
+    /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless
+    /// a bound is crossed (nav-core `protect_variances`); symmetry is kept by construction.
     fn protect_covariance(&mut self) {
-        let mut covariance = *self.filter.covariance();
-        let mut clamped = false;
-        let bounds = self
-            .variance_floor
-            .iter()
-            .zip(self.variance_ceiling.iter())
-            .enumerate();
-        for (index, (floor, ceiling)) in bounds {
-            let ceiling = *ceiling;
-            let Some(variance) = covariance.get((index, index)).copied() else {
-                continue;
-            };
-            if variance < *floor {
-                if let Some(entry) = covariance.get_mut((index, index)) {
-                    *entry = *floor;
-                }
-                clamped = true;
-            } else if variance > ceiling {
-                let scale = libm::sqrt(ceiling / variance);
-                for (element, value) in covariance.iter_mut().enumerate() {
-                    let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
-                    if row == index || column == index {
-                        *value *= scale;
-                    }
-                }
-                clamped = true;
-            }
-        }
-        if clamped {
+        if self
+            .filter
+            .protect_variances(&self.variance_floor, &self.variance_ceiling)
+        {
             count(&mut self.health.covariance_clamps);
-            if self.filter.set_covariance(&covariance).is_err() {
+            if !self.filter.covariance().iter().all(|v| v.is_finite()) {
                 self.recover_filter();
             }
         }
@@ -663,7 +744,10 @@ impl NavigationComputer {
         let latency_s = self.navigation.time_s - tag;
         let measurement = match (measurement, self.last_point) {
             (Ok(m), Some(point)) if latency_s > 1e-6 * self.config.imu.period_s => {
-                refer_to_later_time(&m, &system_matrix(&point), latency_s)
+                match self.arithmetic {
+                    FilterArithmetic::Structured => refer_to_later_time_at(&m, &point, latency_s),
+                    FilterArithmetic::DenseReference => dense_referral(&m, &point, latency_s),
+                }
             }
             (other, _) => other,
         };
@@ -673,7 +757,10 @@ impl NavigationComputer {
             self.config.gnss.gate_nis
         };
         let frozen = self.manager.frozen_blocks();
-        let report = measurement.and_then(|m| self.filter.update_structured(&m, gate, &frozen));
+        let report = measurement.and_then(|m| match self.arithmetic {
+            FilterArithmetic::Structured => self.filter.update_structured(&m, gate, &frozen),
+            FilterArithmetic::DenseReference => dense_update(&mut self.filter, &m, gate, &frozen),
+        });
         match report {
             Err(_) => {
                 count(&mut self.health.filter_errors);
@@ -735,8 +822,9 @@ impl NavigationComputer {
     /// Closed-loop feedback of the error state into the navigation solution, the history and
     /// the sensor corrections, then the filter reset (module docs).
     fn feed_back(&mut self) {
-        let mut filter = self.filter;
-        let error = filter.reset();
+        // The correction is applied to copies of the (small) navigation solution and
+        // calibration first; the filter (4.8 kB) is reset in place only once it succeeded.
+        let error = *self.filter.state();
         let mut navigation = self.navigation;
         let mut calibration = self.calibration;
         let applied = apply_error_state(
@@ -752,6 +840,10 @@ impl NavigationComputer {
             self.recover_filter();
             return;
         }
+        match self.arithmetic {
+            FilterArithmetic::Structured => self.filter.reset(),
+            FilterArithmetic::DenseReference => dense_reset(&mut self.filter),
+        };
         let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
         let position_correction = block_of(&error, POSITION);
         if let Ok(correction) = attitude_correction {
@@ -760,18 +852,19 @@ impl NavigationComputer {
                 snapshot.position_m += position_correction;
             }
         }
-        self.filter = filter;
         self.navigation = navigation;
         self.calibration = calibration;
     }
 
     /// Current estimate and 1σ of one calibration block in table units (the installation
     /// error as a rotation vector: twice the quaternion vector part).
-    fn block_estimate(&self, block: StateBlock) -> ([f64; 3], [f64; 3]) {
-        let estimate = self.calibration_estimate();
-        let sigmas = self.filter.standard_deviations();
-        let sigma = block_of(&sigmas, block);
-        let c = &estimate;
+    fn block_estimate(
+        block: StateBlock,
+        estimate: &CalibrationEstimate,
+        sigmas: &ErrorState,
+    ) -> ([f64; 3], [f64; 3]) {
+        let sigma = block_of(sigmas, block);
+        let c = estimate;
         match block {
             b if b == STAR_INSTALLATION => {
                 let [w, x, y, z] = c.star_installation_wxyz;
@@ -788,12 +881,15 @@ impl NavigationComputer {
     fn evaluate_calibration(&mut self) {
         let mut values = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
         let mut sigmas = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        // Once per frame (not per block): the estimate and the 1σ of every state.
+        let estimate = self.calibration_estimate();
+        let standard_deviations = self.filter.standard_deviations();
         for ((value, sigma), block) in values
             .iter_mut()
             .zip(sigmas.iter_mut())
             .zip(CALIBRATION_BLOCKS.iter())
         {
-            (*value, *sigma) = self.block_estimate(*block);
+            (*value, *sigma) = Self::block_estimate(*block, &estimate, &standard_deviations);
         }
         self.manager
             .evaluate(self.navigation.time_s, &values, &sigmas);

@@ -123,19 +123,32 @@ impl<R: Read + ReadReady> RecordReader<R> {
     }
 }
 
+/// The next record `pick` accepts, skipping (and counting) at most
+/// [`MAX_RECORDS_PER_POLL`] records of other kinds.
+fn next_matching<R: Read + ReadReady, T>(
+    reader: &mut RecordReader<R>,
+    pick: impl Fn(&LogRecord) -> Option<T>,
+) -> Option<T> {
+    for _ in 0..MAX_RECORDS_PER_POLL {
+        let record = reader.next_record()?;
+        match pick(&record) {
+            Some(value) => return Some(value),
+            None => count(&mut reader.counters.wrong_kind),
+        }
+    }
+    None
+}
+
 /// An IMU on a byte stream ([`ImuPort`]): the next IMU record is the frame's sample.
 #[derive(Debug)]
 pub struct StreamImu<R>(pub RecordReader<R>);
 
 impl<R: Read + ReadReady> ImuPort for StreamImu<R> {
     fn read(&mut self) -> Option<ImuSample> {
-        for _ in 0..MAX_RECORDS_PER_POLL {
-            match self.0.next_record()? {
-                LogRecord::Imu(record) => return Some(record.to_imu_sample()),
-                LogRecord::Star(_) | LogRecord::Gnss(_) => count(&mut self.0.counters.wrong_kind),
-            }
-        }
-        None
+        next_matching(&mut self.0, |record| match record {
+            LogRecord::Imu(imu) => Some(imu.to_imu_sample()),
+            LogRecord::Star(_) | LogRecord::Gnss(_) => None,
+        })
     }
 }
 
@@ -145,13 +158,10 @@ pub struct StreamStarSensor<R>(pub RecordReader<R>);
 
 impl<R: Read + ReadReady> StarSensorPort for StreamStarSensor<R> {
     fn poll(&mut self) -> Option<StarMeasurement> {
-        for _ in 0..MAX_RECORDS_PER_POLL {
-            match self.0.next_record()? {
-                LogRecord::Star(record) => return Some(record.to_star_measurement()),
-                LogRecord::Imu(_) | LogRecord::Gnss(_) => count(&mut self.0.counters.wrong_kind),
-            }
-        }
-        None
+        next_matching(&mut self.0, |record| match record {
+            LogRecord::Star(star) => Some(star.to_star_measurement()),
+            LogRecord::Imu(_) | LogRecord::Gnss(_) => None,
+        })
     }
 }
 
@@ -161,13 +171,10 @@ pub struct StreamGnss<R>(pub RecordReader<R>);
 
 impl<R: Read + ReadReady> GnssPort for StreamGnss<R> {
     fn poll(&mut self) -> Option<GnssFix> {
-        for _ in 0..MAX_RECORDS_PER_POLL {
-            match self.0.next_record()? {
-                LogRecord::Gnss(record) => return Some(record.to_gnss_fix()),
-                LogRecord::Imu(_) | LogRecord::Star(_) => count(&mut self.0.counters.wrong_kind),
-            }
-        }
-        None
+        next_matching(&mut self.0, |record| match record {
+            LogRecord::Gnss(gnss) => Some(gnss.to_gnss_fix()),
+            LogRecord::Imu(_) | LogRecord::Star(_) => None,
+        })
     }
 }
 

@@ -13,6 +13,7 @@ use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
 use nav_fsw::replay::{FramePorts, ReplaySetup};
 use nav_fsw::scheduler::{Command, NavigationComputer};
+use nav_fsw::telemetry::FrameFusion;
 use nav_fsw::FswError;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -97,6 +98,33 @@ pub struct FlightResult {
     pub frames: u64,
     /// Measurements lost because a frame's port capacity was exceeded.
     pub dropped_measurements: u32,
+    /// NIS of every star-sensor measurement the gate tested (accepted or rejected).
+    pub star_nis: NisSum,
+    /// NIS of every GNSS fix the gate tested.
+    pub gnss_nis: NisSum,
+}
+
+/// Sum of the normalised innovation squared over the updates of one sensor (the gate's
+/// statistic, recorded for accepted and gate-rejected measurements alike, so the average is
+/// not truncated by the gate).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NisSum {
+    /// Σ NIS.
+    pub sum: f64,
+    /// Number of updates tested.
+    pub updates: u64,
+}
+
+impl NisSum {
+    fn add(&mut self, nis: f64) {
+        self.sum += nis;
+        self.updates += 1;
+    }
+
+    /// Average NIS (NaN without updates).
+    pub fn average(&self) -> f64 {
+        self.sum / self.updates as f64
+    }
 }
 
 impl FlightSample {
@@ -447,6 +475,8 @@ pub fn fly_observed(
     let mut next_record_s = start.time_s;
     let mut frames = 0u64;
     let mut last = None;
+    let mut star_nis = NisSum::default();
+    let mut gnss_nis = NisSum::default();
     while let Some(frame) = simulation.step(&mut events)? {
         if let Some((_, phase)) = segment_frames.iter().find(|(f, _)| *f == frame.frame_index) {
             computer.command(Command::SetPhase(*phase));
@@ -457,7 +487,23 @@ pub fn fly_observed(
         }
         inject(frame.frame_index, &mut ports);
         dropped = dropped.saturating_add(ports.dropped);
-        ports.run(&mut computer);
+        let gate_rejections_before = (
+            computer.health().star_gate_rejections,
+            computer.health().gnss_gate_rejections,
+        );
+        let telemetry = ports.run(&mut computer);
+        let health = computer.health();
+        match telemetry.fusion {
+            FrameFusion::StarAccepted => star_nis.add(telemetry.last_star_nis),
+            FrameFusion::GnssAccepted => gnss_nis.add(telemetry.last_gnss_nis),
+            FrameFusion::StarRejected if health.star_gate_rejections > gate_rejections_before.0 => {
+                star_nis.add(telemetry.last_star_nis);
+            }
+            FrameFusion::GnssRejected if health.gnss_gate_rejections > gate_rejections_before.1 => {
+                gnss_nis.add(telemetry.last_gnss_nis);
+            }
+            _ => {}
+        }
         observe(frame.frame_index, &computer);
         frames += 1;
         let errors = simulation.error_truth();
@@ -491,5 +537,7 @@ pub fn fly_observed(
             .into_owned(),
         frames,
         dropped_measurements: dropped,
+        star_nis,
+        gnss_nis,
     })
 }

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use nav_sim::flight::{self, FlightOptions, FlightResult};
-use nav_sim::monte_carlo::{self, RunOutcome};
+use nav_sim::monte_carlo;
 use nav_sim::report::{self, CalibrationResult, Parameter, TimeHistorySample};
 use nav_sim::Scenario;
 
@@ -175,21 +175,18 @@ fn monte_carlo(scenario: Option<&Path>, runs: u64, out: Option<&Path>) -> Result
     let seeds: Vec<u64> = (0..runs)
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .collect();
-    let outcomes = monte_carlo::run_parallel(
-        &seeds,
-        |seed| {
-            let seeded = flight::with_truth_drawn_from_prior(&scenario, seed);
-            flight::fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
-                seed,
-                error: -result.calibration_error,
-                covariance: result.calibration_covariance,
-            })
-        },
-        true,
-    )?;
+    let outcomes = monte_carlo::fly_campaign(&scenario, &seeds, true)?;
     let summary = monte_carlo::summarise::<15, flight::FlightError>(&outcomes)?;
     println!("{}", summary.table(&monte_carlo::calibration_labels()));
     println!("{}", summary.nees_line());
+    for (sensor, test) in [
+        ("star sensor", &summary.star_nis),
+        ("GNSS", &summary.gnss_nis),
+    ] {
+        if let Some(test) = test {
+            println!("{}", test.line(sensor));
+        }
+    }
     if let Some(directory) = out {
         std::fs::create_dir_all(directory)?;
         let path = directory.join("monte_carlo.png");

@@ -53,6 +53,39 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub error: SVector<f64, N>,
     /// Final filter covariance of the states.
     pub covariance: SMatrix<f64, N, N>,
+    /// NIS of the star sensor's tested updates (zero sums when not recorded).
+    pub star_nis: crate::flight::NisSum,
+    /// NIS of the GNSS fixes' tested updates.
+    pub gnss_nis: crate::flight::NisSum,
+}
+
+/// Flies `scenario` once per seed in parallel, each run's sensor-error truth drawn from the
+/// filter's prior ([`crate::flight::with_truth_drawn_from_prior`]): the campaign of
+/// `nav-sim monte-carlo` and of the consistency tests.
+///
+/// # Errors
+/// [`MonteCarloError::Run`] with the seed of a failed flight.
+pub fn fly_campaign(
+    scenario: &crate::Scenario,
+    seeds: &[u64],
+    show_progress: bool,
+) -> Result<Vec<RunOutcome>, MonteCarloError<crate::flight::FlightError>> {
+    run_parallel(
+        seeds,
+        |seed| {
+            let seeded = crate::flight::with_truth_drawn_from_prior(scenario, seed);
+            crate::flight::fly(&seeded, crate::flight::FlightOptions::default(), |_, _| {}).map(
+                |result| RunOutcome {
+                    seed,
+                    error: -result.calibration_error,
+                    covariance: result.calibration_covariance,
+                    star_nis: result.star_nis,
+                    gnss_nis: result.gnss_nis,
+                },
+            )
+        },
+        show_progress,
+    )
 }
 
 /// Why the Monte Carlo statistics or a run failed.
@@ -125,6 +158,10 @@ pub struct MonteCarloSummary<const N: usize = CALIBRATION_STATES> {
     pub states: [StateStatistics; N],
     /// The NEES test.
     pub nees: NeesTest,
+    /// The star sensor's NIS test (3 components), when the runs recorded NIS.
+    pub star_nis: Option<NisTest>,
+    /// The GNSS receiver's NIS test (3 components), when the runs recorded NIS.
+    pub gnss_nis: Option<NisTest>,
 }
 
 /// The two-sided 95% interval of the average NEES of `runs` runs of `states` states.
@@ -136,21 +173,96 @@ pub fn nees_bounds<E: std::error::Error>(
     runs: usize,
     states: usize,
 ) -> Result<(f64, f64), MonteCarloError<E>> {
-    if runs == 0 || states == 0 {
+    average_interval(runs as u64, states)
+}
+
+/// The two-sided 95 % interval of the average of `count` independent χ²(`dimension`)
+/// variables: `[χ²⁻¹(0.025; count·dimension), χ²⁻¹(0.975; count·dimension)] / count`.
+fn average_interval<E: std::error::Error>(
+    count: u64,
+    dimension: usize,
+) -> Result<(f64, f64), MonteCarloError<E>> {
+    if count == 0 || dimension == 0 {
         return Err(MonteCarloError::NoRuns);
     }
-    // Run and state counts are far below 2⁵³: exact in f64.
-    let runs_f64 = runs as f64;
-    let degrees_of_freedom = runs_f64 * states as f64;
+    // Counts and dimensions are far below 2⁵³: exact in f64.
+    let count = count as f64;
+    let degrees_of_freedom = count * dimension as f64;
     let distribution =
         ChiSquared::new(degrees_of_freedom).map_err(|error| MonteCarloError::ChiSquared {
             degrees_of_freedom,
             message: error.to_string(),
         })?;
     Ok((
-        distribution.inverse_cdf(0.025) / runs_f64,
-        distribution.inverse_cdf(0.975) / runs_f64,
+        distribution.inverse_cdf(0.025) / count,
+        distribution.inverse_cdf(0.975) / count,
     ))
+}
+
+/// The NIS consistency test of one aiding sensor over a campaign (Bar-Shalom, Li and
+/// Kirubarajan, *Estimation with Applications to Tracking and Navigation*, §5.4.2): the average
+/// NIS over all `M` tested updates of all runs, `ε̄_ν = Σ ν ᵀ S⁻¹ ν / M`, is `χ²(M m) / M`
+/// distributed for an `m`-dimensional measurement of a consistent filter; its two-sided 95 %
+/// interval is `[χ²⁻¹(0.025; M m), χ²⁻¹(0.975; M m)] / M`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NisTest {
+    /// Average NIS over every tested update.
+    pub average: f64,
+    /// Lower bound of the 95 % interval.
+    pub lower_bound: f64,
+    /// Upper bound of the 95 % interval.
+    pub upper_bound: f64,
+    /// Updates tested, `M`.
+    pub updates: u64,
+    /// Measurement dimension, `m`.
+    pub dimension: usize,
+}
+
+impl NisTest {
+    /// The test over the per-run sums of one sensor.
+    ///
+    /// # Errors
+    /// [`MonteCarloError::NoRuns`] without updates, [`MonteCarloError::ChiSquared`] if statrs
+    /// refuses the degrees of freedom.
+    pub fn new<E: std::error::Error>(
+        runs: &[crate::flight::NisSum],
+        dimension: usize,
+    ) -> Result<Self, MonteCarloError<E>> {
+        let updates: u64 = runs.iter().map(|run| run.updates).sum();
+        let sum: f64 = runs.iter().map(|run| run.sum).sum();
+        let (lower_bound, upper_bound) = average_interval(updates, dimension)?;
+        Ok(Self {
+            // Update counts are far below 2⁵³: exact in f64.
+            average: sum / updates as f64,
+            lower_bound,
+            upper_bound,
+            updates,
+            dimension,
+        })
+    }
+
+    /// Whether the average lies inside the 95 % interval.
+    pub fn consistent(&self) -> bool {
+        self.lower_bound <= self.average && self.average <= self.upper_bound
+    }
+
+    /// One line for reports: `NIS <sensor> over M updates: average …, 95% interval […]: …`.
+    pub fn line(&self, sensor: &str) -> String {
+        format!(
+            "NIS of the {sensor} ({} components) over {} updates: average {:.4}, 95% interval \
+             [{:.4}, {:.4}]: {}",
+            self.dimension,
+            self.updates,
+            self.average,
+            self.lower_bound,
+            self.upper_bound,
+            if self.consistent() {
+                "consistent"
+            } else {
+                "NOT consistent"
+            }
+        )
+    }
 }
 
 /// Computes the per-state statistics and the NEES test of the runs.
@@ -192,8 +304,11 @@ pub fn summarise<const N: usize, E: std::error::Error>(
             .sum::<f64>()
             / runs_f64,
     });
+    let nis = |sums: Vec<crate::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
     Ok(MonteCarloSummary {
         runs: outcomes.len(),
+        star_nis: nis(outcomes.iter().map(|outcome| outcome.star_nis).collect()),
+        gnss_nis: nis(outcomes.iter().map(|outcome| outcome.gnss_nis).collect()),
         states,
         nees: NeesTest {
             per_run,
@@ -403,6 +518,8 @@ mod tests {
                     seed,
                     error: factor * white,
                     covariance,
+                    star_nis: crate::flight::NisSum::default(),
+                    gnss_nis: crate::flight::NisSum::default(),
                 }
             })
             .collect()

@@ -9,27 +9,14 @@
 //! overconfident): its linear model drops terms that the uncorrected navigation errors make
 //! large (`tests/model_mismatch.rs`).
 
-use nav_sim::flight::{fly, with_truth_drawn_from_prior, FlightOptions};
-use nav_sim::monte_carlo::{run_parallel, summarise, RunOutcome};
+use nav_sim::monte_carlo::{fly_campaign, summarise};
 
 mod common;
 
 /// Average NEES of 12 seeds of the short scenario, truth drawn from `scenario`'s prior.
 fn average_nees_is_consistent(scenario: &nav_sim::Scenario) {
     let seeds: Vec<u64> = (0..12).map(|run| 1000 + run).collect();
-    let outcomes = run_parallel(
-        &seeds,
-        |seed| {
-            let seeded = with_truth_drawn_from_prior(scenario, seed);
-            fly(&seeded, FlightOptions::default(), |_, _| {}).map(|result| RunOutcome {
-                seed,
-                error: -result.calibration_error,
-                covariance: result.calibration_covariance,
-            })
-        },
-        false,
-    )
-    .unwrap();
+    let outcomes = fly_campaign(scenario, &seeds, false).unwrap();
     let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
     println!(
         "{}",

@@ -110,9 +110,11 @@ fn read_setup(file: &mut HostFile) -> Option<ReplaySetup> {
 
 #[entry]
 fn main() -> ! {
-    let Some(peripherals) = cortex_m::Peripherals::take() else {
+    let Some(mut peripherals) = cortex_m::Peripherals::take() else {
         exit_failure()
     };
+    // A stack overflow faults on the MPU guard instead of overwriting the statics.
+    nav_qemu::stack::install_guard(&mut peripherals.MPU);
     let Ok(mut input) = HostFile::open_read("replay-in.bin\0") else {
         defmt::error!("replay: cannot open replay-in.bin");
         exit_failure()

@@ -1,0 +1,63 @@
+//! Host replay throughput: the first `SECONDS` (default 120) of the default scenario's
+//! sensor log, assembled into frames in memory first, then run through the flight software
+//! (nav-fsw `NavigationComputer`) on one core with the structured (flight) and the dense
+//! (reference) filter arithmetic; prints frames per second of each and their ratio.
+//!
+//! `cargo run --release -p nav-sim --example replay_throughput [SECONDS]`
+
+use std::time::Instant;
+
+use nav_fsw::replay::{FrameAssembler, FramePorts};
+use nav_fsw::scheduler::{FilterArithmetic, NavigationComputer};
+use nav_sim::{sensor_log, Scenario, Simulation};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let seconds: f64 = std::env::args()
+        .nth(1)
+        .map(|s| s.parse())
+        .transpose()?
+        .unwrap_or(120.0);
+    let scenario = Scenario::default_scenario()?;
+    let setup = nav_sim::flight::replay_setup(&scenario)?;
+    let mut simulation = Simulation::new(&scenario)?;
+    let mut assembler = FrameAssembler::default();
+    let mut frames: Vec<FramePorts> = Vec::new();
+    let mut events = Vec::new();
+    let wanted = (seconds * 500.0) as usize;
+    while frames.len() < wanted && simulation.step(&mut events)?.is_some() {
+        for event in events.drain(..) {
+            if let Some(frame) = assembler.push(&sensor_log::record_of(&event)) {
+                frames.push(frame);
+            }
+        }
+    }
+    frames.extend(assembler.finish());
+    let mut rates = Vec::new();
+    for (label, arithmetic) in [
+        ("structured", FilterArithmetic::Structured),
+        ("dense", FilterArithmetic::DenseReference),
+    ] {
+        let mut computer = NavigationComputer::new(setup.config(), setup.initial)
+            .map_err(|error| format!("{error:?}"))?;
+        computer.set_arithmetic(arithmetic);
+        let mut replay = frames.clone();
+        let start = Instant::now();
+        let mut checksum = 0.0;
+        for ports in &mut replay {
+            checksum += ports.run(&mut computer).position_m[0];
+        }
+        let elapsed = start.elapsed().as_secs_f64();
+        let rate = replay.len() as f64 / elapsed;
+        println!(
+            "{label:>10}: {} frames ({:.0} s of flight) in {elapsed:.3} s = {rate:.0} frames/s \
+             (checksum {checksum:.6e})",
+            replay.len(),
+            replay.len() as f64 / 500.0
+        );
+        rates.push(rate);
+    }
+    if let [structured, dense] = rates[..] {
+        println!("ratio structured/dense: {:.1}", structured / dense);
+    }
+    Ok(())
+}
