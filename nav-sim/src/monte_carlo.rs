@@ -188,15 +188,47 @@ fn average_interval<E: std::error::Error>(
     // Counts and dimensions are far below 2⁵³: exact in f64.
     let count = count as f64;
     let degrees_of_freedom = count * dimension as f64;
+    let (lower, upper) = chi_square_quantiles(degrees_of_freedom)?;
+    Ok((lower / count, upper / count))
+}
+
+/// Above this many degrees of freedom the χ² quantiles come from the Wilson–Hilferty cube
+/// approximation (statrs' inverse CDF returns NaN for millions of degrees of freedom, the NIS
+/// of a 100-run campaign has 9 million).
+const WILSON_HILFERTY_ABOVE_DOF: f64 = 1.0e5;
+
+/// The 2.5 % and 97.5 % quantiles of χ²(k). Exact (statrs) up to
+/// [`WILSON_HILFERTY_ABOVE_DOF`]; above, Wilson and Hilferty (1931): `(χ²/k)^(1/3)` is nearly
+/// normal with mean `1 − 2/(9k)` and variance `2/(9k)`, so
+/// `χ²_p ≈ k (1 − 2/(9k) + z_p √(2/(9k)))³`, relative difference from the exact quantile below 1e-5 at 1e5 degrees of freedom
+/// (test) and falling with k.
+fn chi_square_quantiles<E: std::error::Error>(
+    degrees_of_freedom: f64,
+) -> Result<(f64, f64), MonteCarloError<E>> {
+    let refused = |message: String| MonteCarloError::ChiSquared {
+        degrees_of_freedom,
+        message,
+    };
+    if degrees_of_freedom > WILSON_HILFERTY_ABOVE_DOF {
+        let normal = statrs::distribution::Normal::standard();
+        let spread = (2.0 / (9.0 * degrees_of_freedom)).sqrt();
+        let quantile = |p: f64| {
+            let z = normal.inverse_cdf(p);
+            degrees_of_freedom * (1.0 - spread * spread + z * spread).powi(3)
+        };
+        return Ok((quantile(0.025), quantile(0.975)));
+    }
     let distribution =
-        ChiSquared::new(degrees_of_freedom).map_err(|error| MonteCarloError::ChiSquared {
-            degrees_of_freedom,
-            message: error.to_string(),
-        })?;
-    Ok((
-        distribution.inverse_cdf(0.025) / count,
-        distribution.inverse_cdf(0.975) / count,
-    ))
+        ChiSquared::new(degrees_of_freedom).map_err(|error| refused(error.to_string()))?;
+    let (lower, upper) = (
+        distribution.inverse_cdf(0.025),
+        distribution.inverse_cdf(0.975),
+    );
+    if lower.is_finite() && upper.is_finite() {
+        Ok((lower, upper))
+    } else {
+        Err(refused("the inverse CDF is not finite".into()))
+    }
 }
 
 /// The NIS consistency test of one aiding sensor over a campaign (Bar-Shalom, Li and
@@ -523,6 +555,25 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    #[test]
+    fn wilson_hilferty_matches_the_exact_quantiles_where_both_exist_and_stays_finite_beyond() {
+        let k = WILSON_HILFERTY_ABOVE_DOF;
+        let exact = ChiSquared::new(k).unwrap();
+        let normal = statrs::distribution::Normal::standard();
+        let spread = (2.0 / (9.0 * k)).sqrt();
+        for p in [0.025, 0.975] {
+            let approximate = k * (1.0 - spread * spread + normal.inverse_cdf(p) * spread).powi(3);
+            let relative = (approximate / exact.inverse_cdf(p) - 1.0).abs();
+            assert!(relative < 1e-5, "p {p}: {relative:e}");
+        }
+        // The 100-run NIS campaign: 3,077,000 updates of 3 components.
+        let (lower, upper) = average_interval::<Never>(3_077_000, 3).unwrap();
+        assert!(
+            (lower - 2.99726).abs() < 1e-4 && (upper - 3.00274).abs() < 1e-4,
+            "{lower} {upper}"
+        );
     }
 
     #[test]
