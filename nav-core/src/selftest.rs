@@ -191,6 +191,29 @@ impl FilterPathFixture {
         }
     }
 
+    /// The parts of [`FilterPathFixture::propagate`] for the cost breakdown: `0` the
+    /// linearisation point (rotation matrix and gravity gradient), `1` that and the
+    /// structured model, `2` everything (as `propagate`).
+    ///
+    /// # Errors
+    /// As [`FilterPathFixture::propagate_with`].
+    pub fn propagate_part(&mut self, part: u8) -> Result<(), NavError> {
+        let point = core::hint::black_box(self.linearisation_point());
+        if part == 0 {
+            return Ok(());
+        }
+        let model = core::hint::black_box(StructuredModel::new(
+            &point,
+            &ProcessNoise::PAPER,
+            0.002,
+            3,
+        )?);
+        if part == 1 {
+            return Ok(());
+        }
+        self.filter.predict_structured(&model)
+    }
+
     /// One 2 ms covariance propagation about the last strapdown step with the flight
     /// (structured) implementation.
     ///

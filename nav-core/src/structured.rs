@@ -247,33 +247,6 @@ struct NoiseBlocks {
     accel_bias: Block,
 }
 
-/// The blocks of `Φ` and `E` transposed (each `Xᵀ` of the block `X` of the same name).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct TransposedBlocks {
-    transition: DynamicBlocks,
-    gyro_bias_column: [Block; 3],
-    accel_bias_column: [Block; 2],
-}
-
-impl TransposedBlocks {
-    fn new(transition: &DynamicBlocks, gyro: &[Block; 3], accel: &[Block; 2]) -> Self {
-        let t = transition;
-        Self {
-            transition: DynamicBlocks {
-                attitude_attitude: transpose(&t.attitude_attitude),
-                position_attitude: transpose(&t.position_attitude),
-                position_position: transpose(&t.position_position),
-                position_velocity: transpose(&t.position_velocity),
-                velocity_attitude: transpose(&t.velocity_attitude),
-                velocity_position: transpose(&t.velocity_position),
-                velocity_velocity: transpose(&t.velocity_velocity),
-            },
-            gyro_bias_column: gyro.map(|b| transpose(&b)),
-            accel_bias_column: accel.map(|b| transpose(&b)),
-        }
-    }
-}
-
 /// The pairs of [`NoiseBlocks::dynamic`], in order.
 const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
     (ATTITUDE, ATTITUDE),
@@ -286,50 +259,48 @@ const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
 /// The row blocks of [`NoiseBlocks::dynamic_gyro_bias`] and `dynamic_accel_bias`.
 const DYNAMIC_ROWS: [StateBlock; 3] = [ATTITUDE, POSITION, VELOCITY];
 
+/// `dynamic += q Γ Γᵀ` over the pairs of [`DYNAMIC_PAIRS`] for an input column
+/// `Γ = [Γ_ϑ; Γ_p; Γ_v]`: `q Γ_R Γ_Sᵀ`, with `q` folded into the left factor.
+fn add_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]) {
+    let [ga, gp, gv] = gamma;
+    let scaled = [scale(ga, q), scale(gp, q)];
+    let [qa, qp] = &scaled;
+    let products = [(qa, ga), (qa, gp), (qa, gv), (qp, gp), (qp, gv)];
+    for (slot, (left, right)) in dynamic.iter_mut().zip(products) {
+        *slot = mul_transpose_add(slot, left, right);
+    }
+    let [.., vv] = dynamic;
+    *vv = mul_transpose_add(vv, &scale(gv, q), gv);
+}
+
+/// [`add_noise_input`] for an input with a zero attitude row, `Γ = [0; Γ_p; Γ_v]`: only
+/// the pairs pp, pv, vv are reached.
+fn add_accel_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 2]) {
+    let [gp, gv] = gamma;
+    let qp = scale(gp, q);
+    let [_, _, _, pp, pv, vv] = dynamic;
+    *pp = mul_transpose_add(pp, &qp, gp);
+    *pv = mul_transpose_add(pv, &qp, gv);
+    *vv = mul_transpose_add(vv, &scale(gv, q), gv);
+}
+
 impl NoiseBlocks {
-    /// `Σ_k q_k Γ_k Γ_kᵀ` (module docs) for the column blocks `Γ_k` given as
-    /// `[ϑ, δp, δv]` rows, with the bias row `ΔI` for the walks.
+    /// `Σ_k q_k Γ_k Γ_kᵀ` (module docs) over the two bias random walks, for their column
+    /// blocks given as `[ϑ, δp, δv]` (gyro) and `[δp, δv]` (accelerometer, zero attitude
+    /// row) rows, with the bias row `ΔI`. The white gyro and accelerometer noise are not
+    /// here: they are folded into the propagation ([`StructuredModel::propagate_covariance`]).
     ///
-    /// `intensities`: `q_k/Δ` for the gyro noise, accelerometer noise, gyro-bias walk and
-    /// accelerometer-bias walk; `walk_columns`: the walks' `[ϑ, δp, δv]` and `[δp, δv]` rows.
-    fn new(
-        intensities: [f64; 4],
+    /// `intensities`: `q_k/Δ` for the gyro-bias walk and the accelerometer-bias walk.
+    fn walks(
+        intensities: [f64; 2],
         interval_s: f64,
-        gyro_columns: &[Block; 3],
-        accel_columns: &[Block; 2],
-        walk_columns: (&[Block; 3], &[Block; 2]),
+        gyro_walk_columns: &[Block; 3],
+        accel_walk_columns: &[Block; 2],
     ) -> Self {
-        let [gyro_noise, accel_noise, gyro_walk, accel_walk] = intensities;
-        let (gyro_walk_columns, accel_walk_columns) = walk_columns;
-        let mut noise = NoiseBlocks {
-            dynamic: [ZERO; 6],
-            dynamic_gyro_bias: [ZERO; 3],
-            dynamic_accel_bias: [ZERO; 3],
-            gyro_bias: ZERO,
-            accel_bias: ZERO,
-        };
-        // q Γ Γᵀ over (ϑ, δp, δv) for Γ = [g_ϑ; g_p; g_v] (a zero attitude row for the
-        // accelerometer inputs).
-        let add_dynamic = |dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]| {
-            let [ga, gp, gv] = gamma;
-            let products = [(ga, ga), (ga, gp), (ga, gv), (gp, gp), (gp, gv), (gv, gv)];
-            for (slot, (left, right)) in dynamic.iter_mut().zip(products) {
-                *slot = add(slot, &scale(&mul_transpose(left, right), q));
-            }
-        };
-        let [accel_position, accel_velocity] = *accel_columns;
-        if gyro_noise > 0.0 {
-            add_dynamic(&mut noise.dynamic, gyro_noise, gyro_columns);
-        }
-        if accel_noise > 0.0 {
-            add_dynamic(
-                &mut noise.dynamic,
-                accel_noise,
-                &[ZERO, accel_position, accel_velocity],
-            );
-        }
+        let [gyro_walk, accel_walk] = intensities;
+        let mut noise = NoiseBlocks::ZERO;
         if gyro_walk > 0.0 {
-            add_dynamic(&mut noise.dynamic, gyro_walk, gyro_walk_columns);
+            add_noise_input(&mut noise.dynamic, gyro_walk, gyro_walk_columns);
             // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
             for (slot, gamma) in noise.dynamic_gyro_bias.iter_mut().zip(gyro_walk_columns) {
                 *slot = scale(gamma, gyro_walk * interval_s);
@@ -337,16 +308,24 @@ impl NoiseBlocks {
             noise.gyro_bias = scale(&IDENTITY, gyro_walk * interval_s * interval_s);
         }
         if accel_walk > 0.0 {
-            let [walk_position, walk_velocity] = *accel_walk_columns;
-            let gamma = [ZERO, walk_position, walk_velocity];
-            add_dynamic(&mut noise.dynamic, accel_walk, &gamma);
-            for (slot, gamma) in noise.dynamic_accel_bias.iter_mut().zip(&gamma) {
-                *slot = scale(gamma, accel_walk * interval_s);
-            }
+            add_accel_noise_input(&mut noise.dynamic, accel_walk, accel_walk_columns);
+            let [_, position, velocity] = &mut noise.dynamic_accel_bias;
+            let [walk_position, walk_velocity] = accel_walk_columns;
+            *position = scale(walk_position, accel_walk * interval_s);
+            *velocity = scale(walk_velocity, accel_walk * interval_s);
             noise.accel_bias = scale(&IDENTITY, accel_walk * interval_s * interval_s);
         }
         noise
     }
+
+    /// No noise.
+    const ZERO: Self = NoiseBlocks {
+        dynamic: [ZERO; 6],
+        dynamic_gyro_bias: [ZERO; 3],
+        dynamic_accel_bias: [ZERO; 3],
+        gyro_bias: ZERO,
+        accel_bias: ZERO,
+    };
 
     /// Every block with its (row, column) state blocks.
     fn blocks_mut(&mut self) -> impl Iterator<Item = (StateBlock, StateBlock, &mut Block)> {
@@ -388,10 +367,11 @@ pub struct StructuredModel {
     measured_rate_rad_s: Row,
     /// `f_m`: the accelerometer scale-factor column is `E_a diag(f_m)` (m/s²).
     measured_specific_force_mps2: Row,
-    /// `Φᵀ`, `E_gᵀ`, `E_aᵀ` block by block (the same numbers, stored transposed so that the
-    /// products `U Φᵀ` of the propagation run as row combinations).
-    transposed: TransposedBlocks,
-    /// The non-zero blocks of `Qd`.
+    /// `q_g/Δ` and `q_a/Δ` of the white gyro and accelerometer noise: their part of `Qd`,
+    /// `q E_g E_gᵀ + q E_a E_aᵀ` (the noise columns of `Γ` are `E_g`, `E_a`), is folded into
+    /// the propagation ([`StructuredModel::propagate_covariance`]).
+    input_noise: [f64; 2],
+    /// The non-zero blocks of the rest of `Qd` (the bias random walks).
     noise: NoiseBlocks,
     /// Whether any bias random walk is non-zero (`Qd` reaches the bias rows).
     bias_walk: bool,
@@ -458,27 +438,40 @@ impl StructuredModel {
         let accel_walk_columns = series
             .chi_velocity
             .map(|chi| scale(&mul(&chi, &c), -squared));
-        let noise = NoiseBlocks::new(
-            [gyro_noise, accel_noise, gyro_walk, accel_walk],
+        let noise = NoiseBlocks::walks(
+            [gyro_walk, accel_walk],
             interval_s,
-            &gyro_bias_column,
-            &accel_bias_column,
-            (&gyro_walk_columns, &accel_walk_columns),
+            &gyro_walk_columns,
+            &accel_walk_columns,
         );
         Ok(Self {
-            transposed: TransposedBlocks::new(
-                &series.transition,
-                &gyro_bias_column,
-                &accel_bias_column,
-            ),
             transition: series.transition,
             gyro_bias_column,
             accel_bias_column,
             measured_rate_rad_s: block::from_vector(&point.measured_rate_rad_s),
             measured_specific_force_mps2: block::from_vector(&point.measured_specific_force_mps2),
+            input_noise: [gyro_noise, accel_noise],
             noise,
             bias_walk,
         })
+    }
+
+    /// Adds the folded white-noise part of `Qd` (`q E_g E_gᵀ + q E_a E_aᵀ`, see
+    /// [`StructuredModel::input_noise`]) to the explicit blocks, and clears the folded
+    /// intensities: the model is unchanged, only its noise is held in the blocks.
+    fn unfold_input_noise(&mut self) {
+        let [gyro_noise, accel_noise] = self.input_noise;
+        if gyro_noise > 0.0 {
+            add_noise_input(&mut self.noise.dynamic, gyro_noise, &self.gyro_bias_column);
+        }
+        if accel_noise > 0.0 {
+            add_accel_noise_input(
+                &mut self.noise.dynamic,
+                accel_noise,
+                &self.accel_bias_column,
+            );
+        }
+        self.input_noise = [0.0; 2];
     }
 
     /// Removes the process noise of the `blocks` (their rows and columns of `Qd` set to zero),
@@ -486,6 +479,10 @@ impl StructuredModel {
     pub fn remove_process_noise(&mut self, blocks: &BlockMask) {
         if blocks.is_empty() {
             return;
+        }
+        if DYNAMIC_ROWS.iter().any(|block| blocks.contains(*block)) {
+            // The folded white noise reaches every dynamic row: hold it in the blocks.
+            self.unfold_input_noise();
         }
         for (row, column, value) in self.noise.blocks_mut() {
             if blocks.contains(row) || blocks.contains(column) {
@@ -525,7 +522,9 @@ impl StructuredModel {
     /// The dense 24×24 `Qd` (for tests and reports).
     pub fn process_noise_matrix(&self) -> CovarianceMatrix {
         let mut q = CovarianceMatrix::zeros();
-        let n = &self.noise;
+        let mut unfolded = *self;
+        unfolded.unfold_input_noise();
+        let n = &unfolded.noise;
         let [aa, ap, av, pp, pv, vv] = &n.dynamic;
         write_diagonal_symmetric::<A>(&mut q, aa);
         write_symmetric::<A, P>(&mut q, ap);
@@ -640,10 +639,10 @@ impl StructuredModel {
         ]
     }
 
-    /// Block (`R`, `S`), `S` = δp or δv, of the new `P_dd = U_d [Φ E]_Sᵀ` (without `Qd`):
-    /// `row` is `(U_Rϑ, U_Rp, U_Rv)`, `gyro`/`accel` row `R` of `U`'s folded calibration
-    /// columns, `transition` row `S` of `Φ` and `bias_columns` row `S` of `E_g`, `E_a`, all
-    /// transposed.
+    /// Block (`R`, `S`), `S` = δp or δv, of the new `P_dd = U_d [Φ E]_Sᵀ` (without the
+    /// walks' `Qd`): `row` is `(U_Rϑ, U_Rp, U_Rv)`, `folded` row `R` of `U`'s folded
+    /// calibration columns (with the white noise folded in), `transition` row `S` of `Φ` and
+    /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`).
     #[inline(never)]
     fn dynamic_pair(
         row: &[Block; 3],
@@ -655,20 +654,19 @@ impl StructuredModel {
         let [f_attitude, f_position, f_velocity] = transition;
         let [gyro, accel] = folded;
         let [e_gyro, e_accel] = bias_columns;
-        let mut value = mul(u_attitude, f_attitude);
-        value = mul_add(&value, u_position, f_position);
-        value = mul_add(&value, u_velocity, f_velocity);
-        value = mul_add(&value, gyro, e_gyro);
-        mul_add(&value, accel, e_accel)
+        let mut value = mul_transpose(u_attitude, f_attitude);
+        value = mul_transpose_add(&value, u_position, f_position);
+        value = mul_transpose_add(&value, u_velocity, f_velocity);
+        value = mul_transpose_add(&value, gyro, e_gyro);
+        mul_transpose_add(&value, accel, e_accel)
     }
 
     /// Block (`R`, ϑ) of the new `P_dd`: `Φ_ϑp = Φ_ϑv = 0` and `E_a` has no attitude row.
     #[inline(never)]
     fn attitude_pair(&self, u_attitude: &Block, gyro: &Block) -> Block {
-        let t = &self.transposed;
-        let [gyro_attitude, _, _] = &t.gyro_bias_column;
-        mul_add(
-            &mul(u_attitude, &t.transition.attitude_attitude),
+        let [gyro_attitude, _, _] = &self.gyro_bias_column;
+        mul_transpose_add(
+            &mul_transpose(u_attitude, &self.transition.attitude_attitude),
             gyro,
             gyro_attitude,
         )
@@ -696,18 +694,28 @@ impl StructuredModel {
         let [accel_a, accel_p, accel_v] = &accel_bias;
         let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = &gyro_scale;
         let [scale_accel_a, scale_accel_p, scale_accel_v] = &accel_scale;
-        let fg_a = add_scaled_columns(gyro_a, scale_gyro_a, rate);
-        let fg_p = add_scaled_columns(gyro_p, scale_gyro_p, rate);
-        let fg_v = add_scaled_columns(gyro_v, scale_gyro_v, rate);
+        // The white noise folded in (module docs): (U_bg + q_g E_g) E_gᵀ adds q_g E_g E_gᵀ,
+        // likewise q_a E_a E_aᵀ (E_a has no attitude row).
+        let [gyro_noise, accel_noise] = self.input_noise;
+        let [e_gyro_a, e_gyro_p, e_gyro_v] = &self.gyro_bias_column;
+        let [e_accel_p, e_accel_v] = &self.accel_bias_column;
+        let fold = |bias, scale_factor, input, column, noise| {
+            add_scaled(
+                &add_scaled_columns(bias, scale_factor, input),
+                column,
+                noise,
+            )
+        };
+        let fg_a = fold(gyro_a, scale_gyro_a, rate, e_gyro_a, gyro_noise);
+        let fg_p = fold(gyro_p, scale_gyro_p, rate, e_gyro_p, gyro_noise);
+        let fg_v = fold(gyro_v, scale_gyro_v, rate, e_gyro_v, gyro_noise);
         let fa_a = add_scaled_columns(accel_a, scale_accel_a, force);
-        let fa_p = add_scaled_columns(accel_p, scale_accel_p, force);
-        let fa_v = add_scaled_columns(accel_v, scale_accel_v, force);
+        let fa_p = fold(accel_p, scale_accel_p, force, e_accel_p, accel_noise);
+        let fa_v = fold(accel_v, scale_accel_v, force, e_accel_v, accel_noise);
         // New P_dd = U_dd Φᵀ + U_dc Eᵀ + Qd_dd, upper block triangle.
         let noise = &self.noise;
         let [q_aa, q_ap, q_av, q_pp, q_pv, q_vv] = &noise.dynamic;
-        let t = &self.transposed.transition;
-        let [_, gyro_position, gyro_velocity] = &self.transposed.gyro_bias_column;
-        let [accel_position, accel_velocity] = &self.transposed.accel_bias_column;
+        let t = &self.transition;
         let position_row = [
             &t.position_attitude,
             &t.position_position,
@@ -718,8 +726,8 @@ impl StructuredModel {
             &t.velocity_position,
             &t.velocity_velocity,
         ];
-        let position_columns = [gyro_position, accel_position];
-        let velocity_columns = [gyro_velocity, accel_velocity];
+        let position_columns = [e_gyro_p, e_accel_p];
+        let velocity_columns = [e_gyro_v, e_accel_v];
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
