@@ -43,6 +43,11 @@
 //! triangle only, diagonal blocks mirrored). The scale-factor columns are folded into the
 //! bias columns before multiplying: `E_g P_{bg,j} + E_g diag(ω_m) P_{λg,j} =
 //! E_g (P_{bg,j} + diag(ω_m) P_{λg,j})`, likewise for the accelerometer.
+//! The white gyro and accelerometer noise enter `Qd` as `q_g E_g E_gᵀ + q_a E_a E_aᵀ`
+//! (their `Γ` columns are `E_g`, `E_a`); they are folded into the same sum rather than
+//! formed: `P_dd` gets `(U_{d,bg} + q_g E_g) E_gᵀ`, which is `U_{d,bg} E_gᵀ + q_g E_g E_gᵀ`
+//! (`U_{d,bg}` folded with the scale factor as above), likewise for the accelerometer. Only
+//! the bias random walks' `Qd` is formed block by block.
 //!
 //! ## Update
 //! For any gain `K` the Joseph form expands exactly (Bucy & Joseph 1968) to
@@ -118,117 +123,101 @@ struct DynamicBlocks {
     velocity_velocity: Block,
 }
 
-/// One series `Σ_n T_n / (n + shift)!` over the terms `(n, T_n)` with `n + shift ≤ order`
-/// (terms listed in increasing `n`; an absent power is simply not listed).
-fn series(terms: &[(usize, &Block)], order: usize, shift: usize) -> Block {
+/// `out = factor · Σ_n T_n / (n + shift)!` over the terms `(n, T_n)` with
+/// `n + shift ≤ order` (an absent power is simply not listed). Not inlined: one small body
+/// whose sum stays in registers while the terms stream past, writing its result in place.
+#[inline(never)]
+fn series_into(
+    out: &mut Block,
+    terms: &[(usize, &Block)],
+    order: usize,
+    shift: usize,
+    factor: f64,
+) {
     let mut sum = ZERO;
     for (n, term) in terms {
         if n + shift <= order {
             if let Some(coefficient) = INVERSE_FACTORIALS.get(n + shift) {
-                sum = add_scaled(&sum, term, *coefficient);
+                sum = add_scaled(&sum, term, factor * coefficient);
             }
         }
     }
-    sum
+    *out = sum;
 }
 
-/// The non-zero blocks of the powers `(MΔ)^n`, `n ≤ order` (module docs table), and the
-/// three series built from them.
-struct Series {
-    /// `Φ = Σ_{n≤N} (MΔ)^n/n!`.
-    transition: DynamicBlocks,
-    /// `Ψ_{·ϑ}` (rows ϑ, δp, δv) and `Ψ_{·v}` (rows δp, δv): `Σ_{n≤N−1} (MΔ)^n/(n+1)!`.
-    psi_attitude: [Block; 3],
-    psi_velocity: [Block; 2],
-    /// `Χ_{·ϑ}` and `Χ_{·v}`: `Σ_{n≤N−2} (MΔ)^n/(n+2)!` (only used by the bias walks).
-    chi_attitude: [Block; 3],
-    chi_velocity: [Block; 2],
+/// The non-zero blocks of the powers `(MΔ)^n`, `n ≤ order` (module docs table; the
+/// powers the order does not reach are left zero, and not listed in the series).
+struct Powers {
+    /// `MΔ`'s blocks: `a = WΔ`, `b = VΔ`, `g = NΔ` (and `d I`).
+    a: Block,
+    b: Block,
+    g: Block,
+    d_identity: Block,
+    /// Table rows 2-4.
+    a2: Block,
+    a3: Block,
+    a4: Block,
+    d_b: Block,
+    d_ba: Block,
+    position_attitude_4: Block,
+    dg: Block,
+    d2_g2: Block,
+    d2_g: Block,
+    ba: Block,
+    velocity_attitude_3: Block,
+    velocity_attitude_4: Block,
+    velocity_position_3: Block,
 }
 
-impl Series {
-    /// The series at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`).
-    fn new(point: &LinearisationPoint, d: f64, order: usize, with_chi: bool) -> Self {
+impl Powers {
+    /// The powers at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`).
+    #[inline(never)]
+    fn new(point: &LinearisationPoint, c: &Block, d: f64, order: usize) -> Self {
         let rate = block::from_vector(&point.corrected_rate_rad_s);
         let force = block::from_vector(&point.corrected_specific_force_mps2);
-        let c = block::from_matrix(&point.body_to_inertial);
         let a = block::skew(row_scale(rate, -d));
-        let b = scale(&mul(&c, &block::skew(force)), -2.0 * d);
+        let b = scale(&mul(c, &block::skew(force)), -2.0 * d);
         let g = scale(&block::from_matrix(&point.gravity_gradient_per_s2), d);
-        let d_identity = scale(&IDENTITY, d);
-        let high = order >= 3;
-        let highest = order >= 4;
-        // Powers (table rows 2-4); the ones the order does not reach stay zero, unused.
-        let a2 = mul(&a, &a);
-        let ba = mul(&b, &a);
-        let dg = scale(&g, d);
-        let (a3, ba2, gb, g2) = if high {
-            (mul(&a2, &a), mul(&ba, &a), mul(&g, &b), mul(&g, &g))
-        } else {
-            (ZERO, ZERO, ZERO, ZERO)
+        let mut powers = Powers {
+            a,
+            b,
+            g,
+            d_identity: scale(&IDENTITY, d),
+            a2: ZERO,
+            a3: ZERO,
+            a4: ZERO,
+            d_b: scale(&b, d),
+            d_ba: ZERO,
+            position_attitude_4: ZERO,
+            dg: scale(&g, d),
+            d2_g2: ZERO,
+            d2_g: ZERO,
+            ba: ZERO,
+            velocity_attitude_3: ZERO,
+            velocity_attitude_4: ZERO,
+            velocity_position_3: ZERO,
         };
-        let d_ba = scale(&ba, d);
-        let d2_g = scale(&dg, d);
-        let velocity_attitude_3 = add_scaled(&ba2, &gb, d);
-        let velocity_position_3 = scale(&g2, d);
-        let (a4, position_attitude_4, d2_g2, velocity_attitude_4) = if highest {
-            (
-                mul(&a2, &a2),
-                add_scaled(&scale(&ba2, d), &gb, d * d),
-                scale(&g2, d * d),
-                add_scaled(&mul(&ba2, &a), &mul(&g, &ba), d),
-            )
-        } else {
-            (ZERO, ZERO, ZERO, ZERO)
-        };
-        let d_b = scale(&b, d);
-        let attitude_attitude: [(usize, &Block); 5] =
-            [(0, &IDENTITY), (1, &a), (2, &a2), (3, &a3), (4, &a4)];
-        let position_attitude: [(usize, &Block); 3] =
-            [(2, &d_b), (3, &d_ba), (4, &position_attitude_4)];
-        let position_position: [(usize, &Block); 3] = [(0, &IDENTITY), (2, &dg), (4, &d2_g2)];
-        let position_velocity: [(usize, &Block); 2] = [(1, &d_identity), (3, &d2_g)];
-        let velocity_attitude: [(usize, &Block); 4] = [
-            (1, &b),
-            (2, &ba),
-            (3, &velocity_attitude_3),
-            (4, &velocity_attitude_4),
-        ];
-        let velocity_position: [(usize, &Block); 2] = [(1, &g), (3, &velocity_position_3)];
-        let velocity_velocity = position_position;
-        let transition = DynamicBlocks {
-            attitude_attitude: series(&attitude_attitude, order, 0),
-            position_attitude: series(&position_attitude, order, 0),
-            position_position: series(&position_position, order, 0),
-            position_velocity: series(&position_velocity, order, 0),
-            velocity_attitude: series(&velocity_attitude, order, 0),
-            velocity_position: series(&velocity_position, order, 0),
-            velocity_velocity: series(&velocity_velocity, order, 0),
-        };
-        let attitude_columns = |shift| {
-            [
-                series(&attitude_attitude, order, shift),
-                series(&position_attitude, order, shift),
-                series(&velocity_attitude, order, shift),
-            ]
-        };
-        let velocity_columns = |shift| {
-            [
-                series(&position_velocity, order, shift),
-                series(&velocity_velocity, order, shift),
-            ]
-        };
-        let (chi_attitude, chi_velocity) = if with_chi {
-            (attitude_columns(2), velocity_columns(2))
-        } else {
-            ([ZERO; 3], [ZERO; 2])
-        };
-        Self {
-            transition,
-            psi_attitude: attitude_columns(1),
-            psi_velocity: velocity_columns(1),
-            chi_attitude,
-            chi_velocity,
+        if order >= 2 {
+            powers.a2 = mul(&a, &a);
+            powers.ba = mul(&b, &a);
         }
+        if order >= 3 {
+            let gb = mul(&g, &b);
+            let ba2 = mul(&powers.ba, &a);
+            powers.a3 = mul(&powers.a2, &a);
+            powers.d_ba = scale(&powers.ba, d);
+            powers.d2_g = scale(&powers.dg, d);
+            powers.velocity_attitude_3 = add_scaled(&ba2, &gb, d);
+            let g2 = mul(&g, &g);
+            powers.velocity_position_3 = scale(&g2, d);
+            if order >= 4 {
+                powers.a4 = mul(&powers.a2, &powers.a2);
+                powers.position_attitude_4 = add_scaled(&scale(&ba2, d), &gb, d * d);
+                powers.d2_g2 = scale(&g2, d * d);
+                powers.velocity_attitude_4 = add_scaled(&mul(&ba2, &a), &mul(&g, &powers.ba), d);
+            }
+        }
+        powers
     }
 }
 
@@ -285,37 +274,26 @@ fn add_accel_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 2]) {
 }
 
 impl NoiseBlocks {
-    /// `Σ_k q_k Γ_k Γ_kᵀ` (module docs) over the two bias random walks, for their column
-    /// blocks given as `[ϑ, δp, δv]` (gyro) and `[δp, δv]` (accelerometer, zero attitude
-    /// row) rows, with the bias row `ΔI`. The white gyro and accelerometer noise are not
-    /// here: they are folded into the propagation ([`StructuredModel::propagate_covariance`]).
-    ///
-    /// `intensities`: `q_k/Δ` for the gyro-bias walk and the accelerometer-bias walk.
-    fn walks(
-        intensities: [f64; 2],
-        interval_s: f64,
-        gyro_walk_columns: &[Block; 3],
-        accel_walk_columns: &[Block; 2],
-    ) -> Self {
-        let [gyro_walk, accel_walk] = intensities;
-        let mut noise = NoiseBlocks::ZERO;
-        if gyro_walk > 0.0 {
-            add_noise_input(&mut noise.dynamic, gyro_walk, gyro_walk_columns);
-            // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
-            for (slot, gamma) in noise.dynamic_gyro_bias.iter_mut().zip(gyro_walk_columns) {
-                *slot = scale(gamma, gyro_walk * interval_s);
-            }
-            noise.gyro_bias = scale(&IDENTITY, gyro_walk * interval_s * interval_s);
+    /// Adds `q Γ Γᵀ` (module docs) of the gyro-bias walk, `q` = `q_k/Δ`, for its noise
+    /// column `Γ = [Γ_ϑ; Γ_p; Γ_v; ΔI]` given by its dynamic rows `columns`.
+    fn add_gyro_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 3]) {
+        add_noise_input(&mut self.dynamic, q, columns);
+        // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
+        for (slot, gamma) in self.dynamic_gyro_bias.iter_mut().zip(columns) {
+            *slot = scale(gamma, q * interval_s);
         }
-        if accel_walk > 0.0 {
-            add_accel_noise_input(&mut noise.dynamic, accel_walk, accel_walk_columns);
-            let [_, position, velocity] = &mut noise.dynamic_accel_bias;
-            let [walk_position, walk_velocity] = accel_walk_columns;
-            *position = scale(walk_position, accel_walk * interval_s);
-            *velocity = scale(walk_velocity, accel_walk * interval_s);
-            noise.accel_bias = scale(&IDENTITY, accel_walk * interval_s * interval_s);
-        }
-        noise
+        self.gyro_bias = scale(&IDENTITY, q * interval_s * interval_s);
+    }
+
+    /// [`NoiseBlocks::add_gyro_walk`] for the accelerometer-bias walk, whose column has a
+    /// zero attitude row: `columns` are its rows δp, δv.
+    fn add_accel_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 2]) {
+        add_accel_noise_input(&mut self.dynamic, q, columns);
+        let [_, position, velocity] = &mut self.dynamic_accel_bias;
+        let [walk_position, walk_velocity] = columns;
+        *position = scale(walk_position, q * interval_s);
+        *velocity = scale(walk_velocity, q * interval_s);
+        self.accel_bias = scale(&IDENTITY, q * interval_s * interval_s);
     }
 
     /// No noise.
@@ -391,6 +369,44 @@ impl StructuredModel {
         interval_s: f64,
         order: u8,
     ) -> Result<Self, NavError> {
+        let mut model = Self::EMPTY;
+        model.rebuild(point, noise, interval_s, order)?;
+        Ok(model)
+    }
+
+    /// A model with every block zero (no propagation), to be filled by
+    /// [`StructuredModel::rebuild`].
+    pub const EMPTY: Self = StructuredModel {
+        transition: DynamicBlocks {
+            attitude_attitude: ZERO,
+            position_attitude: ZERO,
+            position_position: ZERO,
+            position_velocity: ZERO,
+            velocity_attitude: ZERO,
+            velocity_position: ZERO,
+            velocity_velocity: ZERO,
+        },
+        gyro_bias_column: [ZERO; 3],
+        accel_bias_column: [ZERO; 2],
+        measured_rate_rad_s: [0.0; 3],
+        measured_specific_force_mps2: [0.0; 3],
+        input_noise: [0.0; 2],
+        noise: NoiseBlocks::ZERO,
+        bias_walk: false,
+    };
+
+    /// [`StructuredModel::new`] in place (the flight path keeps one model and refills it
+    /// every propagation: no copy of the ~2 KB model). On error the model is unchanged.
+    ///
+    /// # Errors
+    /// As [`StructuredModel::new`].
+    pub fn rebuild(
+        &mut self,
+        point: &LinearisationPoint,
+        noise: &ProcessNoise,
+        interval_s: f64,
+        order: u8,
+    ) -> Result<(), NavError> {
         if !(1..=MAX_ORDER).contains(&order) {
             return Err(NavError::InvalidDiscretisationOrder);
         }
@@ -421,39 +437,77 @@ impl StructuredModel {
         if !check.all_finite() {
             return Err(NavError::NonFiniteInput);
         }
-        let bias_walk = gyro_walk > 0.0 || accel_walk > 0.0;
-        let series = Series::new(point, interval_s, usize::from(order), bias_walk);
+        let order = usize::from(order);
+        let d = interval_s;
         let c = block::from_matrix(&point.body_to_inertial);
-        let [psi_position_velocity, psi_velocity_velocity] = series.psi_velocity;
-        let gyro_bias_column = series
-            .psi_attitude
-            .map(|psi| scale(&psi, -0.5 * interval_s));
-        let accel_bias_column = [
-            scale(&mul(&psi_position_velocity, &c), -interval_s),
-            scale(&mul(&psi_velocity_velocity, &c), -interval_s),
+        let powers = Powers::new(point, &c, d, order);
+        let w = &powers;
+        let attitude_attitude: [(usize, &Block); 5] = [
+            (0, &IDENTITY),
+            (1, &w.a),
+            (2, &w.a2),
+            (3, &w.a3),
+            (4, &w.a4),
         ];
-        // Noise columns of Γ (module docs): E_g, E_a, [−½Δ² Χ_{·ϑ}; ΔI], [−Δ² Χ_{·v} Ĉ; ΔI].
-        let squared = interval_s * interval_s;
-        let gyro_walk_columns = series.chi_attitude.map(|chi| scale(&chi, -0.5 * squared));
-        let accel_walk_columns = series
-            .chi_velocity
-            .map(|chi| scale(&mul(&chi, &c), -squared));
-        let noise = NoiseBlocks::walks(
-            [gyro_walk, accel_walk],
-            interval_s,
-            &gyro_walk_columns,
-            &accel_walk_columns,
-        );
-        Ok(Self {
-            transition: series.transition,
-            gyro_bias_column,
-            accel_bias_column,
-            measured_rate_rad_s: block::from_vector(&point.measured_rate_rad_s),
-            measured_specific_force_mps2: block::from_vector(&point.measured_specific_force_mps2),
-            input_noise: [gyro_noise, accel_noise],
-            noise,
-            bias_walk,
-        })
+        let position_attitude: [(usize, &Block); 3] =
+            [(2, &w.d_b), (3, &w.d_ba), (4, &w.position_attitude_4)];
+        let position_position: [(usize, &Block); 3] = [(0, &IDENTITY), (2, &w.dg), (4, &w.d2_g2)];
+        let position_velocity: [(usize, &Block); 2] = [(1, &w.d_identity), (3, &w.d2_g)];
+        let velocity_attitude: [(usize, &Block); 4] = [
+            (1, &w.b),
+            (2, &w.ba),
+            (3, &w.velocity_attitude_3),
+            (4, &w.velocity_attitude_4),
+        ];
+        let velocity_position: [(usize, &Block); 2] = [(1, &w.g), (3, &w.velocity_position_3)];
+        let velocity_velocity = position_position;
+        // Φ = Σ (MΔ)^n/n!.
+        let t = &mut self.transition;
+        series_into(&mut t.attitude_attitude, &attitude_attitude, order, 0, 1.0);
+        series_into(&mut t.position_attitude, &position_attitude, order, 0, 1.0);
+        series_into(&mut t.position_position, &position_position, order, 0, 1.0);
+        series_into(&mut t.position_velocity, &position_velocity, order, 0, 1.0);
+        series_into(&mut t.velocity_attitude, &velocity_attitude, order, 0, 1.0);
+        series_into(&mut t.velocity_position, &velocity_position, order, 0, 1.0);
+        series_into(&mut t.velocity_velocity, &velocity_velocity, order, 0, 1.0);
+        // E_g = −½Δ Ψ_{·ϑ}, E_a = −Δ Ψ_{·v} Ĉ (Ψ: shift 1).
+        let [gyro_a, gyro_p, gyro_v] = &mut self.gyro_bias_column;
+        series_into(gyro_a, &attitude_attitude, order, 1, -0.5 * d);
+        series_into(gyro_p, &position_attitude, order, 1, -0.5 * d);
+        series_into(gyro_v, &velocity_attitude, order, 1, -0.5 * d);
+        let mut psi = ZERO;
+        let [accel_p, accel_v] = &mut self.accel_bias_column;
+        series_into(&mut psi, &position_velocity, order, 1, -d);
+        *accel_p = mul(&psi, &c);
+        series_into(&mut psi, &velocity_velocity, order, 1, -d);
+        *accel_v = mul(&psi, &c);
+        self.measured_rate_rad_s = block::from_vector(&point.measured_rate_rad_s);
+        self.measured_specific_force_mps2 = block::from_vector(&point.measured_specific_force_mps2);
+        self.input_noise = [gyro_noise, accel_noise];
+        // The walks' noise columns of Γ (module docs): [−½Δ² Χ_{·ϑ}; ΔI] and
+        // [−Δ² Χ_{·v} Ĉ; ΔI] (Χ: shift 2).
+        let noise = &mut self.noise;
+        *noise = NoiseBlocks::ZERO;
+        let squared = d * d;
+        if gyro_walk > 0.0 {
+            let mut columns = [ZERO; 3];
+            let [walk_a, walk_p, walk_v] = &mut columns;
+            series_into(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
+            series_into(walk_p, &position_attitude, order, 2, -0.5 * squared);
+            series_into(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
+            noise.add_gyro_walk(gyro_walk, d, &columns);
+        }
+        if accel_walk > 0.0 {
+            let mut columns = [ZERO; 2];
+            let [walk_p, walk_v] = &mut columns;
+            series_into(&mut psi, &position_velocity, order, 2, -squared);
+            *walk_p = mul(&psi, &c);
+            series_into(&mut psi, &velocity_velocity, order, 2, -squared);
+            *walk_v = mul(&psi, &c);
+            noise.add_accel_walk(accel_walk, d, &columns);
+        }
+        self.bias_walk = gyro_walk > 0.0 || accel_walk > 0.0;
+        Ok(())
     }
 
     /// Adds the folded white-noise part of `Qd` (`q E_g E_gᵀ + q E_a E_aᵀ`, see
