@@ -699,7 +699,7 @@ impl StructuredModel {
     /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`).
     #[inline(never)]
     fn dynamic_pair(
-        row: &[Block; 3],
+        row: [&Block; 3],
         folded: [&Block; 2],
         transition: [&Block; 3],
         bias_columns: [&Block; 2],
@@ -733,11 +733,15 @@ impl StructuredModel {
         let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11, c12, c13, c14, c15, c16, c17, c18, c19, c20, c21, c22, c23] =
             &p.data.0;
         // U = [Φ E] P by column blocks; U's calibration columns are the new P_dc.
-        let [u_aa, u_pa, u_va] = self.propagate_column([c0, c1, c2]);
-        let [u_ap, u_pp, u_vp] = self.propagate_column([c3, c4, c5]);
-        let [u_av, u_pv, u_vv] = self.propagate_column([c6, c7, c8]);
-        let gyro_bias = self.propagate_column([c9, c10, c11]);
-        let accel_bias = self.propagate_column([c12, c13, c14]);
+        // Bound whole and split by reference: destructuring by value copies each block.
+        let u_attitude_columns = self.propagate_column([c0, c1, c2]);
+        let u_position_columns = self.propagate_column([c3, c4, c5]);
+        let u_velocity_columns = self.propagate_column([c6, c7, c8]);
+        let [u_aa, u_pa, u_va] = &u_attitude_columns;
+        let [u_ap, u_pp, u_vp] = &u_position_columns;
+        let [u_av, u_pv, u_vv] = &u_velocity_columns;
+        let mut gyro_bias = self.propagate_column([c9, c10, c11]);
+        let mut accel_bias = self.propagate_column([c12, c13, c14]);
         let installation = self.propagate_column([c15, c16, c17]);
         let gyro_scale = self.propagate_column([c18, c19, c20]);
         let accel_scale = self.propagate_column([c21, c22, c23]);
@@ -782,6 +786,7 @@ impl StructuredModel {
         ];
         let position_columns = [e_gyro_p, e_accel_p];
         let velocity_columns = [e_gyro_v, e_accel_v];
+        // Rows of U_dd by reference (an array of blocks would be copied, 72 bytes each).
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
@@ -791,28 +796,28 @@ impl StructuredModel {
                 noise,
             )
         };
-        let new_aa = add(&self.attitude_pair(&u_aa, &fg_a), q_aa);
-        let new_ap = pair(&row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
-        let new_av = pair(&row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
-        let new_pp = pair(&row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
-        let new_pv = pair(&row_p, &fg_p, &fa_p, velocity_row, velocity_columns, q_pv);
-        let new_vv = pair(&row_v, &fg_v, &fa_v, velocity_row, velocity_columns, q_vv);
+        let new_aa = add(&self.attitude_pair(u_aa, &fg_a), q_aa);
+        let new_ap = pair(row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
+        let new_av = pair(row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
+        let new_pp = pair(row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
+        let new_pv = pair(row_p, &fg_p, &fa_p, velocity_row, velocity_columns, q_pv);
+        let new_vv = pair(row_v, &fg_v, &fa_v, velocity_row, velocity_columns, q_vv);
         // Bias walks: Qd in the bias columns of the dynamic rows and on the bias diagonal.
-        let (gyro_bias, accel_bias, walk_diagonal) = if self.bias_walk {
-            let with = |column: &[Block; 3], noise: &[Block; 3]| {
-                let ([a, p, v], [qa, qp, qv]) = (column, noise);
-                [add(a, qa), add(p, qp), add(v, qv)]
+        let walk_diagonal = if self.bias_walk {
+            // In place (new arrays of blocks would be copies).
+            let with = |column: &mut [Block; 3], noise: &[Block; 3]| {
+                for (value, q) in column.iter_mut().zip(noise) {
+                    *value = add(value, q);
+                }
             };
-            (
-                with(&gyro_bias, &noise.dynamic_gyro_bias),
-                with(&accel_bias, &noise.dynamic_accel_bias),
-                Some([
-                    add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
-                    add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
-                ]),
-            )
+            with(&mut gyro_bias, &noise.dynamic_gyro_bias);
+            with(&mut accel_bias, &noise.dynamic_accel_bias);
+            Some([
+                add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
+                add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
+            ])
         } else {
-            (gyro_bias, accel_bias, None)
+            None
         };
         let mut check = FiniteCheck::new();
         for blocks in [
@@ -935,13 +940,11 @@ impl ObservedCovariance {
 
     /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero.
     pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
-        let mut gains = [[0.0; 3]; STATE_DIMENSION];
-        for ((gain, product), state_index) in gains.iter_mut().zip(self.products.iter()).zip(0..) {
-            if !frozen.contains_state(state_index) {
-                *gain = cholesky.solve(*product);
-            }
-        }
-        gains
+        // Built element by element (no zero-fill of the 576-byte array first).
+        core::array::from_fn(|state_index| match self.products.get(state_index) {
+            Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
+            _ => [0.0; 3],
+        })
     }
 }
 
@@ -1055,21 +1058,23 @@ pub(crate) fn joseph_update(
     s: &Matrix3<f64>,
 ) -> bool {
     let s = block::from_matrix(s);
-    // a_i = [N_i, −K_i], b_j = [K_j, M_j].
-    let mut row_coefficients = [[0.0; 6]; STATE_DIMENSION];
-    let mut column_coefficients = [[0.0; 6]; STATE_DIMENSION];
-    for (((a, b), gain), product) in row_coefficients
-        .iter_mut()
-        .zip(column_coefficients.iter_mut())
-        .zip(gains)
-        .zip(observed.products.iter())
-    {
-        let [n0, n1, n2] = block::row_sub(mul_vector_add([0.0; 3], &s, *gain), *product);
-        let [k0, k1, k2] = *gain;
-        let [m0, m1, m2] = *product;
-        *a = [n0, n1, n2, -k0, -k1, -k2];
-        *b = [k0, k1, k2, m0, m1, m2];
-    }
+    // a_i = [N_i, −K_i], b_j = [K_j, M_j] (built element by element: no zero-fill first).
+    let gain_and_product = |i: usize| {
+        (
+            gains.get(i).copied().unwrap_or([0.0; 3]),
+            observed.products.get(i).copied().unwrap_or([0.0; 3]),
+        )
+    };
+    let row_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
+        let (gain, product) = gain_and_product(i);
+        let [n0, n1, n2] = block::row_sub(mul_vector_add([0.0; 3], &s, gain), product);
+        let [k0, k1, k2] = gain;
+        [n0, n1, n2, -k0, -k1, -k2]
+    });
+    let column_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
+        let ([k0, k1, k2], [m0, m1, m2]) = gain_and_product(i);
+        [k0, k1, k2, m0, m1, m2]
+    });
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
     let mut check = FiniteCheck::new();
     for (row, a) in row_coefficients.iter().enumerate() {
