@@ -892,9 +892,12 @@ impl ObservedCovariance {
     /// observed block `K`, `M_j += H_K P_{K,j}` over the 24 columns `j` (the symmetric `P`
     /// read by columns), then `H P Hᵀ = Σ_K H_K P_{K,·} H_Kᵀ`'s sum `Σ_K (M_K)ᵀ H_Kᵀ`.
     pub(crate) fn new(jacobian: &MeasurementJacobian, p: &CovarianceMatrix) -> Self {
-        let mut products = [[0.0; 3]; STATE_DIMENSION];
-        let mut projected = ZERO;
-        for (offset, h) in [
+        // Built in its final place (a local array moved into `Self` would be copied).
+        let mut observed = Self {
+            products: [[0.0; 3]; STATE_DIMENSION],
+            projected: ZERO,
+        };
+        let blocks = [
             (A, read::<0, A, 3, 24>(jacobian)),
             (P, read::<0, P, 3, 24>(jacobian)),
             (V, read::<0, V, 3, 24>(jacobian)),
@@ -903,34 +906,23 @@ impl ObservedCovariance {
             (PSI, read::<0, PSI, 3, 24>(jacobian)),
             (SG, read::<0, SG, 3, 24>(jacobian)),
             (SA, read::<0, SA, 3, 24>(jacobian)),
-        ] {
-            if h.iter().flatten().all(|v| *v == 0.0) {
-                continue;
-            }
-            add_observed_block(&mut products, p, offset, &h);
+        ];
+        let observed_blocks = || {
+            blocks
+                .iter()
+                .filter(|(_, h)| !h.iter().flatten().all(|v| *v == 0.0))
+        };
+        for (offset, h) in observed_blocks() {
+            add_observed_block(&mut observed.products, p, *offset, h);
         }
         // H P Hᵀ = Σ_K (H P)_{·,K} H_Kᵀ, with (H P)_{·,K} = [M_K, M_K+1, M_K+2] as columns.
-        for (offset, h) in [
-            (A, read::<0, A, 3, 24>(jacobian)),
-            (P, read::<0, P, 3, 24>(jacobian)),
-            (V, read::<0, V, 3, 24>(jacobian)),
-            (BG, read::<0, BG, 3, 24>(jacobian)),
-            (BA, read::<0, BA, 3, 24>(jacobian)),
-            (PSI, read::<0, PSI, 3, 24>(jacobian)),
-            (SG, read::<0, SG, 3, 24>(jacobian)),
-            (SA, read::<0, SA, 3, 24>(jacobian)),
-        ] {
-            if h.iter().flatten().all(|v| *v == 0.0) {
-                continue;
-            }
-            if let Some([m0, m1, m2]) = products.get(offset..offset + 3) {
-                projected = mul_transpose_add(&projected, &transpose(&[*m0, *m1, *m2]), &h);
+        for (offset, h) in observed_blocks() {
+            if let Some([m0, m1, m2]) = observed.products.get(*offset..*offset + 3) {
+                observed.projected =
+                    mul_transpose_add(&observed.projected, &transpose(&[*m0, *m1, *m2]), h);
             }
         }
-        Self {
-            products,
-            projected,
-        }
+        observed
     }
 
     /// `H P Hᵀ`.
