@@ -1017,23 +1017,40 @@ impl Cholesky3 {
     }
 }
 
-/// Row `i` of the Joseph update, columns `i..24` (upper triangle): `P⁺_ij = P_ij + a_i · b_j`
-/// with `a_i = [N_i, −K_i]`, `b_j = [K_j, M_j]` (6-vectors). The six coefficients of the row
-/// stay in registers while the columns stream past.
+/// Rows `row` and `row + 1` of the Joseph update, upper triangle: `P⁺_ij = P_ij + a_i · b_j`
+/// with `a_i = [N_i, −K_i]`, `b_j = [K_j, M_j]` (6-vectors). The twelve row coefficients stay
+/// in registers while the columns stream past, each column's `b_j` loaded once for both rows
+/// (column `row` reaches only row `row`; from column `row + 1` on both rows are in the upper
+/// triangle). Element
+/// `P_ij + a_i·b_j` is summed as `((P_ij + a_i0 b_j0) + a_i1 b_j1) + …` (multiply-accumulates).
 #[inline(never)]
-fn joseph_row(
+fn joseph_row_pair(
     columns: &mut [[f64; 24]],
     row: usize,
-    a: &[f64; 6],
+    a: [&[f64; 6]; 2],
     coefficients: &[[f64; 6]],
     check: &mut FiniteCheck,
 ) {
-    let [a0, a1, a2, a3, a4, a5] = *a;
-    for (column, b) in columns.iter_mut().zip(coefficients) {
-        if let Some(value) = column.get_mut(row) {
-            let [b0, b1, b2, b3, b4, b5] = *b;
-            *value += a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 + a4 * b4 + a5 * b5;
-            check.value(*value);
+    let [first, second] = a;
+    let update = |value: f64, [a0, a1, a2, a3, a4, a5]: [f64; 6], b: &[f64; 6]| {
+        let [b0, b1, b2, b3, b4, b5] = *b;
+        value + a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 + a4 * b4 + a5 * b5
+    };
+    let (Some((diagonal_column, rest)), Some((diagonal_b, rest_b))) =
+        (columns.split_first_mut(), coefficients.split_first())
+    else {
+        return;
+    };
+    if let Some(value) = diagonal_column.get_mut(row) {
+        *value = update(*value, *first, diagonal_b);
+        check.value(*value);
+    }
+    for (column, b) in rest.iter_mut().zip(rest_b) {
+        if let Some([upper, lower]) = column.get_mut(row..row + 2) {
+            *upper = update(*upper, *first, b);
+            *lower = update(*lower, *second, b);
+            check.value(*upper);
+            check.value(*lower);
         }
     }
 }
@@ -1069,13 +1086,17 @@ pub(crate) fn joseph_update(
     });
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
     let mut check = FiniteCheck::new();
-    for (row, a) in row_coefficients.iter().enumerate() {
-        let (Some(columns), Some(coefficients)) =
-            (p.data.0.get_mut(row..), column_coefficients.get(row..))
-        else {
+    // Rows two at a time: each column's six coefficients are loaded once for both rows.
+    for (pair, rows) in row_coefficients.chunks_exact(2).enumerate() {
+        let row = 2 * pair;
+        let (Some(columns), Some(coefficients), [a, a_next]) = (
+            p.data.0.get_mut(row..),
+            column_coefficients.get(row..),
+            rows,
+        ) else {
             break;
         };
-        joseph_row(columns, row, a, coefficients, &mut check);
+        joseph_row_pair(columns, row, [a, a_next], coefficients, &mut check);
     }
     if check.all_finite() {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
