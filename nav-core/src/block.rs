@@ -96,7 +96,15 @@ pub(crate) fn mul_transpose(a: &Block, b: &Block) -> Block {
 #[inline(always)]
 pub(crate) fn mul_transpose_add(acc: &Block, a: &Block, b: &Block) -> Block {
     let ([r0, r1, r2], [a0, a1, a2], [b0, b1, b2]) = (*acc, *a, *b);
-    let row = |[c0, c1, c2]: Row, a: Row| [c0 + dot(a, b0), c1 + dot(a, b1), c2 + dot(a, b2)];
+    // ((c + a0 b0) + a1 b1) + a2 b2: three multiply-accumulates per element.
+    let accumulate = |c: f64, [x, y, z]: Row, [p, q, r]: Row| c + x * p + y * q + z * r;
+    let row = |[c0, c1, c2]: Row, a: Row| {
+        [
+            accumulate(c0, a, b0),
+            accumulate(c1, a, b1),
+            accumulate(c2, a, b2),
+        ]
+    };
     [row(r0, a0), row(r1, a1), row(r2, a2)]
 }
 

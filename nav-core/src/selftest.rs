@@ -95,6 +95,8 @@ pub struct FilterPathFixture {
     last_step: StepOutput,
     calibration: CalibrationEstimate,
     step: u32,
+    /// The structured model, refilled in place by every structured propagation.
+    model: StructuredModel,
 }
 
 impl FilterPathFixture {
@@ -144,6 +146,7 @@ impl FilterPathFixture {
             },
             calibration: CalibrationEstimate::default(),
             step: 0,
+            model: StructuredModel::EMPTY,
         })
     }
 
@@ -191,6 +194,24 @@ impl FilterPathFixture {
         }
     }
 
+    /// The parts of [`FilterPathFixture::propagate`] for the cost breakdown: `0` the
+    /// linearisation point (rotation matrix and gravity gradient), `1` that and the
+    /// structured model, `2` everything (as `propagate`).
+    ///
+    /// # Errors
+    /// As [`FilterPathFixture::propagate_with`].
+    pub fn propagate_part(&mut self, part: u8) -> Result<(), NavError> {
+        let point = core::hint::black_box(self.linearisation_point());
+        if part == 0 {
+            return Ok(());
+        }
+        self.model.rebuild(&point, &ProcessNoise::PAPER, 0.002, 3)?;
+        if part == 1 {
+            return Ok(());
+        }
+        self.filter.predict_structured(&self.model)
+    }
+
     /// One 2 ms covariance propagation about the last strapdown step with the flight
     /// (structured) implementation.
     ///
@@ -210,8 +231,8 @@ impl FilterPathFixture {
         let point = self.linearisation_point();
         match implementation {
             Implementation::Structured => {
-                let model = StructuredModel::new(&point, &ProcessNoise::PAPER, 0.002, 3)?;
-                self.filter.predict_structured(&model)
+                self.model.rebuild(&point, &ProcessNoise::PAPER, 0.002, 3)?;
+                self.filter.predict_structured(&self.model)
             }
             Implementation::Dense => {
                 let model = discretise(

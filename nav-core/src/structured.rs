@@ -43,6 +43,11 @@
 //! triangle only, diagonal blocks mirrored). The scale-factor columns are folded into the
 //! bias columns before multiplying: `E_g P_{bg,j} + E_g diag(ω_m) P_{λg,j} =
 //! E_g (P_{bg,j} + diag(ω_m) P_{λg,j})`, likewise for the accelerometer.
+//! The white gyro and accelerometer noise enter `Qd` as `q_g E_g E_gᵀ + q_a E_a E_aᵀ`
+//! (their `Γ` columns are `E_g`, `E_a`); they are folded into the same sum rather than
+//! formed: `P_dd` gets `(U_{d,bg} + q_g E_g) E_gᵀ`, which is `U_{d,bg} E_gᵀ + q_g E_g E_gᵀ`
+//! (`U_{d,bg}` folded with the scale factor as above), likewise for the accelerometer. Only
+//! the bias random walks' `Qd` is formed block by block.
 //!
 //! ## Update
 //! For any gain `K` the Joseph form expands exactly (Bucy & Joseph 1968) to
@@ -118,117 +123,101 @@ struct DynamicBlocks {
     velocity_velocity: Block,
 }
 
-/// One series `Σ_n T_n / (n + shift)!` over the terms `(n, T_n)` with `n + shift ≤ order`
-/// (terms listed in increasing `n`; an absent power is simply not listed).
-fn series(terms: &[(usize, &Block)], order: usize, shift: usize) -> Block {
+/// `out = factor · Σ_n T_n / (n + shift)!` over the terms `(n, T_n)` with
+/// `n + shift ≤ order` (an absent power is simply not listed). Not inlined: one small body
+/// whose sum stays in registers while the terms stream past, writing its result in place.
+#[inline(never)]
+fn series_into(
+    out: &mut Block,
+    terms: &[(usize, &Block)],
+    order: usize,
+    shift: usize,
+    factor: f64,
+) {
     let mut sum = ZERO;
     for (n, term) in terms {
         if n + shift <= order {
             if let Some(coefficient) = INVERSE_FACTORIALS.get(n + shift) {
-                sum = add_scaled(&sum, term, *coefficient);
+                sum = add_scaled(&sum, term, factor * coefficient);
             }
         }
     }
-    sum
+    *out = sum;
 }
 
-/// The non-zero blocks of the powers `(MΔ)^n`, `n ≤ order` (module docs table), and the
-/// three series built from them.
-struct Series {
-    /// `Φ = Σ_{n≤N} (MΔ)^n/n!`.
-    transition: DynamicBlocks,
-    /// `Ψ_{·ϑ}` (rows ϑ, δp, δv) and `Ψ_{·v}` (rows δp, δv): `Σ_{n≤N−1} (MΔ)^n/(n+1)!`.
-    psi_attitude: [Block; 3],
-    psi_velocity: [Block; 2],
-    /// `Χ_{·ϑ}` and `Χ_{·v}`: `Σ_{n≤N−2} (MΔ)^n/(n+2)!` (only used by the bias walks).
-    chi_attitude: [Block; 3],
-    chi_velocity: [Block; 2],
+/// The non-zero blocks of the powers `(MΔ)^n`, `n ≤ order` (module docs table; the
+/// powers the order does not reach are left zero, and not listed in the series).
+struct Powers {
+    /// `MΔ`'s blocks: `a = WΔ`, `b = VΔ`, `g = NΔ` (and `d I`).
+    a: Block,
+    b: Block,
+    g: Block,
+    d_identity: Block,
+    /// Table rows 2-4.
+    a2: Block,
+    a3: Block,
+    a4: Block,
+    d_b: Block,
+    d_ba: Block,
+    position_attitude_4: Block,
+    dg: Block,
+    d2_g2: Block,
+    d2_g: Block,
+    ba: Block,
+    velocity_attitude_3: Block,
+    velocity_attitude_4: Block,
+    velocity_position_3: Block,
 }
 
-impl Series {
-    /// The series at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`).
-    fn new(point: &LinearisationPoint, d: f64, order: usize, with_chi: bool) -> Self {
+impl Powers {
+    /// The powers at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`).
+    #[inline(never)]
+    fn new(point: &LinearisationPoint, c: &Block, d: f64, order: usize) -> Self {
         let rate = block::from_vector(&point.corrected_rate_rad_s);
         let force = block::from_vector(&point.corrected_specific_force_mps2);
-        let c = block::from_matrix(&point.body_to_inertial);
         let a = block::skew(row_scale(rate, -d));
-        let b = scale(&mul(&c, &block::skew(force)), -2.0 * d);
+        let b = scale(&mul(c, &block::skew(force)), -2.0 * d);
         let g = scale(&block::from_matrix(&point.gravity_gradient_per_s2), d);
-        let d_identity = scale(&IDENTITY, d);
-        let high = order >= 3;
-        let highest = order >= 4;
-        // Powers (table rows 2-4); the ones the order does not reach stay zero, unused.
-        let a2 = mul(&a, &a);
-        let ba = mul(&b, &a);
-        let dg = scale(&g, d);
-        let (a3, ba2, gb, g2) = if high {
-            (mul(&a2, &a), mul(&ba, &a), mul(&g, &b), mul(&g, &g))
-        } else {
-            (ZERO, ZERO, ZERO, ZERO)
+        let mut powers = Powers {
+            a,
+            b,
+            g,
+            d_identity: scale(&IDENTITY, d),
+            a2: ZERO,
+            a3: ZERO,
+            a4: ZERO,
+            d_b: scale(&b, d),
+            d_ba: ZERO,
+            position_attitude_4: ZERO,
+            dg: scale(&g, d),
+            d2_g2: ZERO,
+            d2_g: ZERO,
+            ba: ZERO,
+            velocity_attitude_3: ZERO,
+            velocity_attitude_4: ZERO,
+            velocity_position_3: ZERO,
         };
-        let d_ba = scale(&ba, d);
-        let d2_g = scale(&dg, d);
-        let velocity_attitude_3 = add_scaled(&ba2, &gb, d);
-        let velocity_position_3 = scale(&g2, d);
-        let (a4, position_attitude_4, d2_g2, velocity_attitude_4) = if highest {
-            (
-                mul(&a2, &a2),
-                add_scaled(&scale(&ba2, d), &gb, d * d),
-                scale(&g2, d * d),
-                add_scaled(&mul(&ba2, &a), &mul(&g, &ba), d),
-            )
-        } else {
-            (ZERO, ZERO, ZERO, ZERO)
-        };
-        let d_b = scale(&b, d);
-        let attitude_attitude: [(usize, &Block); 5] =
-            [(0, &IDENTITY), (1, &a), (2, &a2), (3, &a3), (4, &a4)];
-        let position_attitude: [(usize, &Block); 3] =
-            [(2, &d_b), (3, &d_ba), (4, &position_attitude_4)];
-        let position_position: [(usize, &Block); 3] = [(0, &IDENTITY), (2, &dg), (4, &d2_g2)];
-        let position_velocity: [(usize, &Block); 2] = [(1, &d_identity), (3, &d2_g)];
-        let velocity_attitude: [(usize, &Block); 4] = [
-            (1, &b),
-            (2, &ba),
-            (3, &velocity_attitude_3),
-            (4, &velocity_attitude_4),
-        ];
-        let velocity_position: [(usize, &Block); 2] = [(1, &g), (3, &velocity_position_3)];
-        let velocity_velocity = position_position;
-        let transition = DynamicBlocks {
-            attitude_attitude: series(&attitude_attitude, order, 0),
-            position_attitude: series(&position_attitude, order, 0),
-            position_position: series(&position_position, order, 0),
-            position_velocity: series(&position_velocity, order, 0),
-            velocity_attitude: series(&velocity_attitude, order, 0),
-            velocity_position: series(&velocity_position, order, 0),
-            velocity_velocity: series(&velocity_velocity, order, 0),
-        };
-        let attitude_columns = |shift| {
-            [
-                series(&attitude_attitude, order, shift),
-                series(&position_attitude, order, shift),
-                series(&velocity_attitude, order, shift),
-            ]
-        };
-        let velocity_columns = |shift| {
-            [
-                series(&position_velocity, order, shift),
-                series(&velocity_velocity, order, shift),
-            ]
-        };
-        let (chi_attitude, chi_velocity) = if with_chi {
-            (attitude_columns(2), velocity_columns(2))
-        } else {
-            ([ZERO; 3], [ZERO; 2])
-        };
-        Self {
-            transition,
-            psi_attitude: attitude_columns(1),
-            psi_velocity: velocity_columns(1),
-            chi_attitude,
-            chi_velocity,
+        if order >= 2 {
+            powers.a2 = mul(&a, &a);
+            powers.ba = mul(&b, &a);
         }
+        if order >= 3 {
+            let gb = mul(&g, &b);
+            let ba2 = mul(&powers.ba, &a);
+            powers.a3 = mul(&powers.a2, &a);
+            powers.d_ba = scale(&powers.ba, d);
+            powers.d2_g = scale(&powers.dg, d);
+            powers.velocity_attitude_3 = add_scaled(&ba2, &gb, d);
+            let g2 = mul(&g, &g);
+            powers.velocity_position_3 = scale(&g2, d);
+            if order >= 4 {
+                powers.a4 = mul(&powers.a2, &powers.a2);
+                powers.position_attitude_4 = add_scaled(&scale(&ba2, d), &gb, d * d);
+                powers.d2_g2 = scale(&g2, d * d);
+                powers.velocity_attitude_4 = add_scaled(&mul(&ba2, &a), &mul(&g, &powers.ba), d);
+            }
+        }
+        powers
     }
 }
 
@@ -247,33 +236,6 @@ struct NoiseBlocks {
     accel_bias: Block,
 }
 
-/// The blocks of `Φ` and `E` transposed (each `Xᵀ` of the block `X` of the same name).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct TransposedBlocks {
-    transition: DynamicBlocks,
-    gyro_bias_column: [Block; 3],
-    accel_bias_column: [Block; 2],
-}
-
-impl TransposedBlocks {
-    fn new(transition: &DynamicBlocks, gyro: &[Block; 3], accel: &[Block; 2]) -> Self {
-        let t = transition;
-        Self {
-            transition: DynamicBlocks {
-                attitude_attitude: transpose(&t.attitude_attitude),
-                position_attitude: transpose(&t.position_attitude),
-                position_position: transpose(&t.position_position),
-                position_velocity: transpose(&t.position_velocity),
-                velocity_attitude: transpose(&t.velocity_attitude),
-                velocity_position: transpose(&t.velocity_position),
-                velocity_velocity: transpose(&t.velocity_velocity),
-            },
-            gyro_bias_column: gyro.map(|b| transpose(&b)),
-            accel_bias_column: accel.map(|b| transpose(&b)),
-        }
-    }
-}
-
 /// The pairs of [`NoiseBlocks::dynamic`], in order.
 const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
     (ATTITUDE, ATTITUDE),
@@ -286,67 +248,62 @@ const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
 /// The row blocks of [`NoiseBlocks::dynamic_gyro_bias`] and `dynamic_accel_bias`.
 const DYNAMIC_ROWS: [StateBlock; 3] = [ATTITUDE, POSITION, VELOCITY];
 
-impl NoiseBlocks {
-    /// `Σ_k q_k Γ_k Γ_kᵀ` (module docs) for the column blocks `Γ_k` given as
-    /// `[ϑ, δp, δv]` rows, with the bias row `ΔI` for the walks.
-    ///
-    /// `intensities`: `q_k/Δ` for the gyro noise, accelerometer noise, gyro-bias walk and
-    /// accelerometer-bias walk; `walk_columns`: the walks' `[ϑ, δp, δv]` and `[δp, δv]` rows.
-    fn new(
-        intensities: [f64; 4],
-        interval_s: f64,
-        gyro_columns: &[Block; 3],
-        accel_columns: &[Block; 2],
-        walk_columns: (&[Block; 3], &[Block; 2]),
-    ) -> Self {
-        let [gyro_noise, accel_noise, gyro_walk, accel_walk] = intensities;
-        let (gyro_walk_columns, accel_walk_columns) = walk_columns;
-        let mut noise = NoiseBlocks {
-            dynamic: [ZERO; 6],
-            dynamic_gyro_bias: [ZERO; 3],
-            dynamic_accel_bias: [ZERO; 3],
-            gyro_bias: ZERO,
-            accel_bias: ZERO,
-        };
-        // q Γ Γᵀ over (ϑ, δp, δv) for Γ = [g_ϑ; g_p; g_v] (a zero attitude row for the
-        // accelerometer inputs).
-        let add_dynamic = |dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]| {
-            let [ga, gp, gv] = gamma;
-            let products = [(ga, ga), (ga, gp), (ga, gv), (gp, gp), (gp, gv), (gv, gv)];
-            for (slot, (left, right)) in dynamic.iter_mut().zip(products) {
-                *slot = add(slot, &scale(&mul_transpose(left, right), q));
-            }
-        };
-        let [accel_position, accel_velocity] = *accel_columns;
-        if gyro_noise > 0.0 {
-            add_dynamic(&mut noise.dynamic, gyro_noise, gyro_columns);
-        }
-        if accel_noise > 0.0 {
-            add_dynamic(
-                &mut noise.dynamic,
-                accel_noise,
-                &[ZERO, accel_position, accel_velocity],
-            );
-        }
-        if gyro_walk > 0.0 {
-            add_dynamic(&mut noise.dynamic, gyro_walk, gyro_walk_columns);
-            // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
-            for (slot, gamma) in noise.dynamic_gyro_bias.iter_mut().zip(gyro_walk_columns) {
-                *slot = scale(gamma, gyro_walk * interval_s);
-            }
-            noise.gyro_bias = scale(&IDENTITY, gyro_walk * interval_s * interval_s);
-        }
-        if accel_walk > 0.0 {
-            let [walk_position, walk_velocity] = *accel_walk_columns;
-            let gamma = [ZERO, walk_position, walk_velocity];
-            add_dynamic(&mut noise.dynamic, accel_walk, &gamma);
-            for (slot, gamma) in noise.dynamic_accel_bias.iter_mut().zip(&gamma) {
-                *slot = scale(gamma, accel_walk * interval_s);
-            }
-            noise.accel_bias = scale(&IDENTITY, accel_walk * interval_s * interval_s);
-        }
-        noise
+/// `dynamic += q Γ Γᵀ` over the pairs of [`DYNAMIC_PAIRS`] for an input column
+/// `Γ = [Γ_ϑ; Γ_p; Γ_v]`: `q Γ_R Γ_Sᵀ`, with `q` folded into the left factor.
+fn add_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]) {
+    let [ga, gp, gv] = gamma;
+    let scaled = [scale(ga, q), scale(gp, q)];
+    let [qa, qp] = &scaled;
+    let products = [(qa, ga), (qa, gp), (qa, gv), (qp, gp), (qp, gv)];
+    for (slot, (left, right)) in dynamic.iter_mut().zip(products) {
+        *slot = mul_transpose_add(slot, left, right);
     }
+    let [.., vv] = dynamic;
+    *vv = mul_transpose_add(vv, &scale(gv, q), gv);
+}
+
+/// [`add_noise_input`] for an input with a zero attitude row, `Γ = [0; Γ_p; Γ_v]`: only
+/// the pairs pp, pv, vv are reached.
+fn add_accel_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 2]) {
+    let [gp, gv] = gamma;
+    let qp = scale(gp, q);
+    let [_, _, _, pp, pv, vv] = dynamic;
+    *pp = mul_transpose_add(pp, &qp, gp);
+    *pv = mul_transpose_add(pv, &qp, gv);
+    *vv = mul_transpose_add(vv, &scale(gv, q), gv);
+}
+
+impl NoiseBlocks {
+    /// Adds `q Γ Γᵀ` (module docs) of the gyro-bias walk, `q` = `q_k/Δ`, for its noise
+    /// column `Γ = [Γ_ϑ; Γ_p; Γ_v; ΔI]` given by its dynamic rows `columns`.
+    fn add_gyro_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 3]) {
+        add_noise_input(&mut self.dynamic, q, columns);
+        // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
+        for (slot, gamma) in self.dynamic_gyro_bias.iter_mut().zip(columns) {
+            *slot = scale(gamma, q * interval_s);
+        }
+        self.gyro_bias = scale(&IDENTITY, q * interval_s * interval_s);
+    }
+
+    /// [`NoiseBlocks::add_gyro_walk`] for the accelerometer-bias walk, whose column has a
+    /// zero attitude row: `columns` are its rows δp, δv.
+    fn add_accel_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 2]) {
+        add_accel_noise_input(&mut self.dynamic, q, columns);
+        let [_, position, velocity] = &mut self.dynamic_accel_bias;
+        let [walk_position, walk_velocity] = columns;
+        *position = scale(walk_position, q * interval_s);
+        *velocity = scale(walk_velocity, q * interval_s);
+        self.accel_bias = scale(&IDENTITY, q * interval_s * interval_s);
+    }
+
+    /// No noise.
+    const ZERO: Self = NoiseBlocks {
+        dynamic: [ZERO; 6],
+        dynamic_gyro_bias: [ZERO; 3],
+        dynamic_accel_bias: [ZERO; 3],
+        gyro_bias: ZERO,
+        accel_bias: ZERO,
+    };
 
     /// Every block with its (row, column) state blocks.
     fn blocks_mut(&mut self) -> impl Iterator<Item = (StateBlock, StateBlock, &mut Block)> {
@@ -388,10 +345,11 @@ pub struct StructuredModel {
     measured_rate_rad_s: Row,
     /// `f_m`: the accelerometer scale-factor column is `E_a diag(f_m)` (m/s²).
     measured_specific_force_mps2: Row,
-    /// `Φᵀ`, `E_gᵀ`, `E_aᵀ` block by block (the same numbers, stored transposed so that the
-    /// products `U Φᵀ` of the propagation run as row combinations).
-    transposed: TransposedBlocks,
-    /// The non-zero blocks of `Qd`.
+    /// `q_g/Δ` and `q_a/Δ` of the white gyro and accelerometer noise: their part of `Qd`,
+    /// `q E_g E_gᵀ + q E_a E_aᵀ` (the noise columns of `Γ` are `E_g`, `E_a`), is folded into
+    /// the propagation ([`StructuredModel::propagate_covariance`]).
+    input_noise: [f64; 2],
+    /// The non-zero blocks of the rest of `Qd` (the bias random walks).
     noise: NoiseBlocks,
     /// Whether any bias random walk is non-zero (`Qd` reaches the bias rows).
     bias_walk: bool,
@@ -411,6 +369,44 @@ impl StructuredModel {
         interval_s: f64,
         order: u8,
     ) -> Result<Self, NavError> {
+        let mut model = Self::EMPTY;
+        model.rebuild(point, noise, interval_s, order)?;
+        Ok(model)
+    }
+
+    /// A model with every block zero (no propagation), to be filled by
+    /// [`StructuredModel::rebuild`].
+    pub const EMPTY: Self = StructuredModel {
+        transition: DynamicBlocks {
+            attitude_attitude: ZERO,
+            position_attitude: ZERO,
+            position_position: ZERO,
+            position_velocity: ZERO,
+            velocity_attitude: ZERO,
+            velocity_position: ZERO,
+            velocity_velocity: ZERO,
+        },
+        gyro_bias_column: [ZERO; 3],
+        accel_bias_column: [ZERO; 2],
+        measured_rate_rad_s: [0.0; 3],
+        measured_specific_force_mps2: [0.0; 3],
+        input_noise: [0.0; 2],
+        noise: NoiseBlocks::ZERO,
+        bias_walk: false,
+    };
+
+    /// [`StructuredModel::new`] in place (the flight path keeps one model and refills it
+    /// every propagation: no copy of the ~2 KB model). On error the model is unchanged.
+    ///
+    /// # Errors
+    /// As [`StructuredModel::new`].
+    pub fn rebuild(
+        &mut self,
+        point: &LinearisationPoint,
+        noise: &ProcessNoise,
+        interval_s: f64,
+        order: u8,
+    ) -> Result<(), NavError> {
         if !(1..=MAX_ORDER).contains(&order) {
             return Err(NavError::InvalidDiscretisationOrder);
         }
@@ -441,44 +437,95 @@ impl StructuredModel {
         if !check.all_finite() {
             return Err(NavError::NonFiniteInput);
         }
-        let bias_walk = gyro_walk > 0.0 || accel_walk > 0.0;
-        let series = Series::new(point, interval_s, usize::from(order), bias_walk);
+        let order = usize::from(order);
+        let d = interval_s;
         let c = block::from_matrix(&point.body_to_inertial);
-        let [psi_position_velocity, psi_velocity_velocity] = series.psi_velocity;
-        let gyro_bias_column = series
-            .psi_attitude
-            .map(|psi| scale(&psi, -0.5 * interval_s));
-        let accel_bias_column = [
-            scale(&mul(&psi_position_velocity, &c), -interval_s),
-            scale(&mul(&psi_velocity_velocity, &c), -interval_s),
+        let powers = Powers::new(point, &c, d, order);
+        let w = &powers;
+        let attitude_attitude: [(usize, &Block); 5] = [
+            (0, &IDENTITY),
+            (1, &w.a),
+            (2, &w.a2),
+            (3, &w.a3),
+            (4, &w.a4),
         ];
-        // Noise columns of Γ (module docs): E_g, E_a, [−½Δ² Χ_{·ϑ}; ΔI], [−Δ² Χ_{·v} Ĉ; ΔI].
-        let squared = interval_s * interval_s;
-        let gyro_walk_columns = series.chi_attitude.map(|chi| scale(&chi, -0.5 * squared));
-        let accel_walk_columns = series
-            .chi_velocity
-            .map(|chi| scale(&mul(&chi, &c), -squared));
-        let noise = NoiseBlocks::new(
-            [gyro_noise, accel_noise, gyro_walk, accel_walk],
-            interval_s,
-            &gyro_bias_column,
-            &accel_bias_column,
-            (&gyro_walk_columns, &accel_walk_columns),
-        );
-        Ok(Self {
-            transposed: TransposedBlocks::new(
-                &series.transition,
-                &gyro_bias_column,
-                &accel_bias_column,
-            ),
-            transition: series.transition,
-            gyro_bias_column,
-            accel_bias_column,
-            measured_rate_rad_s: block::from_vector(&point.measured_rate_rad_s),
-            measured_specific_force_mps2: block::from_vector(&point.measured_specific_force_mps2),
-            noise,
-            bias_walk,
-        })
+        let position_attitude: [(usize, &Block); 3] =
+            [(2, &w.d_b), (3, &w.d_ba), (4, &w.position_attitude_4)];
+        let position_position: [(usize, &Block); 3] = [(0, &IDENTITY), (2, &w.dg), (4, &w.d2_g2)];
+        let position_velocity: [(usize, &Block); 2] = [(1, &w.d_identity), (3, &w.d2_g)];
+        let velocity_attitude: [(usize, &Block); 4] = [
+            (1, &w.b),
+            (2, &w.ba),
+            (3, &w.velocity_attitude_3),
+            (4, &w.velocity_attitude_4),
+        ];
+        let velocity_position: [(usize, &Block); 2] = [(1, &w.g), (3, &w.velocity_position_3)];
+        let velocity_velocity = position_position;
+        // Φ = Σ (MΔ)^n/n!.
+        let t = &mut self.transition;
+        series_into(&mut t.attitude_attitude, &attitude_attitude, order, 0, 1.0);
+        series_into(&mut t.position_attitude, &position_attitude, order, 0, 1.0);
+        series_into(&mut t.position_position, &position_position, order, 0, 1.0);
+        series_into(&mut t.position_velocity, &position_velocity, order, 0, 1.0);
+        series_into(&mut t.velocity_attitude, &velocity_attitude, order, 0, 1.0);
+        series_into(&mut t.velocity_position, &velocity_position, order, 0, 1.0);
+        series_into(&mut t.velocity_velocity, &velocity_velocity, order, 0, 1.0);
+        // E_g = −½Δ Ψ_{·ϑ}, E_a = −Δ Ψ_{·v} Ĉ (Ψ: shift 1).
+        let [gyro_a, gyro_p, gyro_v] = &mut self.gyro_bias_column;
+        series_into(gyro_a, &attitude_attitude, order, 1, -0.5 * d);
+        series_into(gyro_p, &position_attitude, order, 1, -0.5 * d);
+        series_into(gyro_v, &velocity_attitude, order, 1, -0.5 * d);
+        let mut psi = ZERO;
+        let [accel_p, accel_v] = &mut self.accel_bias_column;
+        series_into(&mut psi, &position_velocity, order, 1, -d);
+        *accel_p = mul(&psi, &c);
+        series_into(&mut psi, &velocity_velocity, order, 1, -d);
+        *accel_v = mul(&psi, &c);
+        self.measured_rate_rad_s = block::from_vector(&point.measured_rate_rad_s);
+        self.measured_specific_force_mps2 = block::from_vector(&point.measured_specific_force_mps2);
+        self.input_noise = [gyro_noise, accel_noise];
+        // The walks' noise columns of Γ (module docs): [−½Δ² Χ_{·ϑ}; ΔI] and
+        // [−Δ² Χ_{·v} Ĉ; ΔI] (Χ: shift 2).
+        let noise = &mut self.noise;
+        *noise = NoiseBlocks::ZERO;
+        let squared = d * d;
+        if gyro_walk > 0.0 {
+            let mut columns = [ZERO; 3];
+            let [walk_a, walk_p, walk_v] = &mut columns;
+            series_into(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
+            series_into(walk_p, &position_attitude, order, 2, -0.5 * squared);
+            series_into(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
+            noise.add_gyro_walk(gyro_walk, d, &columns);
+        }
+        if accel_walk > 0.0 {
+            let mut columns = [ZERO; 2];
+            let [walk_p, walk_v] = &mut columns;
+            series_into(&mut psi, &position_velocity, order, 2, -squared);
+            *walk_p = mul(&psi, &c);
+            series_into(&mut psi, &velocity_velocity, order, 2, -squared);
+            *walk_v = mul(&psi, &c);
+            noise.add_accel_walk(accel_walk, d, &columns);
+        }
+        self.bias_walk = gyro_walk > 0.0 || accel_walk > 0.0;
+        Ok(())
+    }
+
+    /// Adds the folded white-noise part of `Qd` (`q E_g E_gᵀ + q E_a E_aᵀ`, see
+    /// [`StructuredModel::input_noise`]) to the explicit blocks, and clears the folded
+    /// intensities: the model is unchanged, only its noise is held in the blocks.
+    fn unfold_input_noise(&mut self) {
+        let [gyro_noise, accel_noise] = self.input_noise;
+        if gyro_noise > 0.0 {
+            add_noise_input(&mut self.noise.dynamic, gyro_noise, &self.gyro_bias_column);
+        }
+        if accel_noise > 0.0 {
+            add_accel_noise_input(
+                &mut self.noise.dynamic,
+                accel_noise,
+                &self.accel_bias_column,
+            );
+        }
+        self.input_noise = [0.0; 2];
     }
 
     /// Removes the process noise of the `blocks` (their rows and columns of `Qd` set to zero),
@@ -486,6 +533,10 @@ impl StructuredModel {
     pub fn remove_process_noise(&mut self, blocks: &BlockMask) {
         if blocks.is_empty() {
             return;
+        }
+        if DYNAMIC_ROWS.iter().any(|block| blocks.contains(*block)) {
+            // The folded white noise reaches every dynamic row: hold it in the blocks.
+            self.unfold_input_noise();
         }
         for (row, column, value) in self.noise.blocks_mut() {
             if blocks.contains(row) || blocks.contains(column) {
@@ -525,7 +576,9 @@ impl StructuredModel {
     /// The dense 24×24 `Qd` (for tests and reports).
     pub fn process_noise_matrix(&self) -> CovarianceMatrix {
         let mut q = CovarianceMatrix::zeros();
-        let n = &self.noise;
+        let mut unfolded = *self;
+        unfolded.unfold_input_noise();
+        let n = &unfolded.noise;
         let [aa, ap, av, pp, pv, vv] = &n.dynamic;
         write_diagonal_symmetric::<A>(&mut q, aa);
         write_symmetric::<A, P>(&mut q, ap);
@@ -640,13 +693,13 @@ impl StructuredModel {
         ]
     }
 
-    /// Block (`R`, `S`), `S` = δp or δv, of the new `P_dd = U_d [Φ E]_Sᵀ` (without `Qd`):
-    /// `row` is `(U_Rϑ, U_Rp, U_Rv)`, `gyro`/`accel` row `R` of `U`'s folded calibration
-    /// columns, `transition` row `S` of `Φ` and `bias_columns` row `S` of `E_g`, `E_a`, all
-    /// transposed.
+    /// Block (`R`, `S`), `S` = δp or δv, of the new `P_dd = U_d [Φ E]_Sᵀ` (without the
+    /// walks' `Qd`): `row` is `(U_Rϑ, U_Rp, U_Rv)`, `folded` row `R` of `U`'s folded
+    /// calibration columns (with the white noise folded in), `transition` row `S` of `Φ` and
+    /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`).
     #[inline(never)]
     fn dynamic_pair(
-        row: &[Block; 3],
+        row: [&Block; 3],
         folded: [&Block; 2],
         transition: [&Block; 3],
         bias_columns: [&Block; 2],
@@ -655,20 +708,19 @@ impl StructuredModel {
         let [f_attitude, f_position, f_velocity] = transition;
         let [gyro, accel] = folded;
         let [e_gyro, e_accel] = bias_columns;
-        let mut value = mul(u_attitude, f_attitude);
-        value = mul_add(&value, u_position, f_position);
-        value = mul_add(&value, u_velocity, f_velocity);
-        value = mul_add(&value, gyro, e_gyro);
-        mul_add(&value, accel, e_accel)
+        let mut value = mul_transpose(u_attitude, f_attitude);
+        value = mul_transpose_add(&value, u_position, f_position);
+        value = mul_transpose_add(&value, u_velocity, f_velocity);
+        value = mul_transpose_add(&value, gyro, e_gyro);
+        mul_transpose_add(&value, accel, e_accel)
     }
 
     /// Block (`R`, ϑ) of the new `P_dd`: `Φ_ϑp = Φ_ϑv = 0` and `E_a` has no attitude row.
     #[inline(never)]
     fn attitude_pair(&self, u_attitude: &Block, gyro: &Block) -> Block {
-        let t = &self.transposed;
-        let [gyro_attitude, _, _] = &t.gyro_bias_column;
-        mul_add(
-            &mul(u_attitude, &t.transition.attitude_attitude),
+        let [gyro_attitude, _, _] = &self.gyro_bias_column;
+        mul_transpose_add(
+            &mul_transpose(u_attitude, &self.transition.attitude_attitude),
             gyro,
             gyro_attitude,
         )
@@ -681,11 +733,15 @@ impl StructuredModel {
         let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11, c12, c13, c14, c15, c16, c17, c18, c19, c20, c21, c22, c23] =
             &p.data.0;
         // U = [Φ E] P by column blocks; U's calibration columns are the new P_dc.
-        let [u_aa, u_pa, u_va] = self.propagate_column([c0, c1, c2]);
-        let [u_ap, u_pp, u_vp] = self.propagate_column([c3, c4, c5]);
-        let [u_av, u_pv, u_vv] = self.propagate_column([c6, c7, c8]);
-        let gyro_bias = self.propagate_column([c9, c10, c11]);
-        let accel_bias = self.propagate_column([c12, c13, c14]);
+        // Bound whole and split by reference: destructuring by value copies each block.
+        let u_attitude_columns = self.propagate_column([c0, c1, c2]);
+        let u_position_columns = self.propagate_column([c3, c4, c5]);
+        let u_velocity_columns = self.propagate_column([c6, c7, c8]);
+        let [u_aa, u_pa, u_va] = &u_attitude_columns;
+        let [u_ap, u_pp, u_vp] = &u_position_columns;
+        let [u_av, u_pv, u_vv] = &u_velocity_columns;
+        let mut gyro_bias = self.propagate_column([c9, c10, c11]);
+        let mut accel_bias = self.propagate_column([c12, c13, c14]);
         let installation = self.propagate_column([c15, c16, c17]);
         let gyro_scale = self.propagate_column([c18, c19, c20]);
         let accel_scale = self.propagate_column([c21, c22, c23]);
@@ -696,18 +752,28 @@ impl StructuredModel {
         let [accel_a, accel_p, accel_v] = &accel_bias;
         let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = &gyro_scale;
         let [scale_accel_a, scale_accel_p, scale_accel_v] = &accel_scale;
-        let fg_a = add_scaled_columns(gyro_a, scale_gyro_a, rate);
-        let fg_p = add_scaled_columns(gyro_p, scale_gyro_p, rate);
-        let fg_v = add_scaled_columns(gyro_v, scale_gyro_v, rate);
+        // The white noise folded in (module docs): (U_bg + q_g E_g) E_gᵀ adds q_g E_g E_gᵀ,
+        // likewise q_a E_a E_aᵀ (E_a has no attitude row).
+        let [gyro_noise, accel_noise] = self.input_noise;
+        let [e_gyro_a, e_gyro_p, e_gyro_v] = &self.gyro_bias_column;
+        let [e_accel_p, e_accel_v] = &self.accel_bias_column;
+        let fold = |bias, scale_factor, input, column, noise| {
+            add_scaled(
+                &add_scaled_columns(bias, scale_factor, input),
+                column,
+                noise,
+            )
+        };
+        let fg_a = fold(gyro_a, scale_gyro_a, rate, e_gyro_a, gyro_noise);
+        let fg_p = fold(gyro_p, scale_gyro_p, rate, e_gyro_p, gyro_noise);
+        let fg_v = fold(gyro_v, scale_gyro_v, rate, e_gyro_v, gyro_noise);
         let fa_a = add_scaled_columns(accel_a, scale_accel_a, force);
-        let fa_p = add_scaled_columns(accel_p, scale_accel_p, force);
-        let fa_v = add_scaled_columns(accel_v, scale_accel_v, force);
+        let fa_p = fold(accel_p, scale_accel_p, force, e_accel_p, accel_noise);
+        let fa_v = fold(accel_v, scale_accel_v, force, e_accel_v, accel_noise);
         // New P_dd = U_dd Φᵀ + U_dc Eᵀ + Qd_dd, upper block triangle.
         let noise = &self.noise;
         let [q_aa, q_ap, q_av, q_pp, q_pv, q_vv] = &noise.dynamic;
-        let t = &self.transposed.transition;
-        let [_, gyro_position, gyro_velocity] = &self.transposed.gyro_bias_column;
-        let [accel_position, accel_velocity] = &self.transposed.accel_bias_column;
+        let t = &self.transition;
         let position_row = [
             &t.position_attitude,
             &t.position_position,
@@ -718,8 +784,9 @@ impl StructuredModel {
             &t.velocity_position,
             &t.velocity_velocity,
         ];
-        let position_columns = [gyro_position, accel_position];
-        let velocity_columns = [gyro_velocity, accel_velocity];
+        let position_columns = [e_gyro_p, e_accel_p];
+        let velocity_columns = [e_gyro_v, e_accel_v];
+        // Rows of U_dd by reference (an array of blocks would be copied, 72 bytes each).
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
@@ -729,28 +796,28 @@ impl StructuredModel {
                 noise,
             )
         };
-        let new_aa = add(&self.attitude_pair(&u_aa, &fg_a), q_aa);
-        let new_ap = pair(&row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
-        let new_av = pair(&row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
-        let new_pp = pair(&row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
-        let new_pv = pair(&row_p, &fg_p, &fa_p, velocity_row, velocity_columns, q_pv);
-        let new_vv = pair(&row_v, &fg_v, &fa_v, velocity_row, velocity_columns, q_vv);
+        let new_aa = add(&self.attitude_pair(u_aa, &fg_a), q_aa);
+        let new_ap = pair(row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
+        let new_av = pair(row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
+        let new_pp = pair(row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
+        let new_pv = pair(row_p, &fg_p, &fa_p, velocity_row, velocity_columns, q_pv);
+        let new_vv = pair(row_v, &fg_v, &fa_v, velocity_row, velocity_columns, q_vv);
         // Bias walks: Qd in the bias columns of the dynamic rows and on the bias diagonal.
-        let (gyro_bias, accel_bias, walk_diagonal) = if self.bias_walk {
-            let with = |column: &[Block; 3], noise: &[Block; 3]| {
-                let ([a, p, v], [qa, qp, qv]) = (column, noise);
-                [add(a, qa), add(p, qp), add(v, qv)]
+        let walk_diagonal = if self.bias_walk {
+            // In place (new arrays of blocks would be copies).
+            let with = |column: &mut [Block; 3], noise: &[Block; 3]| {
+                for (value, q) in column.iter_mut().zip(noise) {
+                    *value = add(value, q);
+                }
             };
-            (
-                with(&gyro_bias, &noise.dynamic_gyro_bias),
-                with(&accel_bias, &noise.dynamic_accel_bias),
-                Some([
-                    add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
-                    add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
-                ]),
-            )
+            with(&mut gyro_bias, &noise.dynamic_gyro_bias);
+            with(&mut accel_bias, &noise.dynamic_accel_bias);
+            Some([
+                add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
+                add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
+            ])
         } else {
-            (gyro_bias, accel_bias, None)
+            None
         };
         let mut check = FiniteCheck::new();
         for blocks in [
@@ -825,9 +892,12 @@ impl ObservedCovariance {
     /// observed block `K`, `M_j += H_K P_{K,j}` over the 24 columns `j` (the symmetric `P`
     /// read by columns), then `H P Hᵀ = Σ_K H_K P_{K,·} H_Kᵀ`'s sum `Σ_K (M_K)ᵀ H_Kᵀ`.
     pub(crate) fn new(jacobian: &MeasurementJacobian, p: &CovarianceMatrix) -> Self {
-        let mut products = [[0.0; 3]; STATE_DIMENSION];
-        let mut projected = ZERO;
-        for (offset, h) in [
+        // Built in its final place (a local array moved into `Self` would be copied).
+        let mut observed = Self {
+            products: [[0.0; 3]; STATE_DIMENSION],
+            projected: ZERO,
+        };
+        let blocks = [
             (A, read::<0, A, 3, 24>(jacobian)),
             (P, read::<0, P, 3, 24>(jacobian)),
             (V, read::<0, V, 3, 24>(jacobian)),
@@ -836,34 +906,23 @@ impl ObservedCovariance {
             (PSI, read::<0, PSI, 3, 24>(jacobian)),
             (SG, read::<0, SG, 3, 24>(jacobian)),
             (SA, read::<0, SA, 3, 24>(jacobian)),
-        ] {
-            if h.iter().flatten().all(|v| *v == 0.0) {
-                continue;
-            }
-            add_observed_block(&mut products, p, offset, &h);
+        ];
+        let observed_blocks = || {
+            blocks
+                .iter()
+                .filter(|(_, h)| !h.iter().flatten().all(|v| *v == 0.0))
+        };
+        for (offset, h) in observed_blocks() {
+            add_observed_block(&mut observed.products, p, *offset, h);
         }
         // H P Hᵀ = Σ_K (H P)_{·,K} H_Kᵀ, with (H P)_{·,K} = [M_K, M_K+1, M_K+2] as columns.
-        for (offset, h) in [
-            (A, read::<0, A, 3, 24>(jacobian)),
-            (P, read::<0, P, 3, 24>(jacobian)),
-            (V, read::<0, V, 3, 24>(jacobian)),
-            (BG, read::<0, BG, 3, 24>(jacobian)),
-            (BA, read::<0, BA, 3, 24>(jacobian)),
-            (PSI, read::<0, PSI, 3, 24>(jacobian)),
-            (SG, read::<0, SG, 3, 24>(jacobian)),
-            (SA, read::<0, SA, 3, 24>(jacobian)),
-        ] {
-            if h.iter().flatten().all(|v| *v == 0.0) {
-                continue;
-            }
-            if let Some([m0, m1, m2]) = products.get(offset..offset + 3) {
-                projected = mul_transpose_add(&projected, &transpose(&[*m0, *m1, *m2]), &h);
+        for (offset, h) in observed_blocks() {
+            if let Some([m0, m1, m2]) = observed.products.get(*offset..*offset + 3) {
+                observed.projected =
+                    mul_transpose_add(&observed.projected, &transpose(&[*m0, *m1, *m2]), h);
             }
         }
-        Self {
-            products,
-            projected,
-        }
+        observed
     }
 
     /// `H P Hᵀ`.
@@ -873,13 +932,11 @@ impl ObservedCovariance {
 
     /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero.
     pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
-        let mut gains = [[0.0; 3]; STATE_DIMENSION];
-        for ((gain, product), state_index) in gains.iter_mut().zip(self.products.iter()).zip(0..) {
-            if !frozen.contains_state(state_index) {
-                *gain = cholesky.solve(*product);
-            }
-        }
-        gains
+        // Built element by element (no zero-fill of the 576-byte array first).
+        core::array::from_fn(|state_index| match self.products.get(state_index) {
+            Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
+            _ => [0.0; 3],
+        })
     }
 }
 
@@ -960,23 +1017,40 @@ impl Cholesky3 {
     }
 }
 
-/// Row `i` of the Joseph update, columns `i..24` (upper triangle): `P⁺_ij = P_ij + a_i · b_j`
-/// with `a_i = [N_i, −K_i]`, `b_j = [K_j, M_j]` (6-vectors). The six coefficients of the row
-/// stay in registers while the columns stream past.
+/// Rows `row` and `row + 1` of the Joseph update, upper triangle: `P⁺_ij = P_ij + a_i · b_j`
+/// with `a_i = [N_i, −K_i]`, `b_j = [K_j, M_j]` (6-vectors). The twelve row coefficients stay
+/// in registers while the columns stream past, each column's `b_j` loaded once for both rows
+/// (column `row` reaches only row `row`; from column `row + 1` on both rows are in the upper
+/// triangle). Element
+/// `P_ij + a_i·b_j` is summed as `((P_ij + a_i0 b_j0) + a_i1 b_j1) + …` (multiply-accumulates).
 #[inline(never)]
-fn joseph_row(
+fn joseph_row_pair(
     columns: &mut [[f64; 24]],
     row: usize,
-    a: &[f64; 6],
+    a: [&[f64; 6]; 2],
     coefficients: &[[f64; 6]],
     check: &mut FiniteCheck,
 ) {
-    let [a0, a1, a2, a3, a4, a5] = *a;
-    for (column, b) in columns.iter_mut().zip(coefficients) {
-        if let Some(value) = column.get_mut(row) {
-            let [b0, b1, b2, b3, b4, b5] = *b;
-            *value += a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 + a4 * b4 + a5 * b5;
-            check.value(*value);
+    let [first, second] = a;
+    let update = |value: f64, [a0, a1, a2, a3, a4, a5]: [f64; 6], b: &[f64; 6]| {
+        let [b0, b1, b2, b3, b4, b5] = *b;
+        value + a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 + a4 * b4 + a5 * b5
+    };
+    let (Some((diagonal_column, rest)), Some((diagonal_b, rest_b))) =
+        (columns.split_first_mut(), coefficients.split_first())
+    else {
+        return;
+    };
+    if let Some(value) = diagonal_column.get_mut(row) {
+        *value = update(*value, *first, diagonal_b);
+        check.value(*value);
+    }
+    for (column, b) in rest.iter_mut().zip(rest_b) {
+        if let Some([upper, lower]) = column.get_mut(row..row + 2) {
+            *upper = update(*upper, *first, b);
+            *lower = update(*lower, *second, b);
+            check.value(*upper);
+            check.value(*lower);
         }
     }
 }
@@ -993,30 +1067,36 @@ pub(crate) fn joseph_update(
     s: &Matrix3<f64>,
 ) -> bool {
     let s = block::from_matrix(s);
-    // a_i = [N_i, −K_i], b_j = [K_j, M_j].
-    let mut row_coefficients = [[0.0; 6]; STATE_DIMENSION];
-    let mut column_coefficients = [[0.0; 6]; STATE_DIMENSION];
-    for (((a, b), gain), product) in row_coefficients
-        .iter_mut()
-        .zip(column_coefficients.iter_mut())
-        .zip(gains)
-        .zip(observed.products.iter())
-    {
-        let [n0, n1, n2] = block::row_sub(mul_vector_add([0.0; 3], &s, *gain), *product);
-        let [k0, k1, k2] = *gain;
-        let [m0, m1, m2] = *product;
-        *a = [n0, n1, n2, -k0, -k1, -k2];
-        *b = [k0, k1, k2, m0, m1, m2];
-    }
+    // a_i = [N_i, −K_i], b_j = [K_j, M_j] (built element by element: no zero-fill first).
+    let gain_and_product = |i: usize| {
+        (
+            gains.get(i).copied().unwrap_or([0.0; 3]),
+            observed.products.get(i).copied().unwrap_or([0.0; 3]),
+        )
+    };
+    let row_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
+        let (gain, product) = gain_and_product(i);
+        let [n0, n1, n2] = block::row_sub(mul_vector_add([0.0; 3], &s, gain), product);
+        let [k0, k1, k2] = gain;
+        [n0, n1, n2, -k0, -k1, -k2]
+    });
+    let column_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
+        let ([k0, k1, k2], [m0, m1, m2]) = gain_and_product(i);
+        [k0, k1, k2, m0, m1, m2]
+    });
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
     let mut check = FiniteCheck::new();
-    for (row, a) in row_coefficients.iter().enumerate() {
-        let (Some(columns), Some(coefficients)) =
-            (p.data.0.get_mut(row..), column_coefficients.get(row..))
-        else {
+    // Rows two at a time: each column's six coefficients are loaded once for both rows.
+    for (pair, rows) in row_coefficients.chunks_exact(2).enumerate() {
+        let row = 2 * pair;
+        let (Some(columns), Some(coefficients), [a, a_next]) = (
+            p.data.0.get_mut(row..),
+            column_coefficients.get(row..),
+            rows,
+        ) else {
             break;
         };
-        joseph_row(columns, row, a, coefficients, &mut check);
+        joseph_row_pair(columns, row, [a, a_next], coefficients, &mut check);
     }
     if check.all_finite() {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);

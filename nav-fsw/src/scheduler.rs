@@ -235,6 +235,9 @@ pub struct NavigationComputer {
     sums: PropagationSums,
     /// Motion of the last covariance propagation (for referring late measurements).
     last_point: Option<LinearisationPoint>,
+    /// The structured discrete model, refilled in place by every propagation (a ~2 KB
+    /// struct: building it in place avoids copies that cost thousands of instructions).
+    model: StructuredModel,
     variance_floor: ErrorState,
     variance_ceiling: ErrorState,
     health: HealthCounters,
@@ -309,6 +312,7 @@ impl NavigationComputer {
             gnss_outage: OutageMonitor::default(),
             sums: PropagationSums::EMPTY,
             last_point: None,
+            model: StructuredModel::EMPTY,
             variance_floor: floors.covariance().diagonal(),
             variance_ceiling: initial_filter.covariance().diagonal()
                 * (ceiling_factor * ceiling_factor),
@@ -525,10 +529,13 @@ impl NavigationComputer {
         let order = self.config.filter.discretisation_order;
         let result = match self.arithmetic {
             FilterArithmetic::Structured => {
-                match StructuredModel::new(&point, &self.config.process_noise, interval_s, order) {
-                    Ok(mut model) => {
-                        model.remove_process_noise(&frozen);
-                        self.filter.predict_structured(&model)
+                match self
+                    .model
+                    .rebuild(&point, &self.config.process_noise, interval_s, order)
+                {
+                    Ok(()) => {
+                        self.model.remove_process_noise(&frozen);
+                        self.filter.predict_structured(&self.model)
                     }
                     Err(error) => Err(error),
                 }

@@ -89,6 +89,14 @@ fn filter_path(counter: &mut InstructionCounter) -> bool {
     cost("strapdown_step", counter.measure(|| fixture.navigate()));
     cost("filter_propagate", counter.measure(|| fixture.propagate()));
     cost(
+        "propagate_point",
+        counter.measure(|| fixture.propagate_part(0)),
+    );
+    cost(
+        "propagate_point_model",
+        counter.measure(|| fixture.propagate_part(1)),
+    );
+    cost(
         "filter_star_update",
         counter.measure(|| fixture.star_update()),
     );
