@@ -291,10 +291,11 @@ impl ErrorStateFilter {
         Ok(())
     }
 
-    /// Covariance protection in place: each variance below its `floor` is raised to it; for
-    /// each variance above its `ceiling`, every element of its row and column (the variance
-    /// itself once) is multiplied by `√(ceiling/variance)`, keeping the correlations. Returns
-    /// whether anything was changed. Only the diagonal is read unless a bound is crossed.
+    /// Covariance protection in place: each variance below its `floor` is raised to it; each
+    /// variance above its `ceiling` becomes the ceiling, with the rest of its row and column
+    /// multiplied by `s = √(ceiling/variance)`: `P' = S P S`, `S = diag(1, …, s, …, 1)`, which
+    /// keeps every correlation coefficient and positive definiteness. Returns whether anything
+    /// was changed. Only the diagonal is read unless a bound is crossed.
     pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
         let mut clamped = false;
         for (index, (floor, ceiling)) in floor.iter().zip(ceiling.iter()).enumerate() {
@@ -314,6 +315,10 @@ impl ErrorStateFilter {
                     } else if let Some(value) = column.get_mut(index) {
                         *value *= scale;
                     }
+                }
+                // The diagonal takes s² (row and column): exactly the ceiling.
+                if let Some(entry) = self.covariance.get_mut((index, index)) {
+                    *entry = *ceiling;
                 }
                 clamped = true;
             }
@@ -941,5 +946,28 @@ mod tests {
             filter.state()[POSITION.index].to_bits(),
             (2.0 * before).to_bits()
         );
+    }
+
+    #[test]
+    fn protection_puts_a_variance_at_its_ceiling_and_keeps_correlations() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        let mut covariance = CovarianceMatrix::identity();
+        covariance[(0, 0)] = 4.0;
+        covariance[(0, 1)] = 1.0;
+        covariance[(1, 0)] = 1.0;
+        filter.set_covariance(&covariance).unwrap();
+        let correlation = |p: &CovarianceMatrix| p[(0, 1)] / (p[(0, 0)] * p[(1, 1)]).sqrt();
+        let before = correlation(filter.covariance());
+        let floor = ErrorState::repeat(0.5);
+        let mut ceiling = ErrorState::repeat(10.0);
+        ceiling[0] = 1.0;
+        assert!(filter.protect_variances(&floor, &ceiling));
+        let p = filter.covariance();
+        assert_eq!(p[(0, 0)].to_bits(), 1.0_f64.to_bits());
+        assert!((correlation(p) - before).abs() < 1e-15);
+        assert_eq!(p[(0, 1)].to_bits(), p[(1, 0)].to_bits());
+        assert!(p.cholesky().is_some());
+        // Within the bounds: nothing changes.
+        assert!(!filter.protect_variances(&floor, &ceiling));
     }
 }
