@@ -848,4 +848,74 @@ mod tests {
             );
         }
     }
+
+    /// Mutation-testing boundaries of the manager: strict thresholds, each validation edge,
+    /// a table naming any one navigation block, the window measured from its start.
+    #[test]
+    fn thresholds_are_strict_and_every_invalid_setting_is_refused() {
+        let degrees = core::f64::consts::PI / 180.0;
+        let at_threshold = MotionSignature::classify(
+            &Vector3::new(0.5 * degrees, 0.0, 0.0),
+            &Vector3::new(0.0, 0.5, 0.0),
+            0.5 * degrees,
+            0.5,
+        );
+        assert_eq!(at_threshold.bits(), 0);
+
+        let refused = |change: fn(&mut CalibrationManagerConfig)| {
+            let mut config = CalibrationManagerConfig::default();
+            change(&mut config);
+            CalibrationManager::new(config).err()
+        };
+        let threshold = Some(FswError::InvalidConfiguration(
+            ConfigField::CalibrationThreshold,
+        ));
+        assert_eq!(
+            refused(|c| c.convergence_sigma.gyro_bias_rad_s = 0.0),
+            threshold
+        );
+        assert_eq!(
+            refused(|c| c.convergence_sigma.accel_scale_factor = f64::NAN),
+            threshold
+        );
+        assert_eq!(
+            refused(|c| c.convergence_sigma.star_installation_rad = -1.0),
+            threshold
+        );
+        let stability = Some(FswError::InvalidConfiguration(
+            ConfigField::CalibrationStability,
+        ));
+        assert_eq!(refused(|c| c.stability_fraction = 0.0), stability);
+        assert_eq!(refused(|c| c.stability_fraction = f64::INFINITY), stability);
+        for block in [ATTITUDE, POSITION, VELOCITY] {
+            let mut entries = [BlockMask::NONE; MotionSignature::COUNT];
+            if let Some(entry) = entries.get_mut(9) {
+                entry.insert(block);
+            }
+            let config = CalibrationManagerConfig {
+                motion_observability: MotionObservabilityTable::from_entries(entries),
+                ..CalibrationManagerConfig::default()
+            };
+            assert!(CalibrationManager::new(config).is_err(), "{}", block.name);
+        }
+
+        let mut manager = CalibrationManager::new(CalibrationManagerConfig::default()).unwrap();
+        manager.set_phase(ManoeuvrePhase::Rotation);
+        assert_eq!(manager.phase(), ManoeuvrePhase::Rotation);
+        // A 1σ exactly at the threshold is not below it.
+        let thresholds = CalibrationManagerConfig::default()
+            .convergence_sigma
+            .values();
+        let at = [[thresholds[0]; 3], [1.0; 3], [1.0; 3], [1.0; 3], [1.0; 3]];
+        manager.evaluate(0.0, &uniform(0.0), &at);
+        manager.evaluate(20.0, &uniform(0.0), &at);
+        assert_eq!(manager.table().gyro_bias.converged_at_s, None);
+        // The window runs from its start: started at 5 s, not converged at 10 s (5 s < 10 s).
+        let mut manager = CalibrationManager::new(CalibrationManagerConfig::default()).unwrap();
+        manager.evaluate(5.0, &uniform(0.0), &uniform(1e-12));
+        manager.evaluate(10.0, &uniform(0.0), &uniform(1e-12));
+        assert_eq!(manager.table().converged_count(), 0);
+        manager.evaluate(15.0, &uniform(0.0), &uniform(1e-12));
+        assert_eq!(manager.table().converged_count(), 5);
+    }
 }

@@ -115,4 +115,19 @@ mod tests {
             .sum();
         assert_eq!(reports, 0);
     }
+
+    /// Mutation-testing boundaries: counters saturate, and silence of exactly the timeout is
+    /// not yet an outage.
+    #[test]
+    fn counters_saturate_and_an_outage_needs_more_than_the_timeout() {
+        let mut counter = u32::MAX - 1;
+        count(&mut counter);
+        assert_eq!(counter, u32::MAX);
+        count(&mut counter);
+        assert_eq!(counter, u32::MAX);
+        let mut monitor = OutageMonitor::default();
+        assert!(!monitor.observe(0.0, true, 2.0));
+        assert!(!monitor.observe(2.0, false, 2.0));
+        assert!(monitor.observe(2.5, false, 2.0));
+    }
 }

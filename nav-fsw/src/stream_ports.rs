@@ -308,4 +308,27 @@ mod tests {
         assert!(port.poll().is_none());
         assert_eq!(port.0.counters().wrong_kind, 8);
     }
+
+    /// Mutation-testing boundaries: one `next_record` call reads at most
+    /// [`MAX_BYTES_PER_POLL`] bytes, and that is enough to skip a record's worth of garbage and
+    /// deliver the record behind it (the last byte read completes it).
+    #[test]
+    fn one_call_reads_at_most_two_records_of_bytes_and_uses_all_of_them() {
+        let line = |garbage: usize| {
+            let mut bytes = vec![0xFF_u8; garbage];
+            bytes.extend(star(7).encode().unwrap());
+            ChunkedLine {
+                bytes,
+                position: 0,
+                ready: usize::MAX / 2,
+            }
+        };
+        let mut reader = RecordReader::new(line(RECORD_SIZE));
+        assert_eq!(reader.next_record(), Some(star(7)));
+        assert_eq!(reader.device.position, MAX_BYTES_PER_POLL);
+        assert_eq!(reader.counters().resync_bytes, 80);
+        let mut reader = RecordReader::new(line(300));
+        assert_eq!(reader.next_record(), None);
+        assert_eq!(reader.device.position, MAX_BYTES_PER_POLL);
+    }
 }
