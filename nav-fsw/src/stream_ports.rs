@@ -181,7 +181,7 @@ impl<R: Read + ReadReady> GnssPort for StreamGnss<R> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::log_record::{GnssRecord, StarRecord};
+    use crate::log_record::{GnssRecord, ImuRecord, StarRecord};
     use proptest::prelude::*;
 
     /// A serial line that makes `chunks[k]` bytes ready at poll `k` (then 0).
@@ -330,5 +330,38 @@ mod tests {
         let mut reader = RecordReader::new(line(300));
         assert_eq!(reader.next_record(), None);
         assert_eq!(reader.device.position, MAX_BYTES_PER_POLL);
+    }
+
+    /// Each port takes its own kind from a shared line and counts the others.
+    #[test]
+    fn imu_and_gnss_ports_deliver_their_records() {
+        let imu = LogRecord::Imu(ImuRecord {
+            sequence: 42,
+            time_s: 1.0,
+            interval_s: 0.002,
+            delta_angle_rad: [1e-4, 0.0, -1e-4],
+            delta_velocity_mps: [0.0, 2e-3, 0.0],
+        });
+        let mut bytes = Vec::new();
+        for record in [star(1), imu, gnss(2)] {
+            bytes.extend(record.encode().unwrap());
+        }
+        let line = || ChunkedLine {
+            bytes: bytes.clone(),
+            position: 0,
+            ready: usize::MAX / 2,
+        };
+        let mut imu_port = StreamImu(RecordReader::new(line()));
+        let sample = imu_port.read().unwrap();
+        assert_eq!(sample.sequence, 42);
+        assert_eq!(sample.delta_velocity_mps[1].to_bits(), 2e-3_f64.to_bits());
+        assert_eq!(imu_port.0.counters().wrong_kind, 1);
+        let mut gnss_port = StreamGnss(RecordReader::new(line()));
+        let fix = gnss_port.poll().unwrap();
+        assert_eq!(
+            fix.position_ecef_m.map(f64::to_bits),
+            [7e6, 2.0, -2.0].map(f64::to_bits)
+        );
+        assert_eq!(gnss_port.0.counters().wrong_kind, 2);
     }
 }
