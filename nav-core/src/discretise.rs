@@ -10,7 +10,7 @@
 use nalgebra::SMatrix;
 
 use crate::error_model::{NoiseInputMatrix, SystemMatrix, NOISE_DIMENSION};
-use crate::state::STATE_DIMENSION;
+use crate::state::{BlockMask, STATE_DIMENSION};
 use crate::NavError;
 
 /// Discrete process-noise covariance and transition matrices are 24×24.
@@ -26,6 +26,23 @@ pub struct DiscreteModel {
     pub transition: SystemMatrix,
     /// Process-noise covariance `Qd = Γ (Q/Δ) Γᵀ` (symmetric by construction).
     pub process_noise: CovarianceMatrix,
+}
+
+impl DiscreteModel {
+    /// Removes the process noise of the `frozen` blocks (their rows and columns of `Qd`), as
+    /// the calibration manager's freezing requires; the dense twin of
+    /// [`crate::structured::StructuredModel::remove_process_noise`].
+    pub fn remove_process_noise(&mut self, frozen: &BlockMask) {
+        if frozen.is_empty() {
+            return;
+        }
+        for (element, value) in self.process_noise.iter_mut().enumerate() {
+            let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
+            if frozen.contains_state(row) || frozen.contains_state(column) {
+                *value = 0.0;
+            }
+        }
+    }
 }
 
 /// Discretises `(A, G, Q)` over `interval_s` with a series of `order` terms.

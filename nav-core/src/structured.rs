@@ -1395,18 +1395,7 @@ mod tests {
             order,
         )
         .unwrap();
-        for block in BLOCKS {
-            if frozen.contains(block) {
-                model
-                    .process_noise
-                    .fixed_rows_mut::<3>(block.index)
-                    .fill(0.0);
-                model
-                    .process_noise
-                    .fixed_columns_mut::<3>(block.index)
-                    .fill(0.0);
-            }
-        }
+        model.remove_process_noise(frozen);
         model
     }
 

@@ -43,7 +43,7 @@ use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
 use nav_core::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    POSITION, STAR_INSTALLATION, STATE_DIMENSION,
+    POSITION, STAR_INSTALLATION,
 };
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
@@ -150,14 +150,7 @@ fn dense_model(
         interval_s,
         order,
     )?;
-    if !frozen.is_empty() {
-        for (element, value) in model.process_noise.iter_mut().enumerate() {
-            let (row, column) = (element % STATE_DIMENSION, element / STATE_DIMENSION);
-            if frozen.contains_state(row) || frozen.contains_state(column) {
-                *value = 0.0;
-            }
-        }
-    }
+    model.remove_process_noise(frozen);
     Ok(model)
 }
 
