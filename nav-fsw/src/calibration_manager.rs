@@ -475,19 +475,14 @@ fn max_abs_difference(a: &[f64; 3], b: &[f64; 3]) -> f64 {
         .fold(0.0, |worst: f64, (x, y)| worst.max((x - y).abs()))
 }
 
-fn phase_estimates(policy: EstimationPolicy, phase: ManoeuvrePhase, block: StateBlock) -> bool {
-    match (policy, phase) {
-        (EstimationPolicy::AllBlocks | EstimationPolicy::MotionObservability, _)
-        | (_, ManoeuvrePhase::Unknown) => true,
-        (EstimationPolicy::PaperSchedule, ManoeuvrePhase::Coast) => {
-            block == GYRO_BIAS || block == ACCEL_BIAS
-        }
-        (EstimationPolicy::PaperSchedule, ManoeuvrePhase::Rotation) => {
-            block == GYRO_SCALE_FACTOR || block == STAR_INSTALLATION
-        }
-        (EstimationPolicy::PaperSchedule, ManoeuvrePhase::Acceleration) => {
-            block == ACCEL_SCALE_FACTOR || block == STAR_INSTALLATION
-        }
+/// The paper's schedule ([`EstimationPolicy::PaperSchedule`]): whether `phase` estimates
+/// `block` (`Unknown` estimates all).
+fn paper_schedule_estimates(phase: ManoeuvrePhase, block: StateBlock) -> bool {
+    match phase {
+        ManoeuvrePhase::Unknown => true,
+        ManoeuvrePhase::Coast => block == GYRO_BIAS || block == ACCEL_BIAS,
+        ManoeuvrePhase::Rotation => block == GYRO_SCALE_FACTOR || block == STAR_INSTALLATION,
+        ManoeuvrePhase::Acceleration => block == ACCEL_SCALE_FACTOR || block == STAR_INSTALLATION,
     }
 }
 
@@ -538,11 +533,12 @@ impl CalibrationManager {
     /// Whether the policy lets the filter move `block` now (convergence freezing aside).
     fn estimates(&self, block: StateBlock) -> bool {
         match self.config.policy {
+            EstimationPolicy::AllBlocks => true,
+            EstimationPolicy::PaperSchedule => paper_schedule_estimates(self.phase, block),
             EstimationPolicy::MotionObservability => {
                 let table = &self.config.motion_observability;
                 table.estimable(self.motion).contains(block) || !self.revealed.contains(block)
             }
-            policy => phase_estimates(policy, self.phase, block),
         }
     }
 
