@@ -296,7 +296,7 @@ impl TargetReplayReport {
     pub fn text(&self) -> String {
         let mut text = match &self.difference {
             None => format!(
-                "Replay of the default scenario's first {} frames ({:.0} s): host and target \
+                "Replay of the scenario's first {} frames ({:.0} s): host and target \
                  outputs identical bit for bit ({} words per frame).\n",
                 self.frames,
                 self.seconds,
@@ -345,7 +345,9 @@ pub fn replay_on_target(
     directory: &std::path::Path,
 ) -> Result<TargetReplayReport, ReplayError> {
     std::fs::create_dir_all(directory)?;
-    let frames = seconds.saturating_mul(500);
+    let period_s = scenario.imu.frame_period_s();
+    // Seconds of flight are far below 2⁵³: exact in f64.
+    let frames = crate::scenario::frames_in(seconds as f64, period_s);
     let input_path = directory.join("replay-in.bin");
     let written = write_input(
         scenario,
@@ -381,7 +383,8 @@ pub fn replay_on_target(
     };
     Ok(TargetReplayReport {
         frames: written,
-        seconds: f64::from(u32::try_from(written).unwrap_or(u32::MAX)) * 0.002,
+        // Frame counts are far below 2⁵³: exact in f64.
+        seconds: written as f64 * period_s,
         costs: cost_statistics(&target),
         stack,
         memory: image_memory(&std::fs::read(elf)?)?,
