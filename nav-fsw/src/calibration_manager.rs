@@ -392,12 +392,22 @@ pub struct CalibrationEntry {
     /// Current estimate per axis (units of the block; the installation error as a small
     /// rotation vector in rad).
     pub value: [f64; 3],
-    /// Filter 1σ per axis (same units).
-    pub sigma: [f64; 3],
+    /// Filter variance per axis (units of the block, squared). Kept as the variance so the
+    /// 500 Hz evaluation needs no square root (a software `sqrt` is ~85 instructions on the
+    /// Cortex-M7 target); [`CalibrationEntry::sigma`] gives the 1σ.
+    pub variance: [f64; 3],
     /// Navigation time at which the block was declared converged (s), if it has.
     pub converged_at_s: Option<f64>,
     /// The filter may not move this block now (converged and frozen, or outside its phase).
     pub frozen: bool,
+}
+
+impl CalibrationEntry {
+    /// Filter 1σ per axis (units of the block): the square roots of [`Self::variance`]
+    /// (a negative variance, which the filter's floors prevent, reads as 0).
+    pub fn sigma(&self) -> [f64; 3] {
+        self.variance.map(|variance| libm::sqrt(variance.max(0.0)))
+    }
 }
 
 /// The calibration table: one entry per block in [`CALIBRATION_BLOCKS`] order.
@@ -578,14 +588,15 @@ impl CalibrationManager {
         mask
     }
 
-    /// Updates the table with the filter's current estimates and 1σ (per block in
+    /// Updates the table with the filter's current estimates and variances (per block in
     /// [`CALIBRATION_BLOCKS`] order, units as in [`CalibrationEntry`]) at navigation time
-    /// `now_s`, declares convergence and decides the frozen set.
+    /// `now_s`, declares convergence and decides the frozen set. A block's 1σ is below its
+    /// threshold `t` when every variance is below `t²`.
     pub fn evaluate(
         &mut self,
         now_s: f64,
         values: &[[f64; 3]; CALIBRATION_BLOCK_COUNT],
-        sigmas: &[[f64; 3]; CALIBRATION_BLOCK_COUNT],
+        variances: &[[f64; 3]; CALIBRATION_BLOCK_COUNT],
     ) {
         let thresholds = self.config.convergence_sigma.values();
         let config = self.config;
@@ -599,13 +610,13 @@ impl CalibrationManager {
             .into_iter()
             .zip(self.windows.iter_mut())
             .zip(estimated.iter())
-            .zip(values.iter().zip(sigmas.iter()))
+            .zip(values.iter().zip(variances.iter()))
             .zip(thresholds.iter());
-        for ((((entry, window), estimated), (value, sigma)), threshold) in rows {
+        for ((((entry, window), estimated), (value, variance)), threshold) in rows {
             entry.value = *value;
-            entry.sigma = *sigma;
+            entry.variance = *variance;
             if entry.converged_at_s.is_none() {
-                let small = sigma.iter().all(|s| *s < *threshold);
+                let small = variance.iter().all(|v| *v < threshold * threshold);
                 match (small, window.start_s) {
                     (false, _) => window.start_s = None,
                     (true, None) => {
@@ -646,13 +657,13 @@ mod tests {
             ..CalibrationManagerConfig::default()
         };
         let mut manager = CalibrationManager::new(config).unwrap();
-        let mut sigmas = uniform(1.0); // far above every threshold
-        sigmas[3] = [1e-7; 3]; // gyro scale factor: below 1e-6 / 3
+        let mut variances = uniform(1.0); // far above every threshold
+        variances[3] = [1e-14; 3]; // gyro scale factor: 1σ 1e-7, below 1e-6 / 3
         let values = uniform(3e-5);
-        manager.evaluate(0.0, &values, &sigmas);
-        manager.evaluate(5.0, &values, &sigmas);
+        manager.evaluate(0.0, &values, &variances);
+        manager.evaluate(5.0, &values, &variances);
         assert_eq!(manager.table().converged_count(), 0);
-        manager.evaluate(10.0, &values, &sigmas);
+        manager.evaluate(10.0, &values, &variances);
         assert_eq!(manager.table().gyro_scale_factor.converged_at_s, Some(10.0));
         assert_eq!(manager.table().converged_count(), 1);
         let frozen = manager.frozen_blocks();
@@ -665,14 +676,14 @@ mod tests {
     #[test]
     fn a_drifting_estimate_restarts_the_window() {
         let mut manager = CalibrationManager::new(CalibrationManagerConfig::default()).unwrap();
-        let sigmas = uniform(1e-12);
+        let variances = uniform(1e-24);
         let mut values = uniform(0.0);
-        manager.evaluate(0.0, &values, &sigmas);
+        manager.evaluate(0.0, &values, &variances);
         values[0] = [1e-6; 3]; // gyro bias moved by 2× its threshold (5e-7)
-        manager.evaluate(10.0, &values, &sigmas);
+        manager.evaluate(10.0, &values, &variances);
         assert_eq!(manager.table().gyro_bias.converged_at_s, None);
         assert_eq!(manager.table().accel_bias.converged_at_s, Some(10.0));
-        manager.evaluate(20.0, &values, &sigmas);
+        manager.evaluate(20.0, &values, &variances);
         assert_eq!(manager.table().gyro_bias.converged_at_s, Some(20.0));
         // Not frozen: freezing is off by default.
         assert!(manager.frozen_blocks().is_empty());
@@ -902,16 +913,17 @@ mod tests {
         let thresholds = CalibrationManagerConfig::default()
             .convergence_sigma
             .values();
-        let at = [[thresholds[0]; 3], [1.0; 3], [1.0; 3], [1.0; 3], [1.0; 3]];
+        let at_variance = thresholds[0] * thresholds[0];
+        let at = [[at_variance; 3], [1.0; 3], [1.0; 3], [1.0; 3], [1.0; 3]];
         manager.evaluate(0.0, &uniform(0.0), &at);
         manager.evaluate(20.0, &uniform(0.0), &at);
         assert_eq!(manager.table().gyro_bias.converged_at_s, None);
         // The window runs from its start: started at 5 s, not converged at 10 s (5 s < 10 s).
         let mut manager = CalibrationManager::new(CalibrationManagerConfig::default()).unwrap();
-        manager.evaluate(5.0, &uniform(0.0), &uniform(1e-12));
-        manager.evaluate(10.0, &uniform(0.0), &uniform(1e-12));
+        manager.evaluate(5.0, &uniform(0.0), &uniform(1e-24));
+        manager.evaluate(10.0, &uniform(0.0), &uniform(1e-24));
         assert_eq!(manager.table().converged_count(), 0);
-        manager.evaluate(15.0, &uniform(0.0), &uniform(1e-12));
+        manager.evaluate(15.0, &uniform(0.0), &uniform(1e-24));
         assert_eq!(manager.table().converged_count(), 5);
     }
 }

@@ -439,7 +439,7 @@ pub fn output_words(
         }
     }
     for (_, entry) in table {
-        for value in entry.sigma {
+        for value in entry.sigma() {
             put(value.to_bits());
         }
     }

@@ -20,7 +20,7 @@
 //!
 //! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
 //! measurement's time of validity and referred to the current error state with
-//! `H (I − A Δ)` (nav-core `refer_to_later_time_at`, by blocks of `A`).
+//! `H (I − A Δ)` (nav-core `refer_to_later_time_in_place`, by blocks of `A`).
 //!
 //! [`FilterArithmetic::DenseReference`] runs the same frame with nav-core's dense 24×24
 //! reference arithmetic (equal within round-off), for cost comparisons only.
@@ -48,7 +48,7 @@ use nav_core::state::{
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
-use nav_core::structured::{refer_to_later_time_at, StructuredModel};
+use nav_core::structured::{refer_to_later_time_in_place, StructuredModel};
 use nav_core::NavError;
 
 use crate::calibration_manager::{
@@ -110,11 +110,12 @@ fn dense_predict(
 /// Dense reference late-measurement referral.
 #[inline(never)]
 fn dense_referral(
-    measurement: &LinearMeasurement,
+    measurement: &mut LinearMeasurement,
     point: &LinearisationPoint,
     latency_s: f64,
-) -> Result<LinearMeasurement, NavError> {
-    refer_to_later_time(measurement, &system_matrix(point), latency_s)
+) -> Result<(), NavError> {
+    *measurement = refer_to_later_time(measurement, &system_matrix(point), latency_s)?;
+    Ok(())
 }
 
 /// Dense reference Joseph update.
@@ -708,7 +709,7 @@ impl NavigationComputer {
             return FrameFusion::None;
         };
         let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
-        let measurement: Result<LinearMeasurement, NavError> = match due {
+        let mut measurement: Result<LinearMeasurement, NavError> = match due {
             Due::Star(_, measured) => star_sensor(
                 &snapshot.attitude,
                 &ports::quaternion(&self.config.star.mounting_wxyz),
@@ -740,27 +741,38 @@ impl NavigationComputer {
                 }
             }
         };
-        // A late measurement is referred to the current error state (nav-core docs).
+        // A late measurement is referred to the current error state (nav-core docs), in
+        // place: the 672-byte measurement is never copied (each copy is ~540 instructions
+        // on the target).
         let latency_s = self.navigation.time_s - tag;
-        let measurement = match (measurement, self.last_point) {
-            (Ok(m), Some(point)) if latency_s > 1e-6 * self.config.imu.period_s => {
-                match self.arithmetic {
-                    FilterArithmetic::Structured => refer_to_later_time_at(&m, &point, latency_s),
-                    FilterArithmetic::DenseReference => dense_referral(&m, &point, latency_s),
+        if let (Ok(m), Some(point)) = (&mut measurement, self.last_point) {
+            if latency_s > 1e-6 * self.config.imu.period_s {
+                let referred = match self.arithmetic {
+                    FilterArithmetic::Structured => {
+                        refer_to_later_time_in_place(m, &point, latency_s)
+                    }
+                    FilterArithmetic::DenseReference => dense_referral(m, &point, latency_s),
+                };
+                if let Err(error) = referred {
+                    measurement = Err(error);
                 }
             }
-            (other, _) => other,
-        };
+        }
         let gate = if is_star {
             self.config.star.gate_nis
         } else {
             self.config.gnss.gate_nis
         };
         let frozen = self.manager.frozen_blocks();
-        let report = measurement.and_then(|m| match self.arithmetic {
-            FilterArithmetic::Structured => self.filter.update_structured(&m, gate, &frozen),
-            FilterArithmetic::DenseReference => dense_update(&mut self.filter, &m, gate, &frozen),
-        });
+        let report = match &measurement {
+            Ok(m) => match self.arithmetic {
+                FilterArithmetic::Structured => self.filter.update_structured(m, gate, &frozen),
+                FilterArithmetic::DenseReference => {
+                    dense_update(&mut self.filter, m, gate, &frozen)
+                }
+            },
+            Err(error) => Err(*error),
+        };
         match report {
             Err(_) => {
                 count(&mut self.health.filter_errors);
@@ -856,43 +868,44 @@ impl NavigationComputer {
         self.calibration = calibration;
     }
 
-    /// Current estimate and 1σ of one calibration block in table units (the installation
-    /// error as a rotation vector: twice the quaternion vector part).
+    /// Current estimate and variance of one calibration block in table units (the
+    /// installation error as a rotation vector: twice the quaternion vector part, so four
+    /// times its variance).
     fn block_estimate(
         block: StateBlock,
         estimate: &CalibrationEstimate,
-        sigmas: &ErrorState,
+        variances: &ErrorState,
     ) -> ([f64; 3], [f64; 3]) {
-        let sigma = block_of(sigmas, block);
+        let variance = block_of(variances, block);
         let c = estimate;
         match block {
             b if b == STAR_INSTALLATION => {
                 let [w, x, y, z] = c.star_installation_wxyz;
                 let vector = attitude::log_rotation_vector(&Quaternion::new(w, x, y, z));
-                (array3(&vector), array3(&(sigma * 2.0)))
+                (array3(&vector), array3(&(variance * 4.0)))
             }
-            b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&sigma)),
-            b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&sigma)),
-            b if b == GYRO_SCALE_FACTOR => (c.gyro_scale_factor, array3(&sigma)),
-            _ => (c.accel_scale_factor, array3(&sigma)),
+            b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&variance)),
+            b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&variance)),
+            b if b == GYRO_SCALE_FACTOR => (c.gyro_scale_factor, array3(&variance)),
+            _ => (c.accel_scale_factor, array3(&variance)),
         }
     }
 
     fn evaluate_calibration(&mut self) {
         let mut values = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
-        let mut sigmas = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
-        // Once per frame (not per block): the estimate and the 1σ of every state.
+        let mut variances = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        // Once per frame (not per block): the estimate and the variance of every state.
         let estimate = self.calibration_estimate();
-        let standard_deviations = self.filter.standard_deviations();
-        for ((value, sigma), block) in values
+        let state_variances = self.filter.covariance().diagonal();
+        for ((value, variance), block) in values
             .iter_mut()
-            .zip(sigmas.iter_mut())
+            .zip(variances.iter_mut())
             .zip(CALIBRATION_BLOCKS.iter())
         {
-            (*value, *sigma) = Self::block_estimate(*block, &estimate, &standard_deviations);
+            (*value, *variance) = Self::block_estimate(*block, &estimate, &state_variances);
         }
         self.manager
-            .evaluate(self.navigation.time_s, &values, &sigmas);
+            .evaluate(self.navigation.time_s, &values, &variances);
     }
 
     /// The sensor-error estimate: in closed loop the fed-back corrections; in open loop the

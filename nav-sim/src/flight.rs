@@ -347,7 +347,7 @@ fn table_values(table: &CalibrationTable) -> (CalibrationValues, CalibrationValu
         .zip(table.entries())
     {
         *value = entry.value;
-        *sigma = entry.sigma;
+        *sigma = entry.sigma();
     }
     (values, sigmas)
 }

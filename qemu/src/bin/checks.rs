@@ -255,86 +255,33 @@ fn scheduler_frames(counter: &mut InstructionCounter) -> bool {
     true
 }
 
-/// Runs 40 frames and returns the costs of the worst IMU-only frame, the star frame and the
-/// late-GNSS frame; `None` if a measurement was not accepted.
+/// Runs the scheduler scenario ([`nav_qemu::scenario`]) and returns the costs of the worst
+/// IMU-only frame, the star frame and the late-GNSS frame; `None` if a measurement was not
+/// accepted.
 fn run_scheduler(
     counter: &mut InstructionCounter,
     arithmetic: nav_fsw::scheduler::FilterArithmetic,
 ) -> Option<[u64; 3]> {
-    use nalgebra::{Quaternion, Vector3};
-    use nav_core::frames::LaunchSite;
-    use nav_core::strapdown::NavigationState;
-    use nav_fsw::config::FswConfig;
-    use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
-    use nav_fsw::replay::FramePorts;
-    use nav_fsw::scheduler::NavigationComputer;
     use nav_fsw::telemetry::FrameFusion;
+    use nav_qemu::scenario::{SchedulerScenario, GNSS_FRAME, STAR_FRAME};
 
-    let site = LaunchSite {
-        latitude_rad: 0.715,
-        longitude_rad: 1.750,
-        height_m: 1000.0,
-        azimuth_rad: 3.316,
-        epoch_s: 0.0,
-    };
-    let initial = NavigationState {
-        attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
-        position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
-        velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
-        time_s: 600.0,
-    };
-    let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site), initial).ok()?;
-    computer.set_arithmetic(arithmetic);
+    let mut scenario = SchedulerScenario::new(arithmetic)?;
     let mut imu_worst = 0;
     let mut star_cost = 0;
     let mut gnss_cost = 0;
-    let mut gnss_time_s = 0.0;
-    let mut gnss_position = Vector3::zeros();
-    for frame in 1..=40_u32 {
-        let time_s = 600.0 + 0.002 * f64::from(frame);
-        let mut ports = FramePorts::default();
-        ports.imu.0 = Some(ImuSample {
-            sequence: frame,
-            time_s,
-            delta_angle_rad: [1e-4, -2e-4, 3e-3],
-            delta_velocity_mps: [0.01, 0.04, -0.02],
-        });
-        let navigation = computer.navigation();
-        if frame == 20 {
-            let q = navigation.attitude;
-            let _ = ports.star.0.push_back(StarMeasurement {
-                time_tag_s: navigation.time_s,
-                attitude_wxyz: [q.w, q.i, q.j, q.k],
-            });
-        }
-        if frame == 30 {
-            // The antenna position of frame 25 (10 ms late), 12 m off.
-            let ecef = computer
-                .launch_frame()
-                .launch_inertial_to_ecef(
-                    &(gnss_position + Vector3::new(12.0, -5.0, 3.0)),
-                    gnss_time_s,
-                )
-                .ok()?;
-            let _ = ports.gnss.0.push_back(GnssFix {
-                time_tag_s: gnss_time_s,
-                position_ecef_m: [ecef.x, ecef.y, ecef.z],
-            });
-        }
-        if frame == 25 {
-            gnss_time_s = navigation.time_s;
-            gnss_position = navigation.position_m;
-        }
-        let (telemetry, cost) = counter.measure(|| ports.run(&mut computer)).ok()?;
+    while let Some((frame, mut ports)) = scenario.next_frame() {
+        let computer = &mut scenario.computer;
+        let (telemetry, cost) = counter.measure(|| ports.run(computer)).ok()?;
         match (frame, telemetry.fusion) {
-            (20, FrameFusion::StarAccepted) => star_cost = cost,
-            (30, FrameFusion::GnssAccepted) => gnss_cost = cost,
-            (20 | 30, _) => return None,
+            (STAR_FRAME, FrameFusion::StarAccepted) => star_cost = cost,
+            (GNSS_FRAME, FrameFusion::GnssAccepted) => gnss_cost = cost,
+            (STAR_FRAME | GNSS_FRAME, _) => return None,
             (f, _) if f > 2 => imu_worst = imu_worst.max(cost),
             _ => {}
         }
     }
-    Some([imu_worst, star_cost, gnss_cost])
+    // A scenario that ended early (its GNSS fix could not be formed) measured nothing.
+    (star_cost > 0 && gnss_cost > 0).then_some([imu_worst, star_cost, gnss_cost])
 }
 
 /// Prints `values` as `BITS <workload> <index> <hex>` lines for the host comparison.
