@@ -15,6 +15,9 @@ import sys
 
 elf, log = sys.argv[1], sys.argv[2]
 top = int(sys.argv[3]) if len(sys.argv) > 3 else 25
+# Optional: print the executed instructions (with counts) of the functions matching this
+# pattern, disassembled, for the first window.
+annotate = sys.argv[4] if len(sys.argv) > 4 else None
 
 trace = re.compile(r"^Trace \d+: \S+ \[[0-9a-f]+/([0-9a-f]+)/")
 instruction = re.compile(r"^0x([0-9a-f]+):")
@@ -24,7 +27,22 @@ current = None
 pending = None
 calls = []  # per window: Counter of (callee symbol, caller address) for library helpers
 previous_pc = None
-helper = re.compile(r"(memcpy|memset|memmove|sqrt|libm)")
+helper = re.compile(r"(memcpy|memset|memclr|memmove|libm)")
+# Library helpers (by address range, from the symbol table): their instructions are also
+# attributed to the call site that entered them.
+helper_ranges = []
+for row in subprocess.run(["nm", "-S", "-C", elf], capture_output=True, text=True).stdout.splitlines():
+    parts = row.split(maxsplit=3)
+    if len(parts) == 4 and helper.search(parts[3]):
+        start, size = int(parts[0], 16), int(parts[1], 16)
+        helper_ranges.append((start & ~1, (start & ~1) + size, parts[3].split("(")[0][-40:]))
+
+def helper_symbol(pc):
+    for start, end, name in helper_ranges:
+        if start <= pc < end:
+            return name
+    return None
+
 with open(log, errors="replace") as stream:
     for line in stream:
         if line.startswith("IN:"):
@@ -54,14 +72,13 @@ with open(log, errors="replace") as stream:
         if current is not None:
             for address in blocks.get(pc, [pc]):
                 current[address] += 1
-            symbol = line.rstrip().rsplit(" ", 1)[-1]
+            symbol = helper_symbol(pc)
             previous_block = blocks.get(previous_pc, [previous_pc])
-            if helper.search(symbol):
-                if previous_pc is not None and not helper.search(previous_symbol):
+            if symbol:
+                if previous_pc is not None and not helper_symbol(previous_pc):
                     call_site = (symbol, previous_block[-1])
                 current_calls[call_site] += len(blocks.get(pc, [pc]))
         previous_pc = pc
-        previous_symbol = line.rstrip().rsplit(" ", 1)[-1]
 
 addresses = sorted({a for w in windows for a in w} | {a for c in calls for (_, a) in c})
 query = "\n".join(hex(a) for a in addresses)
@@ -98,6 +115,7 @@ for index, window in enumerate(windows):
     by_nav_function = collections.Counter()
     by_symbol = collections.Counter()
     by_path = collections.Counter()
+    by_phase = collections.Counter()
     for address, count in window.items():
         frames = location.get(address) or [("?", "?")]
         by_function[short(frames[0][0])] += count
@@ -111,6 +129,7 @@ for index, window in enumerate(windows):
                 for f in reversed(frames) if re.search(r"/(nav-core|nav-fsw)/", f[1])]
         path = [p for p in path if "{{closure}}" not in p]
         by_path[" > ".join(path[-3:]) or short(frames[0][0])] += count
+        by_phase[" > ".join(path[1:4]) or short(frames[0][0])] += count
     by_call = collections.Counter()
     for (symbol, address), count in calls[index].items():
         frames = location.get(address) or [("?", "?")]
@@ -119,9 +138,25 @@ for index, window in enumerate(windows):
     for title, counter in [("library helper (memcpy, memset, libm) instructions by call site", by_call),
                            ("symbol (outermost, not inlined)", by_symbol),
                            ("own-code call path (last three)", by_path),
+                           ("phase (own-code call path, levels 2-4)", by_phase),
                            ("innermost function", by_function),
                            ("own code line (innermost nav-core/nav-fsw frame)", by_nav_function),
                            ("source line", by_line)]:
         print(f"-- by {title}")
         for key, count in counter.most_common(top):
             print(f"{count:8d} {100.0 * count / total:5.1f}%  {key}")
+
+if annotate and windows:
+    window = windows[0]
+    chosen = sorted(a for a in window
+                    if any(re.search(annotate, f[0]) for f in location.get(a, [])))
+    disassembly = {}
+    for line in subprocess.run(["llvm-objdump", "-d", "--mcpu=cortex-m7", elf],
+                               capture_output=True, text=True).stdout.splitlines():
+        match = re.match(r"^\s*([0-9a-f]+):\s+(.*)$", line)
+        if match:
+            disassembly[int(match.group(1), 16)] = match.group(2)
+    print(f"\n=== annotated ({annotate}), first window ===")
+    for address in chosen:
+        frames = location.get(address) or [("?", "?")]
+        print(f"{window[address]:6d}  {address:08x}  {disassembly.get(address, '?'):60s} {source(frames[0][1])}")

@@ -146,7 +146,8 @@ fn series_into(
 }
 
 /// The non-zero blocks of the powers `(MΔ)^n`, `n ≤ order` (module docs table; the
-/// powers the order does not reach are left zero, and not listed in the series).
+/// powers the order does not reach are not computed, and the series never read them).
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Powers {
     /// `MΔ`'s blocks: `a = WΔ`, `b = VΔ`, `g = NΔ` (and `d I`).
     a: Block,
@@ -170,54 +171,63 @@ struct Powers {
 }
 
 impl Powers {
-    /// The powers at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`).
+    /// All blocks zero.
+    const ZERO: Self = Powers {
+        a: ZERO,
+        b: ZERO,
+        g: ZERO,
+        d_identity: ZERO,
+        a2: ZERO,
+        a3: ZERO,
+        a4: ZERO,
+        d_b: ZERO,
+        d_ba: ZERO,
+        position_attitude_4: ZERO,
+        dg: ZERO,
+        d2_g2: ZERO,
+        d2_g: ZERO,
+        ba: ZERO,
+        velocity_attitude_3: ZERO,
+        velocity_attitude_4: ZERO,
+        velocity_position_3: ZERO,
+    };
+
+    /// The powers at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`), in
+    /// place: every block the order reaches is overwritten (a new struct, zero-filled and
+    /// moved, cost ~900 instructions more on the target).
     #[inline(never)]
-    fn new(point: &LinearisationPoint, c: &Block, d: f64, order: usize) -> Self {
+    fn update(&mut self, point: &LinearisationPoint, c: &Block, d: f64, order: usize) {
         let rate = block::from_vector(&point.corrected_rate_rad_s);
         let force = block::from_vector(&point.corrected_specific_force_mps2);
-        let a = block::skew(row_scale(rate, -d));
-        let b = scale(&mul(c, &block::skew(force)), -2.0 * d);
-        let g = scale(&block::from_matrix(&point.gravity_gradient_per_s2), d);
-        let mut powers = Powers {
-            a,
-            b,
-            g,
-            d_identity: scale(&IDENTITY, d),
-            a2: ZERO,
-            a3: ZERO,
-            a4: ZERO,
-            d_b: scale(&b, d),
-            d_ba: ZERO,
-            position_attitude_4: ZERO,
-            dg: scale(&g, d),
-            d2_g2: ZERO,
-            d2_g: ZERO,
-            ba: ZERO,
-            velocity_attitude_3: ZERO,
-            velocity_attitude_4: ZERO,
-            velocity_position_3: ZERO,
-        };
+        self.a = block::skew(row_scale(rate, -d));
+        self.b = scale(&mul(c, &block::skew(force)), -2.0 * d);
+        self.g = scale(&block::from_matrix(&point.gravity_gradient_per_s2), d);
+        self.d_identity = scale(&IDENTITY, d);
+        self.d_b = scale(&self.b, d);
+        self.dg = scale(&self.g, d);
+        // The blocks beyond the order are left as they are: the series never read them
+        // (`series_into` takes a term only if its power is within the order).
         if order >= 2 {
-            powers.a2 = mul(&a, &a);
-            powers.ba = mul(&b, &a);
+            self.a2 = mul(&self.a, &self.a);
+            self.ba = mul(&self.b, &self.a);
         }
         if order >= 3 {
-            let gb = mul(&g, &b);
-            let ba2 = mul(&powers.ba, &a);
-            powers.a3 = mul(&powers.a2, &a);
-            powers.d_ba = scale(&powers.ba, d);
-            powers.d2_g = scale(&powers.dg, d);
-            powers.velocity_attitude_3 = add_scaled(&ba2, &gb, d);
-            let g2 = mul(&g, &g);
-            powers.velocity_position_3 = scale(&g2, d);
+            let gb = mul(&self.g, &self.b);
+            let ba2 = mul(&self.ba, &self.a);
+            self.a3 = mul(&self.a2, &self.a);
+            self.d_ba = scale(&self.ba, d);
+            self.d2_g = scale(&self.dg, d);
+            self.velocity_attitude_3 = add_scaled(&ba2, &gb, d);
+            let g2 = mul(&self.g, &self.g);
+            self.velocity_position_3 = scale(&g2, d);
             if order >= 4 {
-                powers.a4 = mul(&powers.a2, &powers.a2);
-                powers.position_attitude_4 = add_scaled(&scale(&ba2, d), &gb, d * d);
-                powers.d2_g2 = scale(&g2, d * d);
-                powers.velocity_attitude_4 = add_scaled(&mul(&ba2, &a), &mul(&g, &powers.ba), d);
+                self.a4 = mul(&self.a2, &self.a2);
+                self.position_attitude_4 = add_scaled(&scale(&ba2, d), &gb, d * d);
+                self.d2_g2 = scale(&g2, d * d);
+                self.velocity_attitude_4 =
+                    add_scaled(&mul(&ba2, &self.a), &mul(&self.g, &self.ba), d);
             }
         }
-        powers
     }
 }
 
@@ -248,21 +258,24 @@ const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
 /// The row blocks of [`NoiseBlocks::dynamic_gyro_bias`] and `dynamic_accel_bias`.
 const DYNAMIC_ROWS: [StateBlock; 3] = [ATTITUDE, POSITION, VELOCITY];
 
-/// `dynamic += q Γ Γᵀ` over the pairs of [`DYNAMIC_PAIRS`] for an input column
+/// `dynamic = q Γ Γᵀ` (`ACCUMULATE` false: written, so the blocks need no zero fill first)
+/// or `dynamic += q Γ Γᵀ` over the pairs of [`DYNAMIC_PAIRS`] for an input column
 /// `Γ = [Γ_ϑ; Γ_p; Γ_v]`: `q Γ_R Γ_Sᵀ`, with `q` folded into the left factor.
-fn add_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]) {
+fn noise_input<const ACCUMULATE: bool>(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 3]) {
     let [ga, gp, gv] = gamma;
-    let scaled = [scale(ga, q), scale(gp, q)];
-    let [qa, qp] = &scaled;
-    let products = [(qa, ga), (qa, gp), (qa, gv), (qp, gp), (qp, gv)];
+    let scaled = [scale(ga, q), scale(gp, q), scale(gv, q)];
+    let [qa, qp, qv] = &scaled;
+    let products = [(qa, ga), (qa, gp), (qa, gv), (qp, gp), (qp, gv), (qv, gv)];
     for (slot, (left, right)) in dynamic.iter_mut().zip(products) {
-        *slot = mul_transpose_add(slot, left, right);
+        *slot = if ACCUMULATE {
+            mul_transpose_add(slot, left, right)
+        } else {
+            mul_transpose(left, right)
+        };
     }
-    let [.., vv] = dynamic;
-    *vv = mul_transpose_add(vv, &scale(gv, q), gv);
 }
 
-/// [`add_noise_input`] for an input with a zero attitude row, `Γ = [0; Γ_p; Γ_v]`: only
+/// `dynamic += q Γ Γᵀ` for an input with a zero attitude row, `Γ = [0; Γ_p; Γ_v]`: only
 /// the pairs pp, pv, vv are reached.
 fn add_accel_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 2]) {
     let [gp, gv] = gamma;
@@ -274,10 +287,11 @@ fn add_accel_noise_input(dynamic: &mut [Block; 6], q: f64, gamma: &[Block; 2]) {
 }
 
 impl NoiseBlocks {
-    /// Adds `q Γ Γᵀ` (module docs) of the gyro-bias walk, `q` = `q_k/Δ`, for its noise
-    /// column `Γ = [Γ_ϑ; Γ_p; Γ_v; ΔI]` given by its dynamic rows `columns`.
-    fn add_gyro_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 3]) {
-        add_noise_input(&mut self.dynamic, q, columns);
+    /// Sets the dynamic and gyro-bias blocks to `q Γ Γᵀ` (module docs) of the gyro-bias
+    /// walk, `q` = `q_k/Δ`, for its noise column `Γ = [Γ_ϑ; Γ_p; Γ_v; ΔI]` given by its
+    /// dynamic rows `columns` (the first of the two walks: it writes, the other adds).
+    fn set_gyro_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 3]) {
+        noise_input::<false>(&mut self.dynamic, q, columns);
         // Γ_bias = ΔI: (X, bg) = q Γ_X Δ, (bg, bg) = q Δ² I.
         for (slot, gamma) in self.dynamic_gyro_bias.iter_mut().zip(columns) {
             *slot = scale(gamma, q * interval_s);
@@ -285,15 +299,30 @@ impl NoiseBlocks {
         self.gyro_bias = scale(&IDENTITY, q * interval_s * interval_s);
     }
 
-    /// [`NoiseBlocks::add_gyro_walk`] for the accelerometer-bias walk, whose column has a
-    /// zero attitude row: `columns` are its rows δp, δv.
+    /// No gyro-bias walk: the blocks [`NoiseBlocks::set_gyro_walk`] writes, zero.
+    fn clear_gyro_walk(&mut self) {
+        self.dynamic = [ZERO; 6];
+        self.dynamic_gyro_bias = [ZERO; 3];
+        self.gyro_bias = ZERO;
+    }
+
+    /// [`NoiseBlocks::set_gyro_walk`] for the accelerometer-bias walk, whose column has a
+    /// zero attitude row: `columns` are its rows δp, δv. Adds to the dynamic blocks (after
+    /// the gyro walk's), writes its own bias blocks.
     fn add_accel_walk(&mut self, q: f64, interval_s: f64, columns: &[Block; 2]) {
         add_accel_noise_input(&mut self.dynamic, q, columns);
-        let [_, position, velocity] = &mut self.dynamic_accel_bias;
+        let [attitude, position, velocity] = &mut self.dynamic_accel_bias;
         let [walk_position, walk_velocity] = columns;
+        *attitude = ZERO;
         *position = scale(walk_position, q * interval_s);
         *velocity = scale(walk_velocity, q * interval_s);
         self.accel_bias = scale(&IDENTITY, q * interval_s * interval_s);
+    }
+
+    /// No accelerometer-bias walk: its own bias blocks zero.
+    fn clear_accel_walk(&mut self) {
+        self.dynamic_accel_bias = [ZERO; 3];
+        self.accel_bias = ZERO;
     }
 
     /// No noise.
@@ -353,6 +382,12 @@ pub struct StructuredModel {
     noise: NoiseBlocks,
     /// Whether any bias random walk is non-zero (`Qd` reaches the bias rows).
     bias_walk: bool,
+    /// Whether every block of [`StructuredModel::noise`] is zero (no walk, nothing
+    /// unfolded): the rebuild then skips refilling them and the propagation adding them.
+    noise_is_zero: bool,
+    /// Scratch for [`StructuredModel::rebuild`]: the powers of `MΔ` (kept in the model so
+    /// they are computed in place).
+    powers: Powers,
 }
 
 impl StructuredModel {
@@ -393,6 +428,8 @@ impl StructuredModel {
         input_noise: [0.0; 2],
         noise: NoiseBlocks::ZERO,
         bias_walk: false,
+        noise_is_zero: true,
+        powers: Powers::ZERO,
     };
 
     /// [`StructuredModel::new`] in place (the flight path keeps one model and refills it
@@ -440,8 +477,8 @@ impl StructuredModel {
         let order = usize::from(order);
         let d = interval_s;
         let c = block::from_matrix(&point.body_to_inertial);
-        let powers = Powers::new(point, &c, d, order);
-        let w = &powers;
+        self.powers.update(point, &c, d, order);
+        let w = &self.powers;
         let attitude_attitude: [(usize, &Block); 5] = [
             (0, &IDENTITY),
             (1, &w.a),
@@ -486,25 +523,37 @@ impl StructuredModel {
         self.input_noise = [gyro_noise, accel_noise];
         // The walks' noise columns of Γ (module docs): [−½Δ² Χ_{·ϑ}; ΔI] and
         // [−Δ² Χ_{·v} Ĉ; ΔI] (Χ: shift 2).
+        // Every noise block written once (no zero fill of the 1 kB first): the gyro walk
+        // sets the dynamic blocks (or zeroes them), the accelerometer walk adds to them.
+        // Without any walk the blocks are zeroed only if something made them non-zero.
         let noise = &mut self.noise;
-        *noise = NoiseBlocks::ZERO;
         let squared = d * d;
-        if gyro_walk > 0.0 {
-            let mut columns = [ZERO; 3];
-            let [walk_a, walk_p, walk_v] = &mut columns;
-            series_into(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
-            series_into(walk_p, &position_attitude, order, 2, -0.5 * squared);
-            series_into(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
-            noise.add_gyro_walk(gyro_walk, d, &columns);
-        }
-        if accel_walk > 0.0 {
-            let mut columns = [ZERO; 2];
-            let [walk_p, walk_v] = &mut columns;
-            series_into(&mut psi, &position_velocity, order, 2, -squared);
-            *walk_p = mul(&psi, &c);
-            series_into(&mut psi, &velocity_velocity, order, 2, -squared);
-            *walk_v = mul(&psi, &c);
-            noise.add_accel_walk(accel_walk, d, &columns);
+        if gyro_walk > 0.0 || accel_walk > 0.0 {
+            if gyro_walk > 0.0 {
+                let mut columns = [ZERO; 3];
+                let [walk_a, walk_p, walk_v] = &mut columns;
+                series_into(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
+                series_into(walk_p, &position_attitude, order, 2, -0.5 * squared);
+                series_into(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
+                noise.set_gyro_walk(gyro_walk, d, &columns);
+            } else {
+                noise.clear_gyro_walk();
+            }
+            if accel_walk > 0.0 {
+                let mut columns = [ZERO; 2];
+                let [walk_p, walk_v] = &mut columns;
+                series_into(&mut psi, &position_velocity, order, 2, -squared);
+                *walk_p = mul(&psi, &c);
+                series_into(&mut psi, &velocity_velocity, order, 2, -squared);
+                *walk_v = mul(&psi, &c);
+                noise.add_accel_walk(accel_walk, d, &columns);
+            } else {
+                noise.clear_accel_walk();
+            }
+            self.noise_is_zero = false;
+        } else if !self.noise_is_zero {
+            *noise = NoiseBlocks::ZERO;
+            self.noise_is_zero = true;
         }
         self.bias_walk = gyro_walk > 0.0 || accel_walk > 0.0;
         Ok(())
@@ -515,8 +564,11 @@ impl StructuredModel {
     /// intensities: the model is unchanged, only its noise is held in the blocks.
     fn unfold_input_noise(&mut self) {
         let [gyro_noise, accel_noise] = self.input_noise;
+        if gyro_noise > 0.0 || accel_noise > 0.0 {
+            self.noise_is_zero = false;
+        }
         if gyro_noise > 0.0 {
-            add_noise_input(&mut self.noise.dynamic, gyro_noise, &self.gyro_bias_column);
+            noise_input::<true>(&mut self.noise.dynamic, gyro_noise, &self.gyro_bias_column);
         }
         if accel_noise > 0.0 {
             add_accel_noise_input(
@@ -790,13 +842,22 @@ impl StructuredModel {
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
+        // Zero noise blocks (no walk) are not added.
+        let noise_is_zero = self.noise_is_zero;
+        let with_noise = |value: Block, noise: &Block| {
+            if noise_is_zero {
+                value
+            } else {
+                add(&value, noise)
+            }
+        };
         let pair = |row, gyro, accel, transition, columns, noise| {
-            add(
-                &Self::dynamic_pair(row, [gyro, accel], transition, columns),
+            with_noise(
+                Self::dynamic_pair(row, [gyro, accel], transition, columns),
                 noise,
             )
         };
-        let new_aa = add(&self.attitude_pair(u_aa, &fg_a), q_aa);
+        let new_aa = with_noise(self.attitude_pair(u_aa, &fg_a), q_aa);
         let new_ap = pair(row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
         let new_av = pair(row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
         let new_pp = pair(row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
