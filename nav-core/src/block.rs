@@ -228,6 +228,17 @@ impl FiniteCheck {
     }
 }
 
+/// Whether every value is finite ([`FiniteCheck`]: one multiply-add per value, no branch;
+/// nalgebra's `iter().all(is_finite)` costs ~13 instructions per value on the target).
+#[inline(always)]
+pub(crate) fn all_finite(values: &[f64]) -> bool {
+    let mut check = FiniteCheck::new();
+    for value in values {
+        check.value(*value);
+    }
+    check.all_finite()
+}
+
 /// Element (`row`, `column`) of a column-major matrix (NaN outside, which constant in-range
 /// indices never reach: the branch is removed at compile time).
 #[inline(always)]

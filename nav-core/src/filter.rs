@@ -17,6 +17,7 @@
 use nalgebra::{Cholesky, Matrix3, Quaternion, SMatrix, SVector, Vector3};
 
 use crate::attitude::{self, skew};
+use crate::block;
 use crate::discretise::{CovarianceMatrix, DiscreteModel};
 use crate::error_model::set_block;
 use crate::measurement::LinearMeasurement;
@@ -195,7 +196,7 @@ pub fn apply_error_state(
     velocity_mps: &mut Vector3<f64>,
     calibration: &mut CalibrationEstimate,
 ) -> Result<(), NavError> {
-    if !error.iter().all(|v| v.is_finite()) {
+    if !block::all_finite(error.as_slice()) {
         return Err(NavError::NonFiniteState);
     }
     let attitude_correction = attitude::from_vector_part(&block_of(error, ATTITUDE))?;
@@ -525,8 +526,9 @@ impl ErrorStateFilter {
         }
         // K = P Hᵀ S⁻¹ by state blocks, frozen blocks' gain zero.
         let gains = observed.gain(&cholesky, frozen);
-        let state = self.state + structured::gain_times(&gains, &innovation);
-        if !state.iter().all(|v| v.is_finite()) {
+        let mut state = self.state;
+        structured::add_gain_times(&mut state, &gains, &innovation);
+        if !block::all_finite(state.as_slice()) {
             return Err(NavError::NonFiniteState);
         }
         if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
@@ -581,9 +583,11 @@ impl ErrorStateFilter {
 
 /// [`NavError::NonFiniteInput`] for NaN/Inf in a measurement's residual, `H` or `R`.
 fn check_measurement(measurement: &LinearMeasurement) -> Result<(), NavError> {
-    let finite = measurement.residual.iter().all(|v| v.is_finite())
-        && measurement.jacobian.iter().all(|v| v.is_finite())
-        && measurement.noise_covariance.iter().all(|v| v.is_finite());
+    // One multiply-add per value ([`block::all_finite`]): the 84 values cost ~250
+    // instructions on the target instead of ~1,100 with `is_finite` per value.
+    let finite = block::all_finite(measurement.residual.as_slice())
+        && block::all_finite(measurement.jacobian.as_slice())
+        && block::all_finite(measurement.noise_covariance.as_slice());
     if finite {
         Ok(())
     } else {

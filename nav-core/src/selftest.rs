@@ -328,14 +328,18 @@ impl FilterPathFixture {
         )?;
         if latency_s > 0.0 {
             let point = self.linearisation_point();
-            measurement = match implementation {
-                Implementation::Structured => {
-                    crate::structured::refer_to_later_time_at(&measurement, &point, latency_s)?
-                }
+            match implementation {
+                // In place, as the flight scheduler does (no copy of the measurement).
+                Implementation::Structured => crate::structured::refer_to_later_time_in_place(
+                    &mut measurement,
+                    &point,
+                    latency_s,
+                )?,
                 Implementation::Dense => {
-                    refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?
+                    measurement =
+                        refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?;
                 }
-            };
+            }
         }
         self.apply(&measurement, implementation)
     }

@@ -1015,14 +1015,17 @@ fn add_observed_block(products: &mut StateRows, p: &CovarianceMatrix, offset: us
     }
 }
 
-/// `K ν` (the state correction) from the gain rows.
-pub(crate) fn gain_times(gains: &StateRows, innovation: &Vector3<f64>) -> SMatrix<f64, 24, 1> {
+/// `x += K ν` (the state correction) from the gain rows, in place.
+pub(crate) fn add_gain_times(
+    state: &mut SMatrix<f64, 24, 1>,
+    gains: &StateRows,
+    innovation: &Vector3<f64>,
+) {
     let nu = block::from_vector(innovation);
-    let mut correction = SMatrix::<f64, 24, 1>::zeros();
-    for (value, row) in correction.iter_mut().zip(gains) {
-        *value = dot(*row, nu);
+    let [values] = &mut state.data.0;
+    for (value, row) in values.iter_mut().zip(gains) {
+        *value += dot(*row, nu);
     }
-    correction
 }
 
 /// Cholesky factor `L` (lower, `S = L Lᵀ`) of a symmetric 3×3, with the reciprocals of its
