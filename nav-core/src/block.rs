@@ -221,6 +221,12 @@ impl FiniteCheck {
         }
     }
 
+    /// Adds the values another check has seen.
+    #[inline(always)]
+    pub(crate) fn merge(&mut self, other: FiniteCheck) {
+        self.0 += other.0;
+    }
+
     /// True while every value added was finite.
     #[inline(always)]
     pub(crate) fn all_finite(&self) -> bool {

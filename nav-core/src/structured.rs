@@ -52,8 +52,8 @@
 //! ## Update
 //! For any gain `K` the Joseph form expands exactly (Bucy & Joseph 1968) to
 //! `(I − KH) P (I − KH)ᵀ + K R Kᵀ = P − K Mᵀ − M Kᵀ + K S Kᵀ` with `M = P Hᵀ`,
-//! `S = H P Hᵀ + R`; element-wise `P⁺_ij = P_ij − K_i·M_j + (K_i S − M_i)·K_j`, O(n²) with
-//! 6 multiply-adds per element of the upper triangle. `M` is summed only over the non-zero
+//! `S = H P Hᵀ + R`; element-wise `P⁺_ij = (P_ij + (K_i S − M_i)·K_j) − K_i·M_j`, O(n²)
+//! with 6 multiply-adds per element of the upper triangle. `M` is summed only over the non-zero
 //! 3×3 blocks of `H` (found at run time, so a measurement referred to a later time with
 //! `H (I − AΔ)` is handled with its extra bias/scale-factor/velocity columns).
 //!
@@ -1081,49 +1081,67 @@ impl Cholesky3 {
     }
 }
 
-/// Rows `row` and `row + 1` of the Joseph update, upper triangle: `P⁺_ij = P_ij + a_i · b_j`
-/// with `a_i = [N_i, −K_i]`, `b_j = [K_j, M_j]` (6-vectors). The twelve row coefficients stay
-/// in registers while the columns stream past, each column's `b_j` loaded once for both rows
-/// (column `row` reaches only row `row`; from column `row + 1` on both rows are in the upper
-/// triangle). Element
-/// `P_ij + a_i·b_j` is summed as `((P_ij + a_i0 b_j0) + a_i1 b_j1) + …` (multiply-accumulates).
+/// One rank-3 pass of the expanded Joseph update over rows `row..row + 3`, upper triangle:
+/// `P_ij ← ((P_ij ± l_i0 r_j0) ± l_i1 r_j1) ± l_i2 r_j2` (`+` unless `SUBTRACT`), with the
+/// rows' vectors `left` and the columns' vectors `right`. The nine row coefficients stay in
+/// registers while the columns stream past; each column's three rows (contiguous in the
+/// column-major `P`) and its `r_j` are loaded once. Column `row` reaches only row `row`,
+/// column `row + 1` rows `row` and `row + 1`. The subtracting pass also checks every new
+/// value (the returned check; a local accumulator stays in a register).
 #[inline(never)]
-fn joseph_row_pair(
-    columns: &mut [[f64; 24]],
+fn joseph_pass<const SUBTRACT: bool>(
+    columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
     row: usize,
-    a: [&[f64; 6]; 2],
-    coefficients: &[[f64; 6]],
-    check: &mut FiniteCheck,
-) {
-    let [first, second] = a;
-    let update = |value: f64, [a0, a1, a2, a3, a4, a5]: [f64; 6], b: &[f64; 6]| {
-        let [b0, b1, b2, b3, b4, b5] = *b;
-        value + a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3 + a4 * b4 + a5 * b5
+    left: &[Row; 3],
+    right: &StateRows,
+) -> FiniteCheck {
+    let mut check = FiniteCheck::new();
+    let [l0, l1, l2] = *left;
+    let term = |value: f64, [a0, a1, a2]: Row, [b0, b1, b2]: Row| {
+        if SUBTRACT {
+            value - a0 * b0 - a1 * b1 - a2 * b2
+        } else {
+            value + a0 * b0 + a1 * b1 + a2 * b2
+        }
     };
-    let (Some((diagonal_column, rest)), Some((diagonal_b, rest_b))) =
-        (columns.split_first_mut(), coefficients.split_first())
-    else {
-        return;
+    let mut update = |value: &mut f64, l: Row, r: Row| {
+        *value = term(*value, l, r);
+        if SUBTRACT {
+            check.value(*value);
+        }
     };
-    if let Some(value) = diagonal_column.get_mut(row) {
-        *value = update(*value, *first, diagonal_b);
-        check.value(*value);
-    }
-    for (column, b) in rest.iter_mut().zip(rest_b) {
-        if let Some([upper, lower]) = column.get_mut(row..row + 2) {
-            *upper = update(*upper, *first, b);
-            *lower = update(*lower, *second, b);
-            check.value(*upper);
-            check.value(*lower);
+    if let (Some(column), Some(r)) = (columns.get_mut(row), right.get(row)) {
+        if let Some(p0) = column.get_mut(row) {
+            update(p0, l0, *r);
         }
     }
+    if let (Some(column), Some(r)) = (columns.get_mut(row + 1), right.get(row + 1)) {
+        if let Some([p0, p1]) = column.get_mut(row..row + 2) {
+            update(p0, l0, *r);
+            update(p1, l1, *r);
+        }
+    }
+    // Plain slice zips (no iterator state kept in memory across iterations).
+    let (Some(full_columns), Some(full_right)) = (columns.get_mut(row + 2..), right.get(row + 2..))
+    else {
+        return check;
+    };
+    for (column, r) in full_columns.iter_mut().zip(full_right) {
+        if let Some([p0, p1, p2]) = column.get_mut(row..row + 3) {
+            update(p0, l0, *r);
+            update(p1, l1, *r);
+            update(p2, l2, *r);
+        }
+    }
+    check
 }
 
-/// Joseph form expanded (module docs), in place: `P⁺_ij = P_ij + N_i·K_j − K_i·M_j` with
-/// `N = K S − M` on the upper triangle (6 multiply-adds per element), mirrored; `gains` are
-/// the rows `K_i`, `observed` holds `M = P Hᵀ`, `s` is symmetric. `false` (and `P`
-/// unchanged) if the result is not finite: new values go to the upper triangle only, so the
-/// untouched lower triangle and a saved diagonal are the roll-back copy.
+/// Joseph form expanded (module docs), in place: `P⁺_ij = (P_ij + N_i·K_j) − K_i·M_j` with
+/// `N = K S − M` on the upper triangle (6 multiply-adds per element, in two rank-3 passes
+/// per triple of rows, [`joseph_pass`]), mirrored; `gains` are the rows `K_i`, `observed`
+/// holds `M = P Hᵀ`, `s` is symmetric. `false` (and `P` unchanged) if the result is not
+/// finite: new values go to the upper triangle only, so the untouched lower triangle and a
+/// saved diagonal are the roll-back copy.
 pub(crate) fn joseph_update(
     p: &mut CovarianceMatrix,
     gains: &StateRows,
@@ -1131,36 +1149,30 @@ pub(crate) fn joseph_update(
     s: &Matrix3<f64>,
 ) -> bool {
     let s = block::from_matrix(s);
-    // a_i = [N_i, −K_i], b_j = [K_j, M_j] (built element by element: no zero-fill first).
-    let gain_and_product = |i: usize| {
-        (
-            gains.get(i).copied().unwrap_or([0.0; 3]),
-            observed.products.get(i).copied().unwrap_or([0.0; 3]),
-        )
-    };
-    let row_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
-        let (gain, product) = gain_and_product(i);
-        let [n0, n1, n2] = block::row_sub(mul_vector_add([0.0; 3], &s, gain), product);
-        let [k0, k1, k2] = gain;
-        [n0, n1, n2, -k0, -k1, -k2]
-    });
-    let column_coefficients: [[f64; 6]; STATE_DIMENSION] = core::array::from_fn(|i| {
-        let ([k0, k1, k2], [m0, m1, m2]) = gain_and_product(i);
-        [k0, k1, k2, m0, m1, m2]
+    // N_i = K_i S − M_i (built element by element: no zero-fill first).
+    let n_rows: StateRows = core::array::from_fn(|i| {
+        let gain = gains.get(i).copied().unwrap_or([0.0; 3]);
+        let product = observed.products.get(i).copied().unwrap_or([0.0; 3]);
+        block::row_sub(mul_vector_add([0.0; 3], &s, gain), product)
     });
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
     let mut check = FiniteCheck::new();
-    // Rows two at a time: each column's six coefficients are loaded once for both rows.
-    for (pair, rows) in row_coefficients.chunks_exact(2).enumerate() {
-        let row = 2 * pair;
-        let (Some(columns), Some(coefficients), [a, a_next]) = (
-            p.data.0.get_mut(row..),
-            column_coefficients.get(row..),
-            rows,
-        ) else {
-            break;
-        };
-        joseph_row_pair(columns, row, [a, a_next], coefficients, &mut check);
+    let triples = n_rows
+        .chunks_exact(3)
+        .zip(gains.chunks_exact(3))
+        .enumerate();
+    for (triple, (n, k)) in triples {
+        let row = 3 * triple;
+        if let ([n0, n1, n2], [k0, k1, k2]) = (n, k) {
+            joseph_pass::<false>(&mut p.data.0, row, &[*n0, *n1, *n2], gains);
+            let products = &observed.products;
+            check.merge(joseph_pass::<true>(
+                &mut p.data.0,
+                row,
+                &[*k0, *k1, *k2],
+                products,
+            ));
+        }
     }
     if check.all_finite() {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
