@@ -124,21 +124,33 @@ struct DynamicBlocks {
 }
 
 /// `out = factor · Σ_n T_n / (n + shift)!` over the terms `(n, T_n)` with
-/// `n + shift ≤ order` (an absent power is simply not listed). Not inlined: one small body
-/// whose sum stays in registers while the terms stream past, writing its result in place.
+/// `n + shift ≤ order` (an absent power is simply not listed). A diagonal first term
+/// (`DIAGONAL_FIRST`: the identity, or `ΔI`) adds only its scaled diagonal (the same
+/// products, without the zero off-diagonal ones). Generic over the number of
+/// terms so the loop unrolls; not inlined: one small body per length whose sum stays in
+/// registers while the terms stream past, writing its result in place.
 #[inline(never)]
-fn series_into(
+fn series_into<const N: usize, const DIAGONAL_FIRST: bool>(
     out: &mut Block,
-    terms: &[(usize, &Block)],
+    terms: &[(usize, &Block); N],
     order: usize,
     shift: usize,
     factor: f64,
 ) {
     let mut sum = ZERO;
-    for (n, term) in terms {
+    for (index, (n, term)) in terms.iter().enumerate() {
         if n + shift <= order {
             if let Some(coefficient) = INVERSE_FACTORIALS.get(n + shift) {
-                sum = add_scaled(&sum, term, factor * coefficient);
+                let scale = factor * coefficient;
+                if DIAGONAL_FIRST && index == 0 {
+                    for (i, (row, term_row)) in sum.iter_mut().zip(term.iter()).enumerate() {
+                        if let (Some(value), Some(diagonal)) = (row.get_mut(i), term_row.get(i)) {
+                            *value += diagonal * scale;
+                        }
+                    }
+                } else {
+                    sum = add_scaled(&sum, term, scale);
+                }
             }
         }
     }
@@ -500,23 +512,23 @@ impl StructuredModel {
         let velocity_velocity = position_position;
         // Φ = Σ (MΔ)^n/n!.
         let t = &mut self.transition;
-        series_into(&mut t.attitude_attitude, &attitude_attitude, order, 0, 1.0);
-        series_into(&mut t.position_attitude, &position_attitude, order, 0, 1.0);
-        series_into(&mut t.position_position, &position_position, order, 0, 1.0);
-        series_into(&mut t.position_velocity, &position_velocity, order, 0, 1.0);
-        series_into(&mut t.velocity_attitude, &velocity_attitude, order, 0, 1.0);
-        series_into(&mut t.velocity_position, &velocity_position, order, 0, 1.0);
-        series_into(&mut t.velocity_velocity, &velocity_velocity, order, 0, 1.0);
+        series_into::<_, true>(&mut t.attitude_attitude, &attitude_attitude, order, 0, 1.0);
+        series_into::<_, false>(&mut t.position_attitude, &position_attitude, order, 0, 1.0);
+        series_into::<_, true>(&mut t.position_position, &position_position, order, 0, 1.0);
+        series_into::<_, true>(&mut t.position_velocity, &position_velocity, order, 0, 1.0);
+        series_into::<_, false>(&mut t.velocity_attitude, &velocity_attitude, order, 0, 1.0);
+        series_into::<_, false>(&mut t.velocity_position, &velocity_position, order, 0, 1.0);
+        series_into::<_, true>(&mut t.velocity_velocity, &velocity_velocity, order, 0, 1.0);
         // E_g = −½Δ Ψ_{·ϑ}, E_a = −Δ Ψ_{·v} Ĉ (Ψ: shift 1).
         let [gyro_a, gyro_p, gyro_v] = &mut self.gyro_bias_column;
-        series_into(gyro_a, &attitude_attitude, order, 1, -0.5 * d);
-        series_into(gyro_p, &position_attitude, order, 1, -0.5 * d);
-        series_into(gyro_v, &velocity_attitude, order, 1, -0.5 * d);
+        series_into::<_, true>(gyro_a, &attitude_attitude, order, 1, -0.5 * d);
+        series_into::<_, false>(gyro_p, &position_attitude, order, 1, -0.5 * d);
+        series_into::<_, false>(gyro_v, &velocity_attitude, order, 1, -0.5 * d);
         let mut psi = ZERO;
         let [accel_p, accel_v] = &mut self.accel_bias_column;
-        series_into(&mut psi, &position_velocity, order, 1, -d);
+        series_into::<_, true>(&mut psi, &position_velocity, order, 1, -d);
         *accel_p = mul(&psi, &c);
-        series_into(&mut psi, &velocity_velocity, order, 1, -d);
+        series_into::<_, true>(&mut psi, &velocity_velocity, order, 1, -d);
         *accel_v = mul(&psi, &c);
         self.measured_rate_rad_s = block::from_vector(&point.measured_rate_rad_s);
         self.measured_specific_force_mps2 = block::from_vector(&point.measured_specific_force_mps2);
@@ -532,9 +544,9 @@ impl StructuredModel {
             if gyro_walk > 0.0 {
                 let mut columns = [ZERO; 3];
                 let [walk_a, walk_p, walk_v] = &mut columns;
-                series_into(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
-                series_into(walk_p, &position_attitude, order, 2, -0.5 * squared);
-                series_into(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
+                series_into::<_, true>(walk_a, &attitude_attitude, order, 2, -0.5 * squared);
+                series_into::<_, false>(walk_p, &position_attitude, order, 2, -0.5 * squared);
+                series_into::<_, false>(walk_v, &velocity_attitude, order, 2, -0.5 * squared);
                 noise.set_gyro_walk(gyro_walk, d, &columns);
             } else {
                 noise.clear_gyro_walk();
@@ -542,9 +554,9 @@ impl StructuredModel {
             if accel_walk > 0.0 {
                 let mut columns = [ZERO; 2];
                 let [walk_p, walk_v] = &mut columns;
-                series_into(&mut psi, &position_velocity, order, 2, -squared);
+                series_into::<_, true>(&mut psi, &position_velocity, order, 2, -squared);
                 *walk_p = mul(&psi, &c);
-                series_into(&mut psi, &velocity_velocity, order, 2, -squared);
+                series_into::<_, true>(&mut psi, &velocity_velocity, order, 2, -squared);
                 *walk_v = mul(&psi, &c);
                 noise.add_accel_walk(accel_walk, d, &columns);
             } else {

@@ -1042,3 +1042,79 @@ impl NavigationComputer {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nav_core::frames::LaunchSite;
+
+    fn computer() -> NavigationComputer {
+        let site = LaunchSite {
+            latitude_rad: 0.715,
+            longitude_rad: 1.750,
+            height_m: 1000.0,
+            azimuth_rad: 3.316,
+            epoch_s: 0.0,
+        };
+        let initial = NavigationState {
+            attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
+            position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+            velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+            time_s: 600.0,
+        };
+        NavigationComputer::new(FswConfig::paper_defaults(site), initial).unwrap()
+    }
+
+    /// A snapshot read back equals the eager correction of the history: every correction
+    /// fed back in its frame or later, in feedback order (rotations that do not commute),
+    /// none from before it, across the frame counter's wrap.
+    #[test]
+    fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
+        let mut computer = computer();
+        let recorded = u32::MAX - 1;
+        let snapshot = Snapshot {
+            frame: recorded,
+            time_s: 1.0,
+            attitude: attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 0.3)),
+            position_m: Vector3::new(10.0, 20.0, 30.0),
+        };
+        let rotation = |x: f64, y: f64| attitude::exp_rotation_vector(&Vector3::new(x, y, 0.0));
+        let corrections = [
+            // (frame, attitude, position): before the snapshot, in its frame, after the wrap.
+            (recorded.wrapping_sub(1), rotation(0.5, 0.0), Vector3::new(100.0, 0.0, 0.0)),
+            (recorded, rotation(0.1, 0.0), Vector3::new(1.0, 0.0, 0.0)),
+            (recorded.wrapping_add(3), rotation(0.0, 0.2), Vector3::new(0.0, 2.0, 0.0)),
+        ];
+        for (frame, attitude, position_m) in corrections {
+            computer
+                .corrections
+                .push_back(Correction {
+                    frame,
+                    attitude,
+                    position_m,
+                })
+                .unwrap();
+        }
+        computer.frame = recorded.wrapping_add(4);
+        let corrected = computer.corrected(&snapshot);
+        let mut eager = snapshot;
+        for (_, attitude, position_m) in &corrections[1..] {
+            eager.attitude = attitude::product(&eager.attitude, attitude);
+            eager.position_m += position_m;
+        }
+        assert_eq!(
+            corrected.attitude.coords.map(f64::to_bits),
+            eager.attitude.coords.map(f64::to_bits)
+        );
+        assert_eq!(
+            corrected.position_m.map(f64::to_bits),
+            eager.position_m.map(f64::to_bits)
+        );
+        // The order matters: the opposite order gives a different attitude.
+        let reversed = attitude::product(
+            &attitude::product(&snapshot.attitude, &corrections[2].1),
+            &corrections[1].1,
+        );
+        assert!((reversed.coords - corrected.attitude.coords).norm() > 1e-3);
+    }
+}
