@@ -298,20 +298,21 @@ impl ErrorStateFilter {
     /// keeps every correlation coefficient and positive definiteness. Returns whether anything
     /// was changed. Only the diagonal is read unless a bound is crossed.
     pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
-        // The diagonal is read through the column arrays (nalgebra's strided iterators and
-        // checked 2-D indexing cost ~45 instructions per state on the target; this ~8).
-        let bounds = floor.as_slice().iter().zip(ceiling.as_slice());
+        // The diagonal is read through the column arrays with one index (nalgebra's strided
+        // iterators and checked 2-D indexing cost ~45 instructions per state on the target).
+        let ([floor], [ceiling]) = (&floor.data.0, &ceiling.data.0);
+        let columns = &mut self.covariance.data.0;
         let mut crossed = [false; STATE_DIMENSION];
         let mut clamped = false;
-        for (index, ((column, (floor, ceiling)), crossing)) in self
-            .covariance
-            .data
-            .0
-            .iter_mut()
-            .zip(bounds)
-            .zip(crossed.iter_mut())
-            .enumerate()
-        {
+        for index in 0..STATE_DIMENSION {
+            let (Some(column), Some(floor), Some(ceiling), Some(crossing)) = (
+                columns.get_mut(index),
+                floor.get(index),
+                ceiling.get(index),
+                crossed.get_mut(index),
+            ) else {
+                continue;
+            };
             let Some(variance) = column.get_mut(index) else {
                 continue;
             };
@@ -323,9 +324,12 @@ impl ErrorStateFilter {
                 clamped = true;
             }
         }
+        if !clamped {
+            return false;
+        }
         // Rare: a variance above its ceiling (in state order, as the scaling of one state
         // changes the off-diagonal entries the next one scales).
-        for (index, (crossing, ceiling)) in crossed.iter().zip(ceiling.as_slice()).enumerate() {
+        for (index, (crossing, ceiling)) in crossed.iter().zip(ceiling).enumerate() {
             let (true, Some(variance)) = (
                 *crossing,
                 self.covariance.data.0.get(index).and_then(|c| c.get(index)),

@@ -1081,9 +1081,17 @@ mod tests {
         let rotation = |x: f64, y: f64| attitude::exp_rotation_vector(&Vector3::new(x, y, 0.0));
         let corrections = [
             // (frame, attitude, position): before the snapshot, in its frame, after the wrap.
-            (recorded.wrapping_sub(1), rotation(0.5, 0.0), Vector3::new(100.0, 0.0, 0.0)),
+            (
+                recorded.wrapping_sub(1),
+                rotation(0.5, 0.0),
+                Vector3::new(100.0, 0.0, 0.0),
+            ),
             (recorded, rotation(0.1, 0.0), Vector3::new(1.0, 0.0, 0.0)),
-            (recorded.wrapping_add(3), rotation(0.0, 0.2), Vector3::new(0.0, 2.0, 0.0)),
+            (
+                recorded.wrapping_add(3),
+                rotation(0.0, 0.2),
+                Vector3::new(0.0, 2.0, 0.0),
+            ),
         ];
         for (frame, attitude, position_m) in corrections {
             computer
