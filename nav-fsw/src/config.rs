@@ -303,4 +303,111 @@ mod tests {
             );
         }
     }
+
+    fn refused(corrupt: impl Fn(&mut FswConfig)) -> Option<ConfigField> {
+        let mut config = FswConfig::paper_defaults(site());
+        corrupt(&mut config);
+        match config.validate() {
+            Err(FswError::InvalidConfiguration(field)) => Some(field),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn the_unit_conversions_and_the_default_star_noise_have_their_values() {
+        // 1″ = π / 648,000 rad; the paper's star sensor is 10″ (1σ).
+        assert!((ARCSEC_TO_RAD - 4.848_136_811_095_36e-6).abs() < 1e-20);
+        let noise = FswConfig::paper_defaults(site()).star.noise_rad;
+        assert!((noise - 4.848_136_811_095_36e-5).abs() < 1e-19);
+    }
+
+    #[test]
+    fn every_validation_boundary_is_where_its_documentation_puts_it() {
+        use ConfigField as F;
+        // A zero noise is not positive.
+        assert_eq!(refused(|c| c.star.noise_rad = 0.0), Some(F::StarNoise));
+        // Any unit mounting is accepted, whatever its axis; a norm 1e-9 off is refused.
+        let half = core::f64::consts::FRAC_1_SQRT_2;
+        for mounting in [
+            [0.5, 0.5, -0.5, 0.5],
+            [0.0, half, 0.0, half],
+            [0.0, 0.0, 1.0, 0.0],
+        ] {
+            assert_eq!(refused(|c| c.star.mounting_wxyz = mounting), None);
+        }
+        assert_eq!(
+            refused(|c| c.star.mounting_wxyz = [0.0, 0.0, 0.0, 1.0 + 2e-9]),
+            Some(F::StarMounting)
+        );
+        assert_eq!(
+            refused(|c| c.star.mounting_wxyz = [0.0, 0.6, 0.6, 0.6]),
+            Some(F::StarMounting)
+        );
+        // An infinite gate means "never gate" and is valid; a NaN gate is not.
+        assert_eq!(refused(|c| c.star.gate_nis = f64::INFINITY), None);
+        assert_eq!(refused(|c| c.star.gate_nis = f64::NAN), Some(F::StarGate));
+        assert_eq!(refused(|c| c.gnss.gate_nis = f64::INFINITY), None);
+        assert_eq!(refused(|c| c.gnss.gate_nis = 0.0), Some(F::GnssGate));
+        // The unit-norm tolerance must be positive and below 0.5.
+        assert_eq!(
+            refused(|c| c.star.unit_norm_tolerance = 0.5),
+            Some(F::StarNormTolerance)
+        );
+        assert_eq!(refused(|c| c.star.unit_norm_tolerance = 0.499), None);
+        assert_eq!(
+            refused(|c| c.star.unit_norm_tolerance = f64::NAN),
+            Some(F::StarNormTolerance)
+        );
+        // The latency may span the whole history, (64 − 1) frames, and no more.
+        let period = FswConfig::paper_defaults(site()).imu.period_s;
+        assert_eq!(refused(|c| c.timing.max_latency_s = 63.0 * period), None);
+        assert_eq!(
+            refused(|c| c.timing.max_latency_s = 63.0 * period * (1.0 + 1e-12)),
+            Some(F::MaxLatency)
+        );
+        assert_eq!(
+            refused(|c| c.timing.max_latency_s = -1e-9),
+            Some(F::MaxLatency)
+        );
+        assert_eq!(
+            refused(|c| c.timing.max_latency_s = f64::NAN),
+            Some(F::MaxLatency)
+        );
+        // The future tolerance is below one frame period, not negative.
+        assert_eq!(
+            refused(|c| c.timing.future_tolerance_s = period),
+            Some(F::FutureTolerance)
+        );
+        assert_eq!(
+            refused(|c| c.timing.future_tolerance_s = 0.999 * period),
+            None
+        );
+        assert_eq!(
+            refused(|c| c.timing.future_tolerance_s = -1e-9),
+            Some(F::FutureTolerance)
+        );
+        assert_eq!(
+            refused(|c| c.timing.future_tolerance_s = f64::INFINITY),
+            Some(F::FutureTolerance)
+        );
+        // The propagation interval is 1..=500 frames.
+        assert_eq!(
+            refused(|c| c.covariance.propagation_interval_frames = 500),
+            None
+        );
+        assert_eq!(
+            refused(|c| c.covariance.propagation_interval_frames = 501),
+            Some(F::PropagationInterval)
+        );
+        // The ceiling factor is at least 1 (and finite).
+        assert_eq!(refused(|c| c.covariance.sigma_ceiling_factor = 1.0), None);
+        assert_eq!(
+            refused(|c| c.covariance.sigma_ceiling_factor = 0.999),
+            Some(F::SigmaCeiling)
+        );
+        assert_eq!(
+            refused(|c| c.covariance.sigma_ceiling_factor = f64::INFINITY),
+            Some(F::SigmaCeiling)
+        );
+    }
 }

@@ -517,6 +517,49 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    #[test]
+    fn arrival_time_and_time_of_validity_come_from_the_right_fields() {
+        let imu = LogRecord::Imu(ImuRecord {
+            sequence: 7,
+            time_s: 12.5,
+            interval_s: 0.002,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        });
+        let star = LogRecord::Star(StarRecord {
+            arrival_time_s: 20.25,
+            time_tag_s: 20.125,
+            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+        });
+        let gnss = LogRecord::Gnss(GnssRecord {
+            arrival_time_s: 30.5,
+            time_tag_s: 30.375,
+            position_ecef_m: [0.0; 3],
+        });
+        let times = [imu, star, gnss].map(|r| (r.arrival_time_s(), r.time_tag_s()));
+        assert_eq!(times, [(12.5, 12.5), (20.25, 20.125), (30.5, 30.375)]);
+    }
+
+    #[test]
+    fn errors_explain_themselves() {
+        let text = |error: LogRecordError| {
+            let mut buffer = heapless::String::<96>::new();
+            core::fmt::write(&mut buffer, format_args!("{error}")).unwrap();
+            buffer
+        };
+        assert_eq!(
+            text(LogRecordError::BadMagic),
+            "not a replay log (bad magic)"
+        );
+        let mut expected = heapless::String::<96>::new();
+        core::fmt::write(
+            &mut expected,
+            format_args!("record size 3 (expected {RECORD_SIZE})"),
+        )
+        .unwrap();
+        assert_eq!(text(LogRecordError::RecordSizeMismatch(3)), expected);
+    }
+
     /// The record's fields as bit patterns, for bitwise equality (`-0.0 != 0.0`).
     fn field_bits(record: &LogRecord) -> (u8, [u64; WORDS]) {
         (record.tag(), record.words().map(|(bits, _)| bits))
