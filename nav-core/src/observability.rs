@@ -1586,16 +1586,37 @@ mod tests {
         assert_eq!(info.add_segment(&identity, &h(), &sigma, 0), Ok(()));
     }
 
-    /// A factor whose inverse overflows (a diagonal of 1e-200: posterior variance 1e400) is
-    /// reported as singular instead of a ratio of 1/∞ = 0. Not reachable through
+    /// A factor whose inverse overflows (a diagonal of 1e-200: posterior variance 1e400) or
+    /// underflows is reported as singular instead of a ratio of 1/∞ = 0. Not reachable through
     /// `add_segment` (its diagonals only grow from 1) except by round-off, hence set directly.
     #[test]
     fn variance_ratios_refuse_an_overflowing_posterior() {
         let mut info = InformationAccumulator::new(&StateVector::repeat(1.0)).unwrap();
         info.factor_transposed[(5, 5)] = 1.0e-200;
         assert_eq!(info.variance_ratios(), Err(NavError::SingularMatrix));
+        // An underflowing one (1e200 diagonal: posterior 1e-400 → 0) likewise, not ∞.
+        info.factor_transposed[(5, 5)] = 1.0e200;
+        assert_eq!(info.variance_ratios(), Err(NavError::SingularMatrix));
         info.factor_transposed[(5, 5)] = 0.5;
         let ratios = info.variance_ratios().unwrap();
         assert!((ratios[5] - 0.25).abs() < 1e-15);
+    }
+
+    /// Table 1's column labels, and `fully_observable` is false as soon as one axis fails
+    /// (rotation about z: attitude x, y observable, z not) and for a block with no axis.
+    #[test]
+    fn paper_labels_and_fully_observable() {
+        let labels: Vec<&str> = PaperMotionState::ALL.iter().map(|s| s.label()).collect();
+        assert_eq!(labels, ["I", "II", "III"]);
+        let rotation = motion_observability(
+            &PaperMotionState::Rotation.linearisation_point(&rotation_matrix(&attitude())),
+            &h(),
+            &RankTolerance::DEFAULT,
+        )
+        .unwrap();
+        assert_eq!(rotation.block(ATTITUDE), [true, true, false]);
+        assert!(!rotation.fully_observable(ATTITUDE));
+        assert!(!rotation.fully_observable(ACCEL_SCALE_FACTOR));
+        assert!(rotation.fully_observable(POSITION));
     }
 }
