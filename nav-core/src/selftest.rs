@@ -754,4 +754,52 @@ mod tests {
             }
         }
     }
+
+    /// The closed-loop reset feeds the estimated error into the solution (`p̂ += δp`,
+    /// `v̂ += δv`, gyro bias `b̂ += δb`) and zeroes the filter's error state; `reset` is the
+    /// structured variant, and the worst frame is exactly its four documented steps.
+    #[test]
+    fn fixture_reset_feeds_back_and_worst_frame_is_its_four_steps() {
+        use crate::state::{GYRO_BIAS, POSITION, VELOCITY};
+        let mut base = FilterPathFixture::new().unwrap();
+        base.navigate().unwrap();
+        base.propagate().unwrap();
+        base.gnss_update().unwrap();
+        let error = *base.filter.state();
+        assert!(
+            error.fixed_rows::<3>(POSITION.index).norm() > 5.0,
+            "{error:?}"
+        );
+        let mut flight = base;
+        flight.reset().unwrap();
+        let mut structured = base;
+        structured.reset_with(Implementation::Structured).unwrap();
+        assert_eq!(flight.results(), structured.results());
+        assert_eq!(*flight.filter.state(), crate::filter::ErrorState::zeros());
+        let moved = flight.navigation.position_m - base.navigation.position_m;
+        assert!(
+            (moved - error.fixed_rows::<3>(POSITION.index)).norm() < 1e-9,
+            "{moved:?}"
+        );
+        let velocity = flight.navigation.velocity_mps - base.navigation.velocity_mps;
+        assert!((velocity - error.fixed_rows::<3>(VELOCITY.index)).norm() < 1e-12);
+        let bias = Vector3::from(flight.calibration.gyro_bias_rad_s);
+        assert!((bias - error.fixed_rows::<3>(GYRO_BIAS.index)).norm() < 1e-18);
+
+        for implementation in [Implementation::Structured, Implementation::Dense] {
+            let mut frame = FilterPathFixture::new().unwrap();
+            frame.worst_frame_with(implementation).unwrap();
+            let mut steps = FilterPathFixture::new().unwrap();
+            steps.navigate().unwrap();
+            steps.propagate_with(implementation).unwrap();
+            steps.gnss_update_with(implementation, 0.01).unwrap();
+            steps.reset_with(implementation).unwrap();
+            assert_eq!(frame.step, 1);
+            let (a, b) = (frame.results(), steps.results());
+            assert!(a
+                .iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+    }
 }
