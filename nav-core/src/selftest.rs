@@ -576,6 +576,12 @@ mod tests {
     #[test]
     fn observability_workload_gives_rank_15_for_each_paper_state_alone() {
         let results = observability_workload().unwrap();
+        // Three states (I, II, III), each 24 singular values and a rank.
+        assert_eq!(results.len(), 75);
+        assert_eq!(
+            results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1).count(),
+            3
+        );
         for chunk in results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1) {
             let (singular_values, rank) = chunk.split_at(SINGULAR_VALUES_PER_STATE);
             assert!((rank[0] - 15.0).abs() < 1e-12, "{rank:?}");
@@ -803,6 +809,40 @@ mod tests {
                 .iter()
                 .zip(b.iter())
                 .all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+    }
+
+    /// The observability workload is the documented geometry: attitude `exp([0.2, 0.4, −0.1])`
+    /// and mounting `exp([0.4, −1.1, 0.25])`, each paper state alone, scaled continuous
+    /// segment; its singular values equal those of that analysis built here (1e-12 relative).
+    #[test]
+    fn observability_workload_is_the_documented_geometry() {
+        let results = observability_workload().unwrap();
+        let attitude = attitude::exp_rotation_vector(&Vector3::new(0.2, 0.4, -0.1));
+        let mounting = attitude::exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25));
+        let h = full_update_measurement_matrix(&attitude, &mounting).unwrap();
+        for (state, chunk) in PaperMotionState::ALL
+            .iter()
+            .zip(results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1))
+        {
+            let point = state.linearisation_point(&attitude::rotation_matrix(&attitude));
+            let mut stripped = StrippedObservability::new(Scaling::typical()).unwrap();
+            stripped
+                .add_segment(&system_matrix(&point), &h, SystemForm::Continuous)
+                .unwrap();
+            let analysis = stripped.analyse(&RankTolerance::DEFAULT).unwrap();
+            for (k, (value, expected)) in chunk
+                .iter()
+                .zip(analysis.singular_values.iter())
+                .enumerate()
+                .take(15)
+            {
+                assert!(
+                    (value - expected).abs() <= 1e-12 * expected,
+                    "{} σ{k}: {value:e} vs {expected:e}",
+                    state.label()
+                );
+            }
         }
     }
 }
