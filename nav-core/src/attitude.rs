@@ -223,6 +223,103 @@ mod tests {
         }
     }
 
+    /// At `φ = (3·2⁻¹⁵, 0, 0)` rad (|φ| ≈ 9.2e-5, the small-angle branch) every quantity is
+    /// a short dyadic: `|φ|² = 9·2⁻³⁰`, so `cos(|φ|/2) = 1 − 9·2⁻³³ + |φ|⁴/384 − …` and
+    /// `sin(|φ|/2) = (|φ|/2)(1 − 3·2⁻³³ + |φ|⁴/1920 − …)`, whose leading parts are exact
+    /// doubles and whose remainders (≤ 2e-19 relative) are far below half an ulp (5.6e-17): the
+    /// correctly rounded results are the leading parts, exactly. A `|φ|⁴` term mis-weighted by
+    /// more than about half an ulp, or a wrong `|φ|²` coefficient, changes these bits.
+    #[test]
+    fn small_angle_branch_is_correctly_rounded_at_a_dyadic_angle() {
+        let angle = 3.0 * libm::exp2(-15.0);
+        let q = exp_rotation_vector(&Vector3::new(angle, 0.0, 0.0));
+        let expected_cos = 1.0 - 9.0 * libm::exp2(-33.0);
+        let expected_sin = 0.5 * angle * (1.0 - 3.0 * libm::exp2(-33.0));
+        assert_eq!(
+            q.w.to_bits(),
+            expected_cos.to_bits(),
+            "{:e}",
+            q.w - expected_cos
+        );
+        assert_eq!(
+            q.i.to_bits(),
+            expected_sin.to_bits(),
+            "{:e}",
+            q.i - expected_sin
+        );
+        assert_eq!((q.j, q.k), (0.0, 0.0));
+        // The same point through the exact branch's formulas (libm), to within one ulp.
+        assert!((libm::cos(0.5 * angle) - expected_cos).abs() <= f64::EPSILON);
+        assert!((libm::sin(0.5 * angle) - expected_sin).abs() <= expected_sin * f64::EPSILON);
+    }
+
+    /// The small-angle vector gain `sin(|φ|/2)/|φ|` against the exact formula over the whole
+    /// small-angle range (relative 1e-15: a wrong `|φ|²` or `|φ|⁴` coefficient is ≥ 1e-13).
+    #[test]
+    fn small_angle_vector_gain_matches_the_exact_formula() {
+        let axis = Vector3::new(0.6, -0.48, 0.64);
+        for angle in [1.0e-6, 2.0e-5, 6.0e-5, 9.9e-5] {
+            let q = exp_rotation_vector(&(axis * angle));
+            let exact_gain = libm::sin(0.5 * angle) / angle;
+            let gain = q.imag().norm() / angle;
+            assert!(
+                (gain / exact_gain - 1.0).abs() < 1e-15,
+                "{angle}: {:e}",
+                gain / exact_gain - 1.0
+            );
+            assert!((q.w - libm::cos(0.5 * angle)).abs() <= f64::EPSILON);
+        }
+    }
+
+    /// The rotation vector depends only on the quaternion's direction: `2 atan2(|v|, w) v/|v|`
+    /// and its small-angle form `2 v / w` are both invariant under `q → k q` (`k > 0`), so a
+    /// slightly non-unit quaternion (drift before renormalisation) gives the same vector.
+    #[test]
+    fn log_is_invariant_under_positive_scaling_on_both_branches() {
+        for phi in [
+            Vector3::new(0.3, -1.2, 2.0),
+            Vector3::new(1e-9, 2e-9, -3e-9),
+        ] {
+            let q = exp_rotation_vector(&phi);
+            for scale in [0.5, 2.0, 1.0 + 1e-6] {
+                let scaled = log_rotation_vector(&(q * scale));
+                assert!(
+                    (scaled - phi).norm() < 1e-15 * (1.0 + phi.norm()),
+                    "{scale}: {scaled:?} vs {phi:?}"
+                );
+            }
+        }
+    }
+
+    /// A norm exactly at [`MIN_QUATERNION_NORM`] is still normalised (only norms below it are
+    /// degenerate); `sqrt(x²) = |x|` exactly in IEEE arithmetic, so the norm is the threshold.
+    #[test]
+    fn normalise_accepts_a_norm_exactly_at_the_threshold() {
+        let q = Quaternion::new(MIN_QUATERNION_NORM, 0.0, 0.0, 0.0);
+        assert_eq!(normalise(&q), Ok(Quaternion::new(1.0, 0.0, 0.0, 0.0)));
+        let below = Quaternion::new(0.5 * MIN_QUATERNION_NORM, 0.0, 0.0, 0.0);
+        assert_eq!(normalise(&below), Err(NavError::DegenerateQuaternion));
+    }
+
+    /// Canonicalisation is idempotent, also for a 180° rotation (`w = 0`), which already has a
+    /// non-negative scalar part and must be returned unchanged (flipping it would make
+    /// `canonical(canonical(q)) ≠ canonical(q)`).
+    #[test]
+    fn canonical_is_idempotent_and_keeps_a_zero_scalar_part() {
+        for q in [
+            Quaternion::new(0.0, 0.6, 0.0, -0.8),
+            Quaternion::new(-0.5, 0.5, 0.5, 0.5),
+            Quaternion::new(0.5, -0.5, 0.5, 0.5),
+        ] {
+            let once = canonical(&q);
+            assert_eq!(canonical(&once), once);
+            assert!(once.w >= 0.0);
+        }
+        let half_turn = Quaternion::new(0.0, 0.6, 0.0, -0.8);
+        assert_eq!(canonical(&half_turn), half_turn);
+        assert_eq!(canonical(&half_turn).i.to_bits(), 0.6_f64.to_bits());
+    }
+
     #[test]
     fn bad_quaternions_are_errors_not_panics() {
         assert_eq!(

@@ -426,4 +426,31 @@ pub(crate) mod tests {
         let psd = ProcessNoise::PAPER.spectral_density_diagonal();
         assert!((psd[0] - 9.696e-7_f64.powi(2)).abs() < 1e-3 * psd[0]);
     }
+
+    /// Validity: every density finite and ≥ 0 (zero = the paper's constant biases); a
+    /// negative, infinite or NaN density in any of the four fields is refused.
+    #[test]
+    fn process_noise_validity_per_field() {
+        assert!(ProcessNoise::PAPER.is_valid());
+        let all_zero = ProcessNoise {
+            gyro_noise_density_rad_s_per_sqrt_hz: 0.0,
+            accel_noise_density_mps2_per_sqrt_hz: 0.0,
+            gyro_bias_walk_rad_s2_per_sqrt_hz: 0.0,
+            accel_bias_walk_mps3_per_sqrt_hz: 0.0,
+        };
+        assert!(all_zero.is_valid());
+        for field in 0..4 {
+            for bad in [-1.0e-9, f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+                let mut noise = ProcessNoise::PAPER;
+                let slot = match field {
+                    0 => &mut noise.gyro_noise_density_rad_s_per_sqrt_hz,
+                    1 => &mut noise.accel_noise_density_mps2_per_sqrt_hz,
+                    2 => &mut noise.gyro_bias_walk_rad_s2_per_sqrt_hz,
+                    _ => &mut noise.accel_bias_walk_mps3_per_sqrt_hz,
+                };
+                *slot = bad;
+                assert!(!noise.is_valid(), "field {field} = {bad}");
+            }
+        }
+    }
 }

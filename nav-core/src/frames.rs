@@ -346,6 +346,91 @@ pub(crate) mod tests {
         assert!((quarter.norm() / g0_perp.norm() - 2.0_f64.sqrt()).abs() < 1e-3);
     }
 
+    /// Published WGS-84 values (NIMA TR8350.2 Table 3.3): `e² = 6.694 379 990 14e-3`,
+    /// `b = 6 356 752.3142 m`; the poles are at `±b` and the equator at `a` on the axes.
+    #[test]
+    fn wgs84_derived_constants_and_geodetic_points_on_the_axes() {
+        assert!((WGS84_ECCENTRICITY_SQUARED - 6.694_379_990_14e-3).abs() < 1e-14);
+        assert!((WGS84_SEMI_MINOR_AXIS_M - 6_356_752.314_2).abs() < 1e-4);
+        let equator = geodetic_to_ecef(0.0, core::f64::consts::FRAC_PI_2, 0.0);
+        assert!((equator - Vector3::new(0.0, WGS84_SEMI_MAJOR_AXIS_M, 0.0)).norm() < 1e-9);
+        let north_pole = geodetic_to_ecef(core::f64::consts::FRAC_PI_2, 0.3, 0.0);
+        assert!((north_pole - Vector3::new(0.0, 0.0, WGS84_SEMI_MINOR_AXIS_M)).norm() < 1e-6);
+        // A surface point lies on the ellipse ρ²/a² + z²/b² = 1.
+        let surface = geodetic_to_ecef(0.7, -1.9, 0.0);
+        let ellipse = surface.xy().norm_squared() / WGS84_SEMI_MAJOR_AXIS_M.powi(2)
+            + surface.z * surface.z / WGS84_SEMI_MINOR_AXIS_M.powi(2);
+        assert!((ellipse - 1.0).abs() < 1e-15, "{ellipse}");
+    }
+
+    /// Height moves a point along the ellipsoid normal `u = [cosφ cosλ, cosφ sinλ, sinφ]`:
+    /// `r(φ, λ, h) − r(φ, λ, 0) = h u` in every component.
+    #[test]
+    fn height_moves_along_the_ellipsoid_normal() {
+        let (latitude, longitude) = (0.7_f64, -1.9_f64);
+        let up = Vector3::new(
+            latitude.cos() * longitude.cos(),
+            latitude.cos() * longitude.sin(),
+            latitude.sin(),
+        );
+        for height in [-500.0, 1_000.0, 9_000.0] {
+            let moved = geodetic_to_ecef(latitude, longitude, height)
+                - geodetic_to_ecef(latitude, longitude, 0.0);
+            assert!((moved - height * up).norm() < 1e-8, "{height}: {moved:?}");
+        }
+    }
+
+    /// The angle bounds are ±2π exactly (longitude and azimuth); ±(2π + 1e-9) is refused.
+    #[test]
+    fn angle_ranges_are_plus_minus_two_pi() {
+        let two_pi = 2.0 * core::f64::consts::PI;
+        for angle in [two_pi, -two_pi, 6.0, -6.0] {
+            let mut site = wenchang();
+            site.longitude_rad = angle;
+            assert_eq!(site.validate(), Ok(()), "longitude {angle}");
+            site = wenchang();
+            site.azimuth_rad = angle;
+            assert_eq!(site.validate(), Ok(()), "azimuth {angle}");
+        }
+        for angle in [two_pi + 1e-9, -two_pi - 1e-9] {
+            let mut site = wenchang();
+            site.longitude_rad = angle;
+            assert_eq!(site.validate(), Err(NavError::InvalidConfiguration));
+            site = wenchang();
+            site.azimuth_rad = angle;
+            assert_eq!(site.validate(), Err(NavError::InvalidConfiguration));
+        }
+    }
+
+    /// With a non-zero epoch: the launch-inertial origin (the site at `t₀`) seen in ECEF at
+    /// `t₀ + Δ` is the site's geodetic point moved west by `ω_e Δ` in longitude (the Earth
+    /// turned under it), and ECEF → launch-inertial → ECEF is the identity.
+    #[test]
+    fn launch_inertial_to_ecef_with_a_non_zero_epoch() {
+        let mut site = wenchang();
+        site.epoch_s = 5.0e5;
+        let frame = LaunchFrame::new(&site).unwrap();
+        for elapsed in [0.0, 1.0, 3_600.0, 40_000.0] {
+            let origin = frame
+                .launch_inertial_to_ecef(&Vector3::zeros(), site.epoch_s + elapsed)
+                .unwrap();
+            let expected = geodetic_to_ecef(
+                site.latitude_rad,
+                site.longitude_rad - WGS84_EARTH_RATE_RAD_S * elapsed,
+                site.height_m,
+            );
+            assert!((origin - expected).norm() < 1e-6, "{elapsed}: {origin:?}");
+            let r = Vector3::new(-2.3e6, 5.9e6, 2.2e6);
+            let p = frame
+                .ecef_to_launch_inertial(&r, site.epoch_s + elapsed)
+                .unwrap();
+            let back = frame
+                .launch_inertial_to_ecef(&p, site.epoch_s + elapsed)
+                .unwrap();
+            assert!((back - r).norm() < 1e-6, "{elapsed}: {back:?}");
+        }
+    }
+
     #[test]
     fn bad_sites_and_inputs_are_refused() {
         let mut site = wenchang();

@@ -302,4 +302,44 @@ mod tests {
             Err(NavError::NonFiniteInput)
         );
     }
+
+    /// `H' = H (I − A Δ)`: zero latency leaves `H` unchanged, a positive latency subtracts
+    /// `H A Δ` exactly; a negative or non-finite latency and a non-finite `A` are refused.
+    #[test]
+    fn refer_to_later_time_formula_and_refusals() {
+        let est = estimate();
+        let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
+        let m = star_sensor(
+            &est.attitude,
+            &mounting(),
+            &installation_estimate(),
+            &est.attitude,
+            10.0 * arcsec,
+        )
+        .unwrap();
+        let system =
+            crate::error_model::system_matrix(&crate::error_model::tests::linearisation(&est));
+        let same = refer_to_later_time(&m, &system, 0.0).unwrap();
+        assert_eq!(same.jacobian, m.jacobian);
+        let latency = 0.05;
+        let later = refer_to_later_time(&m, &system, latency).unwrap();
+        let expected = m.jacobian - m.jacobian * system * latency;
+        assert!((later.jacobian - expected).amax() <= 1e-15 * expected.amax());
+        assert!((later.jacobian - m.jacobian).amax() > 0.0);
+        assert_eq!(later.residual, m.residual);
+        assert_eq!(later.noise_covariance, m.noise_covariance);
+        for bad in [-1.0e-3, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(
+                refer_to_later_time(&m, &system, bad),
+                Err(NavError::InvalidTimeStep),
+                "{bad}"
+            );
+        }
+        let mut non_finite = system;
+        non_finite[(3, 5)] = f64::NAN;
+        assert_eq!(
+            refer_to_later_time(&m, &non_finite, latency),
+            Err(NavError::NonFiniteInput)
+        );
+    }
 }

@@ -1327,4 +1327,296 @@ mod tests {
             Err(NavError::NonFiniteInput)
         );
     }
+
+    /// The documented scaling values: star rows 5″ (10″/2) in radians, `unscaled` all ones
+    /// with `τ` = 1 s, `typical` the per-block magnitudes.
+    #[test]
+    fn scaling_constructors_hold_the_documented_values() {
+        // 5″ = 5 / 3600 · π / 180 rad.
+        assert!((Scaling::STAR_ROW_MAGNITUDE - 2.424_068_405_547_68e-5).abs() < 1e-19);
+        let unscaled = Scaling::unscaled();
+        assert_eq!(unscaled.state_magnitudes, StateVector::repeat(1.0));
+        assert_eq!(
+            unscaled.measurement_magnitudes,
+            MeasurementVector::repeat(1.0)
+        );
+        assert_eq!(unscaled.time_unit_s.to_bits(), 1.0_f64.to_bits());
+        let typical = Scaling::typical();
+        assert_eq!(typical, Scaling::default());
+        for (block, magnitude) in Scaling::TYPICAL_STATE_MAGNITUDES {
+            for k in block.index..block.index + 3 {
+                assert_eq!(typical.state_magnitudes[k].to_bits(), magnitude.to_bits());
+            }
+        }
+        let custom = Scaling::from_blocks(&Scaling::TYPICAL_STATE_MAGNITUDES, 3.0, 7.0, 0.5);
+        assert_eq!(
+            custom.measurement_magnitudes,
+            MeasurementVector::new(3.0, 3.0, 3.0, 7.0, 7.0, 7.0)
+        );
+        assert_eq!(custom.time_unit_s.to_bits(), 0.5_f64.to_bits());
+    }
+
+    /// Unscaled rows with `τ` = 2 s are `H (2A)^k` exactly as written in the module docs
+    /// (checked for k = 0, 1, 2 against products formed here); NaN in `H` or `A` is refused.
+    #[test]
+    fn segment_matrix_rows_are_h_times_powers_of_a_tau() {
+        let scaling = Scaling {
+            time_unit_s: 2.0,
+            ..Scaling::unscaled()
+        };
+        let a = system_matrix(&rotation(2));
+        let q = segment_observability_matrix(&a, &h(), SystemForm::Continuous, &scaling).unwrap();
+        let mut expected = h();
+        for power in 0..3 {
+            let rows = q.fixed_rows::<MEASUREMENT_DIMENSION>(power * MEASUREMENT_DIMENSION);
+            let error = (rows - expected).amax();
+            assert!(error <= 1e-14 * expected.amax(), "power {power}: {error:e}");
+            expected *= a * 2.0;
+        }
+        // Discrete form ignores τ: rows H F^k.
+        let discrete = segment_observability_matrix(&a, &h(), SystemForm::Discrete, &scaling)
+            .unwrap()
+            .fixed_rows::<MEASUREMENT_DIMENSION>(MEASUREMENT_DIMENSION)
+            .into_owned();
+        assert!((discrete - h() * a).amax() <= 1e-14 * (h() * a).amax());
+        let mut bad_h = h();
+        bad_h[(4, 2)] = f64::NAN;
+        assert_eq!(
+            segment_observability_matrix(&a, &bad_h, SystemForm::Continuous, &scaling),
+            Err(NavError::NonFiniteInput)
+        );
+        let mut bad_a = a;
+        bad_a[(1, 7)] = f64::INFINITY;
+        assert_eq!(
+            segment_observability_matrix(&bad_a, &h(), SystemForm::Continuous, &scaling),
+            Err(NavError::NonFiniteInput)
+        );
+    }
+
+    #[test]
+    fn stripped_observability_counts_its_segments() {
+        let mut som = StrippedObservability::new(Scaling::typical()).unwrap();
+        assert_eq!(som.segments(), 0);
+        for expected in 1..=3 {
+            som.add_segment(&system_matrix(&coast()), &h(), SystemForm::Continuous)
+                .unwrap();
+            assert_eq!(som.segments(), expected);
+        }
+    }
+
+    /// A diagonal factor has its diagonal as singular values (exactly) and the unit vectors as
+    /// singular vectors, so every reported number is known: threshold `1e-12 · σ_max`, a
+    /// value exactly at the threshold is zero (`σ ≤ threshold`), a value exactly at the
+    /// paper's `5e-8` counts (`σ ≥ 5e-8`), degree `σ_k / σ_max`.
+    #[test]
+    fn analyse_factor_of_a_diagonal_factor() {
+        let tolerance = RankTolerance::DEFAULT;
+        let sigma_max = 1.0e6;
+        let at_threshold = tolerance.relative * sigma_max;
+        let mut diagonal = StateVector::zeros();
+        for (k, value) in diagonal.iter_mut().enumerate() {
+            *value = 0.5 * (k as f64 + 1.0);
+        }
+        diagonal[3] = sigma_max;
+        diagonal[7] = at_threshold;
+        diagonal[9] = tolerance.absolute;
+        diagonal[11] = 0.0;
+        let analysis =
+            analyse_factor(&TriangularFactor::from_diagonal(&diagonal), &tolerance).unwrap();
+        assert_eq!(analysis.zero_threshold.to_bits(), at_threshold.to_bits());
+        assert!((analysis.zero_threshold - 1.0e-6).abs() < 1e-21);
+        // 24 values minus the one at the threshold, 5e-8 and 0.
+        assert_eq!(analysis.rank, 21);
+        // Only the zero is below 5e-8.
+        assert_eq!(analysis.rank_absolute, 23);
+        for k in 0..STATE_DIMENSION {
+            assert_eq!(
+                analysis.assigned_singular_value[k].to_bits(),
+                diagonal[k].to_bits()
+            );
+            assert!((analysis.degree[k] - diagonal[k] / sigma_max).abs() <= 1e-16 * diagonal[k]);
+            let unobservable = [7, 9, 11].contains(&k);
+            assert_eq!(analysis.observable[k], !unobservable, "state {k}");
+            let projection = if unobservable { 1.0 } else { 0.0 };
+            assert!((analysis.null_space_projection[k] - projection).abs() < 1e-15);
+        }
+        assert!((analysis.degree[3] - 1.0).abs() < 1e-16);
+        assert!((analysis.degree[23] - 12.0e-6).abs() < 1e-21);
+    }
+
+    /// `R = [[2, 2], [0, 0]]` (plus `3 I` elsewhere): right singular vectors `(1, ±1)/√2`
+    /// with `σ = 2√2` and 0, an exact tie between states 0 and 1. The first state wins the
+    /// tie, so state 0 gets `2√2` (and keeps it over the 0) and state 1 gets nothing.
+    #[test]
+    fn analyse_factor_breaks_ties_towards_the_first_state() {
+        let mut factor = TriangularFactor::identity() * 3.0;
+        factor[(0, 0)] = 2.0;
+        factor[(0, 1)] = 2.0;
+        factor[(1, 1)] = 0.0;
+        let analysis = analyse_factor(&factor, &RankTolerance::DEFAULT).unwrap();
+        assert!((analysis.assigned_singular_value[0] - 2.0 * 2.0_f64.sqrt()).abs() < 1e-14);
+        assert_eq!(
+            analysis.assigned_singular_value[1].to_bits(),
+            0.0_f64.to_bits()
+        );
+        assert_eq!(analysis.degree[1].to_bits(), 0.0_f64.to_bits());
+        // The null vector (1, −1)/√2 makes both unobservable.
+        assert!(!analysis.observable[0] && !analysis.observable[1]);
+        assert!((analysis.null_space_projection[0] - 0.5_f64.sqrt()).abs() < 1e-14);
+    }
+
+    /// Degenerate factors: all zero gives rank 0 and degree 0 (not 0/0 = NaN); a factor whose
+    /// singular value overflows is a typed error, not an analysis with an infinite σ.
+    #[test]
+    fn analyse_factor_of_zero_and_of_an_overflowing_factor() {
+        let zero = analyse_factor(&TriangularFactor::zeros(), &RankTolerance::DEFAULT).unwrap();
+        assert_eq!(zero.rank, 0);
+        assert_eq!(zero.rank_absolute, 0);
+        assert_eq!(zero.degree, StateVector::zeros());
+        assert_eq!(zero.observable_count(), 0);
+        let mut overflowing = TriangularFactor::identity();
+        overflowing[(2, 2)] = f64::MAX;
+        overflowing[(2, 5)] = f64::MAX;
+        assert_eq!(
+            analyse_factor(&overflowing, &RankTolerance::DEFAULT),
+            Err(NavError::NonFiniteState)
+        );
+    }
+
+    /// One null vector `v = 1e-4 e₀ + √(1 − 1e-8) e₂₃` (factor `I − v vᵀ`): the attitude
+    /// block's projection `P_b = diag(1e-8, 0, 0)` has one eigenvalue 1e-8 > 1e-6² , so only
+    /// two attitude directions are observable; the state test agrees (‖Nᵀe₀‖ = 1e-4 > 1e-6).
+    #[test]
+    fn observable_directions_uses_the_squared_projection_threshold() {
+        let mut v = StateVector::zeros();
+        v[0] = 1.0e-4;
+        v[23] = libm::sqrt(1.0 - 1.0e-8);
+        let factor = TriangularFactor::identity() - v * v.transpose();
+        let analysis = analyse_factor(&factor, &RankTolerance::DEFAULT).unwrap();
+        assert_eq!(analysis.rank, 23);
+        assert!((analysis.null_space_projection[0] - 1.0e-4).abs() < 1e-12);
+        assert!(!analysis.observable[0]);
+        assert!(analysis.observable[1] && analysis.observable[2]);
+        let directions = analysis
+            .observable_directions(ATTITUDE, &RankTolerance::DEFAULT)
+            .unwrap();
+        assert_eq!(directions, 2);
+        assert_eq!(
+            analysis
+                .observable_directions(POSITION, &RankTolerance::DEFAULT)
+                .unwrap(),
+            3
+        );
+    }
+
+    /// One epoch-invariant scalar case in closed form: `H` observes position x (row 3) and
+    /// velocity y (row 4) with noise `m`, transition `I`, `n` epochs: the information on a
+    /// state with prior σ₀ is `1/σ₀² + n/m²`, so `prior/posterior = 1 + n σ₀²/m²`; unobserved
+    /// states keep 1.
+    #[test]
+    fn information_ratios_in_closed_form() {
+        let mut prior = StateVector::repeat(1.0);
+        prior[POSITION.index] = 10.0;
+        prior[VELOCITY.index + 1] = 2.0;
+        let mut h = MeasurementMatrix::zeros();
+        h[(3, POSITION.index)] = 1.0;
+        h[(4, VELOCITY.index + 1)] = 1.0;
+        let noise = MeasurementVector::new(1.0, 1.0, 1.0, 5.0, 0.5, 1.0);
+        let mut info = InformationAccumulator::new(&prior).unwrap();
+        info.add_segment(&SystemMatrix::identity(), &h, &noise, 4)
+            .unwrap();
+        let ratios = info.variance_ratios().unwrap();
+        let expected_position = 1.0 + 4.0 * 100.0 / 25.0;
+        let expected_velocity = 1.0 + 4.0 * 4.0 / 0.25;
+        assert!((ratios[POSITION.index] - expected_position).abs() < 1e-12);
+        assert!((ratios[VELOCITY.index + 1] - expected_velocity).abs() < 1e-12);
+        for k in 0..STATE_DIMENSION {
+            if k != POSITION.index && k != VELOCITY.index + 1 {
+                assert!((ratios[k] - 1.0).abs() < 1e-15, "{k}: {}", ratios[k]);
+            }
+        }
+    }
+
+    /// The input checks in their documented order: epoch count (≤ 1e6, exactly 1e6 allowed),
+    /// then sigmas (finite and > 0), then finiteness of `transition` and `h` (even with zero
+    /// epochs, when neither is used); a refused call leaves the accumulator unchanged.
+    #[test]
+    fn information_accumulator_input_checks() {
+        let mut info = InformationAccumulator::new(&StateVector::repeat(1.0)).unwrap();
+        let before = info;
+        let sigma = MeasurementVector::repeat(1.0);
+        let identity = SystemMatrix::identity();
+        let mut nan_transition = identity;
+        nan_transition[(0, 0)] = f64::NAN;
+        // The count check comes first: just above the limit it is a configuration error
+        // even with a NaN transition; exactly at the limit the NaN is what is refused.
+        assert_eq!(
+            info.add_segment(
+                &nan_transition,
+                &h(),
+                &sigma,
+                MAX_MEASUREMENTS_PER_SEGMENT + 1
+            ),
+            Err(NavError::InvalidConfiguration)
+        );
+        assert_eq!(
+            info.add_segment(&nan_transition, &h(), &sigma, MAX_MEASUREMENTS_PER_SEGMENT),
+            Err(NavError::NonFiniteInput)
+        );
+        for bad in [0.0, -1.0, f64::INFINITY, f64::NAN] {
+            let mut bad_sigma = sigma;
+            bad_sigma[4] = bad;
+            assert_eq!(
+                info.add_segment(&identity, &h(), &bad_sigma, 1),
+                Err(NavError::InvalidConfiguration),
+                "{bad}"
+            );
+        }
+        let mut nan_h = h();
+        nan_h[(2, 2)] = f64::NAN;
+        assert_eq!(
+            info.add_segment(&identity, &nan_h, &sigma, 0),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            info.add_segment(&nan_transition, &h(), &sigma, 0),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(info, before);
+        assert_eq!(info.add_segment(&identity, &h(), &sigma, 0), Ok(()));
+    }
+
+    /// A factor whose inverse overflows (a diagonal of 1e-200: posterior variance 1e400) or
+    /// underflows is reported as singular instead of a ratio of 1/∞ = 0. Not reachable through
+    /// `add_segment` (its diagonals only grow from 1) except by round-off, hence set directly.
+    #[test]
+    fn variance_ratios_refuse_an_overflowing_posterior() {
+        let mut info = InformationAccumulator::new(&StateVector::repeat(1.0)).unwrap();
+        info.factor_transposed[(5, 5)] = 1.0e-200;
+        assert_eq!(info.variance_ratios(), Err(NavError::SingularMatrix));
+        // An underflowing one (1e200 diagonal: posterior 1e-400 → 0) likewise, not ∞.
+        info.factor_transposed[(5, 5)] = 1.0e200;
+        assert_eq!(info.variance_ratios(), Err(NavError::SingularMatrix));
+        info.factor_transposed[(5, 5)] = 0.5;
+        let ratios = info.variance_ratios().unwrap();
+        assert!((ratios[5] - 0.25).abs() < 1e-15);
+    }
+
+    /// Table 1's column labels, and `fully_observable` is false as soon as one axis fails
+    /// (rotation about z: attitude x, y observable, z not) and for a block with no axis.
+    #[test]
+    fn paper_labels_and_fully_observable() {
+        let labels: Vec<&str> = PaperMotionState::ALL.iter().map(|s| s.label()).collect();
+        assert_eq!(labels, ["I", "II", "III"]);
+        let rotation = motion_observability(
+            &PaperMotionState::Rotation.linearisation_point(&rotation_matrix(&attitude())),
+            &h(),
+            &RankTolerance::DEFAULT,
+        )
+        .unwrap();
+        assert_eq!(rotation.block(ATTITUDE), [true, true, false]);
+        assert!(!rotation.fully_observable(ATTITUDE));
+        assert!(!rotation.fully_observable(ACCEL_SCALE_FACTOR));
+        assert!(rotation.fully_observable(POSITION));
+    }
 }

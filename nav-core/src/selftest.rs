@@ -27,9 +27,12 @@ use crate::NavError;
 /// Number of f64 results produced by [`reference_workload`].
 pub const REFERENCE_RESULT_COUNT: usize = 8;
 
-/// Runs the reference workload: builds a deterministic 24×24 matrix `M` from `sin`/`exp`,
-/// forms `M Mᵀ` and `M M` and their traces, and integrates the attitude quaternion of a coning
-/// motion for 500 steps of 2 ms with the exact rotation-vector exponential.
+/// Runs the reference workload: builds a deterministic 24×24 matrix
+/// `M_rc = sin(0.37 r + 1.13 c) · exp(−0.05 (r − c)²) + 0.01 r` (`r`, `c` = 0..23), forms
+/// `M Mᵀ` and `M M` and their traces, and integrates the attitude quaternion of a coning
+/// motion (body rate `(−a Ω sin Ωt, a Ω cos Ωt, 0.1)` rad/s, `a` = 0.02 rad, `Ω` = 2π·5 rad/s,
+/// rate sampled at the start of each step) for 500 steps of 2 ms with the exact
+/// rotation-vector exponential, `q ← q ⊗ exp(ω Δt)`.
 ///
 /// Returns `[trace(M Mᵀ), trace(M M), (M Mᵀ)[(3,17)], q.w, q.x, q.y, q.z, |q| − 1]`.
 pub fn reference_workload() -> [f64; REFERENCE_RESULT_COUNT] {
@@ -151,7 +154,9 @@ impl FilterPathFixture {
     }
 
     /// One 2 ms strapdown step (coning/sculling, J2 gravity) with a time-varying rotation
-    /// and thrust, corrected by the current calibration estimate.
+    /// and thrust, corrected by the current calibration estimate: at step `k` (phase
+    /// `φ = 0.01 k`) body rate `(0.1 sin φ, 0.05, 1.7 cos φ)` rad/s and specific force
+    /// `(0.5, 20 + sin 3φ, −0.3)` m/s².
     ///
     /// # Errors
     /// As [`Strapdown::step`].
@@ -294,8 +299,9 @@ impl FilterPathFixture {
         self.apply(&measurement, implementation)
     }
 
-    /// A GNSS update 12 m away from the predicted antenna position, with the flight
-    /// (structured) update.
+    /// A GNSS update 12 m away from the predicted antenna position (lever arm
+    /// `(0.5, 1.0, −0.2)` m in body axes, fix = predicted antenna + `(12, −5, 3)` m, 1σ 10 m),
+    /// with the flight (structured) update.
     ///
     /// # Errors
     /// As [`FilterPathFixture::gnss_update_with`].
@@ -570,6 +576,12 @@ mod tests {
     #[test]
     fn observability_workload_gives_rank_15_for_each_paper_state_alone() {
         let results = observability_workload().unwrap();
+        // Three states (I, II, III), each 24 singular values and a rank.
+        assert_eq!(results.len(), 75);
+        assert_eq!(
+            results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1).count(),
+            3
+        );
         for chunk in results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1) {
             let (singular_values, rank) = chunk.split_at(SINGULAR_VALUES_PER_STATE);
             assert!((rank[0] - 15.0).abs() < 1e-12, "{rank:?}");
@@ -577,6 +589,260 @@ mod tests {
             // 15 clearly non-zero, 9 numerically zero (relative 1e-12).
             assert!(singular_values[14] > 1e-8 * singular_values[0]);
             assert!(singular_values[15] <= 1e-12 * singular_values[0]);
+        }
+    }
+
+    /// The reference workload against an independent evaluation of its documented formulas
+    /// (Python 3 with the C library's `sin`/`exp`/`cos`, double precision): traces and one
+    /// element of `M Mᵀ` to 1e-13 relative, the coning attitude to 1e-14. The host/target
+    /// comparison alone cannot see a wrong formula (both sides run the same code).
+    #[test]
+    fn reference_workload_matches_an_independent_evaluation() {
+        let results = reference_workload();
+        let independent: [f64; 7] = [
+            73.710_713_977_101_49,
+            25.961_100_458_878_73,
+            0.183_797_414_086_148_8,
+            0.998_588_918_490_162_3,
+            3.325_459_334_804_181e-5,
+            0.001_058_178_318_167_892_8,
+            0.053_094_736_287_282_895,
+        ];
+        for (index, (value, expected)) in results.iter().zip(independent.iter()).enumerate() {
+            let tolerance = if index < 3 {
+                1e-13 * expected.abs()
+            } else {
+                1e-14
+            };
+            assert!(
+                (value - expected).abs() <= tolerance,
+                "result {index}: {value:e} vs {expected:e}"
+            );
+        }
+        // |q| − 1: round-off of 500 products only.
+        assert!(results[7].abs() < 1e-14, "{:e}", results[7]);
+    }
+
+    /// The fixture's IMU profile is the documented one: raw rate and specific force of the
+    /// last step (`Δθ/T`, `Δv/T`) at step k = 37 (φ = 0.37).
+    #[test]
+    fn fixture_navigate_uses_the_documented_motion() {
+        let mut fixture = FilterPathFixture::new().unwrap();
+        for _ in 0..38 {
+            fixture.navigate().unwrap();
+        }
+        let phase: f64 = 0.37;
+        let rate = Vector3::new(0.1 * phase.sin(), 0.05, 1.7 * phase.cos());
+        let force = Vector3::new(0.5, 20.0 + (3.0 * phase).sin(), -0.3);
+        let step = fixture.last_step;
+        assert!((step.measured_rate_rad_s - rate).norm() < 1e-14, "{step:?}");
+        assert!(
+            (step.measured_specific_force_mps2 - force).norm() < 1e-13,
+            "{step:?}"
+        );
+        // No calibration yet: corrected = measured.
+        assert!((step.corrected_rate_rad_s - rate).norm() < 1e-14);
+    }
+
+    /// `propagate`, `propagate_with(Structured)` and `propagate_part(2)` are the same
+    /// operation (bit for bit); parts 0 and 1 leave `P` alone; the dense propagation agrees
+    /// to round-off; and a propagation adds process noise (the trace of `P` grows).
+    #[test]
+    fn fixture_propagation_variants_agree_and_grow_the_covariance() {
+        let mut base = FilterPathFixture::new().unwrap();
+        base.navigate().unwrap();
+        let before = *base.filter.covariance();
+        let run = |action: &dyn Fn(&mut FilterPathFixture)| {
+            let mut fixture = base;
+            action(&mut fixture);
+            *fixture.filter.covariance()
+        };
+        let flight = run(&|f| f.propagate().unwrap());
+        let with = run(&|f| f.propagate_with(Implementation::Structured).unwrap());
+        let part = run(&|f| f.propagate_part(2).unwrap());
+        let dense = run(&|f| f.propagate_with(Implementation::Dense).unwrap());
+        assert_eq!(flight, with);
+        assert_eq!(flight, part);
+        for partial in [0, 1] {
+            assert_eq!(run(&|f| f.propagate_part(partial).unwrap()), before);
+        }
+        assert!(flight.trace() > before.trace());
+        assert!((flight - before).amax() > 1e-12 * before.amax());
+        assert!((dense - flight).amax() <= 1e-12 * before.amax());
+    }
+
+    /// A star update shrinks the attitude variance as the scalar Kalman update of `ϑ` seen
+    /// through `ϑ + ψ` predicts; `star_update` is the structured variant.
+    #[test]
+    fn fixture_star_update_follows_the_scalar_kalman_update() {
+        let mut base = FilterPathFixture::new().unwrap();
+        base.navigate().unwrap();
+        base.propagate().unwrap();
+        let prior = base.filter.covariance()[(0, 0)];
+        let mut flight = base;
+        flight.star_update().unwrap();
+        let mut structured = base;
+        structured
+            .star_update_with(Implementation::Structured)
+            .unwrap();
+        assert_eq!(flight.filter.covariance(), structured.filter.covariance());
+        // The star sees `C ϑ + ψ + v` with isotropic priors a (attitude), b (installation) and
+        // noise r = (10″/2)²: the scalar update a' = a (b + r) / (a + b + r) per axis.
+        let installation = crate::state::STAR_INSTALLATION.index;
+        let b = base.filter.covariance()[(installation, installation)];
+        let r = (0.5 * 10.0 / 206_264.806_247_096_36_f64).powi(2);
+        let expected = prior * (b + r) / (prior + b + r);
+        let posterior = flight.filter.covariance()[(0, 0)];
+        assert!(
+            (posterior - expected).abs() < 1e-6 * expected,
+            "{posterior:e} vs {expected:e} (prior {prior:e})"
+        );
+        assert!(posterior < prior - 9e-9);
+    }
+
+    /// The GNSS update is the documented fix (lever arm `(0.5, 1, −0.2)` m, offset
+    /// `(12, −5, 3)` m, 10 m), referred to the current state by `H (I − AΔ)` only for a
+    /// positive latency: the error state after each implementation's update equals a plain
+    /// dense update with the measurement built here, per component to 1e-9 relative.
+    #[test]
+    fn fixture_gnss_update_is_the_documented_fix() {
+        let mut base = FilterPathFixture::new().unwrap();
+        base.navigate().unwrap();
+        base.propagate().unwrap();
+        let navigation = base.navigation;
+        let lever_arm = Vector3::new(0.5, 1.0, -0.2);
+        let offset = Vector3::new(12.0, -5.0, 3.0);
+        let antenna =
+            navigation.position_m + attitude::rotate(&navigation.attitude, &lever_arm) + offset;
+        let measurement = gnss_position(
+            &navigation.attitude,
+            &navigation.position_m,
+            &lever_arm,
+            &antenna,
+            10.0,
+        )
+        .unwrap();
+        assert!((measurement.residual - offset).norm() < 1e-8);
+        let mut flight = base;
+        flight.gnss_update().unwrap();
+        let mut structured = base;
+        structured
+            .gnss_update_with(Implementation::Structured, 0.0)
+            .unwrap();
+        assert_eq!(flight.filter.state(), structured.filter.state());
+        assert_eq!(flight.filter.covariance(), structured.filter.covariance());
+        for latency in [0.0, 0.01] {
+            let referred = if latency > 0.0 {
+                let system = system_matrix(&base.linearisation_point());
+                refer_to_later_time(&measurement, &system, latency).unwrap()
+            } else {
+                measurement
+            };
+            let mut expected = base;
+            expected.filter.update(&referred, f64::INFINITY).unwrap();
+            let expected_state = *expected.filter.state();
+            // The referral adds a velocity column: the velocity correction differs.
+            for implementation in [Implementation::Structured, Implementation::Dense] {
+                let mut fixture = base;
+                fixture.gnss_update_with(implementation, latency).unwrap();
+                for (k, (value, wanted)) in fixture
+                    .filter
+                    .state()
+                    .iter()
+                    .zip(expected_state.iter())
+                    .enumerate()
+                {
+                    assert!(
+                        (value - wanted).abs() <= 1e-9 * wanted.abs(),
+                        "{implementation:?} latency {latency}, state {k}: {value:e} vs {wanted:e}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The closed-loop reset feeds the estimated error into the solution (`p̂ += δp`,
+    /// `v̂ += δv`, gyro bias `b̂ += δb`) and zeroes the filter's error state; `reset` is the
+    /// structured variant, and the worst frame is exactly its four documented steps.
+    #[test]
+    fn fixture_reset_feeds_back_and_worst_frame_is_its_four_steps() {
+        use crate::state::{GYRO_BIAS, POSITION, VELOCITY};
+        let mut base = FilterPathFixture::new().unwrap();
+        base.navigate().unwrap();
+        base.propagate().unwrap();
+        base.gnss_update().unwrap();
+        let error = *base.filter.state();
+        assert!(
+            error.fixed_rows::<3>(POSITION.index).norm() > 5.0,
+            "{error:?}"
+        );
+        let mut flight = base;
+        flight.reset().unwrap();
+        let mut structured = base;
+        structured.reset_with(Implementation::Structured).unwrap();
+        assert_eq!(
+            flight.results().map(f64::to_bits),
+            structured.results().map(f64::to_bits)
+        );
+        assert_eq!(*flight.filter.state(), crate::filter::ErrorState::zeros());
+        let moved = flight.navigation.position_m - base.navigation.position_m;
+        assert!(
+            (moved - error.fixed_rows::<3>(POSITION.index)).norm() < 1e-9,
+            "{moved:?}"
+        );
+        let velocity = flight.navigation.velocity_mps - base.navigation.velocity_mps;
+        assert!((velocity - error.fixed_rows::<3>(VELOCITY.index)).norm() < 1e-12);
+        let bias = Vector3::from(flight.calibration.gyro_bias_rad_s);
+        assert!((bias - error.fixed_rows::<3>(GYRO_BIAS.index)).norm() < 1e-18);
+
+        for implementation in [Implementation::Structured, Implementation::Dense] {
+            let mut frame = FilterPathFixture::new().unwrap();
+            frame.worst_frame_with(implementation).unwrap();
+            let mut steps = FilterPathFixture::new().unwrap();
+            steps.navigate().unwrap();
+            steps.propagate_with(implementation).unwrap();
+            steps.gnss_update_with(implementation, 0.01).unwrap();
+            steps.reset_with(implementation).unwrap();
+            assert_eq!(frame.step, 1);
+            let (a, b) = (frame.results(), steps.results());
+            assert!(a
+                .iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits()));
+        }
+    }
+
+    /// The observability workload is the documented geometry: attitude `exp([0.2, 0.4, −0.1])`
+    /// and mounting `exp([0.4, −1.1, 0.25])`, each paper state alone, scaled continuous
+    /// segment; its singular values equal those of that analysis built here (1e-12 relative).
+    #[test]
+    fn observability_workload_is_the_documented_geometry() {
+        let results = observability_workload().unwrap();
+        let attitude = attitude::exp_rotation_vector(&Vector3::new(0.2, 0.4, -0.1));
+        let mounting = attitude::exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25));
+        let h = full_update_measurement_matrix(&attitude, &mounting).unwrap();
+        for (state, chunk) in PaperMotionState::ALL
+            .iter()
+            .zip(results.chunks_exact(SINGULAR_VALUES_PER_STATE + 1))
+        {
+            let point = state.linearisation_point(&attitude::rotation_matrix(&attitude));
+            let mut stripped = StrippedObservability::new(Scaling::typical()).unwrap();
+            stripped
+                .add_segment(&system_matrix(&point), &h, SystemForm::Continuous)
+                .unwrap();
+            let analysis = stripped.analyse(&RankTolerance::DEFAULT).unwrap();
+            for (k, (value, expected)) in chunk
+                .iter()
+                .zip(analysis.singular_values.iter())
+                .enumerate()
+                .take(15)
+            {
+                assert!(
+                    (value - expected).abs() <= 1e-12 * expected,
+                    "{} σ{k}: {value:e} vs {expected:e}",
+                    state.label()
+                );
+            }
         }
     }
 }

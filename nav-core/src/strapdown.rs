@@ -610,4 +610,204 @@ mod tests {
         assert_eq!(nav, nav_before);
         assert_eq!(sd, sd_before);
     }
+
+    /// Each input check refuses its own fault with its own error: a non-finite velocity
+    /// increment alone, or a non-finite attitude vector part alone, is caught up front (not
+    /// later by a side effect), and a negative interval is an invalid time step.
+    #[test]
+    fn each_input_fault_is_refused_with_its_error() {
+        let f = frame();
+        let mut sd = Strapdown::new(StrapdownConfig::default());
+        let mut nav = at_rest();
+        let good = ImuIncrement::from_rates(
+            &Vector3::new(0.1, 0.2, 0.3),
+            &Vector3::new(0.0, 9.8, 0.0),
+            0.002,
+        );
+        let none = SensorCorrections::default();
+        let mut bad = good;
+        bad.delta_velocity_mps.z = f64::NAN;
+        assert_eq!(
+            sd.step(&mut nav, &bad, &none, &f),
+            Err(NavError::NonFiniteInput)
+        );
+        bad = good;
+        bad.interval_s = -0.002;
+        assert_eq!(
+            sd.step(&mut nav, &bad, &none, &f),
+            Err(NavError::InvalidTimeStep)
+        );
+        for component in 0..3 {
+            let mut broken = at_rest();
+            broken.attitude.coords[component] = f64::NAN;
+            assert_eq!(
+                sd.step(&mut broken, &good, &none, &f),
+                Err(NavError::NonFiniteState),
+                "{component}"
+            );
+        }
+        assert_eq!(nav, at_rest());
+    }
+
+    /// After `reset_history` a step is exactly the step of a fresh integrator (no coning or
+    /// sculling term from the previous increments), while without it the history matters.
+    #[test]
+    fn reset_history_forgets_the_previous_increments() {
+        let f = frame();
+        let first = ImuIncrement::from_rates(
+            &Vector3::new(0.5, -0.2, 0.3),
+            &Vector3::new(1.0, 9.8, -2.0),
+            0.002,
+        );
+        let second = ImuIncrement::from_rates(
+            &Vector3::new(-0.4, 0.6, 0.1),
+            &Vector3::new(-3.0, 9.0, 4.0),
+            0.002,
+        );
+        let none = SensorCorrections::default();
+        let mut sd = Strapdown::new(config(true, true));
+        let mut nav = at_rest();
+        sd.step(&mut nav, &first, &none, &f).unwrap();
+        let after_first = nav;
+        let mut with_history = sd;
+        let mut nav_with_history = after_first;
+        with_history
+            .step(&mut nav_with_history, &second, &none, &f)
+            .unwrap();
+        sd.reset_history();
+        assert_eq!(sd, Strapdown::new(config(true, true)));
+        let mut nav_reset = after_first;
+        sd.step(&mut nav_reset, &second, &none, &f).unwrap();
+        let mut fresh = Strapdown::new(config(true, true));
+        let mut nav_fresh = after_first;
+        fresh.step(&mut nav_fresh, &second, &none, &f).unwrap();
+        assert_eq!(nav_reset, nav_fresh);
+        assert!(angle_between(&nav_reset.attitude, &nav_with_history.attitude) > 1e-8);
+        assert!((nav_reset.velocity_mps - nav_with_history.velocity_mps).norm() > 1e-8);
+    }
+
+    /// Rotation compensation, step 3's `½ Δθ × Δv`: one step from rest (no history) with a
+    /// constant rate ω about body z and a constant specific force f along body x. The exact
+    /// inertial velocity change is `∫₀ᵀ R_z(ωt) f dt = (f/ω) [sin ωT, 1 − cos ωT, 0]`, i.e.
+    /// `f T [1 − (ωT)²/6, ωT/2 − (ωT)³/24, 0]`; the two-sample form gives `f T [1, ωT/2, 0]`,
+    /// so it must agree to `f T (ωT)²/6` (1.7e-6 m/s here) — the `ωT/2` term is 5e-4 m/s.
+    /// Gravity is removed with the step's own `g T`; measured outputs are `Δ/T`.
+    #[test]
+    fn rotation_compensation_matches_the_exact_velocity_increment() {
+        let f = frame();
+        let mut sd = Strapdown::new(config(true, true));
+        let mut nav = at_rest();
+        let (rate, force, interval) = (1.0, 10.0, 0.01);
+        let raw = ImuIncrement::from_rates(
+            &Vector3::new(0.0, 0.0, rate),
+            &Vector3::new(force, 0.0, 0.0),
+            interval,
+        );
+        let out = sd
+            .step(&mut nav, &raw, &SensorCorrections::default(), &f)
+            .unwrap();
+        let angle = rate * interval;
+        let exact = Vector3::new(angle.sin(), 1.0 - angle.cos(), 0.0) * (force / rate);
+        let from_force = nav.velocity_mps - out.gravity_mps2 * interval;
+        let error = (from_force - exact).norm();
+        assert!(error < 2e-6, "{from_force:?} vs {exact:?}");
+        assert!((from_force.y - 0.5 * force * interval * angle).abs() < 1e-7);
+        assert!((out.measured_rate_rad_s - Vector3::new(0.0, 0.0, rate)).norm() < 1e-15);
+        assert!((out.measured_specific_force_mps2 - Vector3::new(force, 0.0, 0.0)).norm() < 1e-14);
+    }
+
+    /// Every result is checked for overflow, each on its own: a position that overflows while
+    /// the velocity stays finite, a time that overflows alone, and each of the four output
+    /// rates overflowing alone (a subnormal interval; scale-factor corrections make the
+    /// corrected and raw increments differ). All are refused and leave `nav` unchanged.
+    #[test]
+    fn each_overflowing_result_is_refused() {
+        let f = frame();
+        let none = SensorCorrections::default();
+        let no_j2 = config(true, false);
+        // Position: p = 1.5e308, Δv = 1e308 over 1 s → v = 1e308 (finite), p + v/2 = ∞.
+        let mut far = at_rest();
+        far.position_m = Vector3::new(1.5e308, 0.0, 0.0);
+        let push = ImuIncrement {
+            delta_angle_rad: Vector3::zeros(),
+            delta_velocity_mps: Vector3::new(1.0e308, 0.0, 0.0),
+            interval_s: 1.0,
+        };
+        let before = far;
+        assert_eq!(
+            Strapdown::new(no_j2).step(&mut far, &push, &none, &f),
+            Err(NavError::NonFiniteState)
+        );
+        assert_eq!(far, before);
+        // Time: t = f64::MAX plus one ulp of it; 1e150 m out gravity is 0, so nothing else
+        // overflows.
+        let mut late = at_rest();
+        late.position_m = Vector3::new(1.0e150, 0.0, 0.0);
+        late.time_s = f64::MAX;
+        let idle = ImuIncrement {
+            delta_angle_rad: Vector3::zeros(),
+            delta_velocity_mps: Vector3::zeros(),
+            interval_s: libm::exp2(971.0),
+        };
+        let before = late;
+        assert_eq!(
+            Strapdown::new(no_j2).step(&mut late, &idle, &none, &f),
+            Err(NavError::NonFiniteState)
+        );
+        assert_eq!(late, before);
+        // Output rates over a subnormal interval of 1e-310 s.
+        let tiny = 1.0e-310;
+        let x = Vector3::x();
+        let cases = [
+            // Corrected rate ∞ (0.101 / 1e-310), raw rate 1e307.
+            (
+                x * 1e-3,
+                Vector3::zeros(),
+                Vector3::new(-100.0, 0.0, 0.0),
+                Vector3::zeros(),
+            ),
+            // Corrected specific force ∞, raw 1e307.
+            (
+                Vector3::zeros(),
+                x * 1e-3,
+                Vector3::zeros(),
+                Vector3::new(-100.0, 0.0, 0.0),
+            ),
+            // Raw rate ∞ (0.1 / 1e-310), corrected 1e306.
+            (
+                x * 0.1,
+                Vector3::zeros(),
+                Vector3::new(0.999, 0.0, 0.0),
+                Vector3::zeros(),
+            ),
+            // Raw specific force ∞, corrected 1e306.
+            (
+                Vector3::zeros(),
+                x * 0.1,
+                Vector3::zeros(),
+                Vector3::new(0.999, 0.0, 0.0),
+            ),
+        ];
+        for (index, (delta_angle, delta_velocity, gyro_scale, accel_scale)) in
+            cases.into_iter().enumerate()
+        {
+            let raw = ImuIncrement {
+                delta_angle_rad: delta_angle,
+                delta_velocity_mps: delta_velocity,
+                interval_s: tiny,
+            };
+            let corrections = SensorCorrections {
+                gyro_scale_factor: gyro_scale,
+                accel_scale_factor: accel_scale,
+                ..SensorCorrections::default()
+            };
+            let mut nav = at_rest();
+            assert_eq!(
+                Strapdown::new(config(true, true)).step(&mut nav, &raw, &corrections, &f),
+                Err(NavError::NonFiniteState),
+                "case {index}"
+            );
+            assert_eq!(nav, at_rest());
+        }
+    }
 }
