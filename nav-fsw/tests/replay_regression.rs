@@ -1,7 +1,9 @@
 //! A change indicator for the whole flight software (PX4-style replay diff): 3,000 frames
 //! (6 s at 500 Hz) of a deterministic synthetic flight through `NavigationComputer` — coast,
-//! a rotation, thrust, star fixes at 10 Hz, GNSS fixes at 2 Hz arriving 10 ms late, an IMU
-//! dropout, a duplicated IMU sample and a 5° star outlier — with every frame's 72-word output
+//! a rotation, thrust, star fixes at 10 Hz, GNSS fixes at 2 Hz arriving 10 ms late (one
+//! between two frames), an IMU dropout, a duplicated IMU sample, a 5° star outlier, three
+//! outliers in a row that get the star sensor declared faulty and the ground command that
+//! clears it, and a frame-cost report — with every frame's 72-word output
 //! record (navigation, fusion, NIS, calibration table, health counters) and the final
 //! covariance folded into one FNV-1a digest.
 //!
@@ -19,11 +21,11 @@ use nav_core::strapdown::NavigationState;
 use nav_fsw::config::FswConfig;
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::replay::{output_words, FramePorts};
-use nav_fsw::scheduler::NavigationComputer;
+use nav_fsw::scheduler::{Command, FilterArithmetic, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
 
 /// The digest of the run (see the module docs to update it).
-const EXPECTED_DIGEST: u64 = 0xbf7a_1234_4897_59c2;
+const EXPECTED_DIGEST: u64 = 0x9a74_0b22_60d5_fc74;
 
 const FRAMES: u32 = 3_000;
 const PERIOD_S: f64 = 0.002;
@@ -47,8 +49,28 @@ fn motion(frame: u32) -> ([f64; 3], [f64; 3]) {
     }
 }
 
-#[test]
-fn the_flight_outputs_match_the_recorded_digest() {
+/// What one flight produced.
+struct Flight {
+    digest: u64,
+    star_accepted: u32,
+    star_rejected: u32,
+    star_accepted_after_clearing: u32,
+    gnss_accepted: u32,
+    overruns_reported: u32,
+    computer: NavigationComputer,
+}
+
+/// Star frames whose fix is 5° off: one alone, then three in a row (the sensor is declared
+/// faulty after 3 consecutive rejections in this test's configuration).
+const STAR_OUTLIER_FRAMES: [u32; 4] = [1_500, 2_500, 2_550, 2_600];
+/// The frame of the `ClearSensorFaults` command.
+const CLEAR_FRAME: u32 = 2_720;
+/// The frame whose GNSS fix is tagged between two frames (1.1 ms before the frame's time).
+const BETWEEN_FRAMES_FIX: u32 = 1_610;
+/// Frame-cost budget (arbitrary units) and the cost reported for frame `n`: `n mod 1,500`.
+const COST_BUDGET: u32 = 1_400;
+
+fn fly(arithmetic: FilterArithmetic) -> Flight {
     let site = LaunchSite {
         latitude_rad: 0.715,
         longitude_rad: 1.750,
@@ -62,13 +84,18 @@ fn the_flight_outputs_match_the_recorded_digest() {
         velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
         time_s: 600.0,
     };
-    let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site), initial).unwrap();
+    let mut config = FswConfig::paper_defaults(site);
+    config.timing.rejections_to_declare_faulty = 3;
+    let mut computer = NavigationComputer::new(config, initial).unwrap();
+    computer.set_arithmetic(arithmetic);
+    computer.set_frame_budget(COST_BUDGET);
     // The star sensor sees the attitude turned by a fixed small offset (an installation error).
     let star_offset = attitude::exp_rotation_vector(&Vector3::new(2e-4, -1e-4, 3e-4));
     let outlier = attitude::exp_rotation_vector(&Vector3::new(5f64.to_radians(), 0.0, 0.0));
     let mut digest = 0xcbf2_9ce4_8422_2325_u64;
     let mut gnss_epoch = None;
     let (mut star_accepted, mut star_rejected, mut gnss_accepted) = (0, 0, 0);
+    let (mut star_accepted_after_clearing, mut overruns_reported) = (0, 0);
     let mut sequence = 0_u32;
     // The true attitude, from the body rates alone (the star sensor sees it, not the filter's
     // estimate, so the closed-loop corrections do not move the measurements).
@@ -93,7 +120,7 @@ fn the_flight_outputs_match_the_recorded_digest() {
         let navigation = computer.navigation();
         if frame % 50 == 0 {
             let seen = attitude::product(&true_attitude, &star_offset);
-            let q = if frame == 1_500 {
+            let q = if STAR_OUTLIER_FRAMES.contains(&frame) {
                 attitude::product(&seen, &outlier)
             } else {
                 seen
@@ -107,11 +134,17 @@ fn the_flight_outputs_match_the_recorded_digest() {
                 })
                 .unwrap();
         }
-        // GNSS: the solution of 5 frames ago ± 1 m, delivered 10 ms late.
+        // GNSS: the solution of 5 frames ago ± 1 m, delivered 10 ms late; one fix tagged
+        // between two frames (the solution there is interpolated).
         if frame % 250 == 245 {
             gnss_epoch = Some((navigation.time_s, navigation.position_m));
         }
-        if frame % 250 == 0 {
+        if frame == BETWEEN_FRAMES_FIX {
+            let tag = navigation.time_s - 0.0011;
+            let velocity = navigation.velocity_mps;
+            gnss_epoch = Some((tag, navigation.position_m - velocity * 0.0011));
+        }
+        if frame % 250 == 0 || frame == BETWEEN_FRAMES_FIX + 2 {
             if let Some((tag, position)) = gnss_epoch.take() {
                 let sign = if frame % 500 == 0 { 1.0 } else { -1.0 };
                 let fix = position + Vector3::new(1.0, -0.5, 0.5) * sign;
@@ -129,13 +162,22 @@ fn the_flight_outputs_match_the_recorded_digest() {
                     .unwrap();
             }
         }
+        if frame == CLEAR_FRAME {
+            computer.command(Command::ClearSensorFaults);
+        }
         let telemetry = ports.run(&mut computer);
+        let cost = frame % 1_500;
+        computer.report_frame_cost(cost);
+        overruns_reported += u32::from(cost > COST_BUDGET);
         if !dropout {
             let turn = attitude::exp_rotation_vector(&(Vector3::from(rate) * PERIOD_S));
             true_attitude = attitude::product(&true_attitude, &turn);
         }
         match telemetry.fusion {
-            FrameFusion::StarAccepted => star_accepted += 1,
+            FrameFusion::StarAccepted => {
+                star_accepted += 1;
+                star_accepted_after_clearing += u32::from(frame > CLEAR_FRAME);
+            }
             FrameFusion::StarRejected => star_rejected += 1,
             FrameFusion::GnssAccepted => gnss_accepted += 1,
             FrameFusion::GnssRejected | FrameFusion::None => {}
@@ -147,22 +189,50 @@ fn the_flight_outputs_match_the_recorded_digest() {
     for value in computer.filter().covariance().iter() {
         digest = fold(digest, value.to_bits());
     }
+    Flight {
+        digest,
+        star_accepted,
+        star_rejected,
+        star_accepted_after_clearing,
+        gnss_accepted,
+        overruns_reported,
+        computer,
+    }
+}
+
+#[test]
+fn the_flight_outputs_match_the_recorded_digest() {
+    let flight = fly(FilterArithmetic::Structured);
+    let computer = &flight.computer;
     let health = computer.health();
-    // What the flight must have done, whatever the digest.
-    // 60 star fixes; the last frame's waits behind that frame's (older) GNSS fix: one fusion
-    // per frame, by construction.
+    // What the flight must have done, whatever the digest. 60 star fixes: the last frame's
+    // waits behind that frame's (older) GNSS fix (one fusion per frame, by construction); the
+    // two while the sensor is declared faulty are ignored (reported as rejected).
+    assert_eq!(health.ignored_from_faulty_sensor, 2);
+    assert_eq!(flight.star_accepted + flight.star_rejected, 59);
     assert_eq!(
-        star_accepted + star_rejected,
-        59,
-        "every star fix fused or rejected"
+        flight.star_rejected,
+        4 + 2,
+        "the four outliers and the two ignored fixes"
     );
-    assert_eq!(computer.health().measurement_overflow, 0);
-    assert_eq!(star_rejected, 1, "only the 5° outlier is rejected");
-    assert_eq!(health.star_gate_rejections, 1);
-    assert_eq!(gnss_accepted, 12, "every late GNSS fix accepted");
+    assert_eq!(
+        health.star_gate_rejections, 4,
+        "only the outliers are gated"
+    );
+    assert_eq!(health.star_declared_faulty, 1, "three outliers in a row");
+    assert_eq!(
+        flight.star_accepted_after_clearing, 5,
+        "the command cleared the fault"
+    );
+    assert_eq!(flight.gnss_accepted, 13, "every late GNSS fix accepted");
     assert_eq!(health.imu_missing, 5, "the dropout counted frame by frame");
     assert_eq!(health.imu_duplicate, 1, "the repeated sample counted");
     assert_eq!(health.filter_resets, 0);
+    assert_eq!(health.measurement_overflow, 0);
+    assert_eq!(computer.worst_frame_cost(), 1_499);
+    assert_eq!(health.frame_overruns, flight.overruns_reported);
+    assert!(flight.overruns_reported > 0);
+    let digest = flight.digest;
     if std::env::var_os("NAV_PRINT_DIGEST").is_some() {
         println!("digest {digest:#018x}");
     }
@@ -170,4 +240,36 @@ fn the_flight_outputs_match_the_recorded_digest() {
         digest, EXPECTED_DIGEST,
         "the flight outputs changed (digest {digest:#018x}); if intended, update EXPECTED_DIGEST"
     );
+}
+
+/// The dense reference arithmetic flies the same flight to round-off: same decisions, the
+/// same solution and covariance within relative 1e-9.
+#[test]
+fn the_dense_reference_flies_the_same_flight() {
+    let structured = fly(FilterArithmetic::Structured);
+    let dense = fly(FilterArithmetic::DenseReference);
+    assert_eq!(structured.star_accepted, dense.star_accepted);
+    assert_eq!(structured.gnss_accepted, dense.gnss_accepted);
+    let (a, b) = (
+        structured.computer.navigation(),
+        dense.computer.navigation(),
+    );
+    assert!((a.position_m - b.position_m).norm() < 1e-6);
+    assert!((a.attitude.coords - b.attitude.coords).norm() < 1e-12);
+    let (p, q) = (
+        structured.computer.filter().covariance(),
+        dense.computer.filter().covariance(),
+    );
+    assert!(
+        (p - q).norm() <= 1e-9 * p.norm(),
+        "{}",
+        (p - q).norm() / p.norm()
+    );
+    let (x, y) = (
+        structured.computer.calibration_estimate(),
+        dense.computer.calibration_estimate(),
+    );
+    for (u, v) in x.gyro_bias_rad_s.iter().zip(y.gyro_bias_rad_s) {
+        assert!((u - v).abs() < 1e-12);
+    }
 }
