@@ -267,18 +267,24 @@ mod tests {
         }
     }
 
-    #[test]
-    fn noise_covariances_and_bad_inputs() {
+    /// The star measurement of a sensor that sees exactly the estimated attitude.
+    fn star_at_estimate(noise_rad: f64) -> LinearMeasurement {
         let est = estimate();
-        let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
-        let m = star_sensor(
+        star_sensor(
             &est.attitude,
             &mounting(),
             &installation_estimate(),
             &est.attitude,
-            10.0 * arcsec,
+            noise_rad,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn noise_covariances_and_bad_inputs() {
+        let est = estimate();
+        let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
+        let m = star_at_estimate(10.0 * arcsec);
         assert!((m.noise_covariance[(0, 0)] - (5.0 * arcsec).powi(2)).abs() < 1e-25);
         let nan = Quaternion::new(f64::NAN, 0.0, 0.0, 0.0);
         assert_eq!(
@@ -309,14 +315,7 @@ mod tests {
     fn refer_to_later_time_formula_and_refusals() {
         let est = estimate();
         let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
-        let m = star_sensor(
-            &est.attitude,
-            &mounting(),
-            &installation_estimate(),
-            &est.attitude,
-            10.0 * arcsec,
-        )
-        .unwrap();
+        let m = star_at_estimate(10.0 * arcsec);
         let system =
             crate::error_model::system_matrix(&crate::error_model::tests::linearisation(&est));
         let same = refer_to_later_time(&m, &system, 0.0).unwrap();

@@ -559,16 +559,21 @@ mod tests {
         assert!((out.gravity_mps2.norm() - 9.816).abs() < 1e-3);
     }
 
+    /// A 2 ms increment turning about all three axes under a 9.8 m/s² specific force.
+    fn turning_increment() -> ImuIncrement {
+        ImuIncrement::from_rates(
+            &Vector3::new(0.1, 0.2, 0.3),
+            &Vector3::new(0.0, 9.8, 0.0),
+            0.002,
+        )
+    }
+
     #[test]
     fn errors_leave_state_untouched() {
         let f = frame();
         let mut sd = Strapdown::new(StrapdownConfig::default());
         let mut nav = at_rest();
-        let good = ImuIncrement::from_rates(
-            &Vector3::new(0.1, 0.2, 0.3),
-            &Vector3::new(0.0, 9.8, 0.0),
-            0.002,
-        );
+        let good = turning_increment();
         sd.step(&mut nav, &good, &SensorCorrections::default(), &f)
             .unwrap();
         let (nav_before, sd_before) = (nav, sd);
@@ -619,11 +624,7 @@ mod tests {
         let f = frame();
         let mut sd = Strapdown::new(StrapdownConfig::default());
         let mut nav = at_rest();
-        let good = ImuIncrement::from_rates(
-            &Vector3::new(0.1, 0.2, 0.3),
-            &Vector3::new(0.0, 9.8, 0.0),
-            0.002,
-        );
+        let good = turning_increment();
         let none = SensorCorrections::default();
         let mut bad = good;
         bad.delta_velocity_mps.z = f64::NAN;
