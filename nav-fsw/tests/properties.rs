@@ -214,6 +214,19 @@ proptest! {
     }
 }
 
+/// Both filter modes survive the word encoding (the mode word 0 is open loop, 1 closed loop).
+#[test]
+fn both_filter_modes_round_trip_through_the_setup_words() {
+    use nav_core::filter::FilterMode;
+    for mode in [FilterMode::OpenLoop, FilterMode::ClosedLoop] {
+        let setup = ReplaySetup {
+            mode,
+            ..reference_setup()
+        };
+        assert_eq!(ReplaySetup::from_words(&setup.to_words()).unwrap(), setup);
+    }
+}
+
 fn reference_setup() -> ReplaySetup {
     let config = FswConfig::paper_defaults(site());
     ReplaySetup {

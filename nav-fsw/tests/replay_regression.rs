@@ -25,7 +25,7 @@ use nav_fsw::scheduler::{Command, FilterArithmetic, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
 
 /// The digest of the run (see the module docs to update it).
-const EXPECTED_DIGEST: u64 = 0xccf0_6842_73f4_88bd;
+const EXPECTED_DIGEST: u64 = 0x1c52_8dd9_d0a6_9f29;
 
 const FRAMES: u32 = 3_000;
 const PERIOD_S: f64 = 0.002;
@@ -75,6 +75,14 @@ const SLIGHTLY_FUTURE_FIX: u32 = 1_400;
 const STALE_FIX: u32 = 1_210;
 /// The frame carrying a GNSS fix 0.5 s in the future.
 const FUTURE_FIX: u32 = 1_310;
+/// The star frame whose fix is tagged 0.3 ms before the end of the frame: between two frames
+/// (interpolated, and referred over its 0.3 ms latency).
+const LATE_BY_A_FRACTION_FIX: u32 = 1_650;
+/// The frame carrying a star fix tagged before the first frame (within the largest latency,
+/// but older than anything in the history).
+const BEFORE_HISTORY_FIX: u32 = 5;
+/// GNSS antenna lever arm in body axes (m).
+const LEVER_ARM_M: [f64; 3] = [0.5, 1.0, -0.2];
 /// Frame-cost budget (arbitrary units) and the cost reported for frame `n`: `n mod 1,500`.
 const COST_BUDGET: u32 = 1_400;
 
@@ -95,6 +103,8 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
     let mut config = FswConfig::paper_defaults(site);
     config.timing.rejections_to_declare_faulty = 3;
     config.covariance.propagation_interval_frames = propagation_interval_frames;
+    // The antenna is off the body origin: the GNSS prediction adds the rotated lever arm.
+    config.gnss.lever_arm_body_m = LEVER_ARM_M;
     // A floor the installation error's 1σ reaches during the flight: covariance protection at
     // work (clamps counted, the filter never reset).
     config.covariance.sigma_floor.star_installation_rad =
@@ -143,10 +153,10 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
             let q = if frame >= SIGN_CHANGE_FRAME { -q } else { q };
             // One fix a little after this frame's own time of validity: within the future
             // tolerance, fused with the newest solution.
-            let tag = if frame == SLIGHTLY_FUTURE_FIX {
-                navigation.time_s + PERIOD_S + 0.0005
-            } else {
-                navigation.time_s
+            let tag = match frame {
+                SLIGHTLY_FUTURE_FIX => navigation.time_s + PERIOD_S + 0.0005,
+                LATE_BY_A_FRACTION_FIX => navigation.time_s + PERIOD_S - 0.0003,
+                _ => navigation.time_s,
             };
             ports
                 .star
@@ -158,6 +168,16 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                 .unwrap();
         }
         // A fix older than the largest latency (refused as stale) and one far in the future.
+        if frame == BEFORE_HISTORY_FIX {
+            ports
+                .star
+                .0
+                .push_back(StarMeasurement {
+                    time_tag_s: 600.0 - 0.05,
+                    attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+                })
+                .unwrap();
+        }
         if frame == STALE_FIX {
             ports
                 .star
@@ -184,13 +204,16 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
         }
         // GNSS: the solution of 5 frames ago ± 1 m, delivered 10 ms late; one fix tagged
         // between two frames (the solution there is interpolated).
+        let lever_arm = Vector3::from(LEVER_ARM_M);
+        let antenna =
+            |position: Vector3<f64>| position + attitude::rotate(&navigation.attitude, &lever_arm);
         if frame % 250 == 245 {
-            gnss_epoch = Some((navigation.time_s, navigation.position_m));
+            gnss_epoch = Some((navigation.time_s, antenna(navigation.position_m)));
         }
         if frame == BETWEEN_FRAMES_FIX {
             let tag = navigation.time_s - 0.0011;
             let velocity = navigation.velocity_mps;
-            gnss_epoch = Some((tag, navigation.position_m - velocity * 0.0011));
+            gnss_epoch = Some((tag, antenna(navigation.position_m - velocity * 0.0011)));
         }
         if frame % 250 == 0 || frame == BETWEEN_FRAMES_FIX + 2 {
             if let Some((tag, position)) = gnss_epoch.take() {
@@ -284,7 +307,10 @@ fn the_flight_outputs_match_the_recorded_digest() {
         health.star_sign_flip, 1,
         "one change of sign convention, counted once"
     );
-    assert_eq!(health.measurement_stale, 1);
+    assert_eq!(
+        health.measurement_stale, 2,
+        "one too old, one older than the history"
+    );
     assert_eq!(health.measurement_future, 1);
     assert_eq!(health.measurement_overflow, 0);
     assert_eq!(computer.worst_frame_cost(), 1_499);
