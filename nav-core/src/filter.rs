@@ -694,6 +694,30 @@ mod tests {
         assert!(Cholesky::new(*filter.covariance()).is_some());
     }
 
+    /// Every initial 1σ must be finite and strictly positive: zero, negative and non-finite
+    /// values are refused, each for every state block.
+    #[test]
+    fn initial_sigmas_must_be_finite_and_positive() {
+        assert_eq!(config(FilterMode::ClosedLoop).validate(), Ok(()));
+        let setters: [fn(&mut InitialUncertainty, f64); 8] = [
+            |u, v| u.attitude_rad = v,
+            |u, v| u.position_m = v,
+            |u, v| u.velocity_mps = v,
+            |u, v| u.gyro_bias_rad_s = v,
+            |u, v| u.accel_bias_mps2 = v,
+            |u, v| u.star_installation_rad = v,
+            |u, v| u.gyro_scale_factor = v,
+            |u, v| u.accel_scale_factor = v,
+        ];
+        for set in setters {
+            for bad in [0.0, -1e-3, f64::INFINITY, f64::NAN] {
+                let mut bad_config = config(FilterMode::ClosedLoop);
+                set(&mut bad_config.initial, bad);
+                assert_eq!(bad_config.validate(), Err(NavError::InvalidConfiguration));
+            }
+        }
+    }
+
     #[test]
     fn a_gated_measurement_leaves_the_filter_bit_identical() {
         let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();

@@ -1784,6 +1784,28 @@ mod tests {
         );
     }
 
+    /// The Joseph update's roll-back: when its products overflow (finite gains and `P Hᵀ`
+    /// whose products exceed the f64 range), it reports `false` and `P` is bit-identical to
+    /// before, both triangles and the diagonal.
+    #[test]
+    fn an_overflowing_joseph_update_leaves_p_unchanged() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut p = random_covariance(&mut rng);
+        let before = p;
+        let observed = ObservedCovariance {
+            products: [[1e200, 0.0, 0.0]; STATE_DIMENSION],
+            projected: IDENTITY,
+        };
+        let gains: StateRows = [[1e200, 0.0, 0.0]; STATE_DIMENSION];
+        assert!(!joseph_update(
+            &mut p,
+            &gains,
+            &observed,
+            &Matrix3::identity()
+        ));
+        assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
+    }
+
     #[test]
     fn structured_reset_equals_the_dense_reset() {
         let mut rng = ChaCha8Rng::seed_from_u64(9);
