@@ -1029,4 +1029,39 @@ mod tests {
         // Within the bounds: nothing changes.
         assert!(!filter.protect_variances(&floor, &ceiling));
     }
+
+    /// A variance below its floor is raised to it (only the diagonal changes); one exactly
+    /// at its floor or ceiling is inside the bounds and reported as unchanged.
+    #[test]
+    fn protection_raises_a_variance_to_its_floor_and_leaves_the_bounds_alone() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        let mut covariance = CovarianceMatrix::identity();
+        covariance[(3, 3)] = 0.25;
+        covariance[(3, 4)] = 0.1;
+        covariance[(4, 3)] = 0.1;
+        filter.set_covariance(&covariance).unwrap();
+        let floor = ErrorState::repeat(0.5);
+        let ceiling = ErrorState::repeat(1.0);
+        assert!(filter.protect_variances(&floor, &ceiling));
+        let p = *filter.covariance();
+        assert_eq!(p[(3, 3)].to_bits(), 0.5_f64.to_bits());
+        assert_eq!(p[(3, 4)].to_bits(), 0.1_f64.to_bits());
+        // Every variance now at a bound (0.5 or 1.0): inside, nothing to do.
+        assert!(!filter.protect_variances(&floor, &ceiling));
+        assert_eq!(filter.covariance().map(f64::to_bits), p.map(f64::to_bits));
+    }
+
+    /// 1σ is the square root of each variance.
+    #[test]
+    fn standard_deviations_are_the_roots_of_the_variances() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        let covariance = CovarianceMatrix::from_diagonal(&ErrorState::from_fn(|i, _| {
+            ((i + 1) * (i + 1)) as f64
+        }));
+        filter.set_covariance(&covariance).unwrap();
+        let sigmas = filter.standard_deviations();
+        for (index, sigma) in sigmas.iter().enumerate() {
+            assert_eq!(sigma.to_bits(), ((index + 1) as f64).to_bits());
+        }
+    }
 }
