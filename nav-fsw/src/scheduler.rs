@@ -1125,4 +1125,31 @@ mod tests {
         );
         assert!((reversed.coords - corrected.attitude.coords).norm() > 1e-3);
     }
+
+    /// The documented recovery: a covariance nav-core refuses to propagate (its products
+    /// overflow) re-initialises the filter from the configured 1σ, once, counted; the
+    /// navigation solution is kept.
+    #[test]
+    fn a_filter_that_cannot_be_propagated_is_reinitialised_once() {
+        use crate::replay::FramePorts;
+        let mut computer = computer();
+        let fresh = *computer.filter.covariance();
+        let huge = nav_core::discretise::CovarianceMatrix::from_element(f64::MAX);
+        computer.filter.set_covariance(&huge).unwrap();
+        let before = computer.navigation();
+        let mut ports = FramePorts::default();
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence: 1,
+            time_s: 600.002,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        });
+        ports.run(&mut computer);
+        assert_eq!(computer.health().filter_resets, 1);
+        assert_eq!(
+            computer.filter.covariance().map(f64::to_bits),
+            fresh.map(f64::to_bits)
+        );
+        assert!((computer.navigation().position_m - before.position_m).norm() < 100.0);
+    }
 }
