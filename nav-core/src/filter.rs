@@ -1064,4 +1064,90 @@ mod tests {
             assert_eq!(sigma.to_bits(), ((index + 1) as f64).to_bits());
         }
     }
+
+    /// A measurement whose NIS equals the gate exactly is accepted (the gate refuses only
+    /// what lies beyond it), by the dense and the structured update alike; a hair above it
+    /// is refused.
+    #[test]
+    fn the_gate_refuses_only_beyond_its_value() {
+        let measurement = position_measurement(Vector3::new(30.0, -10.0, 5.0), 10.0);
+        let none = BlockMask::NONE;
+        let fresh = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        type Update = fn(
+            &mut ErrorStateFilter,
+            &LinearMeasurement,
+            f64,
+            &BlockMask,
+        ) -> Result<InnovationReport, NavError>;
+        let updates: [Update; 2] = [
+            ErrorStateFilter::update_with_frozen_blocks,
+            ErrorStateFilter::update_structured,
+        ];
+        for update in updates {
+            // This implementation's own NIS (its round-off), then the gate exactly there.
+            let nis = update(&mut { fresh }, &measurement, f64::INFINITY, &none)
+                .unwrap()
+                .normalised_innovation_squared;
+            for (gate, accepted) in [(nis, true), (nis * (1.0 - 1e-12), false)] {
+                let report = update(&mut { fresh }, &measurement, gate, &none).unwrap();
+                assert_eq!(report.accepted, accepted);
+            }
+        }
+    }
+
+    /// A dense prediction whose covariance overflows is refused and changes nothing, even
+    /// though the (zero, closed-loop) state stays finite.
+    #[test]
+    fn an_overflowing_dense_prediction_changes_nothing() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        filter
+            .set_covariance(&CovarianceMatrix::from_element(f64::MAX))
+            .unwrap();
+        let before = filter;
+        let model = DiscreteModel {
+            transition: CovarianceMatrix::identity() * 2.0,
+            process_noise: CovarianceMatrix::zeros(),
+        };
+        assert_eq!(filter.predict(&model), Err(NavError::NonFiniteState));
+        assert_eq!(
+            filter.covariance().map(f64::to_bits),
+            before.covariance().map(f64::to_bits)
+        );
+    }
+
+    /// The structured prediction in open loop propagates the state as the dense one does.
+    #[test]
+    fn open_loop_structured_prediction_propagates_the_state() {
+        use crate::error_model::{LinearisationPoint, ProcessNoise};
+        let mut structured = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
+        structured
+            .update(
+                &position_measurement(Vector3::new(30.0, -10.0, 5.0), 10.0),
+                f64::INFINITY,
+            )
+            .unwrap();
+        let mut dense = structured;
+        let point = LinearisationPoint {
+            corrected_rate_rad_s: Vector3::new(0.01, -0.02, 0.03),
+            corrected_specific_force_mps2: Vector3::new(1.0, 0.5, -9.0),
+            measured_rate_rad_s: Vector3::new(0.01, -0.02, 0.03),
+            measured_specific_force_mps2: Vector3::new(1.0, 0.5, -9.0),
+            body_to_inertial: Matrix3::identity(),
+            gravity_gradient_per_s2: Matrix3::identity() * -1.5e-6,
+        };
+        let model = StructuredModel::new(&point, &ProcessNoise::PAPER, 0.002, 3).unwrap();
+        structured.predict_structured(&model).unwrap();
+        let dense_model = crate::discretise::discretise(
+            &crate::error_model::system_matrix(&point),
+            &crate::error_model::noise_input_matrix(&point),
+            &ProcessNoise::PAPER.spectral_density_diagonal(),
+            0.002,
+            3,
+        )
+        .unwrap();
+        dense.predict(&dense_model).unwrap();
+        let difference = (structured.state() - dense.state()).norm();
+        assert!(difference <= 1e-12 * dense.state().norm(), "{difference:e}");
+        assert!(structured.state()[VELOCITY.index].abs() > 0.0);
+    }
 }
