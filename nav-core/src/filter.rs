@@ -1150,4 +1150,20 @@ mod tests {
         assert!(difference <= 1e-12 * dense.state().norm(), "{difference:e}");
         assert!(structured.state()[VELOCITY.index].abs() > 0.0);
     }
+
+    /// A finite innovation whose NIS overflows is an error, not a report with an infinite
+    /// NIS (dense path).
+    #[test]
+    fn an_overflowing_nis_is_an_error() {
+        let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+        let measurement = position_measurement(Vector3::new(1e200, 0.0, 0.0), 10.0);
+        assert_eq!(
+            filter.innovation(&measurement).map(|r| r.accepted),
+            Err(NavError::NonPositiveInnovationCovariance)
+        );
+        assert_eq!(
+            filter.update(&measurement, 16.0).map(|r| r.accepted),
+            Err(NavError::NonPositiveInnovationCovariance)
+        );
+    }
 }
