@@ -1152,4 +1152,58 @@ mod tests {
         );
         assert!((computer.navigation().position_m - before.position_m).norm() < 100.0);
     }
+
+    fn one_frame(computer: &mut NavigationComputer, sequence: u32) {
+        let mut ports = crate::replay::FramePorts::default();
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence,
+            time_s: 600.0 + 0.002 * f64::from(sequence),
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        });
+        ports.run(computer);
+    }
+
+    /// A strapdown step nav-core refuses (the solution at the Earth's centre, where gravity
+    /// is not finite) is counted and leaves the solution as it was, except that navigation
+    /// time still advances by one frame.
+    #[test]
+    fn a_refused_strapdown_step_still_advances_time_by_one_frame() {
+        let mut computer = computer();
+        computer.navigation.position_m = *computer.launch_frame.earth_centre_launch_m();
+        computer.navigation.velocity_mps = Vector3::zeros();
+        let before = computer.navigation;
+        one_frame(&mut computer, 1);
+        assert_eq!(computer.health().strapdown_failures, 1);
+        let period = computer.config.imu.period_s;
+        assert_eq!(
+            computer.navigation.time_s.to_bits(),
+            (before.time_s + period).to_bits()
+        );
+        assert_eq!(
+            computer.navigation.position_m.map(f64::to_bits),
+            before.position_m.map(f64::to_bits)
+        );
+    }
+
+    /// Under the paper's schedule, a coast freezes every calibration block but the biases,
+    /// and the computer reports exactly the set its telemetry carries.
+    #[test]
+    fn the_frozen_set_is_the_policy_s_for_the_phase() {
+        use crate::calibration_manager::{EstimationPolicy, ManoeuvrePhase};
+        use nav_core::state::{ACCEL_BIAS, GYRO_BIAS, GYRO_SCALE_FACTOR, STAR_INSTALLATION};
+        let mut config = computer().config;
+        config.calibration.policy = EstimationPolicy::PaperSchedule;
+        let initial = computer().navigation;
+        let mut computer = NavigationComputer::new(config, initial).unwrap();
+        computer.command(Command::SetPhase(ManoeuvrePhase::Coast));
+        one_frame(&mut computer, 1);
+        let frozen = computer.frozen_blocks();
+        assert!(!frozen.contains(GYRO_BIAS) && !frozen.contains(ACCEL_BIAS));
+        assert!(frozen.contains(GYRO_SCALE_FACTOR) && frozen.contains(STAR_INSTALLATION));
+        assert_eq!(
+            frozen.bits(),
+            computer.telemetry(FrameFusion::None).frozen_blocks
+        );
+    }
 }
