@@ -406,4 +406,11 @@ fn a_longer_propagation_interval_uses_the_mean_motion() {
         }
     }
     assert!(largest < 0.05, "{largest:e}");
+    // The gyro scale factors' variances, which the measured rates alone drive (they enter
+    // only the scale-factor columns): within 1e-6 (measured ~2e-9; the sums instead of the
+    // means of the measured rates give ~1e-4).
+    for i in 18..21 {
+        let relative = (p[(i, i)] - q[(i, i)]).abs() / p[(i, i)];
+        assert!(relative < 1e-6, "gyro scale factor {i}: {relative:e}");
+    }
 }
