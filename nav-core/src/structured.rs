@@ -1806,6 +1806,19 @@ mod tests {
         assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
     }
 
+    /// The table of `1/n!`: each entry times `n!` is 1 (the high orders' terms are too small
+    /// for the model-equality tests to see a wrong coefficient).
+    #[test]
+    fn inverse_factorials_are_the_reciprocals_of_the_factorials() {
+        let mut factorial = 1.0_f64;
+        for (n, inverse) in INVERSE_FACTORIALS.iter().enumerate() {
+            if n > 0 {
+                factorial *= n as f64;
+            }
+            assert!((inverse * factorial - 1.0).abs() < 1e-15, "1/{n}!");
+        }
+    }
+
     #[test]
     fn structured_reset_equals_the_dense_reset() {
         let mut rng = ChaCha8Rng::seed_from_u64(9);
