@@ -1806,6 +1806,45 @@ mod tests {
         assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
     }
 
+    /// With a strong gravity gradient and a long step (so the 4th-order terms are large) the
+    /// structured transition still equals the dense series: every power's coefficient and
+    /// factor of `Δ` shows.
+    #[test]
+    fn fourth_order_terms_match_the_dense_series_under_a_strong_gradient() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut point = random_point(&mut rng);
+        point.gravity_gradient_per_s2 = Matrix3::new(3.0, 0.5, 0.2, 0.5, -1.0, 0.1, 0.2, 0.1, 2.0);
+        let noise = random_noise(&mut rng, true);
+        let interval_s = 0.5;
+        let dense = dense_model(&point, &noise, interval_s, 4, &BlockMask::NONE);
+        let model = StructuredModel::new(&point, &noise, interval_s, 4).unwrap();
+        let difference = relative_difference(&model.transition_matrix(), &dense.transition);
+        assert!(difference < 1e-12, "{difference:e}");
+    }
+
+    /// Rebuilding a model in place with fewer noise sources leaves no trace of the earlier
+    /// ones: the same `Qd` as a model built afresh (accelerometer walk only; no walk).
+    #[test]
+    fn a_rebuilt_model_forgets_the_previous_walks() {
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let point = random_point(&mut rng);
+        let both = random_noise(&mut rng, true);
+        let accel_only = ProcessNoise {
+            gyro_bias_walk_rad_s2_per_sqrt_hz: 0.0,
+            ..both
+        };
+        let none = random_noise(&mut rng, false);
+        for noise in [accel_only, none] {
+            let mut model = StructuredModel::new(&point, &both, 0.002, 3).unwrap();
+            model.rebuild(&point, &noise, 0.002, 3).unwrap();
+            let fresh = StructuredModel::new(&point, &noise, 0.002, 3).unwrap();
+            assert_eq!(
+                model.process_noise_matrix().map(f64::to_bits),
+                fresh.process_noise_matrix().map(f64::to_bits)
+            );
+        }
+    }
+
     /// The table of `1/n!`: each entry times `n!` is 1 (the high orders' terms are too small
     /// for the model-equality tests to see a wrong coefficient).
     #[test]
