@@ -1822,6 +1822,26 @@ mod tests {
         assert!(difference < 1e-12, "{difference:e}");
     }
 
+    /// A non-positive or non-finite interval is refused, and the model is left as it was.
+    #[test]
+    fn a_rebuild_refuses_a_bad_interval() {
+        let mut rng = ChaCha8Rng::seed_from_u64(13);
+        let point = random_point(&mut rng);
+        let noise = random_noise(&mut rng, true);
+        let mut model = StructuredModel::new(&point, &noise, 0.002, 3).unwrap();
+        let before = model.transition_matrix();
+        for interval_s in [-0.002, 0.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(
+                model.rebuild(&point, &noise, interval_s, 3),
+                Err(NavError::InvalidTimeStep)
+            );
+        }
+        assert_eq!(
+            model.transition_matrix().map(f64::to_bits),
+            before.map(f64::to_bits)
+        );
+    }
+
     /// Rebuilding a model in place with fewer noise sources leaves no trace of the earlier
     /// ones: the same `Qd` as a model built afresh (accelerometer walk only; no walk).
     #[test]
@@ -1833,8 +1853,12 @@ mod tests {
             gyro_bias_walk_rad_s2_per_sqrt_hz: 0.0,
             ..both
         };
+        let gyro_only = ProcessNoise {
+            accel_bias_walk_mps3_per_sqrt_hz: 0.0,
+            ..both
+        };
         let none = random_noise(&mut rng, false);
-        for noise in [accel_only, none] {
+        for noise in [accel_only, gyro_only, none] {
             let mut model = StructuredModel::new(&point, &both, 0.002, 3).unwrap();
             model.rebuild(&point, &noise, 0.002, 3).unwrap();
             let fresh = StructuredModel::new(&point, &noise, 0.002, 3).unwrap();
