@@ -1822,6 +1822,46 @@ mod tests {
         assert!(difference < 1e-12, "{difference:e}");
     }
 
+    /// From a zero covariance one propagation gives exactly `Qd`: the structured model adds the
+    /// same process noise as the dense one, relative to `Qd` itself (the equality tests on a
+    /// full `P` cannot see an error of the size of `Qd`), with and without bias walks, with
+    /// dynamic and calibration blocks' noise removed, and after a rebuild that drops the walks.
+    #[test]
+    fn the_process_noise_added_equals_the_dense_qd() {
+        use crate::state::{ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, VELOCITY};
+        let mut rng = ChaCha8Rng::seed_from_u64(21);
+        let mask = |blocks: &[StateBlock]| {
+            let mut mask = BlockMask::NONE;
+            for block in blocks {
+                mask.insert(*block);
+            }
+            mask
+        };
+        let masks = [
+            BlockMask::NONE,
+            mask(&[ATTITUDE]),
+            mask(&[VELOCITY, GYRO_BIAS]),
+            mask(&[ACCEL_SCALE_FACTOR]),
+        ];
+        for case in 0..16 {
+            let point = random_point(&mut rng);
+            let with_walk = case % 2 == 0;
+            let noise = random_noise(&mut rng, with_walk);
+            let frozen = masks[(case / 2) % 4];
+            let dense_model = dense_model(&point, &noise, 0.01, 3, &frozen);
+            // Built with the other walk setting first, then rebuilt in place.
+            let mut model =
+                StructuredModel::new(&point, &random_noise(&mut rng, !with_walk), 0.01, 3).unwrap();
+            model.rebuild(&point, &noise, 0.01, 3).unwrap();
+            model.remove_process_noise(&frozen);
+            let mut structured = filter_with(FilterMode::ClosedLoop, &CovarianceMatrix::zeros());
+            structured.predict_structured(&model).unwrap();
+            let q = &dense_model.process_noise;
+            let difference = (structured.covariance() - q).norm() / q.norm();
+            assert!(difference < 1e-12, "case {case}: {difference:e}");
+        }
+    }
+
     /// A non-positive or non-finite interval is refused, and the model is left as it was.
     #[test]
     fn a_rebuild_refuses_a_bad_interval() {
