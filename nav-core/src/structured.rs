@@ -1843,11 +1843,17 @@ mod tests {
             mask(&[VELOCITY, GYRO_BIAS]),
             mask(&[ACCEL_SCALE_FACTOR]),
         ];
-        for case in 0..16 {
+        for case in 0..32 {
             let point = random_point(&mut rng);
             let with_walk = case % 2 == 0;
-            let noise = random_noise(&mut rng, with_walk);
-            let frozen = masks[(case / 2) % 4];
+            let mut noise = random_noise(&mut rng, with_walk);
+            // Every combination of the two walks: both, gyro only, accelerometer only.
+            match case % 8 {
+                2 => noise.accel_bias_walk_mps3_per_sqrt_hz = 0.0,
+                4 => noise.gyro_bias_walk_rad_s2_per_sqrt_hz = 0.0,
+                _ => {}
+            }
+            let frozen = masks[(case / 8) % 4];
             let dense_model = dense_model(&point, &noise, 0.01, 3, &frozen);
             // Built with the other walk setting first, then rebuilt in place.
             let mut model =
