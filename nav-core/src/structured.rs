@@ -1770,6 +1770,22 @@ mod tests {
                     .fixed_columns::<3>(STAR_INSTALLATION.index)
             );
         }
+        // A measurement already referred once (its `H` has velocity, bias and scale-factor
+        // columns, so every block of `H A` is reached, `H_v V` and `−H_v Ĉ` included).
+        for case in 0..100 {
+            let measurement = random_measurement(&mut rng, case % 2 == 0, true);
+            let point = random_point(&mut rng);
+            let latency_s = rng.random_range(0.0..0.126);
+            let dense =
+                refer_to_later_time(&measurement, &system_matrix(&point), latency_s).unwrap();
+            let structured = refer_to_later_time_at(&measurement, &point, latency_s).unwrap();
+            let scale = dense.jacobian.amax();
+            let difference = (structured.jacobian - dense.jacobian).amax();
+            assert!(
+                difference <= 1e-15 * scale,
+                "referred case {case}: {difference:e} of {scale:e}"
+            );
+        }
         let measurement = random_measurement(&mut rng, false, false);
         let point = random_point(&mut rng);
         assert_eq!(
@@ -1847,10 +1863,13 @@ mod tests {
             let point = random_point(&mut rng);
             let with_walk = case % 2 == 0;
             let mut noise = random_noise(&mut rng, with_walk);
-            // Every combination of the two walks: both, gyro only, accelerometer only.
+            // Every combination of the two walks (both, gyro only, accelerometer only) and of
+            // the two white noises (one of them absent).
             match case % 8 {
                 2 => noise.accel_bias_walk_mps3_per_sqrt_hz = 0.0,
                 4 => noise.gyro_bias_walk_rad_s2_per_sqrt_hz = 0.0,
+                5 => noise.gyro_noise_density_rad_s_per_sqrt_hz = 0.0,
+                7 => noise.accel_noise_density_mps2_per_sqrt_hz = 0.0,
                 _ => {}
             }
             let frozen = masks[(case / 8) % 4];
