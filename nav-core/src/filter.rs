@@ -470,7 +470,7 @@ impl ErrorStateFilter {
         let state = match self.mode {
             FilterMode::OpenLoop => {
                 let state = model.propagate_state(&self.state);
-                if !state.iter().all(|v| v.is_finite()) {
+                if !block::all_finite(state.as_slice()) {
                     return Err(NavError::NonFiniteState);
                 }
                 Some(state)
