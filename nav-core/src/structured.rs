@@ -72,9 +72,9 @@
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::block::{
-    self, add, add_scaled, add_scaled_columns, add_scaled_rows, dot, mul, mul_add, mul_transpose,
-    mul_transpose_add, mul_vector_add, read, row_add, row_scale, scale, scale_columns, transpose,
-    write, write_diagonal_symmetric, write_symmetric, Block, FiniteCheck, Row, IDENTITY, ZERO,
+    self, add, add_scaled, add_scaled_columns, dot, mul, mul_add, mul_transpose, mul_transpose_add,
+    mul_vector_add, read, row_add, row_scale, scale, scale_columns, transpose, write,
+    write_diagonal_symmetric, write_symmetric, Block, FiniteCheck, Row, IDENTITY, ZERO,
 };
 use crate::discretise::{CovarianceMatrix, MAX_ORDER};
 use crate::error_model::{LinearisationPoint, ProcessNoise};
@@ -84,6 +84,9 @@ use crate::state::{
     POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
+
+#[cfg(any(test, not(target_arch = "arm")))]
+mod rows;
 
 /// Number of states the process noise can reach: attitude, position, velocity, gyro bias and
 /// accelerometer bias (states 1-15; the installation error and scale factors have none).
@@ -721,8 +724,10 @@ impl StructuredModel {
     /// `P`; scale factors folded into the biases (module docs). Not inlined: one compact
     /// body called per column block keeps the working set in the registers and the
     /// addresses within load offsets on the target.
+    #[cfg(any(test, target_arch = "arm"))]
     #[inline(never)]
     fn propagate_column(&self, columns: [&[f64; 24]; 3]) -> [Block; 3] {
+        use crate::block::add_scaled_rows;
         let rows = |offset: usize| -> Block {
             [0, 1, 2].map(|i| columns.map(|c| c.get(offset + i).copied().unwrap_or(f64::NAN)))
         };
@@ -762,6 +767,7 @@ impl StructuredModel {
     /// walks' `Qd`): `row` is `(U_Rϑ, U_Rp, U_Rv)`, `folded` row `R` of `U`'s folded
     /// calibration columns (with the white noise folded in), `transition` row `S` of `Φ` and
     /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`).
+    #[cfg(any(test, target_arch = "arm"))]
     #[inline(never)]
     fn dynamic_pair(
         row: [&Block; 3],
@@ -781,6 +787,7 @@ impl StructuredModel {
     }
 
     /// Block (`R`, ϑ) of the new `P_dd`: `Φ_ϑp = Φ_ϑv = 0` and `E_a` has no attitude row.
+    #[cfg(any(test, target_arch = "arm"))]
     #[inline(never)]
     fn attitude_pair(&self, u_attitude: &Block, gyro: &Block) -> Block {
         let [gyro_attitude, _, _] = &self.gyro_bias_column;
@@ -794,7 +801,23 @@ impl StructuredModel {
     /// `P ← F P Fᵀ + Qd` in place, by blocks (module docs); `false` (and `P` unchanged) if
     /// the result is not finite. Every new block is computed from the old `P` into locals
     /// first (`U` is 9×24, the new `P_dd` six blocks), checked, then written with its mirror.
+    ///
+    /// Two kernels compute `U` and the new `P_dd`, chosen by the target: 3×3 blocks with the
+    /// accumulators in registers on a scalar double-precision FPU (32-bit ARM: the
+    /// Cortex-M7 has no f64 SIMD), 24-wide rows that the compiler vectorises elsewhere
+    /// (x86-64 SSE2, AArch64 NEON; [`rows`]). Both sum every element with the same
+    /// operations in the same order, so they give the same bits (tested on the host, and by
+    /// the host/target comparisons); the folding and the tail are shared.
     pub(crate) fn propagate_covariance(&self, p: &mut CovarianceMatrix) -> bool {
+        #[cfg(target_arch = "arm")]
+        return self.propagate_covariance_by_blocks(p);
+        #[cfg(not(target_arch = "arm"))]
+        return self.propagate_covariance_by_rows(p);
+    }
+
+    /// [`StructuredModel::propagate_covariance`] with the 3×3 block kernel (the target's).
+    #[cfg(any(test, target_arch = "arm"))]
+    fn propagate_covariance_by_blocks(&self, p: &mut CovarianceMatrix) -> bool {
         let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11, c12, c13, c14, c15, c16, c17, c18, c19, c20, c21, c22, c23] =
             &p.data.0;
         // U = [Φ E] P by column blocks; U's calibration columns are the new P_dc.
@@ -802,43 +825,21 @@ impl StructuredModel {
         let u_attitude_columns = self.propagate_column([c0, c1, c2]);
         let u_position_columns = self.propagate_column([c3, c4, c5]);
         let u_velocity_columns = self.propagate_column([c6, c7, c8]);
-        let [u_aa, u_pa, u_va] = &u_attitude_columns;
-        let [u_ap, u_pp, u_vp] = &u_position_columns;
-        let [u_av, u_pv, u_vv] = &u_velocity_columns;
         let mut gyro_bias = self.propagate_column([c9, c10, c11]);
         let mut accel_bias = self.propagate_column([c12, c13, c14]);
         let installation = self.propagate_column([c15, c16, c17]);
         let gyro_scale = self.propagate_column([c18, c19, c20]);
         let accel_scale = self.propagate_column([c21, c22, c23]);
-        // U's calibration columns folded: U_bg + U_λg diag(ω_m), U_ba + U_λa diag(f_m).
-        let rate = self.measured_rate_rad_s;
-        let force = self.measured_specific_force_mps2;
-        let [gyro_a, gyro_p, gyro_v] = &gyro_bias;
-        let [accel_a, accel_p, accel_v] = &accel_bias;
-        let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = &gyro_scale;
-        let [scale_accel_a, scale_accel_p, scale_accel_v] = &accel_scale;
-        // The white noise folded in (module docs): (U_bg + q_g E_g) E_gᵀ adds q_g E_g E_gᵀ,
-        // likewise q_a E_a E_aᵀ (E_a has no attitude row).
-        let [gyro_noise, accel_noise] = self.input_noise;
-        let [e_gyro_a, e_gyro_p, e_gyro_v] = &self.gyro_bias_column;
-        let [e_accel_p, e_accel_v] = &self.accel_bias_column;
-        let fold = |bias, scale_factor, input, column, noise| {
-            add_scaled(
-                &add_scaled_columns(bias, scale_factor, input),
-                column,
-                noise,
-            )
-        };
-        let fg_a = fold(gyro_a, scale_gyro_a, rate, e_gyro_a, gyro_noise);
-        let fg_p = fold(gyro_p, scale_gyro_p, rate, e_gyro_p, gyro_noise);
-        let fg_v = fold(gyro_v, scale_gyro_v, rate, e_gyro_v, gyro_noise);
-        let fa_a = add_scaled_columns(accel_a, scale_accel_a, force);
-        let fa_p = fold(accel_p, scale_accel_p, force, e_accel_p, accel_noise);
-        let fa_v = fold(accel_v, scale_accel_v, force, e_accel_v, accel_noise);
-        // New P_dd = U_dd Φᵀ + U_dc Eᵀ + Qd_dd, upper block triangle.
-        let noise = &self.noise;
-        let [q_aa, q_ap, q_av, q_pp, q_pv, q_vv] = &noise.dynamic;
+        let (folded_gyro, folded_accel) =
+            self.fold_calibration_columns(&gyro_bias, &gyro_scale, &accel_bias, &accel_scale);
+        let [u_aa, u_pa, u_va] = &u_attitude_columns;
+        let [u_ap, u_pp, u_vp] = &u_position_columns;
+        let [u_av, u_pv, u_vv] = &u_velocity_columns;
+        let [fg_a, fg_p, fg_v] = &folded_gyro;
+        let [fa_a, fa_p, fa_v] = &folded_accel;
         let t = &self.transition;
+        let [_, e_gyro_p, e_gyro_v] = &self.gyro_bias_column;
+        let [e_accel_p, e_accel_v] = &self.accel_bias_column;
         let position_row = [
             &t.position_attitude,
             &t.position_position,
@@ -855,27 +856,105 @@ impl StructuredModel {
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
-        // Zero noise blocks (no walk) are not added.
-        let noise_is_zero = self.noise_is_zero;
-        let with_noise = |value: Block, noise: &Block| {
-            if noise_is_zero {
-                value
-            } else {
-                add(&value, noise)
-            }
-        };
-        let pair = |row, gyro, accel, transition, columns, noise| {
-            with_noise(
-                Self::dynamic_pair(row, [gyro, accel], transition, columns),
+        let mut dynamic = [
+            self.attitude_pair(u_aa, fg_a),
+            Self::dynamic_pair(row_a, [fg_a, fa_a], position_row, position_columns),
+            Self::dynamic_pair(row_a, [fg_a, fa_a], velocity_row, velocity_columns),
+            Self::dynamic_pair(row_p, [fg_p, fa_p], position_row, position_columns),
+            Self::dynamic_pair(row_p, [fg_p, fa_p], velocity_row, velocity_columns),
+            Self::dynamic_pair(row_v, [fg_v, fa_v], velocity_row, velocity_columns),
+        ];
+        self.write_propagated(
+            p,
+            [&mut gyro_bias, &mut accel_bias],
+            [&installation, &gyro_scale, &accel_scale],
+            &mut dynamic,
+        )
+    }
+
+    /// [`StructuredModel::propagate_covariance`] with the row kernel ([`rows`]; the host's).
+    #[cfg(any(test, not(target_arch = "arm")))]
+    fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
+        let u = rows::projected_rows(self, p);
+        let mut gyro_bias = rows::column_block(&u, BG);
+        let mut accel_bias = rows::column_block(&u, BA);
+        let installation = rows::column_block(&u, PSI);
+        let gyro_scale = rows::column_block(&u, SG);
+        let accel_scale = rows::column_block(&u, SA);
+        let (folded_gyro, folded_accel) =
+            self.fold_calibration_columns(&gyro_bias, &gyro_scale, &accel_bias, &accel_scale);
+        let mut dynamic = rows::dynamic_blocks(self, &u, &folded_gyro, &folded_accel);
+        self.write_propagated(
+            p,
+            [&mut gyro_bias, &mut accel_bias],
+            [&installation, &gyro_scale, &accel_scale],
+            &mut dynamic,
+        )
+    }
+
+    /// `U`'s calibration columns folded (module docs), rows ϑ, δp, δv: the gyro's
+    /// `U_bg + U_λg diag(ω_m) + q_g E_g` and the accelerometer's
+    /// `U_ba + U_λa diag(f_m) + q_a E_a` (white noise folded in; `E_a` has no attitude row).
+    #[inline(always)]
+    fn fold_calibration_columns(
+        &self,
+        gyro_bias: &[Block; 3],
+        gyro_scale: &[Block; 3],
+        accel_bias: &[Block; 3],
+        accel_scale: &[Block; 3],
+    ) -> ([Block; 3], [Block; 3]) {
+        let rate = self.measured_rate_rad_s;
+        let force = self.measured_specific_force_mps2;
+        let [gyro_a, gyro_p, gyro_v] = gyro_bias;
+        let [accel_a, accel_p, accel_v] = accel_bias;
+        let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = gyro_scale;
+        let [scale_accel_a, scale_accel_p, scale_accel_v] = accel_scale;
+        let [gyro_noise, accel_noise] = self.input_noise;
+        let [e_gyro_a, e_gyro_p, e_gyro_v] = &self.gyro_bias_column;
+        let [e_accel_p, e_accel_v] = &self.accel_bias_column;
+        let fold = |bias, scale_factor, input, column, noise| {
+            add_scaled(
+                &add_scaled_columns(bias, scale_factor, input),
+                column,
                 noise,
             )
         };
-        let new_aa = with_noise(self.attitude_pair(u_aa, &fg_a), q_aa);
-        let new_ap = pair(row_a, &fg_a, &fa_a, position_row, position_columns, q_ap);
-        let new_av = pair(row_a, &fg_a, &fa_a, velocity_row, velocity_columns, q_av);
-        let new_pp = pair(row_p, &fg_p, &fa_p, position_row, position_columns, q_pp);
-        let new_pv = pair(row_p, &fg_p, &fa_p, velocity_row, velocity_columns, q_pv);
-        let new_vv = pair(row_v, &fg_v, &fa_v, velocity_row, velocity_columns, q_vv);
+        (
+            [
+                fold(gyro_a, scale_gyro_a, rate, e_gyro_a, gyro_noise),
+                fold(gyro_p, scale_gyro_p, rate, e_gyro_p, gyro_noise),
+                fold(gyro_v, scale_gyro_v, rate, e_gyro_v, gyro_noise),
+            ],
+            [
+                add_scaled_columns(accel_a, scale_accel_a, force),
+                fold(accel_p, scale_accel_p, force, e_accel_p, accel_noise),
+                fold(accel_v, scale_accel_v, force, e_accel_v, accel_noise),
+            ],
+        )
+    }
+
+    /// The shared tail of the propagation: the walks' `Qd` added to the new `P_dd`
+    /// (`dynamic`, pairs ϑϑ, ϑp, ϑv, pp, pv, vv without noise) and to the bias columns, the
+    /// finite check of everything new, then the writes with their mirrors. `bias` are `U`'s
+    /// gyro- and accelerometer-bias columns, `other` its installation and scale-factor
+    /// columns (rows ϑ, δp, δv each). `false`, with `P` unchanged, if anything is not finite.
+    #[inline(always)]
+    fn write_propagated(
+        &self,
+        p: &mut CovarianceMatrix,
+        bias: [&mut [Block; 3]; 2],
+        other: [&[Block; 3]; 3],
+        dynamic: &mut [Block; 6],
+    ) -> bool {
+        let noise = &self.noise;
+        // Zero noise blocks (no walk) are not added.
+        if !self.noise_is_zero {
+            for (value, q) in dynamic.iter_mut().zip(&noise.dynamic) {
+                *value = add(value, q);
+            }
+        }
+        let [new_aa, new_ap, new_av, new_pp, new_pv, new_vv] = &*dynamic;
+        let [gyro_bias, accel_bias] = bias;
         // Bias walks: Qd in the bias columns of the dynamic rows and on the bias diagonal.
         let walk_diagonal = if self.bias_walk {
             // In place (new arrays of blocks would be copies).
@@ -884,8 +963,8 @@ impl StructuredModel {
                     *value = add(value, q);
                 }
             };
-            with(&mut gyro_bias, &noise.dynamic_gyro_bias);
-            with(&mut accel_bias, &noise.dynamic_accel_bias);
+            with(gyro_bias, &noise.dynamic_gyro_bias);
+            with(accel_bias, &noise.dynamic_accel_bias);
             Some([
                 add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
                 add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
@@ -893,19 +972,20 @@ impl StructuredModel {
         } else {
             None
         };
+        let [installation, gyro_scale, accel_scale] = other;
         let mut check = FiniteCheck::new();
         for blocks in [
-            &gyro_bias,
-            &accel_bias,
-            &installation,
-            &gyro_scale,
-            &accel_scale,
+            &*gyro_bias,
+            &*accel_bias,
+            installation,
+            gyro_scale,
+            accel_scale,
         ] {
             for value in blocks {
                 check.block(value);
             }
         }
-        for value in [&new_aa, &new_ap, &new_av, &new_pp, &new_pv, &new_vv] {
+        for value in dynamic.iter() {
             check.block(value);
         }
         if let Some(blocks) = &walk_diagonal {
@@ -916,30 +996,32 @@ impl StructuredModel {
         if !check.all_finite() {
             return false;
         }
-        let [gyro_a, gyro_p, gyro_v] = &gyro_bias;
+        let [gyro_a, gyro_p, gyro_v] = &*gyro_bias;
         write_symmetric::<A, BG>(p, gyro_a);
         write_symmetric::<P, BG>(p, gyro_p);
         write_symmetric::<V, BG>(p, gyro_v);
-        let [accel_a, accel_p, accel_v] = &accel_bias;
+        let [accel_a, accel_p, accel_v] = &*accel_bias;
         write_symmetric::<A, BA>(p, accel_a);
         write_symmetric::<P, BA>(p, accel_p);
         write_symmetric::<V, BA>(p, accel_v);
-        let [installation_a, installation_p, installation_v] = &installation;
+        let [installation_a, installation_p, installation_v] = installation;
         write_symmetric::<A, PSI>(p, installation_a);
         write_symmetric::<P, PSI>(p, installation_p);
         write_symmetric::<V, PSI>(p, installation_v);
+        let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = gyro_scale;
         write_symmetric::<A, SG>(p, scale_gyro_a);
         write_symmetric::<P, SG>(p, scale_gyro_p);
         write_symmetric::<V, SG>(p, scale_gyro_v);
+        let [scale_accel_a, scale_accel_p, scale_accel_v] = accel_scale;
         write_symmetric::<A, SA>(p, scale_accel_a);
         write_symmetric::<P, SA>(p, scale_accel_p);
         write_symmetric::<V, SA>(p, scale_accel_v);
-        write_diagonal_symmetric::<A>(p, &new_aa);
-        write_symmetric::<A, P>(p, &new_ap);
-        write_symmetric::<A, V>(p, &new_av);
-        write_diagonal_symmetric::<P>(p, &new_pp);
-        write_symmetric::<P, V>(p, &new_pv);
-        write_diagonal_symmetric::<V>(p, &new_vv);
+        write_diagonal_symmetric::<A>(p, new_aa);
+        write_symmetric::<A, P>(p, new_ap);
+        write_symmetric::<A, V>(p, new_av);
+        write_diagonal_symmetric::<P>(p, new_pp);
+        write_symmetric::<P, V>(p, new_pv);
+        write_diagonal_symmetric::<V>(p, new_vv);
         if let Some([gyro, accel]) = &walk_diagonal {
             write_diagonal_symmetric::<BG>(p, gyro);
             write_diagonal_symmetric::<BA>(p, accel);
@@ -1595,6 +1677,53 @@ mod tests {
             "largest |structured − dense| / √(P_ii P_jj) per order 1..4: {:.2e} {:.2e} {:.2e} {:.2e}",
             worst[0], worst[1], worst[2], worst[3]
         );
+    }
+
+    /// The row kernel (the host's) and the block kernel (the Cortex-M7's) give the same
+    /// bits: random SPD `P`, a diagonal `P` (the initial covariance: many products are
+    /// signed zeros), random motion, every order, with and without walks and frozen noise;
+    /// and both refuse an overflow leaving `P` unchanged.
+    #[test]
+    fn the_row_kernel_equals_the_block_kernel_bit_for_bit() {
+        let mut rng = ChaCha8Rng::seed_from_u64(23);
+        let bits = |p: &CovarianceMatrix| p.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let mut compared = 0;
+        for order in 1..=MAX_ORDER {
+            for case in 0..120 {
+                let point = random_point(&mut rng);
+                let noise = random_noise(&mut rng, case % 2 == 1);
+                let interval_s = [0.002, 0.004, 0.02, 0.1][case % 4];
+                let mut model = StructuredModel::new(&point, &noise, interval_s, order).unwrap();
+                if case % 3 == 0 {
+                    model.remove_process_noise(&random_mask(&mut rng));
+                }
+                let p = if case % 5 == 0 {
+                    CovarianceMatrix::from_diagonal(&random_covariance(&mut rng).diagonal())
+                } else {
+                    random_covariance(&mut rng)
+                };
+                let (mut by_blocks, mut by_rows) = (p, p);
+                assert!(model.propagate_covariance_by_blocks(&mut by_blocks));
+                assert!(model.propagate_covariance_by_rows(&mut by_rows));
+                assert_eq!(
+                    bits(&by_rows),
+                    bits(&by_blocks),
+                    "order {order} case {case}"
+                );
+                assert_ne!(bits(&by_rows), bits(&p), "the propagation changed P");
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 480);
+        // An overflowing propagation: both kernels refuse it and leave P as it was.
+        let noise = random_noise(&mut rng, true);
+        let model = StructuredModel::new(&random_point(&mut rng), &noise, 0.1, 3).unwrap();
+        let p = CovarianceMatrix::from_element(f64::MAX);
+        let (mut by_blocks, mut by_rows) = (p, p);
+        assert!(!model.propagate_covariance_by_blocks(&mut by_blocks));
+        assert!(!model.propagate_covariance_by_rows(&mut by_rows));
+        assert_eq!(bits(&by_blocks), bits(&p));
+        assert_eq!(bits(&by_rows), bits(&p));
     }
 
     fn random_quaternion(rng: &mut ChaCha8Rng, largest_angle_rad: f64) -> Quaternion<f64> {
