@@ -12,6 +12,8 @@
 //! (every writer keeps it so: the updates and the reset write both triangles, and
 //! [`crate::filter::ErrorStateFilter::set_covariance`] symmetrises), so column `k` is row `k`.
 
+use core::borrow::Borrow;
+
 use super::{StructuredModel, A, BA, BG, P, SA, SG, V};
 use crate::block::{Block, Row};
 use crate::discretise::CovarianceMatrix;
@@ -55,23 +57,37 @@ fn chunk(row: &StateRow, index: usize) -> &Chunk {
 
 /// `Σ_k c_k r_k` element-wise, summed left to right from the first product (the block
 /// kernels' order). Inlined at each call: `N` and `W` are constants, so the sum of `W`
-/// values stays in registers across the `N` terms.
+/// values stays in registers across the `N` terms. The rows are given by value or by
+/// reference.
 #[inline(always)]
-fn combination<const W: usize, const N: usize>(
+fn combination<const W: usize, const N: usize, R: Borrow<[f64; W]>>(
     coefficients: &[f64; N],
-    rows: &[&[f64; W]; N],
+    rows: &[R; N],
 ) -> [f64; W] {
     let mut terms = coefficients.iter().zip(rows);
     let Some((c0, r0)) = terms.next() else {
         return [0.0; W];
     };
-    let mut sum = r0.map(|x| x * c0);
+    let mut sum = r0.borrow().map(|x| x * c0);
     for (c, r) in terms {
-        for (s, x) in sum.iter_mut().zip(r.iter()) {
+        for (s, x) in sum.iter_mut().zip(r.borrow()) {
             *s += x * c;
         }
     }
     sum
+}
+
+/// `mᵀ` of a small matrix given as rows.
+#[inline(always)]
+fn transposed<const R: usize, const C: usize>(m: &[[f64; C]; R]) -> [[f64; R]; C] {
+    core::array::from_fn(|k| {
+        core::array::from_fn(|s| {
+            m.get(s)
+                .and_then(|row| row.get(k))
+                .copied()
+                .unwrap_or(f64::NAN)
+        })
+    })
 }
 
 /// [`combination`] of whole rows, a chunk of [`LANES`] columns at a time.
@@ -185,13 +201,17 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix) -> P
 /// `U`'s column block at state `column` (its rows ϑ, δp, δv as three blocks).
 #[inline(always)]
 pub(super) fn column_block(u: &ProjectedRows, column: usize) -> [Block; 3] {
-    let entry = |r: usize, c: usize| {
+    let part = |r: usize| -> Row {
         u.get(r)
-            .and_then(|values| values.get(c))
-            .copied()
-            .unwrap_or(f64::NAN)
+            .and_then(|values| values.get(column..column + 3))
+            .and_then(|values| <[f64; 3]>::try_from(values).ok())
+            .unwrap_or([f64::NAN; 3])
     };
-    [A, P, V].map(|r| [0, 1, 2].map(|i| [0, 1, 2].map(|j| entry(r + i, column + j))))
+    [
+        [part(A), part(A + 1), part(A + 2)],
+        [part(P), part(P + 1), part(P + 2)],
+        [part(V), part(V + 1), part(V + 2)],
+    ]
 }
 
 /// The new `P_dd` without noise, pairs ϑϑ, ϑp, ϑv, pp, pv, vv: element `(r, s)` is
@@ -209,75 +229,58 @@ pub(super) fn dynamic_blocks(
     let t = &model.transition;
     let [gyro_attitude, gyro_position, gyro_velocity] = &model.gyro_bias_column;
     let [accel_position, accel_velocity] = &model.accel_bias_column;
-    // Fᵀ over the δp and δv rows of F (columns s = 0..6), 15 terms k: ϑ, p, v, bg, ba.
-    let mut transposed = [[0.0; 6]; 15];
-    let rows_of_f: [[&Block; 5]; 2] = [
-        [
-            &t.position_attitude,
-            &t.position_position,
-            &t.position_velocity,
-            gyro_position,
-            accel_position,
-        ],
-        [
-            &t.velocity_attitude,
-            &t.velocity_position,
-            &t.velocity_velocity,
-            gyro_velocity,
-            accel_velocity,
-        ],
+    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s.
+    let rows_of_f = |blocks: [&Block; 5], i: usize| {
+        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
+        let [fa, fp, fv, eg, ea] = blocks.map(pick);
+        concatenated([&fa, &fp, &fv, &eg, &ea])
+    };
+    let position_blocks = [
+        &t.position_attitude,
+        &t.position_position,
+        &t.position_velocity,
+        gyro_position,
+        accel_position,
     ];
-    for (block_row, blocks) in rows_of_f.iter().enumerate() {
-        for (term_block, block) in blocks.iter().enumerate() {
-            for (i, coefficients) in block.iter().enumerate() {
-                for (j, coefficient) in coefficients.iter().enumerate() {
-                    let slot = transposed
-                        .get_mut(3 * term_block + j)
-                        .and_then(|row| row.get_mut(3 * block_row + i));
-                    if let Some(slot) = slot {
-                        *slot = *coefficient;
-                    }
-                }
-            }
-        }
-    }
-    // Fᵀ over the ϑ rows (columns s = 0..3), 6 terms k: ϑ, bg.
-    let mut transposed_attitude = [[0.0; 3]; 6];
-    for (term_block, block) in [&t.attitude_attitude, gyro_attitude].iter().enumerate() {
-        for (i, coefficients) in block.iter().enumerate() {
-            for (j, coefficient) in coefficients.iter().enumerate() {
-                let slot = transposed_attitude
-                    .get_mut(3 * term_block + j)
-                    .and_then(|row| row.get_mut(i));
-                if let Some(slot) = slot {
-                    *slot = *coefficient;
-                }
-            }
-        }
-    }
-    // y_r for each row of U, and the products across the output columns.
-    let transposed = transposed.each_ref();
-    let transposed_attitude = transposed_attitude.each_ref();
+    let velocity_blocks = [
+        &t.velocity_attitude,
+        &t.velocity_position,
+        &t.velocity_velocity,
+        gyro_velocity,
+        accel_velocity,
+    ];
+    let f_transposed = transposed(&[
+        rows_of_f(position_blocks, 0),
+        rows_of_f(position_blocks, 1),
+        rows_of_f(position_blocks, 2),
+        rows_of_f(velocity_blocks, 0),
+        rows_of_f(velocity_blocks, 1),
+        rows_of_f(velocity_blocks, 2),
+    ]);
+    // Rows ϑ of F over (ϑ, bg), transposed: 6 terms of 3 columns.
+    let attitude_row = |i: usize| {
+        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
+        let ([f0, f1, f2], [e0, e1, e2]) = (pick(&t.attitude_attitude), pick(gyro_attitude));
+        [f0, f1, f2, e0, e1, e2]
+    };
+    let attitude_transposed = transposed(&[attitude_row(0), attitude_row(1), attitude_row(2)]);
+    // Row r of U with its folded columns: y_r, then the products across the columns.
     let mut products = [[0.0; 6]; DYNAMIC_DIMENSION];
     let mut attitude_products = [[0.0; 3]; 3];
-    let block_rows = folded_gyro.iter().zip(folded_accel);
-    for (block_index, (gyro, accel)) in block_rows.enumerate() {
-        for (i, (gyro_row, accel_row)) in gyro.iter().zip(accel).enumerate() {
-            let r = 3 * block_index + i;
-            let (Some(u_row), Some(out)) = (u.get(r), products.get_mut(r)) else {
-                continue;
-            };
-            let mut y = [0.0; 15];
-            let values = u_row.iter().take(DYNAMIC_DIMENSION);
-            for (slot, value) in y.iter_mut().zip(values.chain(gyro_row).chain(accel_row)) {
-                *slot = *value;
-            }
-            *out = combination(&y, &transposed);
-            if let Some(out) = attitude_products.get_mut(r) {
-                let [y0, y1, y2, ..] = y;
-                let [g0, g1, g2] = *gyro_row;
-                *out = combination(&[y0, y1, y2, g0, g1, g2], &transposed_attitude);
-            }
+    let folded_rows = folded_gyro
+        .iter()
+        .flatten()
+        .zip(folded_accel.iter().flatten());
+    for (r, (u_row, (gyro_row, accel_row))) in u.iter().zip(folded_rows).enumerate() {
+        let [u0, u1, u2, u3, u4, u5, u6, u7, u8, ..] = *u_row;
+        let [g0, g1, g2] = *gyro_row;
+        let [a0, a1, a2] = *accel_row;
+        let y = [u0, u1, u2, u3, u4, u5, u6, u7, u8, g0, g1, g2, a0, a1, a2];
+        if let Some(out) = products.get_mut(r) {
+            *out = combination(&y, &f_transposed);
+        }
+        if let Some(out) = attitude_products.get_mut(r) {
+            *out = combination(&[u0, u1, u2, g0, g1, g2], &attitude_transposed);
         }
     }
     let block_of = |first_row: usize, first_column: usize| -> Block {
