@@ -106,12 +106,14 @@ impl BlockMask {
     pub const NONE: BlockMask = BlockMask { bits: 0 };
 
     /// Position of `block` in [`BLOCKS`] (its index / 3); blocks are 3 states each.
+    #[inline]
     fn bit(block: StateBlock) -> u8 {
         let position = block.index / 3;
         u8::try_from(position).map_or(0, |p| 1u8.checked_shl(u32::from(p)).unwrap_or(0))
     }
 
     /// Whether the state with index `state_index` (0..24) belongs to a block in the set.
+    #[inline]
     pub fn contains_state(&self, state_index: usize) -> bool {
         let position = state_index / 3;
         u32::try_from(position)
@@ -121,16 +123,19 @@ impl BlockMask {
     }
 
     /// Whether `block` is in the set.
+    #[inline]
     pub fn contains(&self, block: StateBlock) -> bool {
         self.bits & Self::bit(block) != 0
     }
 
     /// Adds `block` to the set.
+    #[inline]
     pub fn insert(&mut self, block: StateBlock) {
         self.bits |= Self::bit(block);
     }
 
     /// Removes `block` from the set.
+    #[inline]
     pub fn remove(&mut self, block: StateBlock) {
         self.bits &= !Self::bit(block);
     }

@@ -875,7 +875,8 @@ impl StructuredModel {
     /// [`StructuredModel::propagate_covariance`] with the row kernel ([`rows`]; the host's).
     #[cfg(any(test, not(target_arch = "arm")))]
     fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
-        let u = rows::projected_rows(self, p);
+        let mut u = [[0.0; STATE_DIMENSION]; 9];
+        rows::projected_rows(self, p, &mut u);
         let mut gyro_bias = rows::column_block(&u, BG);
         let mut accel_bias = rows::column_block(&u, BA);
         let installation = rows::column_block(&u, PSI);

@@ -92,13 +92,15 @@ fn transposed<const R: usize, const C: usize>(m: &[[f64; C]; R]) -> [[f64; R]; C
 
 /// [`combination`] of whole rows, a chunk of [`LANES`] columns at a time.
 #[inline(always)]
-fn combination_of_rows<const N: usize>(coefficients: &[f64; N], rows: &[&StateRow; N]) -> StateRow {
-    let mut out = [0.0; STATE_DIMENSION];
+fn combination_of_rows<const N: usize>(
+    out: &mut StateRow,
+    coefficients: &[f64; N],
+    rows: &[&StateRow; N],
+) {
     for (index, out) in out.chunks_exact_mut(LANES).enumerate() {
         let chunks = rows.map(|r| chunk(r, index));
         out.copy_from_slice(&combination(coefficients, &chunks));
     }
-    out
 }
 
 /// The rows `bias + diag(input) scale` over three states: the scale factors folded into
@@ -129,7 +131,7 @@ fn concatenated<const N: usize>(blocks: [&Row; N]) -> [f64; 15] {
 /// and velocity rows over `P_ϑ, P_p, P_v, G, A` (`G`, `A` the folded gyro and
 /// accelerometer rows), in the block kernel's term order.
 #[inline(never)]
-pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix) -> ProjectedRows {
+pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &mut ProjectedRows) {
     let [g0, g1, g2] = folded_rows(p, BG, SG, model.measured_rate_rad_s);
     let [a0, a1, a2] = folded_rows(p, BA, SA, model.measured_specific_force_mps2);
     let (t0, t1, t2) = (row(p, A), row(p, A + 1), row(p, A + 2));
@@ -154,7 +156,6 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix) -> P
     let t = &model.transition;
     let [gyro_attitude, gyro_position, gyro_velocity] = &model.gyro_bias_column;
     let [accel_position, accel_velocity] = &model.accel_bias_column;
-    let mut u = [[0.0; STATE_DIMENSION]; DYNAMIC_DIMENSION];
     let (attitude, rest) = u.split_at_mut(3);
     let (position, velocity) = rest.split_at_mut(3);
     for (out, (f, e)) in attitude
@@ -163,7 +164,7 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix) -> P
     {
         let [f0, f1, f2] = *f;
         let [e0, e1, e2] = *e;
-        *out = combination_of_rows(&[f0, f1, f2, e0, e1, e2], &attitude_rows);
+        combination_of_rows(out, &[f0, f1, f2, e0, e1, e2], &attitude_rows);
     }
     for (out, blocks) in [
         (
@@ -192,10 +193,9 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix) -> P
             let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
             let (fa, fp, fv, eg, ea) = (pick(fa), pick(fp), pick(fv), pick(eg), pick(ea));
             let coefficients = concatenated([&fa, &fp, &fv, &eg, &ea]);
-            *out = combination_of_rows(&coefficients, &dynamic_rows);
+            combination_of_rows(out, &coefficients, &dynamic_rows);
         }
     }
-    u
 }
 
 /// `U`'s column block at state `column` (its rows ϑ, δp, δv as three blocks).
