@@ -877,20 +877,14 @@ impl StructuredModel {
     fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
         let mut u = [[0.0; STATE_DIMENSION]; 9];
         rows::projected_rows(self, p, &mut u);
-        let mut gyro_bias = rows::column_block(&u, BG);
-        let mut accel_bias = rows::column_block(&u, BA);
-        let installation = rows::column_block(&u, PSI);
-        let gyro_scale = rows::column_block(&u, SG);
-        let accel_scale = rows::column_block(&u, SA);
-        let (folded_gyro, folded_accel) =
-            self.fold_calibration_columns(&gyro_bias, &gyro_scale, &accel_bias, &accel_scale);
+        let (folded_gyro, folded_accel) = self.fold_calibration_columns(
+            &rows::column_block(&u, BG),
+            &rows::column_block(&u, SG),
+            &rows::column_block(&u, BA),
+            &rows::column_block(&u, SA),
+        );
         let mut dynamic = rows::dynamic_blocks(self, &u, &folded_gyro, &folded_accel);
-        self.write_propagated(
-            p,
-            [&mut gyro_bias, &mut accel_bias],
-            [&installation, &gyro_scale, &accel_scale],
-            &mut dynamic,
-        )
+        self.write_propagated_rows(p, &mut u, &mut dynamic)
     }
 
     /// `U`'s calibration columns folded (module docs), rows ϑ, δp, δv: the gyro's
@@ -934,11 +928,12 @@ impl StructuredModel {
         )
     }
 
-    /// The shared tail of the propagation: the walks' `Qd` added to the new `P_dd`
+    /// The block kernel's tail of the propagation: the walks' `Qd` added to the new `P_dd`
     /// (`dynamic`, pairs ϑϑ, ϑp, ϑv, pp, pv, vv without noise) and to the bias columns, the
     /// finite check of everything new, then the writes with their mirrors. `bias` are `U`'s
     /// gyro- and accelerometer-bias columns, `other` its installation and scale-factor
     /// columns (rows ϑ, δp, δv each). `false`, with `P` unchanged, if anything is not finite.
+    #[cfg(any(test, target_arch = "arm"))]
     #[inline(always)]
     fn write_propagated(
         &self,
@@ -947,32 +942,20 @@ impl StructuredModel {
         other: [&[Block; 3]; 3],
         dynamic: &mut [Block; 6],
     ) -> bool {
-        let noise = &self.noise;
-        // Zero noise blocks (no walk) are not added.
-        if !self.noise_is_zero {
-            for (value, q) in dynamic.iter_mut().zip(&noise.dynamic) {
-                *value = add(value, q);
-            }
-        }
-        let [new_aa, new_ap, new_av, new_pp, new_pv, new_vv] = &*dynamic;
+        self.add_dynamic_noise(dynamic);
         let [gyro_bias, accel_bias] = bias;
         // Bias walks: Qd in the bias columns of the dynamic rows and on the bias diagonal.
-        let walk_diagonal = if self.bias_walk {
+        if self.bias_walk {
             // In place (new arrays of blocks would be copies).
             let with = |column: &mut [Block; 3], noise: &[Block; 3]| {
                 for (value, q) in column.iter_mut().zip(noise) {
                     *value = add(value, q);
                 }
             };
-            with(gyro_bias, &noise.dynamic_gyro_bias);
-            with(accel_bias, &noise.dynamic_accel_bias);
-            Some([
-                add(&read::<BG, BG, 24, 24>(p), &noise.gyro_bias),
-                add(&read::<BA, BA, 24, 24>(p), &noise.accel_bias),
-            ])
-        } else {
-            None
-        };
+            with(gyro_bias, &self.noise.dynamic_gyro_bias);
+            with(accel_bias, &self.noise.dynamic_accel_bias);
+        }
+        let walk_diagonal = self.walk_diagonal(p);
         let [installation, gyro_scale, accel_scale] = other;
         let mut check = FiniteCheck::new();
         for blocks in [
@@ -986,14 +969,7 @@ impl StructuredModel {
                 check.block(value);
             }
         }
-        for value in dynamic.iter() {
-            check.block(value);
-        }
-        if let Some(blocks) = &walk_diagonal {
-            for value in blocks {
-                check.block(value);
-            }
-        }
+        Self::check_dynamic(&mut check, dynamic, &walk_diagonal);
         if !check.all_finite() {
             return false;
         }
@@ -1017,17 +993,97 @@ impl StructuredModel {
         write_symmetric::<A, SA>(p, scale_accel_a);
         write_symmetric::<P, SA>(p, scale_accel_p);
         write_symmetric::<V, SA>(p, scale_accel_v);
+        Self::write_dynamic(p, dynamic, &walk_diagonal);
+        true
+    }
+
+    /// The row kernel's tail: as [`StructuredModel::write_propagated`], with `U`'s
+    /// calibration columns (the new `P_dc`) kept in the rows of `u`: the walks' `Qd` added
+    /// there, checked there, and written from there (each row into its column of `P`, and
+    /// mirrored).
+    #[cfg(any(test, not(target_arch = "arm")))]
+    #[inline(always)]
+    fn write_propagated_rows(
+        &self,
+        p: &mut CovarianceMatrix,
+        u: &mut rows::ProjectedRows,
+        dynamic: &mut [Block; 6],
+    ) -> bool {
+        self.add_dynamic_noise(dynamic);
+        if self.bias_walk {
+            rows::add_to_column(u, BG, &self.noise.dynamic_gyro_bias);
+            rows::add_to_column(u, BA, &self.noise.dynamic_accel_bias);
+        }
+        let walk_diagonal = self.walk_diagonal(p);
+        let mut check = FiniteCheck::new();
+        Self::check_dynamic(&mut check, dynamic, &walk_diagonal);
+        if !(check.all_finite() && rows::calibration_finite(u)) {
+            return false;
+        }
+        rows::write_calibration_columns(p, u);
+        Self::write_dynamic(p, dynamic, &walk_diagonal);
+        true
+    }
+
+    /// The walks' `Qd` added to the new `P_dd` (zero noise blocks, no walk, are not added).
+    #[inline(always)]
+    fn add_dynamic_noise(&self, dynamic: &mut [Block; 6]) {
+        if !self.noise_is_zero {
+            for (value, q) in dynamic.iter_mut().zip(&self.noise.dynamic) {
+                *value = add(value, q);
+            }
+        }
+    }
+
+    /// The new bias diagonal blocks under bias walks, `P_bg,bg + Qd` and `P_ba,ba + Qd`
+    /// (read from the old `P`); `None` without walks (the blocks keep their values).
+    #[inline(always)]
+    fn walk_diagonal(&self, p: &CovarianceMatrix) -> Option<[Block; 2]> {
+        if self.bias_walk {
+            Some([
+                add(&read::<BG, BG, 24, 24>(p), &self.noise.gyro_bias),
+                add(&read::<BA, BA, 24, 24>(p), &self.noise.accel_bias),
+            ])
+        } else {
+            None
+        }
+    }
+
+    /// Adds the new `P_dd` and bias diagonal blocks to a finite check.
+    #[inline(always)]
+    fn check_dynamic(
+        check: &mut FiniteCheck,
+        dynamic: &[Block; 6],
+        walk_diagonal: &Option<[Block; 2]>,
+    ) {
+        for value in dynamic.iter() {
+            check.block(value);
+        }
+        if let Some(blocks) = walk_diagonal {
+            for value in blocks {
+                check.block(value);
+            }
+        }
+    }
+
+    /// Writes the new `P_dd` (upper block triangle, mirrored) and bias diagonal blocks.
+    #[inline(always)]
+    fn write_dynamic(
+        p: &mut CovarianceMatrix,
+        dynamic: &[Block; 6],
+        walk_diagonal: &Option<[Block; 2]>,
+    ) {
+        let [new_aa, new_ap, new_av, new_pp, new_pv, new_vv] = dynamic;
         write_diagonal_symmetric::<A>(p, new_aa);
         write_symmetric::<A, P>(p, new_ap);
         write_symmetric::<A, V>(p, new_av);
         write_diagonal_symmetric::<P>(p, new_pp);
         write_symmetric::<P, V>(p, new_pv);
         write_diagonal_symmetric::<V>(p, new_vv);
-        if let Some([gyro, accel]) = &walk_diagonal {
+        if let Some([gyro, accel]) = walk_diagonal {
             write_diagonal_symmetric::<BG>(p, gyro);
             write_diagonal_symmetric::<BA>(p, accel);
         }
-        true
     }
 }
 

@@ -31,10 +31,13 @@ pub(super) type ProjectedRows = [StateRow; DYNAMIC_DIMENSION];
 /// Read where an index is out of range (constant indices never are).
 const NAN_ROW: StateRow = [f64::NAN; STATE_DIMENSION];
 
-/// Columns summed together: a chunk of a row whose sum stays in registers across all the
-/// terms (six SSE2 or NEON registers of two, three AVX2 registers of four). Measured on the
-/// host replay (x86-64): 12 beats 4, 8 and 24 with SSE2 and with AVX2.
-const LANES: usize = 12;
+/// Columns summed together: a chunk of a row whose sums (three rows at once, see
+/// [`combinations`]) stay in registers across all the terms. With AVX (16 registers of four):
+/// 12 columns, 9 registers; otherwise (SSE2, 16 registers of two) 4 columns, 6 registers: 12
+/// would need 18 and spill. Measured on the host replay (x86-64, median of five 300 s runs):
+/// AVX2 1,097,000 frames/s with 12 against 1,050,000 with 8; SSE2 846,000 with 4 against
+/// 820,000 with 8 and 785,000 with 12. Divides the 24 states.
+const LANES: usize = if cfg!(target_feature = "avx") { 12 } else { 4 };
 
 /// A chunk of [`LANES`] columns of a row.
 type Chunk = [f64; LANES];
@@ -56,26 +59,34 @@ fn chunk(row: &StateRow, index: usize) -> &Chunk {
         .unwrap_or(&NAN_CHUNK)
 }
 
-/// `Σ_k c_k r_k` element-wise, summed left to right from the first product (the block
-/// kernels' order). Inlined at each call: `N` and `W` are constants, so the sum of `W`
-/// values stays in registers across the `N` terms. The rows are given by value or by
-/// reference.
+/// `Σ_k c_mk r_k` element-wise for `M` coefficient sets `c_m` over the same rows, each sum
+/// left to right from the first product (the block kernels' order). The `M` sums are built
+/// together: each row is read once for all of them, and their `M` chains of dependent
+/// additions run side by side (one chain alone waits on each addition's latency). Inlined at
+/// each call: `W`, `N` and `M` are constants, so the sums stay in registers across the `N`
+/// terms. The rows are given by value or by reference.
 #[inline(always)]
-fn combination<const W: usize, const N: usize, R: Borrow<[f64; W]>>(
-    coefficients: &[f64; N],
+fn combinations<const W: usize, const N: usize, const M: usize, R: Borrow<[f64; W]>>(
+    coefficients: &[[f64; N]; M],
     rows: &[R; N],
-) -> [f64; W] {
-    let mut terms = coefficients.iter().zip(rows);
-    let Some((c0, r0)) = terms.next() else {
-        return [0.0; W];
+) -> [[f64; W]; M] {
+    let mut terms = rows.iter().enumerate();
+    let Some((_, r0)) = terms.next() else {
+        return [[0.0; W]; M];
     };
-    let mut sum = r0.borrow().map(|x| x * c0);
-    for (c, r) in terms {
-        for (s, x) in sum.iter_mut().zip(r.borrow()) {
-            *s += x * c;
+    let mut sums = coefficients.map(|c| {
+        let c0 = c.first().copied().unwrap_or(f64::NAN);
+        r0.borrow().map(|x| x * c0)
+    });
+    for (k, r) in terms {
+        for (sum, c) in sums.iter_mut().zip(coefficients) {
+            let ck = c.get(k).copied().unwrap_or(f64::NAN);
+            for (s, x) in sum.iter_mut().zip(r.borrow()) {
+                *s += x * ck;
+            }
         }
     }
-    sum
+    sums
 }
 
 /// `mᵀ` of a small matrix given as rows.
@@ -91,16 +102,21 @@ fn transposed<const R: usize, const C: usize>(m: &[[f64; C]; R]) -> [[f64; R]; C
     })
 }
 
-/// [`combination`] of whole rows, a chunk of [`LANES`] columns at a time.
+/// [`combinations`] of whole rows into `out`, a chunk of [`LANES`] columns at a time.
 #[inline(always)]
-fn combination_of_rows<const N: usize>(
-    out: &mut StateRow,
-    coefficients: &[f64; N],
+fn combinations_of_rows<const N: usize, const M: usize>(
+    out: &mut [StateRow],
+    coefficients: &[[f64; N]; M],
     rows: &[&StateRow; N],
 ) {
-    for (index, out) in out.chunks_exact_mut(LANES).enumerate() {
+    for index in 0..STATE_DIMENSION / LANES {
         let chunks = rows.map(|r| chunk(r, index));
-        out.copy_from_slice(&combination(coefficients, &chunks));
+        let sums = combinations(coefficients, &chunks);
+        for (out, sum) in out.iter_mut().zip(&sums) {
+            if let Some(target) = out.get_mut(index * LANES..(index + 1) * LANES) {
+                target.copy_from_slice(sum);
+            }
+        }
     }
 }
 
@@ -159,14 +175,12 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &
     let [accel_position, accel_velocity] = &model.accel_bias_column;
     let (attitude, rest) = u.split_at_mut(3);
     let (position, velocity) = rest.split_at_mut(3);
-    for (out, (f, e)) in attitude
-        .iter_mut()
-        .zip(t.attitude_attitude.iter().zip(gyro_attitude))
-    {
-        let [f0, f1, f2] = *f;
-        let [e0, e1, e2] = *e;
-        combination_of_rows(out, &[f0, f1, f2, e0, e1, e2], &attitude_rows);
-    }
+    let attitude_coefficients = [0, 1, 2].map(|i| {
+        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
+        let ([f0, f1, f2], [e0, e1, e2]) = (pick(&t.attitude_attitude), pick(gyro_attitude));
+        [f0, f1, f2, e0, e1, e2]
+    });
+    combinations_of_rows(attitude, &attitude_coefficients, &attitude_rows);
     for (out, blocks) in [
         (
             position,
@@ -189,13 +203,11 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &
             ],
         ),
     ] {
-        let [fa, fp, fv, eg, ea] = blocks;
-        for (i, out) in out.iter_mut().enumerate() {
+        let coefficients = [0, 1, 2].map(|i| {
             let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-            let (fa, fp, fv, eg, ea) = (pick(fa), pick(fp), pick(fv), pick(eg), pick(ea));
-            let coefficients = concatenated([&fa, &fp, &fv, &eg, &ea]);
-            combination_of_rows(out, &coefficients, &dynamic_rows);
-        }
+            concatenated(blocks.map(pick).each_ref())
+        });
+        combinations_of_rows(out, &coefficients, &dynamic_rows);
     }
 }
 
@@ -213,6 +225,45 @@ pub(super) fn column_block(u: &ProjectedRows, column: usize) -> [Block; 3] {
         [part(P), part(P + 1), part(P + 2)],
         [part(V), part(V + 1), part(V + 2)],
     ]
+}
+
+/// Adds `blocks` (rows ϑ, δp, δv) to `U`'s column block at state `column`, element by
+/// element as the block kernel's `add` (a zero block is added too: `−0 + 0` is `+0`).
+#[inline(always)]
+pub(super) fn add_to_column(u: &mut ProjectedRows, column: usize, blocks: &[Block; 3]) {
+    for (u_row, q_row) in u.iter_mut().zip(blocks.iter().flatten()) {
+        let part = u_row.get_mut(column..column + 3).into_iter().flatten();
+        for (value, q) in part.zip(q_row) {
+            *value += q;
+        }
+    }
+}
+
+/// Whether `U`'s calibration columns (the new `P_dc`) are finite.
+#[inline(always)]
+pub(super) fn calibration_finite(u: &ProjectedRows) -> bool {
+    u.iter()
+        .all(|row| crate::block::all_finite(row.get(DYNAMIC_DIMENSION..).unwrap_or(&[])))
+}
+
+/// Writes `U`'s calibration columns as the new `P_dc`: row `r` into column `r` of `P`
+/// (rows 9..24, contiguous) and mirrored into row `r` of columns 9..24.
+#[inline(always)]
+pub(super) fn write_calibration_columns(p: &mut CovarianceMatrix, u: &ProjectedRows) {
+    let (dynamic_columns, calibration_columns) = p.data.0.split_at_mut(DYNAMIC_DIMENSION);
+    for (column, u_row) in dynamic_columns.iter_mut().zip(u) {
+        let targets = column.iter_mut().skip(DYNAMIC_DIMENSION);
+        for (target, value) in targets.zip(u_row.iter().skip(DYNAMIC_DIMENSION)) {
+            *target = *value;
+        }
+    }
+    for (offset, column) in calibration_columns.iter_mut().enumerate() {
+        for (target, u_row) in column.iter_mut().zip(u) {
+            if let Some(value) = u_row.get(DYNAMIC_DIMENSION + offset) {
+                *target = *value;
+            }
+        }
+    }
 }
 
 /// The new `P_dd` without noise, pairs ϑϑ, ϑp, ϑv, pp, pv, vv: element `(r, s)` is
@@ -266,42 +317,36 @@ pub(super) fn dynamic_blocks(
     };
     let attitude_transposed = transposed(&[attitude_row(0), attitude_row(1), attitude_row(2)]);
     // Row r of U with its folded columns: y_r, then the products across the columns.
-    let mut products = [[0.0; 6]; DYNAMIC_DIMENSION];
+    // y_r for the three rows of each block row of U, and their products across the
+    // columns, the three rows together.
+    let folded = folded_gyro.iter().zip(folded_accel);
+    let mut products = [[[0.0; 6]; 3]; 3];
     let mut attitude_products = [[0.0; 3]; 3];
-    let folded_rows = folded_gyro
-        .iter()
-        .flatten()
-        .zip(folded_accel.iter().flatten());
-    for (r, (u_row, (gyro_row, accel_row))) in u.iter().zip(folded_rows).enumerate() {
-        let [u0, u1, u2, u3, u4, u5, u6, u7, u8, ..] = *u_row;
-        let [g0, g1, g2] = *gyro_row;
-        let [a0, a1, a2] = *accel_row;
-        let y = [u0, u1, u2, u3, u4, u5, u6, u7, u8, g0, g1, g2, a0, a1, a2];
-        if let Some(out) = products.get_mut(r) {
-            *out = combination(&y, &f_transposed);
-        }
-        if let Some(out) = attitude_products.get_mut(r) {
-            *out = combination(&[u0, u1, u2, g0, g1, g2], &attitude_transposed);
+    for (block_row, (out, (gyro, accel))) in products.iter_mut().zip(folded).enumerate() {
+        let y = [0, 1, 2].map(|i| {
+            let u_row = u.get(3 * block_row + i).unwrap_or(&NAN_ROW);
+            let [u0, u1, u2, u3, u4, u5, u6, u7, u8, ..] = *u_row;
+            let [g0, g1, g2] = gyro.get(i).copied().unwrap_or([f64::NAN; 3]);
+            let [a0, a1, a2] = accel.get(i).copied().unwrap_or([f64::NAN; 3]);
+            [u0, u1, u2, u3, u4, u5, u6, u7, u8, g0, g1, g2, a0, a1, a2]
+        });
+        *out = combinations(&y, &f_transposed);
+        if block_row == 0 {
+            let y_attitude =
+                y.map(|[u0, u1, u2, _, _, _, _, _, _, g0, g1, g2, ..]| [u0, u1, u2, g0, g1, g2]);
+            attitude_products = combinations(&y_attitude, &attitude_transposed);
         }
     }
-    let block_of = |first_row: usize, first_column: usize| -> Block {
-        [0, 1, 2].map(|i| {
-            [0, 1, 2].map(|j| {
-                products
-                    .get(first_row + i)
-                    .and_then(|row| row.get(first_column + j))
-                    .copied()
-                    .unwrap_or(f64::NAN)
-            })
-        })
-    };
+    let [attitude_rows, position_rows, velocity_rows] = products;
+    let left = |rows: [[f64; 6]; 3]| rows.map(|[x, y, z, ..]| [x, y, z]);
+    let right = |rows: [[f64; 6]; 3]| rows.map(|[.., x, y, z]| [x, y, z]);
     [
         attitude_products,
-        block_of(A, 0),
-        block_of(A, 3),
-        block_of(P, 0),
-        block_of(P, 3),
-        block_of(V, 3),
+        left(attitude_rows),
+        right(attitude_rows),
+        left(position_rows),
+        right(position_rows),
+        right(velocity_rows),
     ]
 }
 
