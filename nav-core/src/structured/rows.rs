@@ -301,6 +301,7 @@ pub(super) fn dynamic_blocks(
         gyro_velocity,
         accel_velocity,
     ];
+    // Two zero columns pad the 6 to 8: whole vector registers; their sums are not read.
     let f_transposed = transposed(&[
         rows_of_f(position_blocks, 0),
         rows_of_f(position_blocks, 1),
@@ -308,6 +309,8 @@ pub(super) fn dynamic_blocks(
         rows_of_f(velocity_blocks, 0),
         rows_of_f(velocity_blocks, 1),
         rows_of_f(velocity_blocks, 2),
+        [0.0; 15],
+        [0.0; 15],
     ]);
     // Rows ϑ of F over (ϑ, bg), transposed: 6 terms of 3 columns.
     let attitude_row = |i: usize| {
@@ -315,13 +318,15 @@ pub(super) fn dynamic_blocks(
         let ([f0, f1, f2], [e0, e1, e2]) = (pick(&t.attitude_attitude), pick(gyro_attitude));
         [f0, f1, f2, e0, e1, e2]
     };
-    let attitude_transposed = transposed(&[attitude_row(0), attitude_row(1), attitude_row(2)]);
+    // One zero column pads the 3 to 4 (not read).
+    let attitude_transposed =
+        transposed(&[attitude_row(0), attitude_row(1), attitude_row(2), [0.0; 6]]);
     // Row r of U with its folded columns: y_r, then the products across the columns.
     // y_r for the three rows of each block row of U, and their products across the
     // columns, the three rows together.
     let folded = folded_gyro.iter().zip(folded_accel);
-    let mut products = [[[0.0; 6]; 3]; 3];
-    let mut attitude_products = [[0.0; 3]; 3];
+    let mut products = [[[0.0; 8]; 3]; 3];
+    let mut attitude_products = [[0.0; 4]; 3];
     for (block_row, (out, (gyro, accel))) in products.iter_mut().zip(folded).enumerate() {
         let y = [0, 1, 2].map(|i| {
             let u_row = u.get(3 * block_row + i).unwrap_or(&NAN_ROW);
@@ -338,10 +343,10 @@ pub(super) fn dynamic_blocks(
         }
     }
     let [attitude_rows, position_rows, velocity_rows] = products;
-    let left = |rows: [[f64; 6]; 3]| rows.map(|[x, y, z, ..]| [x, y, z]);
-    let right = |rows: [[f64; 6]; 3]| rows.map(|[.., x, y, z]| [x, y, z]);
+    let left = |rows: [[f64; 8]; 3]| rows.map(|[x, y, z, ..]| [x, y, z]);
+    let right = |rows: [[f64; 8]; 3]| rows.map(|[_, _, _, x, y, z, ..]| [x, y, z]);
     [
-        attitude_products,
+        attitude_products.map(|[x, y, z, _]| [x, y, z]),
         left(attitude_rows),
         right(attitude_rows),
         left(position_rows),
