@@ -1,7 +1,8 @@
 //! The row kernel of the covariance propagation, for targets with f64 SIMD (x86-64 SSE2,
 //! AArch64 NEON): `U = [Φ E] P` as nine rows of 24, each a linear combination of rows of
 //! `P` (`U_i = Σ_k F_ik P_k`: axpys over 24 contiguous values, which the compiler
-//! vectorises), and the new `P_dd` a row at a time across its output columns.
+//! vectorises), and the new `P_dd` a block row (three rows) at a time across its output
+//! columns.
 //!
 //! **Same bits as the block kernel** ([`StructuredModel::propagate_column`] and
 //! `dynamic_pair`, the Cortex-M7's): every element is the same sequence of IEEE operations,
@@ -133,15 +134,53 @@ fn folded_rows(p: &CovarianceMatrix, bias: usize, scale: usize, input: Row) -> [
     rows
 }
 
-/// Three coefficient rows `(c_0 | c_1 | …)` of blocks side by side: the coefficients of
-/// one row of `F` over the blocks' columns.
+/// The blocks of `F`'s δp rows and of its δv rows over the terms ϑ, p, v, bg, ba (the
+/// block kernel's term order; the scale factors are folded into the biases).
 #[inline(always)]
-fn concatenated<const N: usize>(blocks: [&Row; N]) -> [f64; 15] {
+fn dynamic_rows_of_f(model: &StructuredModel) -> [[&Block; 5]; 2] {
+    let t = &model.transition;
+    let [_, gyro_position, gyro_velocity] = &model.gyro_bias_column;
+    let [accel_position, accel_velocity] = &model.accel_bias_column;
+    [
+        [
+            &t.position_attitude,
+            &t.position_position,
+            &t.position_velocity,
+            gyro_position,
+            accel_position,
+        ],
+        [
+            &t.velocity_attitude,
+            &t.velocity_position,
+            &t.velocity_velocity,
+            gyro_velocity,
+            accel_velocity,
+        ],
+    ]
+}
+
+/// Row `i` of one of those block rows: its 15 coefficients side by side.
+#[inline(always)]
+fn row_of_f(blocks: [&Block; 5], i: usize) -> [f64; 15] {
     let mut out = [0.0; 15];
-    for (slot, value) in out.iter_mut().zip(blocks.iter().flat_map(|row| row.iter())) {
+    let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
+    for (slot, value) in out.iter_mut().zip(blocks.map(pick).iter().flatten()) {
         *slot = *value;
     }
     out
+}
+
+/// Row `i` of `F`'s ϑ rows over their non-zero blocks, `Φ_ϑϑ` and `E_gϑ` (its ϑp, ϑv and
+/// accelerometer blocks are zero): 6 coefficients.
+#[inline(always)]
+fn attitude_row_of_f(model: &StructuredModel, i: usize) -> [f64; 6] {
+    let [gyro_attitude, _, _] = &model.gyro_bias_column;
+    let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
+    let ([f0, f1, f2], [e0, e1, e2]) = (
+        pick(&model.transition.attitude_attitude),
+        pick(gyro_attitude),
+    );
+    [f0, f1, f2, e0, e1, e2]
 }
 
 /// `U = [Φ E] P` (module docs of [`super`]): attitude rows `Φ_ϑϑ P_ϑ + E_gϑ G`, position
@@ -170,43 +209,13 @@ pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &
         &a2,
     ];
     let attitude_rows = [t0, t1, t2, &g0, &g1, &g2];
-    let t = &model.transition;
-    let [gyro_attitude, gyro_position, gyro_velocity] = &model.gyro_bias_column;
-    let [accel_position, accel_velocity] = &model.accel_bias_column;
     let (attitude, rest) = u.split_at_mut(3);
     let (position, velocity) = rest.split_at_mut(3);
-    let attitude_coefficients = [0, 1, 2].map(|i| {
-        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-        let ([f0, f1, f2], [e0, e1, e2]) = (pick(&t.attitude_attitude), pick(gyro_attitude));
-        [f0, f1, f2, e0, e1, e2]
-    });
+    let attitude_coefficients = [0, 1, 2].map(|i| attitude_row_of_f(model, i));
     combinations_of_rows(attitude, &attitude_coefficients, &attitude_rows);
-    for (out, blocks) in [
-        (
-            position,
-            [
-                &t.position_attitude,
-                &t.position_position,
-                &t.position_velocity,
-                gyro_position,
-                accel_position,
-            ],
-        ),
-        (
-            velocity,
-            [
-                &t.velocity_attitude,
-                &t.velocity_position,
-                &t.velocity_velocity,
-                gyro_velocity,
-                accel_velocity,
-            ],
-        ),
-    ] {
-        let coefficients = [0, 1, 2].map(|i| {
-            let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-            concatenated(blocks.map(pick).each_ref())
-        });
+    let [position_blocks, velocity_blocks] = dynamic_rows_of_f(model);
+    for (out, blocks) in [(position, position_blocks), (velocity, velocity_blocks)] {
+        let coefficients = [0, 1, 2].map(|i| row_of_f(blocks, i));
         combinations_of_rows(out, &coefficients, &dynamic_rows);
     }
 }
@@ -278,50 +287,23 @@ pub(super) fn dynamic_blocks(
     folded_gyro: &[Block; 3],
     folded_accel: &[Block; 3],
 ) -> [Block; 6] {
-    let t = &model.transition;
-    let [gyro_attitude, gyro_position, gyro_velocity] = &model.gyro_bias_column;
-    let [accel_position, accel_velocity] = &model.accel_bias_column;
-    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s.
-    let rows_of_f = |blocks: [&Block; 5], i: usize| {
-        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-        let [fa, fp, fv, eg, ea] = blocks.map(pick);
-        concatenated([&fa, &fp, &fv, &eg, &ea])
-    };
-    let position_blocks = [
-        &t.position_attitude,
-        &t.position_position,
-        &t.position_velocity,
-        gyro_position,
-        accel_position,
-    ];
-    let velocity_blocks = [
-        &t.velocity_attitude,
-        &t.velocity_position,
-        &t.velocity_velocity,
-        gyro_velocity,
-        accel_velocity,
-    ];
-    // Two zero columns pad the 6 to 8: whole vector registers; their sums are not read.
+    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s; two
+    // zero columns pad the 6 to 8, whole vector registers (their sums are not read).
+    let [position_blocks, velocity_blocks] = dynamic_rows_of_f(model);
     let f_transposed = transposed(&[
-        rows_of_f(position_blocks, 0),
-        rows_of_f(position_blocks, 1),
-        rows_of_f(position_blocks, 2),
-        rows_of_f(velocity_blocks, 0),
-        rows_of_f(velocity_blocks, 1),
-        rows_of_f(velocity_blocks, 2),
+        row_of_f(position_blocks, 0),
+        row_of_f(position_blocks, 1),
+        row_of_f(position_blocks, 2),
+        row_of_f(velocity_blocks, 0),
+        row_of_f(velocity_blocks, 1),
+        row_of_f(velocity_blocks, 2),
         [0.0; 15],
         [0.0; 15],
     ]);
-    // Rows ϑ of F over (ϑ, bg), transposed: 6 terms of 3 columns.
-    let attitude_row = |i: usize| {
-        let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-        let ([f0, f1, f2], [e0, e1, e2]) = (pick(&t.attitude_attitude), pick(gyro_attitude));
-        [f0, f1, f2, e0, e1, e2]
-    };
-    // One zero column pads the 3 to 4 (not read).
+    // Rows ϑ of F over (ϑ, bg), transposed: 6 terms of 3 columns, padded to 4 (not read).
+    let attitude_row = |i: usize| attitude_row_of_f(model, i);
     let attitude_transposed =
         transposed(&[attitude_row(0), attitude_row(1), attitude_row(2), [0.0; 6]]);
-    // Row r of U with its folded columns: y_r, then the products across the columns.
     // y_r for the three rows of each block row of U, and their products across the
     // columns, the three rows together.
     let folded = folded_gyro.iter().zip(folded_accel);
