@@ -401,6 +401,26 @@ mod tests {
         assert!(!check.all_finite());
     }
 
+    /// A block with ±∞ or NaN at any one of its nine places is flagged; finite blocks of
+    /// the largest magnitudes are not.
+    #[test]
+    fn a_block_check_flags_a_non_finite_value_at_every_place() {
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+            for place in 0..9 {
+                let mut block = A;
+                block[place / 3][place % 3] = bad;
+                let mut check = FiniteCheck::new();
+                check.block(&B);
+                check.block(&block);
+                assert!(!check.all_finite(), "{bad} at {place} not flagged");
+            }
+        }
+        let mut check = FiniteCheck::new();
+        check.block(&[[f64::MAX; 3]; 3]);
+        check.block(&[[-f64::MAX; 3]; 3]);
+        assert!(check.all_finite());
+    }
+
     #[test]
     fn mirrors_copy_one_triangle_onto_the_other() {
         let mut p = CovarianceMatrix::from_fn(|i, j| (i * 24 + j) as f64);

@@ -1772,6 +1772,23 @@ mod tests {
             }
         }
         assert_eq!(compared, 480);
+        // A non-finite value that only the new P_dc reads (P_bg,ψ: the installation columns
+        // of U), or only the new P_dd reads (P_vv): both kernels refuse, P unchanged.
+        let noise = random_noise(&mut rng, true);
+        let model = StructuredModel::new(&random_point(&mut rng), &noise, 0.02, 3).unwrap();
+        for (row, column) in [
+            (GYRO_BIAS.index, STAR_INSTALLATION.index),
+            (VELOCITY.index, VELOCITY.index),
+        ] {
+            let mut p = random_covariance(&mut rng);
+            p[(row, column)] = f64::INFINITY;
+            p[(column, row)] = f64::INFINITY;
+            let (mut by_blocks, mut by_rows) = (p, p);
+            assert!(!model.propagate_covariance_by_blocks(&mut by_blocks));
+            assert!(!model.propagate_covariance_by_rows(&mut by_rows));
+            assert_eq!(bits(&by_blocks), bits(&p));
+            assert_eq!(bits(&by_rows), bits(&p));
+        }
         // An overflowing propagation: both kernels refuse it and leave P as it was.
         let noise = random_noise(&mut rng, true);
         let model = StructuredModel::new(&random_point(&mut rng), &noise, 0.1, 3).unwrap();

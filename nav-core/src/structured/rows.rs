@@ -40,6 +40,10 @@ const NAN_ROW: StateRow = [f64::NAN; STATE_DIMENSION];
 /// 820,000 with 8 and 785,000 with 12. Divides the 24 states.
 const LANES: usize = if cfg!(target_feature = "avx") { 12 } else { 4 };
 
+/// Chunks of [`LANES`] columns in a row (whole: checked at compile time).
+const CHUNKS: usize = STATE_DIMENSION / LANES;
+const _: () = assert!(CHUNKS * LANES == STATE_DIMENSION);
+
 /// A chunk of [`LANES`] columns of a row.
 type Chunk = [f64; LANES];
 
@@ -110,7 +114,7 @@ fn combinations_of_rows<const N: usize, const M: usize>(
     coefficients: &[[f64; N]; M],
     rows: &[&StateRow; N],
 ) {
-    for index in 0..STATE_DIMENSION / LANES {
+    for index in 0..CHUNKS {
         let chunks = rows.map(|r| chunk(r, index));
         let sums = combinations(coefficients, &chunks);
         for (out, sum) in out.iter_mut().zip(&sums) {
