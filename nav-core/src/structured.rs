@@ -807,7 +807,9 @@ impl StructuredModel {
     /// Cortex-M7 has no f64 SIMD), 24-wide rows that the compiler vectorises elsewhere
     /// (x86-64 SSE2, AArch64 NEON; [`rows`]). Both sum every element with the same
     /// operations in the same order, so they give the same bits (tested on the host, and by
-    /// the host/target comparisons); the folding and the tail are shared.
+    /// the host/target comparisons). The folding of the scale-factor columns, the noise of
+    /// `P_dd`, the walk diagonal, the finite check of `P_dd` and its writes are shared; the
+    /// new `P_dc` stays in blocks in one tail and in the rows of `U` in the other.
     pub(crate) fn propagate_covariance(&self, p: &mut CovarianceMatrix) -> bool {
         #[cfg(target_arch = "arm")]
         return self.propagate_covariance_by_blocks(p);
@@ -875,7 +877,8 @@ impl StructuredModel {
     /// [`StructuredModel::propagate_covariance`] with the row kernel ([`rows`]; the host's).
     #[cfg(any(test, not(target_arch = "arm")))]
     fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
-        let mut u = [[0.0; STATE_DIMENSION]; 9];
+        // Every element is written by `projected_rows` (the zeros are never read).
+        let mut u = [[0.0; STATE_DIMENSION]; rows::DYNAMIC_DIMENSION];
         rows::projected_rows(self, p, &mut u);
         let (folded_gyro, folded_accel) = self.fold_calibration_columns(
             &rows::column_block(&u, BG),

@@ -24,7 +24,7 @@ use crate::state::STATE_DIMENSION;
 type StateRow = [f64; STATE_DIMENSION];
 
 /// The dynamic states (ϑ, δp, δv): the rows of `U`.
-const DYNAMIC_DIMENSION: usize = 9;
+pub(super) const DYNAMIC_DIMENSION: usize = 9;
 
 /// `U = [Φ E] P`, rows ϑ, δp, δv; row `i`'s element `j` is `U_ij` (state `j`'s column).
 pub(super) type ProjectedRows = [StateRow; DYNAMIC_DIMENSION];
