@@ -332,6 +332,7 @@ mod tests {
         let fix = GnssFix {
             time_tag_s: 10.0,
             position_ecef_m: [0.0; 3],
+            velocity_ecef_mps: None,
         };
         let predicted = Vector3::new(0.0, 0.0, 0.0);
         assert_eq!(
@@ -404,6 +405,7 @@ mod tests {
         let fix = GnssFix {
             time_tag_s: 1.0,
             position_ecef_m: [0.0; 3],
+            velocity_ecef_mps: None,
         };
         let origin = Vector3::zeros();
         assert_eq!(

@@ -508,6 +508,7 @@ impl GnssRecord {
         GnssFix {
             time_tag_s: self.time_tag_s,
             position_ecef_m: self.position_ecef_m,
+            velocity_ecef_mps: None,
         }
     }
 }

@@ -31,7 +31,7 @@ pub struct StarMeasurement {
     pub attitude_wxyz: [f64; 4],
 }
 
-/// One GNSS position fix.
+/// One GNSS fix: antenna position and, from receivers that output it, antenna velocity.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GnssFix {
@@ -39,6 +39,9 @@ pub struct GnssFix {
     pub time_tag_s: f64,
     /// Antenna position in ECEF, WGS-84 (m).
     pub position_ecef_m: [f64; 3],
+    /// Antenna velocity relative to the rotating Earth, ECEF axes (m/s); `None` when the
+    /// receiver outputs position only.
+    pub velocity_ecef_mps: Option<[f64; 3]>,
 }
 
 /// Source of IMU samples (one per minor frame).

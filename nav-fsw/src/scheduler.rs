@@ -760,6 +760,7 @@ impl NavigationComputer {
                 let fix = ports::GnssFix {
                     time_tag_s: tag,
                     position_ecef_m: array3(&position),
+                    velocity_ecef_mps: None,
                 };
                 match check_gnss(&fix, &position, &predicted, self.config.gnss.max_jump_m) {
                     Err(GnssFault::Jump) => {

@@ -143,7 +143,7 @@ proptest! {
         time_tag_s in any_sensor_value(100.0),
         predicted in proptest::array::uniform3(-7e6..7e6_f64),
     ) {
-        let fix = GnssFix { time_tag_s, position_ecef_m: position };
+        let fix = GnssFix { time_tag_s, position_ecef_m: position, velocity_ecef_mps: None };
         let position = Vector3::from(position);
         let predicted = Vector3::from(predicted);
         if check_gnss(&fix, &position, &predicted, 1000.0).is_ok() {
@@ -273,7 +273,7 @@ proptest! {
             }
             if let Some((offset_s, position_ecef_m)) = input.gnss {
                 let time_tag_s = now_s + offset_s;
-                let _ = ports.gnss.0.push_back(GnssFix { time_tag_s, position_ecef_m });
+                let _ = ports.gnss.0.push_back(GnssFix { time_tag_s, position_ecef_m, velocity_ecef_mps: None });
             }
             ports.run(&mut computer);
             let navigation = computer.navigation();

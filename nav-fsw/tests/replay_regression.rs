@@ -201,6 +201,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                 .push_back(GnssFix {
                     time_tag_s: navigation.time_s + 0.5,
                     position_ecef_m: [ecef.x, ecef.y, ecef.z],
+                    velocity_ecef_mps: None,
                 })
                 .unwrap();
         }
@@ -231,6 +232,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                     .push_back(GnssFix {
                         time_tag_s: tag,
                         position_ecef_m: [ecef.x, ecef.y, ecef.z],
+                        velocity_ecef_mps: None,
                     })
                     .unwrap();
             }
@@ -251,6 +253,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                 .push_back(GnssFix {
                     time_tag_s: navigation.time_s,
                     position_ecef_m: [ecef.x, ecef.y, ecef.z],
+                    velocity_ecef_mps: None,
                 })
                 .unwrap();
         }

@@ -150,6 +150,7 @@ impl SensorEvent {
             } => Some(GnssFix {
                 time_tag_s: *time_tag_s,
                 position_ecef_m: [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
+                velocity_ecef_mps: None,
             }),
             _ => None,
         }

@@ -93,6 +93,7 @@ impl SchedulerScenario {
             let _ = ports.gnss.0.push_back(GnssFix {
                 time_tag_s: self.gnss_time_s,
                 position_ecef_m: [ecef.x, ecef.y, ecef.z],
+                velocity_ecef_mps: None,
             });
         }
         if frame == GNSS_EPOCH_FRAME {

@@ -84,6 +84,7 @@ fn scheduler_frames() {
             let _ = ports.gnss.0.push_back(black_box(GnssFix {
                 time_tag_s: time_s,
                 position_ecef_m: [-1.1e6, 5.0e6, 4.2e6],
+                velocity_ecef_mps: None,
             }));
         }
         let telemetry = ports.run(&mut computer);
