@@ -26,6 +26,8 @@ pub struct DiscreteModel {
     pub transition: SystemMatrix,
     /// Process-noise covariance `Qd = Γ (Q/Δ) Γᵀ` (symmetric by construction).
     pub process_noise: CovarianceMatrix,
+    /// The interval `Δ` (s).
+    pub interval_s: f64,
 }
 
 impl DiscreteModel {
@@ -94,6 +96,7 @@ pub fn discretise(
     Ok(DiscreteModel {
         transition,
         process_noise,
+        interval_s,
     })
 }
 

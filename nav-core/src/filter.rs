@@ -20,6 +20,7 @@ use crate::attitude::{self, skew};
 use crate::block;
 use crate::discretise::{CovarianceMatrix, DiscreteModel};
 use crate::error_model::set_block;
+use crate::gnss_error::{GnssErrorModel, GnssErrorStates};
 use crate::measurement::LinearMeasurement;
 use crate::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS,
@@ -73,6 +74,9 @@ pub struct FilterConfig {
     pub discretisation_order: u8,
     /// Initial 1σ per block.
     pub initial: InitialUncertainty,
+    /// The GNSS receiver's correlated position error ([`crate::gnss_error`]);
+    /// [`GnssErrorModel::WHITE`] for the paper's 24 states.
+    pub gnss_error: GnssErrorModel,
 }
 
 impl FilterConfig {
@@ -80,11 +84,12 @@ impl FilterConfig {
     ///
     /// # Errors
     /// [`NavError::InvalidDiscretisationOrder`], or [`NavError::InvalidConfiguration`] for a
-    /// non-finite or non-positive initial 1σ.
+    /// non-finite or non-positive initial 1σ or a bad [`GnssErrorModel`].
     pub fn validate(&self) -> Result<(), NavError> {
         if !(1..=crate::discretise::MAX_ORDER).contains(&self.discretisation_order) {
             return Err(NavError::InvalidDiscretisationOrder);
         }
+        self.gnss_error.validate()?;
         let sigmas = self.initial_sigmas();
         if sigmas
             .iter()
@@ -159,6 +164,9 @@ pub struct ErrorStateFilter {
     state: ErrorState,
     covariance: CovarianceMatrix,
     mode: FilterMode,
+    /// The correlated GNSS error states (the border of a 27-state filter), inert under
+    /// [`GnssErrorModel::WHITE`].
+    gnss_error: GnssErrorStates,
 }
 
 /// The three states of `block` (NaN for an index outside the state, which the state layout
@@ -255,7 +263,19 @@ impl ErrorStateFilter {
             state: ErrorState::zeros(),
             covariance,
             mode: config.mode,
+            gnss_error: GnssErrorStates::new(config.gnss_error)?,
         })
+    }
+
+    /// The correlated GNSS error states ([`crate::gnss_error`]).
+    pub fn gnss_error(&self) -> &GnssErrorStates {
+        &self.gnss_error
+    }
+
+    /// The correlated GNSS error states, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) fn gnss_error_mut(&mut self) -> &mut GnssErrorStates {
+        &mut self.gnss_error
     }
 
     /// The error-state estimate `x`.
@@ -337,6 +357,7 @@ impl ErrorStateFilter {
                 continue;
             };
             let scale = libm::sqrt(ceiling / variance);
+            self.gnss_error.scale_cross_row(index, scale);
             for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
                 if column_index == index {
                     column.iter_mut().for_each(|value| *value *= scale);
@@ -369,11 +390,17 @@ impl ErrorStateFilter {
             FilterMode::OpenLoop => f * self.state,
             FilterMode::ClosedLoop => self.state,
         };
-        if !(covariance.iter().all(|v| v.is_finite()) && state.iter().all(|v| v.is_finite())) {
+        let mut gnss_error = self.gnss_error;
+        let border_finite = gnss_error.propagate(model.interval_s, |column| f * column);
+        if !(covariance.iter().all(|v| v.is_finite())
+            && state.iter().all(|v| v.is_finite())
+            && border_finite)
+        {
             return Err(NavError::NonFiniteState);
         }
         self.covariance = covariance;
         self.state = state;
+        self.gnss_error = gnss_error;
         Ok(())
     }
 
@@ -427,6 +454,9 @@ impl ErrorStateFilter {
             // A NaN gate would silently accept everything (`nis > NaN` is false).
             return Err(NavError::NonFiniteInput);
         }
+        if self.gnss_error.is_enabled() {
+            return self.update_bordered_dense(measurement, gate_nis, frozen);
+        }
         let mut report = self.innovation(measurement)?;
         if report.normalised_innovation_squared > gate_nis {
             return Ok(report);
@@ -459,6 +489,84 @@ impl ErrorStateFilter {
         Ok(report)
     }
 
+    /// [`ErrorStateFilter::update_with_frozen_blocks`] with the correlated GNSS error states:
+    /// the dense 27-state Joseph update of [`crate::gnss_error`]'s model (the reference the
+    /// structured border is tested against).
+    fn update_bordered_dense(
+        &mut self,
+        measurement: &LinearMeasurement,
+        gate_nis: f64,
+        frozen: &BlockMask,
+    ) -> Result<InnovationReport, NavError> {
+        check_measurement(measurement)?;
+        let border = &self.gnss_error;
+        let (cross, border_covariance) = (border.cross_covariance(), border.covariance());
+        let estimate = border.estimate_m();
+        let at = |m: &CovarianceMatrix, i: usize, j: usize| m.get((i, j)).copied();
+        let p = AugmentedCovariance::from_fn(|i, j| {
+            let (n, value) = (STATE_DIMENSION, f64::NAN);
+            match (i.checked_sub(n), j.checked_sub(n)) {
+                (None, None) => at(&self.covariance, i, j),
+                (None, Some(b)) => cross.get((i, b)).copied(),
+                (Some(a), None) => cross.get((j, a)).copied(),
+                (Some(a), Some(b)) => border_covariance.get((a, b)).copied(),
+            }
+            .unwrap_or(value)
+        });
+        let coefficient = measurement.gnss_error_coefficient;
+        let h = SMatrix::<f64, 3, AUGMENTED_DIMENSION>::from_fn(|r, j| {
+            match j.checked_sub(STATE_DIMENSION) {
+                None => measurement
+                    .jacobian
+                    .get((r, j))
+                    .copied()
+                    .unwrap_or(f64::NAN),
+                Some(a) if a == r => coefficient,
+                Some(_) => 0.0,
+            }
+        });
+        let x = SVector::<f64, AUGMENTED_DIMENSION>::from_fn(|i, _| {
+            match i.checked_sub(STATE_DIMENSION) {
+                None => self.state.get(i).copied(),
+                Some(a) => estimate.get(a).copied(),
+            }
+            .unwrap_or(f64::NAN)
+        });
+        let mut report = innovation_report(
+            measurement.residual - h * x,
+            &(h * p * h.transpose() + measurement.noise_covariance),
+        )?;
+        if report.normalised_innovation_squared > gate_nis {
+            return Ok(report);
+        }
+        let cholesky =
+            Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
+        let mut gain: SMatrix<f64, AUGMENTED_DIMENSION, 3> = cholesky.solve(&(h * p)).transpose();
+        for (state_index, mut row) in gain.row_iter_mut().enumerate() {
+            if state_index < STATE_DIMENSION && frozen.contains_state(state_index) {
+                row.fill(0.0);
+            }
+        }
+        let x = x + gain * report.innovation;
+        let i_minus_kh = AugmentedCovariance::identity() - gain * h;
+        let p = i_minus_kh * p * i_minus_kh.transpose()
+            + gain * measurement.noise_covariance * gain.transpose();
+        let p = (p + p.transpose()) * 0.5;
+        if !(block::all_finite(p.as_slice()) && block::all_finite(x.as_slice())) {
+            return Err(NavError::NonFiniteState);
+        }
+        let n = STATE_DIMENSION;
+        self.covariance = CovarianceMatrix::from_fn(|i, j| at_augmented(&p, i, j));
+        self.state = ErrorState::from_fn(|i, _| x.get(i).copied().unwrap_or(f64::NAN));
+        self.gnss_error.set(
+            &Vector3::from_fn(|a, _| x.get(n + a).copied().unwrap_or(f64::NAN)),
+            &Matrix3::from_fn(|a, b| at_augmented(&p, n + a, n + b)),
+            &SMatrix::from_fn(|i, a| at_augmented(&p, i, n + a)),
+        );
+        report.accepted = true;
+        Ok(report)
+    }
+
     /// Structured time update (the flight path): `P ← F P Fᵀ + Qd` and, in open loop,
     /// `x ← F x`, computed by blocks from a [`StructuredModel`] (derivation in
     /// [`crate::structured`]); equal to [`ErrorStateFilter::predict`] with the dense model
@@ -478,12 +586,17 @@ impl ErrorStateFilter {
             // Closed loop: x = 0 stays 0.
             FilterMode::ClosedLoop => None,
         };
+        let mut gnss_error = self.gnss_error;
+        if !gnss_error.propagate(model.interval_s(), |column| model.propagate_state(column)) {
+            return Err(NavError::NonFiniteState);
+        }
         if !model.propagate_covariance(&mut self.covariance) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(state) = state {
             self.state = state;
         }
+        self.gnss_error = gnss_error;
         Ok(())
     }
 
@@ -508,9 +621,17 @@ impl ErrorStateFilter {
         check_measurement(measurement)?;
         let h = &measurement.jacobian;
         // H P = Mᵀ and H P Hᵀ, over the non-zero blocks of H.
-        let observed = structured::ObservedCovariance::new(h, &self.covariance);
+        let mut observed = structured::ObservedCovariance::new(h, &self.covariance);
+        let mut innovation = measurement.residual - h * self.state;
+        // The correlated GNSS error states' border (crate::gnss_error), when in use.
+        let border = self.gnss_error.is_enabled().then(|| {
+            let coefficient = measurement.gnss_error_coefficient;
+            let border = self.gnss_error.border(h, coefficient);
+            observed.add_border(self.gnss_error.cross_rows(), &border);
+            innovation -= self.gnss_error.predicted_residual(coefficient);
+            border
+        });
         let covariance = symmetrised3(&(observed.projected() + measurement.noise_covariance));
-        let innovation = measurement.residual - h * self.state;
         let cholesky = structured::Cholesky3::new(&covariance)
             .ok_or(NavError::NonPositiveInnovationCovariance)?;
         // NIS = νᵀ S⁻¹ ν = |L⁻¹ ν|².
@@ -535,8 +656,26 @@ impl ErrorStateFilter {
         if !block::all_finite(state.as_slice()) {
             return Err(NavError::NonFiniteState);
         }
+        let updated_border = match &border {
+            Some(border) => Some(
+                self.gnss_error
+                    .updated(
+                        border,
+                        &gains,
+                        observed.products(),
+                        &block::from_matrix(&covariance),
+                        |row| cholesky.solve(row),
+                        block::from_vector(&innovation),
+                    )
+                    .ok_or(NavError::NonFiniteState)?,
+            ),
+            None => None,
+        };
         if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
             return Err(NavError::NonFiniteState);
+        }
+        if let Some(updated) = &updated_border {
+            self.gnss_error.commit(updated);
         }
         self.state = state;
         report.accepted = true;
@@ -552,6 +691,10 @@ impl ErrorStateFilter {
         let [attitude, installation] =
             [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&error, block));
         structured::reset_covariance(&mut self.covariance, &attitude, &installation);
+        self.gnss_error.reset(
+            &block::from_matrix(&attitude),
+            &block::from_matrix(&installation),
+        );
         self.state = ErrorState::zeros();
         error
     }
@@ -570,6 +713,13 @@ impl ErrorStateFilter {
             );
         }
         self.covariance = symmetrised(&(jacobian * self.covariance * jacobian.transpose()));
+        let block_of_jacobian = |block: StateBlock| {
+            block::from_matrix(&jacobian.fixed_view::<3, 3>(block.index, block.index).into())
+        };
+        self.gnss_error.reset(
+            &block_of_jacobian(ATTITUDE),
+            &block_of_jacobian(STAR_INSTALLATION),
+        );
         self.state = ErrorState::zeros();
         error
     }
@@ -583,6 +733,17 @@ impl ErrorStateFilter {
     pub fn blocks() -> &'static [StateBlock; 8] {
         &BLOCKS
     }
+}
+
+/// The paper's 24 states and the three correlated GNSS error states ([`crate::gnss_error`]).
+const AUGMENTED_DIMENSION: usize = STATE_DIMENSION + 3;
+
+/// The 27-state covariance of the dense bordered reference.
+type AugmentedCovariance = SMatrix<f64, AUGMENTED_DIMENSION, AUGMENTED_DIMENSION>;
+
+/// Element `(i, j)` of a 27-state covariance (NaN outside, which callers never reach).
+fn at_augmented(p: &AugmentedCovariance, i: usize, j: usize) -> f64 {
+    p.get((i, j)).copied().unwrap_or(f64::NAN)
 }
 
 /// [`NavError::NonFiniteInput`] for NaN/Inf in a measurement's residual, `H` or `R`.
@@ -651,6 +812,7 @@ mod tests {
                 gyro_scale_factor: 1e-4,
                 accel_scale_factor: 1e-4,
             },
+            gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
         }
     }
 
@@ -663,6 +825,7 @@ mod tests {
             residual,
             jacobian,
             noise_covariance: Matrix3::identity() * sigma * sigma,
+            gnss_error_coefficient: 1.0,
         }
     }
 
@@ -774,6 +937,7 @@ mod tests {
             residual: Vector3::new(2e-3, -1e-3, 3e-3),
             jacobian,
             noise_covariance: Matrix3::identity() * 1e-10,
+            gnss_error_coefficient: 0.0,
         };
         filter.update(&measurement, f64::INFINITY).unwrap();
         let covariance_before = *filter.covariance();
@@ -998,6 +1162,7 @@ mod tests {
         let model = DiscreteModel {
             transition,
             process_noise: CovarianceMatrix::zeros(),
+            interval_s: 0.1,
         };
         let before = filter.state()[POSITION.index];
         filter.predict(&model).unwrap();
@@ -1107,6 +1272,7 @@ mod tests {
         let model = DiscreteModel {
             transition: CovarianceMatrix::identity() * 2.0,
             process_noise: CovarianceMatrix::zeros(),
+            interval_s: 0.1,
         };
         assert_eq!(filter.predict(&model), Err(NavError::NonFiniteState));
         assert_eq!(

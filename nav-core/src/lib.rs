@@ -54,6 +54,7 @@ pub mod error;
 pub mod error_model;
 pub mod filter;
 pub mod frames;
+pub mod gnss_error;
 pub mod gravity;
 pub mod measurement;
 pub mod observability;

@@ -59,6 +59,10 @@ pub struct LinearMeasurement {
     pub jacobian: MeasurementJacobian,
     /// Measurement noise covariance `R`.
     pub noise_covariance: Matrix3<f64>,
+    /// `h_ε`, the residual's coefficient of the correlated GNSS error states
+    /// ([`crate::gnss_error`]): 1 for a GNSS position fix, 0 for every other measurement
+    /// (read only when the filter carries those states).
+    pub gnss_error_coefficient: f64,
 }
 
 fn quaternion_is_finite(q: &Quaternion<f64>) -> bool {
@@ -107,6 +111,7 @@ pub fn star_sensor(
         residual: difference.imag(),
         jacobian,
         noise_covariance: Matrix3::identity() * (half_sigma * half_sigma),
+        gnss_error_coefficient: 0.0,
     })
 }
 
@@ -147,6 +152,7 @@ pub fn gnss_position(
         residual: measured_position_m - predicted,
         jacobian,
         noise_covariance: Matrix3::identity() * (noise_m * noise_m),
+        gnss_error_coefficient: 1.0,
     })
 }
 

@@ -121,6 +121,7 @@ impl FilterPathFixture {
                 gyro_scale_factor: 1e-4,
                 accel_scale_factor: 1e-4,
             },
+            gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
         };
         let launch_frame = LaunchFrame::new(&LaunchSite {
             latitude_rad: 0.342,

@@ -404,6 +404,8 @@ pub struct StructuredModel {
     /// Scratch for [`StructuredModel::rebuild`]: the powers of `MΔ` (kept in the model so
     /// they are computed in place).
     powers: Powers,
+    /// The interval `Δ` (s) the model discretises.
+    interval_s: f64,
 }
 
 impl StructuredModel {
@@ -446,6 +448,7 @@ impl StructuredModel {
         bias_walk: false,
         noise_is_zero: true,
         powers: Powers::ZERO,
+        interval_s: 0.0,
     };
 
     /// [`StructuredModel::new`] in place (the flight path keeps one model and refills it
@@ -492,6 +495,7 @@ impl StructuredModel {
         }
         let order = usize::from(order);
         let d = interval_s;
+        self.interval_s = interval_s;
         let c = block::from_matrix(&point.body_to_inertial);
         self.powers.update(point, &c, d, order);
         let w = &self.powers;
@@ -665,6 +669,11 @@ impl StructuredModel {
         write_diagonal_symmetric::<BG>(&mut q, &n.gyro_bias);
         write_diagonal_symmetric::<BA>(&mut q, &n.accel_bias);
         q
+    }
+
+    /// The interval `Δ` (s) the model discretises (0 for [`StructuredModel::EMPTY`]).
+    pub fn interval_s(&self) -> f64 {
+        self.interval_s
     }
 
     /// `x_d ← Φ x_d + E_g (x_bg + diag(ω_m) x_λg) + E_a (x_ba + diag(f_m) x_λa)`; the
@@ -1141,6 +1150,20 @@ impl ObservedCovariance {
         observed
     }
 
+    /// Adds the correlated-GNSS-error border ([`crate::gnss_error`]): `h_ε C_j` to each
+    /// `M_j` and the border's terms to `H P Hᵀ`.
+    pub(crate) fn add_border(&mut self, cross: &StateRows, border: &crate::gnss_error::Border) {
+        for (product, c) in self.products.iter_mut().zip(cross) {
+            *product = block::row_add_scaled(*product, *c, border.coefficient);
+        }
+        self.projected = add(&self.projected, &border.projected);
+    }
+
+    /// `M = P Hᵀ`, row `j` for state `j`.
+    pub(crate) fn products(&self) -> &StateRows {
+        &self.products
+    }
+
     /// `H P Hᵀ`.
     pub(crate) fn projected(&self) -> Matrix3<f64> {
         block::to_matrix(&self.projected)
@@ -1484,7 +1507,7 @@ pub fn refer_to_later_time_in_place(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::attitude::{exp_rotation_vector, rotation_matrix};
     use crate::discretise::discretise;
@@ -1517,7 +1540,11 @@ mod tests {
     }
 
     /// `max |A_ij − B_ij| / √(S_ii S_jj)`: the difference in units of the scale `S`.
-    fn relative_to(a: &CovarianceMatrix, b: &CovarianceMatrix, scale: &CovarianceMatrix) -> f64 {
+    pub(crate) fn relative_to(
+        a: &CovarianceMatrix,
+        b: &CovarianceMatrix,
+        scale: &CovarianceMatrix,
+    ) -> f64 {
         let b_scale = scale;
         let mut worst = 0.0f64;
         for i in 0..24 {
@@ -1544,7 +1571,7 @@ mod tests {
             .fold(0.0, f64::max)
     }
 
-    fn random_vector(rng: &mut ChaCha8Rng, largest_norm: f64) -> Vector3<f64> {
+    pub(crate) fn random_vector(rng: &mut ChaCha8Rng, largest_norm: f64) -> Vector3<f64> {
         let direction = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
         direction.normalize() * rng.random_range(0.0..largest_norm)
     }
@@ -1554,7 +1581,7 @@ mod tests {
 
     /// A random symmetric positive-definite P with physical block scales and strong
     /// correlations: `D (B Bᵀ/24 + 0.05 I) D`.
-    fn random_covariance(rng: &mut ChaCha8Rng) -> CovarianceMatrix {
+    pub(crate) fn random_covariance(rng: &mut ChaCha8Rng) -> CovarianceMatrix {
         let b = CovarianceMatrix::from_fn(|_, _| rng.random_range(-1.0..1.0));
         let d = CovarianceMatrix::from_diagonal(&SMatrix::<f64, 24, 1>::from_fn(|i, _| {
             BLOCK_SCALES[i / 3] * rng.random_range(0.5..2.0)
@@ -1563,13 +1590,13 @@ mod tests {
         (p + p.transpose()) * 0.5
     }
 
-    fn random_state(rng: &mut ChaCha8Rng) -> ErrorState {
+    pub(crate) fn random_state(rng: &mut ChaCha8Rng) -> ErrorState {
         ErrorState::from_fn(|i, _| BLOCK_SCALES[i / 3] * rng.random_range(-1.0..1.0))
     }
 
     /// Random motion: rates up to 2 rad/s, specific forces up to 50 m/s², random attitude,
     /// point-mass gravity gradient at a random position 6,400-7,000 km from the centre.
-    fn random_point(rng: &mut ChaCha8Rng) -> LinearisationPoint {
+    pub(crate) fn random_point(rng: &mut ChaCha8Rng) -> LinearisationPoint {
         let rate = random_vector(rng, 2.0);
         let force = random_vector(rng, 50.0);
         let radius = rng.random_range(6.4e6..7.0e6);
@@ -1584,7 +1611,7 @@ mod tests {
         }
     }
 
-    fn random_noise(rng: &mut ChaCha8Rng, with_bias_walk: bool) -> ProcessNoise {
+    pub(crate) fn random_noise(rng: &mut ChaCha8Rng, with_bias_walk: bool) -> ProcessNoise {
         let walk = if with_bias_walk { 1.0 } else { 0.0 };
         ProcessNoise {
             gyro_noise_density_rad_s_per_sqrt_hz: rng.random_range(1e-7..1e-5),
@@ -1594,7 +1621,7 @@ mod tests {
         }
     }
 
-    fn random_mask(rng: &mut ChaCha8Rng) -> BlockMask {
+    pub(crate) fn random_mask(rng: &mut ChaCha8Rng) -> BlockMask {
         let mut mask = BlockMask::NONE;
         for block in BLOCKS {
             if rng.random_bool(0.3) {
@@ -1604,7 +1631,7 @@ mod tests {
         mask
     }
 
-    fn filter_with(mode: FilterMode, p: &CovarianceMatrix) -> ErrorStateFilter {
+    pub(crate) fn filter_with(mode: FilterMode, p: &CovarianceMatrix) -> ErrorStateFilter {
         let mut filter = ErrorStateFilter::new(&FilterConfig {
             mode,
             discretisation_order: 3,
@@ -1618,6 +1645,7 @@ mod tests {
                 gyro_scale_factor: 1.0,
                 accel_scale_factor: 1.0,
             },
+            gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
         })
         .unwrap();
         filter.set_covariance(p).unwrap();
@@ -1803,13 +1831,20 @@ mod tests {
         assert_eq!(bits(&by_rows), bits(&p));
     }
 
-    fn random_quaternion(rng: &mut ChaCha8Rng, largest_angle_rad: f64) -> Quaternion<f64> {
+    pub(crate) fn random_quaternion(
+        rng: &mut ChaCha8Rng,
+        largest_angle_rad: f64,
+    ) -> Quaternion<f64> {
         exp_rotation_vector(&random_vector(rng, largest_angle_rad))
     }
 
     /// A star (`star = true`) or GNSS measurement at a random geometry, optionally referred
     /// to a later time with `H (I − AΔ)` (extra bias, scale-factor and velocity columns).
-    fn random_measurement(rng: &mut ChaCha8Rng, star: bool, referred: bool) -> LinearMeasurement {
+    pub(crate) fn random_measurement(
+        rng: &mut ChaCha8Rng,
+        star: bool,
+        referred: bool,
+    ) -> LinearMeasurement {
         let attitude = random_quaternion(rng, 3.1);
         let measurement = if star {
             let mounting = random_quaternion(rng, 3.1);

@@ -131,6 +131,7 @@ impl FswConfig {
                     gyro_scale_factor: 1e-4,
                     accel_scale_factor: 2e-4,
                 },
+                gnss_error: nav_core::gnss_error::GnssErrorModel::WHITE,
             },
             process_noise: ProcessNoise::PAPER,
             imu: ImuLimits::default(),

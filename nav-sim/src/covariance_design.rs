@@ -305,6 +305,7 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, DesignError> {
             gyro_scale_factor: sigma.gyro_scale_factor,
             accel_scale_factor: sigma.accel_scale_factor,
         },
+        gnss_error: nav_core::gnss_error::GnssErrorModel::WHITE,
     })
 }
 

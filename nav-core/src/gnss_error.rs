@@ -1,0 +1,658 @@
+//! Correlated GNSS position error: three first-order Gauss–Markov states `ε` (m, launch-
+//! inertial axes) appended to the paper's 24, so that a receiver whose errors are correlated
+//! over tens of seconds to hours (ephemeris, clock, ionosphere) does not make the filter
+//! overconfident.
+//!
+//! ## Model
+//! `ε̇ = −ε/τ + w`, stationary 1σ `σ` per axis: over an interval `Δ`,
+//! `ε ← φ ε + w_d`, `φ = exp(−Δ/τ)`, `E[w_d w_dᵀ] = σ²(1 − φ²) I` (the exact discrete form).
+//! The GNSS position residual gains `+ε`: `z = H_x x + h_ε ε + v` with `h_ε = 1`, or
+//! `h_ε = exp(Δ_late/τ)` for a fix `Δ_late` old (`ε(t_m) = ε(t)/φ(Δ_late)`, the process noise
+//! over the latency neglected as for `x`, [`crate::measurement::refer_to_later_time`]). Star
+//! and velocity measurements have `h_ε = 0`. The receiver specifies `σ` and `τ` per ECEF
+//! axis; an isotropic error keeps its covariance `σ² I` in any axes, and the Earth turns
+//! 1.25° in 300 s, so the launch-inertial states carry the same model.
+//!
+//! ## The 27-state filter as a bordered 24-state filter
+//! With `P = [[P_xx, C], [Cᵀ, P_εε]]` (`C = P_xε`, 24×3) the 24-state kernels stay as they
+//! are and only the border is added:
+//! * propagation: `P_xx ← F P_xx Fᵀ + Qd` (unchanged), `C ← φ F C`,
+//!   `P_εε ← φ² P_εε + σ²(1 − φ²) I`, `ε̂ ← φ ε̂` (open and closed loop: `ε̂` is a receiver
+//!   error, never fed back into the navigation solution);
+//! * update (any gain, the Joseph form expanded as in [`crate::structured`]):
+//!   `G = H_x C`, `M_x = P_xx H_xᵀ + h_ε C`, `M_ε = Gᵀ + h_ε P_εε`,
+//!   `S = H_x P_xx H_xᵀ + h_ε (G + Gᵀ) + h_ε² P_εε + R`, `K = M S⁻¹` (frozen rows of `K_x`
+//!   zero), `P⁺_ij = P_ij + N_i·K_j − K_i·M_j` with `N = K S − M` over all 27 rows, which
+//!   for the `xx` block is the 24-state kernel fed with `M_x` and `S`;
+//! * reset: `C ← J C` (the attitude and installation rows), `ε̂` kept.
+
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+use crate::block::{self, dot, row_add, row_scale, row_sub, Block, FiniteCheck, Row, ZERO};
+use crate::measurement::MeasurementJacobian;
+use crate::state::STATE_DIMENSION;
+use crate::structured::StateRows;
+use crate::NavError;
+
+/// The receiver's correlated position-error specification (configuration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GnssErrorModel {
+    /// Stationary 1σ per axis of the correlated position error (m); 0 = white errors only,
+    /// the paper's 24-state model.
+    pub sigma_m: f64,
+    /// Correlation time `τ` (s); read only when `sigma_m > 0`.
+    pub correlation_time_s: f64,
+}
+
+impl GnssErrorModel {
+    /// White GNSS errors only (the paper's model): no correlated-error states.
+    pub const WHITE: Self = Self {
+        sigma_m: 0.0,
+        correlation_time_s: 0.0,
+    };
+
+    /// Whether the correlated-error states are in use (`sigma_m > 0`).
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// assert!(!GnssErrorModel::WHITE.is_enabled());
+    /// let receiver = GnssErrorModel { sigma_m: 8.0, correlation_time_s: 300.0 };
+    /// assert!(receiver.is_enabled());
+    /// ```
+    pub fn is_enabled(&self) -> bool {
+        self.sigma_m > 0.0
+    }
+
+    /// Checks the values: `sigma_m` finite and `≥ 0`; when it is `> 0`, `correlation_time_s`
+    /// finite and `> 0`.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] otherwise.
+    pub fn validate(&self) -> Result<(), NavError> {
+        let sigma_ok = self.sigma_m.is_finite() && self.sigma_m >= 0.0;
+        let tau_ok = self.correlation_time_s.is_finite() && self.correlation_time_s > 0.0;
+        if sigma_ok && (!self.is_enabled() || tau_ok) {
+            Ok(())
+        } else {
+            Err(NavError::InvalidConfiguration)
+        }
+    }
+
+    /// `φ = exp(−Δ/τ)` over `interval_s` (1 when the states are not in use).
+    pub fn decay(&self, interval_s: f64) -> f64 {
+        if self.is_enabled() {
+            libm::exp(-interval_s / self.correlation_time_s)
+        } else {
+            1.0
+        }
+    }
+
+    /// `h_ε` of a GNSS position fix `latency_s` old: `exp(latency/τ)` (module docs); 0 when
+    /// the states are not in use.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// let receiver = GnssErrorModel { sigma_m: 8.0, correlation_time_s: 300.0 };
+    /// assert_eq!(receiver.position_coefficient(0.0), 1.0);
+    /// assert_eq!(GnssErrorModel::WHITE.position_coefficient(0.1), 0.0);
+    /// ```
+    pub fn position_coefficient(&self, latency_s: f64) -> f64 {
+        if self.is_enabled() {
+            libm::exp(latency_s / self.correlation_time_s)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The border of the 27-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GnssErrorStates {
+    model: GnssErrorModel,
+    /// `ε̂` (m, launch-inertial axes).
+    estimate: Row,
+    /// `P_εε` (m²).
+    covariance: Block,
+    /// Row `j`: `cov(x_j, ε)`.
+    cross: StateRows,
+}
+
+/// What an update adds to the 24-state quantities, and the border's own products.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Border {
+    /// `h_ε`.
+    pub(crate) coefficient: f64,
+    /// `h_ε (G + Gᵀ) + h_ε² P_εε`, added to `S`.
+    pub(crate) projected: Block,
+    /// Rows of `M_ε = Gᵀ + h_ε P_εε`.
+    pub(crate) products: [Row; 3],
+}
+
+/// The border after an update, computed before anything is written.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct UpdatedBorder {
+    estimate: Row,
+    covariance: Block,
+    cross: StateRows,
+}
+
+impl GnssErrorStates {
+    /// The prior: `ε̂ = 0`, `P_εε = σ² I`, `C = 0` (all zero when the model is white).
+    ///
+    /// # Errors
+    /// As [`GnssErrorModel::validate`].
+    pub fn new(model: GnssErrorModel) -> Result<Self, NavError> {
+        model.validate()?;
+        let variance = model.sigma_m * model.sigma_m;
+        Ok(Self {
+            model,
+            estimate: [0.0; 3],
+            covariance: block::scale(&block::IDENTITY, variance),
+            cross: [[0.0; 3]; STATE_DIMENSION],
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &GnssErrorModel {
+        &self.model
+    }
+
+    /// Whether the states are in use.
+    pub fn is_enabled(&self) -> bool {
+        self.model.is_enabled()
+    }
+
+    /// `ε̂` (m, launch-inertial axes).
+    pub fn estimate_m(&self) -> Vector3<f64> {
+        Vector3::from(self.estimate)
+    }
+
+    /// `P_εε` (m²).
+    pub fn covariance(&self) -> Matrix3<f64> {
+        block::to_matrix(&self.covariance)
+    }
+
+    /// `C = P_xε` (24×3).
+    pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, 3> {
+        SMatrix::from_fn(|row, column| {
+            self.cross
+                .get(row)
+                .and_then(|r| r.get(column))
+                .copied()
+                .unwrap_or(f64::NAN)
+        })
+    }
+
+    /// `ε̂ ← φ ε̂`, `C ← φ F C`, `P_εε ← φ² P_εε + σ²(1 − φ²) I` (module docs), with
+    /// `transition(c) = F c` for one 24-column. `false` (and nothing changed) if the result
+    /// is not finite.
+    pub(crate) fn propagate(
+        &mut self,
+        interval_s: f64,
+        transition: impl Fn(&SMatrix<f64, STATE_DIMENSION, 1>) -> SMatrix<f64, STATE_DIMENSION, 1>,
+    ) -> bool {
+        if !self.is_enabled() {
+            return true;
+        }
+        let phi = self.model.decay(interval_s);
+        let columns: [SMatrix<f64, STATE_DIMENSION, 1>; 3] = core::array::from_fn(|a| {
+            transition(&SMatrix::from_fn(|j, _| {
+                self.cross
+                    .get(j)
+                    .and_then(|r| r.get(a))
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            }))
+        });
+        let cross: StateRows = core::array::from_fn(|j| {
+            let [c0, c1, c2] = columns
+                .each_ref()
+                .map(|c| c.get(j).copied().unwrap_or(f64::NAN));
+            row_scale([c0, c1, c2], phi)
+        });
+        let variance = self.model.sigma_m * self.model.sigma_m;
+        let walk = variance * (1.0 - phi * phi);
+        let covariance = block::add(
+            &block::scale(&self.covariance, phi * phi),
+            &block::scale(&block::IDENTITY, walk),
+        );
+        let estimate = row_scale(self.estimate, phi);
+        let mut check = FiniteCheck::new();
+        check.block(&covariance);
+        cross.iter().for_each(|row| check.row(row));
+        check.row(&estimate);
+        if !check.all_finite() {
+            return false;
+        }
+        self.cross = cross;
+        self.covariance = covariance;
+        self.estimate = estimate;
+        true
+    }
+
+    /// The border's part of an update with Jacobian `H_x` and coefficient `h_ε` (module
+    /// docs): `G = H_x C`, then `S`'s and `M_ε`'s terms.
+    pub(crate) fn border(&self, jacobian: &MeasurementJacobian, coefficient: f64) -> Border {
+        let mut g = ZERO;
+        for (h_column, c_row) in jacobian.data.0.iter().zip(&self.cross) {
+            for (g_row, h) in g.iter_mut().zip(h_column) {
+                *g_row = block::row_add_scaled(*g_row, *c_row, *h);
+            }
+        }
+        let g_transpose = block::transpose(&g);
+        let projected = block::add_scaled(
+            &block::scale(&block::add(&g, &g_transpose), coefficient),
+            &self.covariance,
+            coefficient * coefficient,
+        );
+        let products = block::add_scaled(&g_transpose, &self.covariance, coefficient);
+        Border {
+            coefficient,
+            projected,
+            products,
+        }
+    }
+
+    /// `h_ε C_j` for row `j` (added to `M_x`).
+    pub(crate) fn cross_rows(&self) -> &StateRows {
+        &self.cross
+    }
+
+    /// `h_ε ε̂` (subtracted from the innovation).
+    pub(crate) fn predicted_residual(&self, coefficient: f64) -> Vector3<f64> {
+        Vector3::from(row_scale(self.estimate, coefficient))
+    }
+
+    /// The border after the update with gains `K_x` (`gains`), `M_x` (`products`), `S`
+    /// (`s`) and innovation `ν` (module docs); `None` if not finite or `S` not invertible.
+    pub(crate) fn updated(
+        &self,
+        border: &Border,
+        gains: &StateRows,
+        products: &StateRows,
+        s: &Block,
+        solve: impl Fn(Row) -> Row,
+        innovation: Row,
+    ) -> Option<UpdatedBorder> {
+        let border_gains = border.products.map(&solve);
+        let [k0, k1, k2] = border_gains;
+        let [m0, m1, m2] = border.products;
+        let n_of = |k: Row, m: Row| row_sub(block::mul_vector_add([0.0; 3], s, k), m);
+        let n_border = [n_of(k0, m0), n_of(k1, m1), n_of(k2, m2)];
+        let mut check = FiniteCheck::new();
+        let cross: StateRows = core::array::from_fn(|i| {
+            let (Some(k), Some(m), Some(c)) = (gains.get(i), products.get(i), self.cross.get(i))
+            else {
+                return [f64::NAN; 3];
+            };
+            let n = row_sub(block::mul_vector_add([0.0; 3], s, *k), *m);
+            let row = core::array::from_fn(|a| {
+                let (Some(value), Some(k_a), Some(m_a)) =
+                    (c.get(a), border_gains.get(a), border.products.get(a))
+                else {
+                    return f64::NAN;
+                };
+                (value + dot(n, *k_a)) - dot(*k, *m_a)
+            });
+            check.row(&row);
+            row
+        });
+        let mut covariance = ZERO;
+        for (a, row) in covariance.iter_mut().enumerate() {
+            for (b, value) in row.iter_mut().enumerate() {
+                let entry = |x: &[Row; 3], index: usize| x.get(index).copied();
+                let (Some(n_a), Some(k_a), Some(k_b), Some(m_b), Some(old)) = (
+                    entry(&n_border, a),
+                    entry(&border_gains, a),
+                    entry(&border_gains, b),
+                    entry(&border.products, b),
+                    self.covariance.get(a).and_then(|r| r.get(b)),
+                ) else {
+                    *value = f64::NAN;
+                    continue;
+                };
+                *value = (old + dot(n_a, k_b)) - dot(k_a, m_b);
+            }
+        }
+        // Exactly symmetric (the two triangles differ by round-off).
+        let covariance = block::scale(
+            &block::add(&covariance, &block::transpose(&covariance)),
+            0.5,
+        );
+        let estimate = row_add(self.estimate, border_gains.map(|k| dot(k, innovation)));
+        check.block(&covariance);
+        check.row(&estimate);
+        check.all_finite().then_some(UpdatedBorder {
+            estimate,
+            covariance,
+            cross,
+        })
+    }
+
+    /// Replaces `ε̂`, `P_εε` and `C` (the dense reference update writes its result).
+    pub(crate) fn set(
+        &mut self,
+        estimate: &Vector3<f64>,
+        covariance: &Matrix3<f64>,
+        cross: &SMatrix<f64, STATE_DIMENSION, 3>,
+    ) {
+        self.estimate = block::from_vector(estimate);
+        self.covariance = block::from_matrix(covariance);
+        self.cross = core::array::from_fn(|j| {
+            [0, 1, 2].map(|a| cross.get((j, a)).copied().unwrap_or(f64::NAN))
+        });
+    }
+
+    /// Writes an update computed by [`GnssErrorStates::updated`].
+    pub(crate) fn commit(&mut self, updated: &UpdatedBorder) {
+        self.estimate = updated.estimate;
+        self.covariance = updated.covariance;
+        self.cross = updated.cross;
+    }
+
+    /// `C ← J C` for the reset Jacobian (attitude rows `J_ϑϑ`, installation rows `J_ψψ`,
+    /// identity elsewhere).
+    pub(crate) fn reset(&mut self, attitude: &Block, installation: &Block) {
+        for (offset, jacobian) in [
+            (crate::state::ATTITUDE.index, attitude),
+            (crate::state::STAR_INSTALLATION.index, installation),
+        ] {
+            if let Some(rows) = self.cross.get_mut(offset..offset + 3) {
+                let old: Block = [0, 1, 2].map(|i| rows.get(i).copied().unwrap_or([0.0; 3]));
+                let new = block::mul(jacobian, &old);
+                for (row, value) in rows.iter_mut().zip(new) {
+                    *row = value;
+                }
+            }
+        }
+    }
+
+    /// Row `index` of `C` times `scale` (a variance ceiling scaled that state).
+    pub(crate) fn scale_cross_row(&mut self, index: usize, scale: f64) {
+        if let Some(row) = self.cross.get_mut(index) {
+            *row = row_scale(*row, scale);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::discretise::{discretise, CovarianceMatrix};
+    use crate::error_model::{noise_input_matrix, system_matrix};
+    use crate::filter::{ErrorStateFilter, FilterMode};
+    use crate::state::{BlockMask, BLOCKS};
+    use crate::structured::tests::{
+        filter_with, random_covariance, random_mask, random_measurement, random_noise,
+        random_point, random_vector,
+    };
+    use crate::structured::StructuredModel;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    const RECEIVER: GnssErrorModel = GnssErrorModel {
+        sigma_m: 8.0,
+        correlation_time_s: 300.0,
+    };
+
+    /// A filter with the border in use, a random 27-state covariance (positive definite,
+    /// every state at a physical scale, ε correlated with everything) and a random state.
+    fn bordered_filter(rng: &mut ChaCha8Rng, mode: FilterMode) -> ErrorStateFilter {
+        let p = random_covariance(rng);
+        let mut filter = filter_with(mode, &p);
+        *filter.gnss_error_mut() = GnssErrorStates::new(RECEIVER).unwrap();
+        // C = P_xx^{1/2}-like correlations: C = P_xx W with small W keeps P positive definite
+        // when P_εε dominates W' P_xx W (checked by the Cholesky below).
+        let w = SMatrix::<f64, STATE_DIMENSION, 3>::from_fn(|j, _| {
+            rng.random_range(-1.0..1.0) * 0.3 / libm::sqrt(p[(j, j)]) * RECEIVER.sigma_m
+                / libm::sqrt(STATE_DIMENSION as f64)
+        });
+        let cross = p * w;
+        let border = w.transpose() * p * w + Matrix3::identity() * RECEIVER.sigma_m.powi(2);
+        let estimate = random_vector(rng, 5.0);
+        filter.gnss_error_mut().set(&estimate, &border, &cross);
+        filter
+    }
+
+    fn bits_equal(a: &GnssErrorStates, b: &GnssErrorStates) -> bool {
+        let all = |s: &GnssErrorStates| {
+            let mut v: std::vec::Vec<u64> = s.estimate.iter().map(|x| x.to_bits()).collect();
+            v.extend(s.covariance.iter().flatten().map(|x| x.to_bits()));
+            v.extend(s.cross.iter().flatten().map(|x| x.to_bits()));
+            v
+        };
+        all(a) == all(b)
+    }
+
+    /// Largest difference of the border relative to the prior's scales
+    /// (`√(P_ii P_jj)` per element, `√P_εε` for `ε̂`).
+    fn border_difference(
+        a: &GnssErrorStates,
+        b: &GnssErrorStates,
+        prior: &ErrorStateFilter,
+    ) -> f64 {
+        let sigma_x = |j: usize| libm::sqrt(prior.covariance()[(j, j)]);
+        let sigma_e = |a: usize| libm::sqrt(prior.gnss_error().covariance()[(a, a)]);
+        let mut worst = 0.0f64;
+        for a_index in 0..3 {
+            worst = worst.max((a.estimate[a_index] - b.estimate[a_index]).abs() / sigma_e(a_index));
+            for b_index in 0..3 {
+                let d = (a.covariance[a_index][b_index] - b.covariance[a_index][b_index]).abs();
+                worst = worst.max(d / (sigma_e(a_index) * sigma_e(b_index)));
+            }
+            for j in 0..STATE_DIMENSION {
+                let d = (a.cross[j][a_index] - b.cross[j][a_index]).abs();
+                worst = worst.max(d / (sigma_x(j) * sigma_e(a_index)));
+            }
+        }
+        worst
+    }
+
+    /// The structured bordered update (the flight path) equals the dense 27-state Joseph
+    /// update, for star, GNSS and referred GNSS measurements, with and without frozen blocks.
+    #[test]
+    fn structured_border_update_equals_the_dense_27_state_update() {
+        let mut rng = ChaCha8Rng::seed_from_u64(16);
+        let mut worst = 0.0f64;
+        for case in 0..300 {
+            let star = case % 3 == 0;
+            let referred = case % 2 == 1;
+            let prior = bordered_filter(&mut rng, FilterMode::OpenLoop);
+            let mut measurement = random_measurement(&mut rng, star, referred);
+            if !star && referred {
+                measurement.gnss_error_coefficient =
+                    RECEIVER.position_coefficient(rng.random_range(0.0..0.1));
+            }
+            let frozen = if case % 4 == 0 {
+                random_mask(&mut rng)
+            } else {
+                BlockMask::NONE
+            };
+            let (mut dense, mut structured) = (prior, prior);
+            let dense_report = dense
+                .update_with_frozen_blocks(&measurement, f64::INFINITY, &frozen)
+                .unwrap();
+            let structured_report = structured
+                .update_structured(&measurement, f64::INFINITY, &frozen)
+                .unwrap();
+            let nis = dense_report.normalised_innovation_squared;
+            assert!(
+                (structured_report.normalised_innovation_squared - nis).abs() <= 1e-11 * nis,
+                "case {case}: NIS"
+            );
+            let p_error = crate::structured::tests::relative_to(
+                structured.covariance(),
+                dense.covariance(),
+                prior.covariance(),
+            );
+            let border_error =
+                border_difference(structured.gnss_error(), dense.gnss_error(), &prior);
+            let state_error = (0..STATE_DIMENSION)
+                .map(|j| {
+                    (structured.state()[j] - dense.state()[j]).abs()
+                        / libm::sqrt(prior.covariance()[(j, j)])
+                })
+                .fold(0.0f64, f64::max);
+            worst = worst.max(p_error).max(border_error).max(state_error);
+            assert!(p_error <= 1e-11, "case {case}: P_xx {p_error:e}");
+            assert!(
+                border_error <= 1e-11,
+                "case {case}: border {border_error:e}"
+            );
+            assert!(state_error <= 1e-11, "case {case}: x {state_error:e}");
+            for block in BLOCKS {
+                if frozen.contains(block) {
+                    assert_eq!(
+                        structured.block(block),
+                        prior.block(block),
+                        "{}",
+                        block.name
+                    );
+                }
+            }
+            // A star update moves ε̂ only through its correlation with the attitude.
+            if star {
+                assert!(structured.gnss_error().estimate_m() != prior.gnss_error().estimate_m());
+            }
+        }
+        println!("structured vs dense 27-state update: worst {worst:.2e} prior σ");
+    }
+
+    /// `C ← φ F C`, `P_εε ← φ² P_εε + σ²(1 − φ²) I`, `ε̂ ← φ ε̂`, with the structured model
+    /// (flight path) and the dense `F` (reference): equal within round-off, and equal to
+    /// the formulas.
+    #[test]
+    fn border_propagation_equals_the_dense_transition() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        for case in 0..50 {
+            let prior = bordered_filter(&mut rng, FilterMode::ClosedLoop);
+            let point = random_point(&mut rng);
+            let noise = random_noise(&mut rng, case % 2 == 0);
+            let interval_s = rng.random_range(0.002..0.5);
+            let model = StructuredModel::new(&point, &noise, interval_s, 3).unwrap();
+            let dense_model = discretise(
+                &system_matrix(&point),
+                &noise_input_matrix(&point),
+                &noise.spectral_density_diagonal(),
+                interval_s,
+                3,
+            )
+            .unwrap();
+            let (mut structured, mut dense) = (prior, prior);
+            structured.predict_structured(&model).unwrap();
+            dense.predict(&dense_model).unwrap();
+            assert!(
+                border_difference(structured.gnss_error(), dense.gnss_error(), &prior) < 1e-12,
+                "case {case}"
+            );
+            let phi = libm::exp(-interval_s / RECEIVER.correlation_time_s);
+            let expected_cross =
+                dense_model.transition * prior.gnss_error().cross_covariance() * phi;
+            let cross = structured.gnss_error().cross_covariance();
+            for j in 0..STATE_DIMENSION {
+                for a in 0..3 {
+                    let scale = libm::sqrt(prior.covariance()[(j, j)]) * RECEIVER.sigma_m;
+                    assert!((cross[(j, a)] - expected_cross[(j, a)]).abs() < 1e-12 * scale);
+                }
+            }
+            let expected_border = prior.gnss_error().covariance() * (phi * phi)
+                + Matrix3::identity() * (RECEIVER.sigma_m.powi(2) * (1.0 - phi * phi));
+            assert!((structured.gnss_error().covariance() - expected_border).amax() < 1e-12);
+            let expected_estimate = prior.gnss_error().estimate_m() * phi;
+            assert!((structured.gnss_error().estimate_m() - expected_estimate).amax() < 1e-12);
+        }
+    }
+
+    /// Without measurements the border tends to the stationary prior: after 10 τ the
+    /// cross-covariance and estimate have decayed by e⁻¹⁰ and `P_εε` is σ² I.
+    #[test]
+    fn the_border_relaxes_to_the_stationary_prior() {
+        let mut rng = ChaCha8Rng::seed_from_u64(18);
+        let mut filter = bordered_filter(&mut rng, FilterMode::ClosedLoop);
+        let prior = filter;
+        let point = random_point(&mut rng);
+        let noise = random_noise(&mut rng, false);
+        let model = StructuredModel::new(&point, &noise, 30.0, 1).unwrap();
+        // The border's decay does not depend on F's size for ε̂ and P_εε.
+        for _ in 0..100 {
+            assert!(filter
+                .gnss_error_mut()
+                .propagate(model.interval_s(), |c| *c));
+        }
+        let sigma2 = RECEIVER.sigma_m.powi(2);
+        assert!(
+            (filter.gnss_error().covariance() - Matrix3::identity() * sigma2).amax()
+                < 1e-9 * sigma2
+        );
+        let decay = libm::exp(-10.0);
+        assert!(
+            (filter.gnss_error().estimate_m() - prior.gnss_error().estimate_m() * decay).amax()
+                < 1e-12
+        );
+    }
+
+    /// The reset maps `C`'s attitude and installation rows through `J`, keeps the rest and
+    /// `ε̂`; structured and dense resets agree.
+    #[test]
+    fn reset_maps_the_cross_covariance() {
+        let mut rng = ChaCha8Rng::seed_from_u64(19);
+        let mut prior = bordered_filter(&mut rng, FilterMode::ClosedLoop);
+        let measurement = random_measurement(&mut rng, true, false);
+        prior.update(&measurement, f64::INFINITY).unwrap();
+        let (mut structured, mut dense) = (prior, prior);
+        structured.reset();
+        dense.reset_dense();
+        assert!(border_difference(structured.gnss_error(), dense.gnss_error(), &prior) < 1e-14);
+        assert!(bits_equal(
+            &{
+                let mut e = *structured.gnss_error();
+                e.estimate = prior.gnss_error().estimate;
+                e
+            },
+            structured.gnss_error()
+        ));
+        let (before, after) = (
+            prior.gnss_error().cross_covariance(),
+            structured.gnss_error().cross_covariance(),
+        );
+        for j in 3..15 {
+            assert_eq!(before.row(j), after.row(j), "row {j} is not reset");
+        }
+        assert!((before.fixed_rows::<3>(0) - after.fixed_rows::<3>(0)).amax() > 0.0);
+    }
+
+    #[test]
+    fn the_model_is_validated() {
+        assert_eq!(GnssErrorModel::WHITE.validate(), Ok(()));
+        assert_eq!(RECEIVER.validate(), Ok(()));
+        for (sigma_m, correlation_time_s) in [
+            (-1.0, 300.0),
+            (f64::NAN, 300.0),
+            (f64::INFINITY, 300.0),
+            (8.0, 0.0),
+            (8.0, -5.0),
+            (8.0, f64::INFINITY),
+            (8.0, f64::NAN),
+        ] {
+            let model = GnssErrorModel {
+                sigma_m,
+                correlation_time_s,
+            };
+            assert_eq!(model.validate(), Err(NavError::InvalidConfiguration));
+            assert!(GnssErrorStates::new(model).is_err());
+        }
+        // A white model ignores its correlation time.
+        let white = GnssErrorModel {
+            sigma_m: 0.0,
+            correlation_time_s: -1.0,
+        };
+        assert_eq!(white.validate(), Ok(()));
+        assert_eq!(RECEIVER.decay(300.0), libm::exp(-1.0));
+        assert_eq!(GnssErrorModel::WHITE.decay(300.0), 1.0);
+        assert_eq!(RECEIVER.position_coefficient(30.0), libm::exp(0.1));
+        let _ = CovarianceMatrix::zeros();
+    }
+}
