@@ -92,6 +92,15 @@ pub fn geodetic_to_ecef(latitude_rad: f64, longitude_rad: f64, height_m: f64) ->
     )
 }
 
+/// `ω_e ẑ × r` (m/s): the velocity of a point fixed in ECEF at `r` (m), in ECEF axes.
+fn earth_rotation_velocity(position_ecef_m: &Vector3<f64>) -> Vector3<f64> {
+    Vector3::new(
+        -WGS84_EARTH_RATE_RAD_S * position_ecef_m.y,
+        WGS84_EARTH_RATE_RAD_S * position_ecef_m.x,
+        0.0,
+    )
+}
+
 /// Active rotation by `angle_rad` about `z`: `R_z(θ) = [[c, −s, 0], [s, c, 0], [0, 0, 1]]`.
 fn rotation_z(angle_rad: f64) -> Matrix3<f64> {
     let (s, c) = (libm::sin(angle_rad), libm::cos(angle_rad));
@@ -180,6 +189,66 @@ impl LaunchFrame {
         Ok(self.launch_from_ecef * (inertial - self.site_ecef_m))
     }
 
+    /// ECEF velocity (m/s, relative to the rotating Earth, at ECEF position `position_ecef_m`)
+    /// at GNSS time `gnss_time_s` (s) to launch-inertial velocity (m/s): the time derivative
+    /// of [`Self::ecef_to_launch_inertial`],
+    /// `v_i = C R_z(θ) (v_e + ω_e ẑ × r_e)`, `θ = ω_e (t − t₀)` (`d/dt R_z(θ) r = R_z(θ)
+    /// (ω_e ẑ × r)` since `R_z` commutes with its own generator).
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite position, velocity or time.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::frames::{LaunchFrame, LaunchSite};
+    /// use nalgebra::Vector3;
+    /// let site = LaunchSite { latitude_rad: 0.0, longitude_rad: 0.0, height_m: 0.0,
+    ///     azimuth_rad: 0.0, epoch_s: 0.0 };
+    /// let frame = LaunchFrame::new(&site).unwrap();
+    /// // The site at rest on the equator moves eastward at ω_e a ≈ 465 m/s inertially.
+    /// let v = frame
+    ///     .ecef_velocity_to_launch_inertial(frame.site_ecef_m(), &Vector3::zeros(), 0.0)
+    ///     .unwrap();
+    /// assert!((v.norm() - 465.1).abs() < 0.1);
+    /// ```
+    pub fn ecef_velocity_to_launch_inertial(
+        &self,
+        position_ecef_m: &Vector3<f64>,
+        velocity_ecef_mps: &Vector3<f64>,
+        gnss_time_s: f64,
+    ) -> Result<Vector3<f64>, NavError> {
+        if !(all_finite3(position_ecef_m) && all_finite3(velocity_ecef_mps))
+            || !gnss_time_s.is_finite()
+        {
+            return Err(NavError::NonFiniteInput);
+        }
+        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
+        let inertial = velocity_ecef_mps + earth_rotation_velocity(position_ecef_m);
+        Ok(self.launch_from_ecef * (rotation_z(angle) * inertial))
+    }
+
+    /// Inverse of [`Self::ecef_velocity_to_launch_inertial`]: launch-inertial velocity (m/s)
+    /// at launch-inertial position `position_launch_m` (m) to ECEF velocity (m/s),
+    /// `v_e = R_z(−θ) Cᵀ v_i − ω_e ẑ × r_e`.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite position, velocity or time.
+    pub fn launch_inertial_velocity_to_ecef(
+        &self,
+        position_launch_m: &Vector3<f64>,
+        velocity_launch_mps: &Vector3<f64>,
+        gnss_time_s: f64,
+    ) -> Result<Vector3<f64>, NavError> {
+        if !all_finite3(velocity_launch_mps) {
+            return Err(NavError::NonFiniteInput);
+        }
+        let position_ecef = self.launch_inertial_to_ecef(position_launch_m, gnss_time_s)?;
+        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
+        let inertial =
+            rotation_z(-angle) * (self.launch_from_ecef.transpose() * velocity_launch_mps);
+        Ok(inertial - earth_rotation_velocity(&position_ecef))
+    }
+
     /// Inverse of [`Self::ecef_to_launch_inertial`]: launch-inertial position (m) to ECEF
     /// position (m) at GNSS time `gnss_time_s` (s),
     /// `r_e = R_z(−ω_e (t − t₀)) (r_site + Cᵀ p_i)`.
@@ -238,6 +307,52 @@ pub(crate) mod tests {
     /// The launch frame of [`wenchang`].
     pub(crate) fn wenchang_frame() -> LaunchFrame {
         LaunchFrame::new(&wenchang()).unwrap()
+    }
+
+    /// The velocity conversion is the time derivative of the position conversion: a point
+    /// moving in ECEF, converted at `t ± h`, differences to the converted velocity (central
+    /// difference, `h` = 0.5 s: truncation ~h² ω_e² |v| ≈ 1e-6 m/s); and the inverse returns
+    /// the input.
+    #[test]
+    fn velocity_conversion_is_the_derivative_of_the_position_conversion() {
+        let frame = wenchang_frame();
+        let r0 = Vector3::new(-1.6e6, 5.9e6, 2.2e6);
+        let v_e = Vector3::new(3100.0, -1200.0, 6400.0);
+        let (t, h) = (4321.0, 0.5);
+        let position_at = |time: f64| {
+            frame
+                .ecef_to_launch_inertial(&(r0 + v_e * (time - t)), time)
+                .unwrap()
+        };
+        let numerical = (position_at(t + h) - position_at(t - h)) / (2.0 * h);
+        let analytic = frame
+            .ecef_velocity_to_launch_inertial(&r0, &v_e, t)
+            .unwrap();
+        assert!(
+            (numerical - analytic).norm() < 1e-5,
+            "{}",
+            (numerical - analytic).norm()
+        );
+        // The Earth-rotation term matters: without it the answer is ~470 m/s off.
+        let without = frame.launch_from_ecef() * v_e;
+        assert!((without - analytic).norm() > 100.0);
+        let back = frame
+            .launch_inertial_velocity_to_ecef(&position_at(t), &analytic, t)
+            .unwrap();
+        assert!((back - v_e).norm() < 1e-9, "{}", (back - v_e).norm());
+        let nan = Vector3::new(f64::NAN, 0.0, 0.0);
+        assert!(frame
+            .ecef_velocity_to_launch_inertial(&r0, &nan, t)
+            .is_err());
+        assert!(frame
+            .ecef_velocity_to_launch_inertial(&nan, &v_e, t)
+            .is_err());
+        assert!(frame
+            .ecef_velocity_to_launch_inertial(&r0, &v_e, f64::NAN)
+            .is_err());
+        assert!(frame
+            .launch_inertial_velocity_to_ecef(&r0, &nan, t)
+            .is_err());
     }
 
     #[test]

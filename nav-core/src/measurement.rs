@@ -32,12 +32,26 @@
 //! The antenna is at `p + C ℓ` (`ℓ` lever arm in body axes). Residual
 //! `z = p_gnss − p̂ − Ĉ ℓ = δp + (C − Ĉ) ℓ = δp + 2 Ĉ [ϑ×] ℓ = δp − 2 Ĉ [ℓ×] ϑ`, so
 //! `H_position = I`, `H_attitude = −2 Ĉ [ℓ×]`.
+//!
+//! ## GNSS velocity
+//! The antenna moves at `v + C (ω × ℓ)` (`ω` the true body rate). The receiver's ECEF
+//! velocity is converted to the launch-inertial frame with the Earth-rotation term
+//! ([`crate::frames::LaunchFrame::ecef_velocity_to_launch_inertial`]). With `u = ω̂ × ℓ`,
+//! residual `z = v_gnss − v̂ − Ĉ u = δv + (C − Ĉ) u + Ĉ (δω × ℓ)` to first order, where
+//! `(C − Ĉ) u = −2 Ĉ [u×] ϑ` as above and `δω = ω − ω̂ = −δb_g − diag(ω_m) δλ_g`
+//! (`ω = ω_m − diag(ω_m) λ_g − b_g`, [`crate::error_model`]), so
+//! `Ĉ (δω × ℓ) = Ĉ [ℓ×] (δb_g + diag(ω_m) δλ_g)`:
+//! `H_velocity = I`, `H_attitude = −2 Ĉ [u×]`, `H_gyro_bias = Ĉ [ℓ×]`,
+//! `H_gyro_scale = Ĉ [ℓ×] diag(ω_m)`. The receiver's velocity error is white (Doppler).
 
 use nalgebra::{Matrix3, Quaternion, SMatrix, Vector3};
 
 use crate::attitude::{all_finite3, canonical, conjugate, product, rotation_matrix, skew};
 use crate::error_model::set_block;
-use crate::state::{StateBlock, ATTITUDE, POSITION, STAR_INSTALLATION, STATE_DIMENSION};
+use crate::state::{
+    StateBlock, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION,
+    STATE_DIMENSION, VELOCITY,
+};
 use crate::NavError;
 
 /// The three rows of a 3-component measurement (for block writes into `H`).
@@ -156,6 +170,69 @@ pub fn gnss_position(
     })
 }
 
+/// The body motion a GNSS velocity measurement needs for its lever-arm term.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyRate {
+    /// Corrected body rate `ω̂` (rad/s).
+    pub corrected_rad_s: Vector3<f64>,
+    /// Measured body rate `ω_m` (rad/s), which the gyro scale factor multiplies.
+    pub measured_rad_s: Vector3<f64>,
+}
+
+/// GNSS velocity measurement in the launch-inertial frame (module docs for the derivation).
+///
+/// * `attitude` `q̂_ib`, `velocity_mps` `v̂` (IMU velocity), `lever_arm_body_m` `ℓ`,
+///   `rate` the body rates;
+/// * `measured_velocity_mps`: the antenna velocity converted to the launch-inertial frame;
+/// * `noise_mps`: 1σ per axis; `R = σ² I`.
+///
+/// # Errors
+/// [`NavError::NonFiniteInput`] for NaN/Inf in any input or a negative noise.
+pub fn gnss_velocity(
+    attitude: &Quaternion<f64>,
+    velocity_mps: &Vector3<f64>,
+    lever_arm_body_m: &Vector3<f64>,
+    rate: &BodyRate,
+    measured_velocity_mps: &Vector3<f64>,
+    noise_mps: f64,
+) -> Result<LinearMeasurement, NavError> {
+    let inputs_finite = quaternion_is_finite(attitude)
+        && all_finite3(velocity_mps)
+        && all_finite3(lever_arm_body_m)
+        && all_finite3(&rate.corrected_rad_s)
+        && all_finite3(&rate.measured_rad_s)
+        && all_finite3(measured_velocity_mps);
+    if !(inputs_finite && noise_mps.is_finite() && noise_mps >= 0.0) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let body_to_inertial = rotation_matrix(attitude);
+    let lever_velocity = rate.corrected_rad_s.cross(lever_arm_body_m);
+    let predicted = velocity_mps + body_to_inertial * lever_velocity;
+    let row = MEASUREMENT_ROWS;
+    let lever = body_to_inertial * skew(lever_arm_body_m);
+    let mut jacobian = MeasurementJacobian::zeros();
+    set_block(&mut jacobian, row, VELOCITY, &Matrix3::identity());
+    set_block(
+        &mut jacobian,
+        row,
+        ATTITUDE,
+        &(-2.0 * body_to_inertial * skew(&lever_velocity)),
+    );
+    set_block(&mut jacobian, row, GYRO_BIAS, &lever);
+    set_block(
+        &mut jacobian,
+        row,
+        GYRO_SCALE_FACTOR,
+        &(lever * Matrix3::from_diagonal(&rate.measured_rad_s)),
+    );
+    Ok(LinearMeasurement {
+        residual: measured_velocity_mps - predicted,
+        jacobian,
+        noise_covariance: Matrix3::identity() * (noise_mps * noise_mps),
+        gnss_error_coefficient: 0.0,
+    })
+}
+
 /// Refers a measurement whose time of validity `t_m` lies `latency_s` before the filter's
 /// time `t` to the filter's current error state.
 ///
@@ -271,6 +348,66 @@ mod tests {
                 (m.residual, m.jacobian * error)
             });
         }
+    }
+
+    #[test]
+    fn gnss_velocity_jacobian_predicts_the_nonlinear_residual_to_second_order() {
+        use crate::error_model::tests::MEASURED_RATE;
+        let est = estimate();
+        let true_rate = |h: &crate::error_model::tests::Hypothesis| {
+            MEASURED_RATE - MEASURED_RATE.component_mul(&h.gyro_scale) - h.gyro_bias
+        };
+        let rate = BodyRate {
+            corrected_rad_s: true_rate(&est),
+            measured_rad_s: MEASURED_RATE,
+        };
+        for block in [ATTITUDE, VELOCITY, GYRO_BIAS, GYRO_SCALE_FACTOR] {
+            assert_second_order(block, scale(block), |error| {
+                let truth = perturbed(&est, error);
+                let antenna = truth.velocity
+                    + rotation_matrix(&truth.attitude) * true_rate(&truth).cross(&LEVER_ARM);
+                let m = gnss_velocity(
+                    &est.attitude,
+                    &est.velocity,
+                    &LEVER_ARM,
+                    &rate,
+                    &antenna,
+                    0.05,
+                )
+                .unwrap();
+                (m.residual, m.jacobian * error)
+            });
+        }
+        let m = gnss_velocity(
+            &est.attitude,
+            &est.velocity,
+            &LEVER_ARM,
+            &rate,
+            &est.velocity,
+            0.05,
+        )
+        .unwrap();
+        assert!((m.noise_covariance[(0, 0)] - 0.0025).abs() < 1e-15);
+        assert_eq!(m.gnss_error_coefficient, 0.0);
+        for block in [POSITION, STAR_INSTALLATION] {
+            assert_eq!(m.jacobian.fixed_columns::<3>(block.index).amax(), 0.0);
+        }
+        let bad = Vector3::new(f64::NAN, 0.0, 0.0);
+        assert_eq!(
+            gnss_velocity(&est.attitude, &est.velocity, &LEVER_ARM, &rate, &bad, 0.05),
+            Err(NavError::NonFiniteInput)
+        );
+        assert_eq!(
+            gnss_velocity(
+                &est.attitude,
+                &est.velocity,
+                &LEVER_ARM,
+                &rate,
+                &est.velocity,
+                -1.0
+            ),
+            Err(NavError::NonFiniteInput)
+        );
     }
 
     /// The star measurement of a sensor that sees exactly the estimated attitude.
