@@ -300,6 +300,48 @@ impl ErrorStateFilter {
             .map(|variance| libm::sqrt(variance.max(0.0)))
     }
 
+    /// Adds `variance · I` to the diagonal block of `block` (m², rad², … in the block's
+    /// units): process noise the discrete model does not contain, such as the error of a
+    /// held IMU sample. `P` stays symmetric positive definite.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a negative or non-finite variance; nothing changes
+    /// then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::state::VELOCITY;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
+    /// filter.add_block_variance(VELOCITY, 0.03).unwrap();
+    /// assert!((filter.covariance()[(VELOCITY.index, VELOCITY.index)] - 0.04).abs() < 1e-15);
+    /// ```
+    pub fn add_block_variance(&mut self, block: StateBlock, variance: f64) -> Result<(), NavError> {
+        if !(variance.is_finite() && variance >= 0.0) {
+            return Err(NavError::NonFiniteInput);
+        }
+        for index in block.index..block.index.saturating_add(block.dimension) {
+            if let Some(entry) = self
+                .covariance
+                .data
+                .0
+                .get_mut(index)
+                .and_then(|column| column.get_mut(index))
+            {
+                *entry += variance;
+            }
+        }
+        Ok(())
+    }
+
     /// Replaces `P` (for covariance protection by the caller).
     ///
     /// # Errors

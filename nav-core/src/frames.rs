@@ -217,8 +217,9 @@ impl LaunchFrame {
         velocity_ecef_mps: &Vector3<f64>,
         gnss_time_s: f64,
     ) -> Result<Vector3<f64>, NavError> {
-        if !(all_finite3(position_ecef_m) && all_finite3(velocity_ecef_mps))
-            || !gnss_time_s.is_finite()
+        if !(all_finite3(position_ecef_m)
+            && all_finite3(velocity_ecef_mps)
+            && gnss_time_s.is_finite())
         {
             return Err(NavError::NonFiniteInput);
         }

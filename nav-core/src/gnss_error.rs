@@ -96,8 +96,8 @@ impl GnssErrorModel {
     /// ```
     /// use nav_core::gnss_error::GnssErrorModel;
     /// let receiver = GnssErrorModel { sigma_m: 8.0, correlation_time_s: 300.0 };
-    /// assert_eq!(receiver.position_coefficient(0.0), 1.0);
-    /// assert_eq!(GnssErrorModel::WHITE.position_coefficient(0.1), 0.0);
+    /// assert_eq!(receiver.position_coefficient(0.0).to_bits(), 1.0f64.to_bits());
+    /// assert_eq!(GnssErrorModel::WHITE.position_coefficient(0.1).to_bits(), 0.0f64.to_bits());
     /// ```
     pub fn position_coefficient(&self, latency_s: f64) -> f64 {
         if self.is_enabled() {
@@ -650,9 +650,15 @@ mod tests {
             correlation_time_s: -1.0,
         };
         assert_eq!(white.validate(), Ok(()));
-        assert_eq!(RECEIVER.decay(300.0), libm::exp(-1.0));
-        assert_eq!(GnssErrorModel::WHITE.decay(300.0), 1.0);
-        assert_eq!(RECEIVER.position_coefficient(30.0), libm::exp(0.1));
+        assert_eq!(RECEIVER.decay(300.0).to_bits(), libm::exp(-1.0).to_bits());
+        assert_eq!(
+            GnssErrorModel::WHITE.decay(300.0).to_bits(),
+            1.0f64.to_bits()
+        );
+        assert_eq!(
+            RECEIVER.position_coefficient(30.0).to_bits(),
+            libm::exp(0.1).to_bits()
+        );
         let _ = CovarianceMatrix::zeros();
     }
 }

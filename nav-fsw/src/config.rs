@@ -50,6 +50,11 @@ pub struct GnssConfig {
     pub gate_nis: f64,
     /// A fix farther than this from the predicted antenna position is a jump (m).
     pub max_jump_m: f64,
+    /// Velocity noise, 1σ per axis (m/s) of a receiver that outputs velocity (used when a
+    /// fix carries one); 0 = velocities are not fused.
+    pub velocity_noise_mps: f64,
+    /// NIS gate of the velocity update, χ²(3).
+    pub velocity_gate_nis: f64,
 }
 
 /// Measurement timing.
@@ -82,6 +87,24 @@ pub struct CovarianceConfig {
     /// Ceiling of every 1σ as a multiple of its initial 1σ; a larger variance is scaled back
     /// with its row and column (correlations kept), counted.
     pub sigma_ceiling_factor: f64,
+    /// What a held IMU sample may be wrong by ([`HeldSampleUncertainty`]).
+    pub held_sample: HeldSampleUncertainty,
+}
+
+/// 1σ per axis of the difference between the true motion and a held IMU increment (the last
+/// good one, replacing a missing or refused sample), as a rate and a specific force. The
+/// error of consecutive held samples is taken as fully correlated (a held sample is wrong
+/// the same way for the whole gap), so after `k` held frames the attitude and velocity
+/// errors have 1σ `k σ Δt` (angle) and `k σ Δt`: the `k`-th adds `(2k − 1) (σ Δt)²`.
+/// A sample refused as saturated uses at least the IMU's range as its σ: the true motion is
+/// beyond it by an unknown amount.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct HeldSampleUncertainty {
+    /// Body-rate error of a held sample (rad/s, 1σ per axis).
+    pub rate_rad_s: f64,
+    /// Specific-force error of a held sample (m/s², 1σ per axis).
+    pub specific_force_mps2: f64,
 }
 
 /// Everything the flight software needs, in one place.
@@ -146,6 +169,8 @@ impl FswConfig {
                 noise_m: 10.0,
                 gate_nis: 16.27,
                 max_jump_m: 1000.0,
+                velocity_noise_mps: 0.05,
+                velocity_gate_nis: 16.27,
             },
             timing: MeasurementTiming {
                 max_latency_s: 0.1,
@@ -166,6 +191,12 @@ impl FswConfig {
                     accel_scale_factor: 1e-10,
                 },
                 sigma_ceiling_factor: 1e3,
+                // [chosen] the change of rate and specific force an upper stage makes over a
+                // short gap: 0.1 rad/s (5.7°/s) and 1 m/s².
+                held_sample: HeldSampleUncertainty {
+                    rate_rad_s: 0.1,
+                    specific_force_mps2: 1.0,
+                },
             },
             calibration: CalibrationManagerConfig::default(),
         }
@@ -180,6 +211,9 @@ impl FswConfig {
         let positive = |value: f64| value.is_finite() && value > 0.0;
         if self.launch_site.validate().is_err() {
             return invalid(ConfigField::LaunchSite);
+        }
+        if self.filter.gnss_error.validate().is_err() {
+            return invalid(ConfigField::GnssCorrelatedError);
         }
         if self.filter.validate().is_err() {
             return invalid(ConfigField::FilterInitialUncertainty);
@@ -213,6 +247,19 @@ impl FswConfig {
         }
         if !positive(self.gnss.max_jump_m) {
             return invalid(ConfigField::GnssMaxJump);
+        }
+        let velocity_noise = self.gnss.velocity_noise_mps;
+        let velocity_gate = self.gnss.velocity_gate_nis;
+        if !(velocity_noise.is_finite()
+            && velocity_noise >= 0.0
+            && (positive(velocity_gate) || velocity_gate == f64::INFINITY))
+        {
+            return invalid(ConfigField::GnssVelocity);
+        }
+        let held = self.covariance.held_sample;
+        let non_negative = |value: f64| value.is_finite() && value >= 0.0;
+        if !(non_negative(held.rate_rad_s) && non_negative(held.specific_force_mps2)) {
+            return invalid(ConfigField::HeldSampleUncertainty);
         }
         let history_span_s =
             f64::from(u32::try_from(HISTORY_CAPACITY).unwrap_or(1) - 1) * self.imu.period_s;
@@ -399,6 +446,34 @@ mod tests {
         assert_eq!(
             refused(|c| c.covariance.propagation_interval_frames = 501),
             Some(F::PropagationInterval)
+        );
+        // Velocity noise 0 turns velocity fusion off; negative or NaN is refused, as is a
+        // non-positive gate. Correlated-error σ and τ, and held-sample σ, likewise.
+        assert_eq!(refused(|c| c.gnss.velocity_noise_mps = 0.0), None);
+        assert_eq!(
+            refused(|c| c.gnss.velocity_noise_mps = -1e-9),
+            Some(F::GnssVelocity)
+        );
+        assert_eq!(
+            refused(|c| c.gnss.velocity_gate_nis = 0.0),
+            Some(F::GnssVelocity)
+        );
+        assert_eq!(
+            refused(
+                |c| c.filter.gnss_error = nav_core::gnss_error::GnssErrorModel {
+                    sigma_m: 8.0,
+                    correlation_time_s: 0.0
+                }
+            ),
+            Some(F::GnssCorrelatedError)
+        );
+        assert_eq!(
+            refused(|c| c.covariance.held_sample.rate_rad_s = f64::NAN),
+            Some(F::HeldSampleUncertainty)
+        );
+        assert_eq!(
+            refused(|c| c.covariance.held_sample.specific_force_mps2 = -1.0),
+            Some(F::HeldSampleUncertainty)
         );
         // The ceiling factor is at least 1 (and finite).
         assert_eq!(refused(|c| c.covariance.sigma_ceiling_factor = 1.0), None);

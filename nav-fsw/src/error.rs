@@ -39,6 +39,12 @@ pub enum ConfigField {
     GnssNoise,
     /// `gnss.gate_nis`
     GnssGate,
+    /// `gnss.velocity_noise_mps` or `gnss.velocity_gate_nis`.
+    GnssVelocity,
+    /// `filter.gnss_error` (correlated GNSS error σ or correlation time).
+    GnssCorrelatedError,
+    /// `covariance.held_sample` (uncertainty of a held IMU sample).
+    HeldSampleUncertainty,
     /// `timing.future_tolerance_s`
     FutureTolerance,
     /// `timing.outage_timeout_s`

@@ -36,6 +36,11 @@ pub struct HealthCounters {
     pub star_gate_rejections: u32,
     /// GNSS updates rejected by the innovation gate.
     pub gnss_gate_rejections: u32,
+    /// GNSS velocity updates rejected by the innovation gate.
+    pub gnss_velocity_gate_rejections: u32,
+    /// Frames whose IMU sample was held (missing or refused), each adding the held sample's
+    /// uncertainty to the covariance.
+    pub imu_held_frames: u32,
     /// Covariance repairs (variance clamped to its floor or ceiling).
     pub covariance_clamps: u32,
     /// Filter resets after a non-finite state or covariance.

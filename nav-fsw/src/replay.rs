@@ -132,7 +132,7 @@ impl FrameAssembler {
 }
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 41;
+pub const SETUP_WORDS: usize = 44;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -166,6 +166,10 @@ pub struct ReplaySetup {
     pub gnss_gate_nis: f64,
     /// Largest measurement latency (s).
     pub max_latency_s: f64,
+    /// The receiver's correlated position error (`filter.gnss_error`).
+    pub gnss_error: nav_core::gnss_error::GnssErrorModel,
+    /// GNSS velocity noise 1σ (m/s); 0 = velocities not fused.
+    pub gnss_velocity_noise_mps: f64,
 }
 
 impl ReplaySetup {
@@ -183,6 +187,8 @@ impl ReplaySetup {
         config.gnss.noise_m = self.gnss_noise_m;
         config.gnss.gate_nis = self.gnss_gate_nis;
         config.timing.max_latency_s = self.max_latency_s;
+        config.filter.gnss_error = self.gnss_error;
+        config.gnss.velocity_noise_mps = self.gnss_velocity_noise_mps;
         config
     }
 
@@ -238,6 +244,9 @@ impl ReplaySetup {
             self.gnss_noise_m,
             self.gnss_gate_nis,
             self.max_latency_s,
+            self.gnss_error.sigma_m,
+            self.gnss_error.correlation_time_s,
+            self.gnss_velocity_noise_mps,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -270,7 +279,7 @@ impl ReplaySetup {
         };
         let order = u8::try_from(*order).map_err(|_| bad)?;
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, epoch, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency] =
+        let [lat, lon, height, azimuth, epoch, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -311,12 +320,17 @@ impl ReplaySetup {
             gnss_noise_m: gnss_noise,
             gnss_gate_nis: gnss_gate,
             max_latency_s: latency,
+            gnss_error: nav_core::gnss_error::GnssErrorModel {
+                sigma_m: correlated_sigma,
+                correlation_time_s: correlation_time,
+            },
+            gnss_velocity_noise_mps: velocity_noise,
         })
     }
 }
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 72;
+pub const OUTPUT_WORDS: usize = 75;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -392,6 +406,9 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "filter_errors",
     "strapdown_failures",
     "dropped_measurements",
+    "last_gnss_velocity_nis",
+    "gnss_velocity_gate_rejections",
+    "imu_held_frames",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -409,6 +426,8 @@ pub fn output_words(
         FrameFusion::StarRejected => 2,
         FrameFusion::GnssAccepted => 3,
         FrameFusion::GnssRejected => 4,
+        FrameFusion::GnssVelocityAccepted => 5,
+        FrameFusion::GnssVelocityRejected => 6,
     };
     let mut words = [0_u64; OUTPUT_WORDS];
     let mut slots = words.iter_mut();
@@ -471,6 +490,9 @@ pub fn output_words(
     for counter in counters {
         put(u64::from(counter));
     }
+    put(t.last_gnss_velocity_nis.to_bits());
+    put(u64::from(h.gnss_velocity_gate_rejections));
+    put(u64::from(h.imu_held_frames));
     words
 }
 
@@ -542,6 +564,11 @@ mod tests {
             gnss_noise_m: 10.0,
             gnss_gate_nis: 16.27,
             max_latency_s: 0.1,
+            gnss_error: nav_core::gnss_error::GnssErrorModel {
+                sigma_m: 8.0,
+                correlation_time_s: 300.0,
+            },
+            gnss_velocity_noise_mps: 0.05,
         };
         let words = setup.to_words();
         assert_eq!(ReplaySetup::from_words(&words), Ok(setup));

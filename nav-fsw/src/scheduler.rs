@@ -41,10 +41,12 @@ use nav_core::filter::{
     FilterMode,
 };
 use nav_core::frames::LaunchFrame;
-use nav_core::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
+use nav_core::measurement::{
+    gnss_position, gnss_velocity, refer_to_later_time, star_sensor, BodyRate, LinearMeasurement,
+};
 use nav_core::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    POSITION, STAR_INSTALLATION,
+    POSITION, STAR_INSTALLATION, VELOCITY,
 };
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
@@ -55,6 +57,7 @@ use nav_core::NavError;
 use crate::calibration_manager::{
     CalibrationManager, CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT,
 };
+use crate::config::HeldSampleUncertainty;
 use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
 use crate::error::{ConfigField, FswError};
 use crate::health::{count, HealthCounters, OutageMonitor};
@@ -166,16 +169,26 @@ struct Snapshot {
     time_s: f64,
     attitude: Quaternion<f64>,
     position_m: Vector3<f64>,
+    velocity_mps: Vector3<f64>,
 }
 
 /// One closed-loop correction of the navigation solution (attitude `q ← q ⊗ δq`, position
-/// `p ← p + δp`), kept for the snapshots recorded up to its frame.
+/// `p ← p + δp`, velocity `v ← v + δv`), kept for the snapshots recorded up to its frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Correction {
     /// Frame counter of the feedback.
     frame: u32,
     attitude: Quaternion<f64>,
     position_m: Vector3<f64>,
+    velocity_mps: Vector3<f64>,
+}
+
+/// A GNSS fix in the launch-inertial frame, queued until due.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct GnssQueued {
+    position_m: Vector3<f64>,
+    /// Present when the receiver outputs velocity and velocity fusion is configured.
+    velocity_mps: Option<Vector3<f64>>,
 }
 
 /// Gate statistics and fault state of one aiding sensor.
@@ -214,10 +227,56 @@ impl PropagationSums {
     }
 }
 
+/// The aiding measurements, one routine each for forming them and one shared path for
+/// referral, update and fault handling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Aid {
+    Star,
+    GnssPosition,
+    GnssVelocity,
+}
+
+impl Aid {
+    /// Telemetry of an accepted or rejected measurement.
+    const fn fusion(self, accepted: bool) -> FrameFusion {
+        match (self, accepted) {
+            (Aid::Star, true) => FrameFusion::StarAccepted,
+            (Aid::Star, false) => FrameFusion::StarRejected,
+            (Aid::GnssPosition, true) => FrameFusion::GnssAccepted,
+            (Aid::GnssPosition, false) => FrameFusion::GnssRejected,
+            (Aid::GnssVelocity, true) => FrameFusion::GnssVelocityAccepted,
+            (Aid::GnssVelocity, false) => FrameFusion::GnssVelocityRejected,
+        }
+    }
+
+    /// Whether the measurement comes from the star sensor (else the GNSS receiver, whose
+    /// position and velocity share one fault state).
+    const fn is_star(self) -> bool {
+        matches!(self, Aid::Star)
+    }
+}
+
 /// Which queued measurement to fuse.
 enum Due {
     Star(f64, Quaternion<f64>),
-    Gnss(f64, Vector3<f64>),
+    GnssPosition(f64, Vector3<f64>),
+    GnssVelocity(f64, Vector3<f64>),
+}
+
+impl Due {
+    const fn aid(&self) -> Aid {
+        match self {
+            Due::Star(..) => Aid::Star,
+            Due::GnssPosition(..) => Aid::GnssPosition,
+            Due::GnssVelocity(..) => Aid::GnssVelocity,
+        }
+    }
+
+    const fn time_tag_s(&self) -> f64 {
+        match self {
+            Due::Star(tag, _) | Due::GnssPosition(tag, _) | Due::GnssVelocity(tag, _) => *tag,
+        }
+    }
 }
 
 /// The flight software: strapdown, filter, input checks, fault handling and calibration.
@@ -239,10 +298,17 @@ pub struct NavigationComputer {
     /// ~2,000 instructions on the target.
     corrections: Deque<Correction, HISTORY_CAPACITY>,
     star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
-    gnss_queue: MeasurementBuffer<Vector3<f64>, GNSS_QUEUE_CAPACITY>,
+    gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
+    /// The velocity of the GNSS fix whose position was fused last frame (one update per
+    /// frame: it is fused in the next).
+    pending_gnss_velocity: Option<(f64, Vector3<f64>)>,
+    /// Consecutive frames whose IMU sample was held.
+    held_frames: u32,
     last_star: Option<Quaternion<f64>>,
     star: AidingSensor,
     gnss: AidingSensor,
+    /// Gate statistics of the GNSS velocity (its fault state is the receiver's, `gnss`).
+    gnss_velocity: AidingSensor,
     star_outage: OutageMonitor,
     gnss_outage: OutageMonitor,
     sums: PropagationSums,
@@ -319,9 +385,12 @@ impl NavigationComputer {
             corrections: Deque::new(),
             star_queue: MeasurementBuffer::new(),
             gnss_queue: MeasurementBuffer::new(),
+            pending_gnss_velocity: None,
+            held_frames: 0,
             last_star: None,
             star: AidingSensor::default(),
             gnss: AidingSensor::default(),
+            gnss_velocity: AidingSensor::default(),
             star_outage: OutageMonitor::default(),
             gnss_outage: OutageMonitor::default(),
             sums: PropagationSums::EMPTY,
@@ -369,6 +438,7 @@ impl NavigationComputer {
             Command::ClearSensorFaults => {
                 self.star = AidingSensor::default();
                 self.gnss = AidingSensor::default();
+                self.gnss_velocity = AidingSensor::default();
             }
             Command::RestartCalibration => self.manager.restart(),
         }
@@ -434,6 +504,12 @@ impl NavigationComputer {
                 }
             }
         };
+        let held = match (&checked, &sample) {
+            (Some(_), _) => None,
+            (None, Some(raw)) if self.imu_checker_saturated(raw) => Some(self.saturation_sigma()),
+            (None, _) => Some(self.config.covariance.held_sample),
+        };
+        self.inflate_for_held_sample(held);
         let increment = match checked {
             Some(sample) => {
                 self.frames_without_sample = 0;
@@ -470,6 +546,52 @@ impl NavigationComputer {
         }
     }
 
+    /// Whether a refused sample was refused for saturation (beyond the IMU's range).
+    fn imu_checker_saturated(&self, sample: &ports::ImuSample) -> bool {
+        let limits = &self.config.imu;
+        let angle = limits.max_rate_rad_s * limits.period_s;
+        let velocity = limits.max_specific_force_mps2 * limits.period_s;
+        let beyond = |values: &[f64; 3], limit: f64| values.iter().any(|v| v.abs() > limit);
+        beyond(&sample.delta_angle_rad, angle) || beyond(&sample.delta_velocity_mps, velocity)
+    }
+
+    /// A saturated sample's error: at least the IMU's range (the truth is beyond it).
+    fn saturation_sigma(&self) -> HeldSampleUncertainty {
+        let held = self.config.covariance.held_sample;
+        HeldSampleUncertainty {
+            rate_rad_s: held.rate_rad_s.max(self.config.imu.max_rate_rad_s),
+            specific_force_mps2: held
+                .specific_force_mps2
+                .max(self.config.imu.max_specific_force_mps2),
+        }
+    }
+
+    /// The covariance grows for what a held IMU sample may be wrong by
+    /// ([`HeldSampleUncertainty`]): the `k`-th consecutive held frame adds `(2k − 1)` times
+    /// one frame's variance, so the 1σ grows as `k` (the held error is the same all gap
+    /// long). Attitude states are half-angles, so their σ is half the angle's.
+    fn inflate_for_held_sample(&mut self, held: Option<HeldSampleUncertainty>) {
+        let Some(sigma) = held else {
+            self.held_frames = 0;
+            return;
+        };
+        count(&mut self.health.imu_held_frames);
+        self.held_frames = self.held_frames.saturating_add(1);
+        let growth = 2.0 * f64::from(self.held_frames) - 1.0;
+        let period_s = self.config.imu.period_s;
+        let half_angle = 0.5 * sigma.rate_rad_s * period_s;
+        let velocity = sigma.specific_force_mps2 * period_s;
+        let added = [
+            (ATTITUDE, growth * half_angle * half_angle),
+            (VELOCITY, growth * velocity * velocity),
+        ];
+        for (block, variance) in added {
+            if self.filter.add_block_variance(block, variance).is_err() {
+                count(&mut self.health.filter_errors);
+            }
+        }
+    }
+
     fn record_snapshot(&mut self) {
         if self.history.is_full() {
             self.history.pop_front();
@@ -480,6 +602,7 @@ impl NavigationComputer {
             time_s: self.navigation.time_s,
             attitude: self.navigation.attitude,
             position_m: self.navigation.position_m,
+            velocity_mps: self.navigation.velocity_mps,
         });
     }
 
@@ -493,6 +616,7 @@ impl NavigationComputer {
             if self.frame.wrapping_sub(correction.frame) <= snapshot_age {
                 corrected.attitude = attitude::product(&corrected.attitude, &correction.attitude);
                 corrected.position_m += correction.position_m;
+                corrected.velocity_mps += correction.velocity_mps;
             }
         }
         corrected
@@ -516,6 +640,8 @@ impl NavigationComputer {
                         time_s,
                         attitude: interpolate_attitude(&before.attitude, &after.attitude, s),
                         position_m: before.position_m + (after.position_m - before.position_m) * s,
+                        velocity_mps: before.velocity_mps
+                            + (after.velocity_mps - before.velocity_mps) * s,
                     });
                 }
             }
@@ -654,15 +780,12 @@ impl NavigationComputer {
                 break;
             };
             gnss_heard = true;
-            let converted = self
-                .launch_frame
-                .ecef_to_launch_inertial(&ports::vector(&fix.position_ecef_m), fix.time_tag_s);
-            match converted {
+            match self.gnss_in_launch_frame(&fix) {
                 Err(_) => count(&mut self.health.gnss_non_finite),
-                Ok(position) => {
+                Ok(queued) => {
                     let pushed = self.gnss_queue.push(
                         fix.time_tag_s,
-                        position,
+                        queued,
                         now_s,
                         timing.max_latency_s,
                         timing.future_tolerance_s,
@@ -682,6 +805,29 @@ impl NavigationComputer {
         }
     }
 
+    /// A fix converted to the launch-inertial frame; its velocity only when velocity fusion
+    /// is configured (`gnss.velocity_noise_mps > 0`).
+    fn gnss_in_launch_frame(&self, fix: &ports::GnssFix) -> Result<GnssQueued, NavError> {
+        let position_ecef = ports::vector(&fix.position_ecef_m);
+        let position_m = self
+            .launch_frame
+            .ecef_to_launch_inertial(&position_ecef, fix.time_tag_s)?;
+        let velocity_mps = match fix.velocity_ecef_mps {
+            Some(velocity) if self.config.gnss.velocity_noise_mps > 0.0 => {
+                Some(self.launch_frame.ecef_velocity_to_launch_inertial(
+                    &position_ecef,
+                    &ports::vector(&velocity),
+                    fix.time_tag_s,
+                )?)
+            }
+            _ => None,
+        };
+        Ok(GnssQueued {
+            position_m,
+            velocity_mps,
+        })
+    }
+
     fn count_refusal(&mut self, refusal: BufferRefusal, is_star: bool) {
         let counter = match (refusal, is_star) {
             (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
@@ -694,6 +840,9 @@ impl NavigationComputer {
     }
 
     fn next_due(&mut self) -> Option<Due> {
+        if let Some((tag, velocity)) = self.pending_gnss_velocity.take() {
+            return Some(Due::GnssVelocity(tag, velocity));
+        }
         let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
         let star_tag = self
             .star_queue
@@ -714,9 +863,9 @@ impl NavigationComputer {
                 .pop_due(due_before_s)
                 .map(|(tag, q)| Due::Star(tag, q))
         } else {
-            self.gnss_queue
-                .pop_due(due_before_s)
-                .map(|(tag, p)| Due::Gnss(tag, p))
+            let (tag, fix) = self.gnss_queue.pop_due(due_before_s)?;
+            self.pending_gnss_velocity = fix.velocity_mps.map(|velocity| (tag, velocity));
+            Some(Due::GnssPosition(tag, fix.position_m))
         }
     }
 
@@ -728,136 +877,206 @@ impl NavigationComputer {
         let Some(due) = self.next_due() else {
             return FrameFusion::None;
         };
-        let (tag, is_star) = match due {
-            Due::Star(tag, _) => (tag, true),
-            Due::Gnss(tag, _) => (tag, false),
-        };
-        let sensor = if is_star { self.star } else { self.gnss };
-        if sensor.faulty {
+        let (aid, tag) = (due.aid(), due.time_tag_s());
+        if self.fault_state(aid).faulty {
             count(&mut self.health.ignored_from_faulty_sensor);
-            return if is_star {
-                FrameFusion::StarRejected
-            } else {
-                FrameFusion::GnssRejected
-            };
+            return aid.fusion(false);
         }
         let Some(snapshot) = self.snapshot_at(tag) else {
             count(&mut self.health.measurement_stale);
             return FrameFusion::None;
         };
-        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
-        let mut measurement: Result<LinearMeasurement, NavError> = match due {
-            Due::Star(_, measured) => star_sensor(
-                &snapshot.attitude,
-                &ports::quaternion(&self.config.star.mounting_wxyz),
-                &self.installation_estimate(),
-                &measured,
-                self.config.star.noise_rad,
-            ),
-            Due::Gnss(_, position) => {
-                let predicted =
-                    snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
-                let fix = ports::GnssFix {
-                    time_tag_s: tag,
-                    position_ecef_m: array3(&position),
-                    velocity_ecef_mps: None,
-                };
-                match check_gnss(&fix, &position, &predicted, self.config.gnss.max_jump_m) {
-                    Err(GnssFault::Jump) => {
-                        count(&mut self.health.gnss_jump);
-                        self.note_rejection(false);
-                        return FrameFusion::GnssRejected;
-                    }
-                    Err(GnssFault::NonFinite) => Err(NavError::NonFiniteInput),
-                    Ok(()) => gnss_position(
-                        &snapshot.attitude,
-                        &snapshot.position_m,
-                        &lever_arm,
-                        &position,
-                        self.config.gnss.noise_m,
-                    ),
-                }
+        let mut measurement = match self.form_measurement(&due, &snapshot) {
+            Ok(Some(measurement)) => Ok(measurement),
+            Ok(None) => {
+                count(&mut self.health.gnss_jump);
+                self.note_rejection(aid);
+                return aid.fusion(false);
             }
+            Err(error) => Err(error),
         };
         // A late measurement is referred to the current error state (nav-core docs), in
         // place: the 672-byte measurement is never copied (each copy is ~540 instructions
         // on the target).
         let latency_s = self.navigation.time_s - tag;
-        if let (Ok(m), Some(point)) = (&mut measurement, self.last_point) {
-            if latency_s > 1e-6 * self.config.imu.period_s {
-                let referred = match self.arithmetic {
-                    FilterArithmetic::Structured => {
-                        refer_to_later_time_in_place(m, &point, latency_s)
-                    }
-                    FilterArithmetic::DenseReference => dense_referral(m, &point, latency_s),
-                };
-                if let Err(error) = referred {
-                    measurement = Err(error);
-                }
+        if let Ok(m) = &mut measurement {
+            if let Err(error) = self.refer_to_now(m, aid, latency_s) {
+                measurement = Err(error);
             }
         }
-        let gate = if is_star {
-            self.config.star.gate_nis
-        } else {
-            self.config.gnss.gate_nis
-        };
-        let frozen = self.manager.frozen_blocks();
         let report = match &measurement {
-            Ok(m) => match self.arithmetic {
-                FilterArithmetic::Structured => self.filter.update_structured(m, gate, &frozen),
-                FilterArithmetic::DenseReference => {
-                    dense_update(&mut self.filter, m, gate, &frozen)
-                }
-            },
+            Ok(m) => self.update(m, aid),
             Err(error) => Err(*error),
         };
-        match report {
-            Err(_) => {
-                count(&mut self.health.filter_errors);
-                self.note_rejection(is_star);
-                if is_star {
-                    FrameFusion::StarRejected
-                } else {
-                    FrameFusion::GnssRejected
+        self.conclude(aid, report)
+    }
+
+    /// The linearised measurement of `due` at its time of validity (`snapshot`); `Ok(None)`
+    /// for a GNSS fix that jumps farther than `gnss.max_jump_m`.
+    fn form_measurement(
+        &self,
+        due: &Due,
+        snapshot: &Snapshot,
+    ) -> Result<Option<LinearMeasurement>, NavError> {
+        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
+        match due {
+            Due::Star(_, measured) => star_sensor(
+                &snapshot.attitude,
+                &ports::quaternion(&self.config.star.mounting_wxyz),
+                &self.installation_estimate(),
+                measured,
+                self.config.star.noise_rad,
+            )
+            .map(Some),
+            Due::GnssPosition(tag, position) => {
+                let predicted =
+                    snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
+                let fix = ports::GnssFix {
+                    time_tag_s: *tag,
+                    position_ecef_m: array3(position),
+                    velocity_ecef_mps: None,
+                };
+                match check_gnss(&fix, position, &predicted, self.config.gnss.max_jump_m) {
+                    Err(GnssFault::Jump) => Ok(None),
+                    Err(GnssFault::NonFinite) => Err(NavError::NonFiniteInput),
+                    Ok(()) => gnss_position(
+                        &snapshot.attitude,
+                        &snapshot.position_m,
+                        &lever_arm,
+                        position,
+                        self.config.gnss.noise_m,
+                    )
+                    .map(Some),
                 }
             }
-            Ok(report) => {
-                let sensor = if is_star {
-                    &mut self.star
-                } else {
-                    &mut self.gnss
-                };
-                sensor.last_nis = report.normalised_innovation_squared;
-                if report.accepted {
-                    sensor.consecutive_rejections = 0;
-                    if self.filter.mode() == FilterMode::ClosedLoop {
-                        self.feed_back();
-                    }
-                    if is_star {
-                        FrameFusion::StarAccepted
-                    } else {
-                        FrameFusion::GnssAccepted
-                    }
-                } else {
-                    if is_star {
-                        count(&mut self.health.star_gate_rejections);
-                    } else {
-                        count(&mut self.health.gnss_gate_rejections);
-                    }
-                    self.note_rejection(is_star);
-                    if is_star {
-                        FrameFusion::StarRejected
-                    } else {
-                        FrameFusion::GnssRejected
-                    }
-                }
+            Due::GnssVelocity(_, velocity) => {
+                // The lever-arm term's body rates: the mean of the last propagation interval.
+                let rate = self.last_point.map_or(
+                    BodyRate {
+                        corrected_rad_s: Vector3::zeros(),
+                        measured_rad_s: Vector3::zeros(),
+                    },
+                    |point| BodyRate {
+                        corrected_rad_s: point.corrected_rate_rad_s,
+                        measured_rad_s: point.measured_rate_rad_s,
+                    },
+                );
+                gnss_velocity(
+                    &snapshot.attitude,
+                    &snapshot.velocity_mps,
+                    &lever_arm,
+                    &rate,
+                    velocity,
+                    self.config.gnss.velocity_noise_mps,
+                )
+                .map(Some)
             }
         }
     }
 
-    fn note_rejection(&mut self, is_star: bool) {
+    /// Refers a measurement `latency_s` old to the current error state: `H (I − A Δ)` and,
+    /// for a GNSS position, the correlated error's `h_ε = exp(Δ/τ)` (nav-core `gnss_error`).
+    /// On an error the measurement is unchanged.
+    fn refer_to_now(
+        &self,
+        measurement: &mut LinearMeasurement,
+        aid: Aid,
+        latency_s: f64,
+    ) -> Result<(), NavError> {
+        let Some(point) = self.last_point else {
+            return Ok(());
+        };
+        if latency_s <= 1e-6 * self.config.imu.period_s {
+            return Ok(());
+        }
+        match self.arithmetic {
+            FilterArithmetic::Structured => {
+                refer_to_later_time_in_place(measurement, &point, latency_s)?
+            }
+            FilterArithmetic::DenseReference => dense_referral(measurement, &point, latency_s)?,
+        }
+        if aid == Aid::GnssPosition {
+            measurement.gnss_error_coefficient = self
+                .config
+                .filter
+                .gnss_error
+                .position_coefficient(latency_s);
+        }
+        Ok(())
+    }
+
+    /// The gated update of one aiding measurement (frozen blocks held).
+    fn update(
+        &mut self,
+        measurement: &LinearMeasurement,
+        aid: Aid,
+    ) -> Result<nav_core::filter::InnovationReport, NavError> {
+        let gate = match aid {
+            Aid::Star => self.config.star.gate_nis,
+            Aid::GnssPosition => self.config.gnss.gate_nis,
+            Aid::GnssVelocity => self.config.gnss.velocity_gate_nis,
+        };
+        let frozen = self.manager.frozen_blocks();
+        match self.arithmetic {
+            FilterArithmetic::Structured => {
+                self.filter.update_structured(measurement, gate, &frozen)
+            }
+            FilterArithmetic::DenseReference => {
+                dense_update(&mut self.filter, measurement, gate, &frozen)
+            }
+        }
+    }
+
+    /// Gate statistics, counters, fault state and closed-loop feedback after an update.
+    fn conclude(
+        &mut self,
+        aid: Aid,
+        report: Result<nav_core::filter::InnovationReport, NavError>,
+    ) -> FrameFusion {
+        let report = match report {
+            Err(_) => {
+                count(&mut self.health.filter_errors);
+                self.note_rejection(aid);
+                return aid.fusion(false);
+            }
+            Ok(report) => report,
+        };
+        let statistics = match aid {
+            Aid::Star => &mut self.star,
+            Aid::GnssPosition => &mut self.gnss,
+            Aid::GnssVelocity => &mut self.gnss_velocity,
+        };
+        statistics.last_nis = report.normalised_innovation_squared;
+        if report.accepted {
+            self.fault_state(aid).consecutive_rejections = 0;
+            if self.filter.mode() == FilterMode::ClosedLoop {
+                self.feed_back();
+            }
+        } else {
+            let counter = match aid {
+                Aid::Star => &mut self.health.star_gate_rejections,
+                Aid::GnssPosition => &mut self.health.gnss_gate_rejections,
+                Aid::GnssVelocity => &mut self.health.gnss_velocity_gate_rejections,
+            };
+            count(counter);
+            self.note_rejection(aid);
+        }
+        aid.fusion(report.accepted)
+    }
+
+    /// The fault state of the sensor behind `aid` (GNSS position and velocity share the
+    /// receiver's).
+    fn fault_state(&mut self, aid: Aid) -> &mut AidingSensor {
+        if aid.is_star() {
+            &mut self.star
+        } else {
+            &mut self.gnss
+        }
+    }
+
+    fn note_rejection(&mut self, aid: Aid) {
         let limit = self.config.timing.rejections_to_declare_faulty;
-        let (sensor, declarations) = if is_star {
+        let (sensor, declarations) = if aid.is_star() {
             (&mut self.star, &mut self.health.star_declared_faulty)
         } else {
             (&mut self.gnss, &mut self.health.gnss_declared_faulty)
@@ -896,6 +1115,7 @@ impl NavigationComputer {
         };
         let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
         let position_correction = block_of(&error, POSITION);
+        let velocity_correction = block_of(&error, VELOCITY);
         if let Ok(correction) = attitude_correction {
             // Snapshots are corrected when read ([`Self::corrected`]); a correction older
             // than every snapshot is no longer needed, so the ring never loses one that is.
@@ -906,6 +1126,7 @@ impl NavigationComputer {
                 frame: self.frame,
                 attitude: correction,
                 position_m: position_correction,
+                velocity_mps: velocity_correction,
             });
         }
         self.navigation = navigation;
@@ -1033,6 +1254,7 @@ impl NavigationComputer {
             fusion,
             last_star_nis: self.star.last_nis,
             last_gnss_nis: self.gnss.last_nis,
+            last_gnss_velocity_nis: self.gnss_velocity.last_nis,
             star_faulty: self.star.faulty,
             gnss_faulty: self.gnss.faulty,
             converged_blocks: self.manager.table().converged_count(),
@@ -1078,6 +1300,7 @@ mod tests {
             time_s: 1.0,
             attitude: attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 0.3)),
             position_m: Vector3::new(10.0, 20.0, 30.0),
+            velocity_mps: Vector3::new(1.0, 2.0, 3.0),
         };
         let rotation = |x: f64, y: f64| attitude::exp_rotation_vector(&Vector3::new(x, y, 0.0));
         let corrections = [
@@ -1100,6 +1323,7 @@ mod tests {
                 .push_back(Correction {
                     frame,
                     attitude,
+                    velocity_mps: position_m * 0.5,
                     position_m,
                 })
                 .unwrap();
@@ -1110,6 +1334,7 @@ mod tests {
         for (_, attitude, position_m) in &corrections[1..] {
             eager.attitude = attitude::product(&eager.attitude, attitude);
             eager.position_m += position_m;
+            eager.velocity_mps += position_m * 0.5;
         }
         assert_eq!(
             corrected.attitude.coords.map(f64::to_bits),

@@ -20,6 +20,10 @@ pub enum FrameFusion {
     GnssAccepted,
     /// A GNSS fix was rejected (gate, jump or fault).
     GnssRejected,
+    /// A GNSS velocity update was accepted.
+    GnssVelocityAccepted,
+    /// A GNSS velocity was rejected (gate or fault).
+    GnssVelocityRejected,
 }
 
 /// One telemetry record.
@@ -42,6 +46,8 @@ pub struct FrameTelemetry {
     pub last_star_nis: f64,
     /// NIS of the last GNSS fix tested.
     pub last_gnss_nis: f64,
+    /// NIS of the last GNSS velocity tested.
+    pub last_gnss_velocity_nis: f64,
     /// The star sensor is declared faulty.
     pub star_faulty: bool,
     /// The GNSS receiver is declared faulty.

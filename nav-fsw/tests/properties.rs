@@ -243,6 +243,8 @@ fn reference_setup() -> ReplaySetup {
         gnss_noise_m: config.gnss.noise_m,
         gnss_gate_nis: config.gnss.gate_nis,
         max_latency_s: config.timing.max_latency_s,
+        gnss_error: config.filter.gnss_error,
+        gnss_velocity_noise_mps: config.gnss.velocity_noise_mps,
     }
 }
 

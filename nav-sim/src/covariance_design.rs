@@ -305,7 +305,10 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, DesignError> {
             gyro_scale_factor: sigma.gyro_scale_factor,
             accel_scale_factor: sigma.accel_scale_factor,
         },
-        gnss_error: nav_core::gnss_error::GnssErrorModel::WHITE,
+        gnss_error: nav_core::gnss_error::GnssErrorModel {
+            sigma_m: settings.gnss_correlated_sigma_m,
+            correlation_time_s: settings.gnss_correlation_time_s,
+        },
     })
 }
 

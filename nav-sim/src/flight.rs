@@ -244,6 +244,8 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
             .timing
             .max_latency_s
             .max(scenario.gnss.latency_s + period_s),
+        gnss_error: filter.gnss_error,
+        gnss_velocity_noise_mps: defaults.gnss.velocity_noise_mps,
     })
 }
 

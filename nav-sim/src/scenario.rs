@@ -294,6 +294,14 @@ pub struct FilterSettings {
     pub initial_sigma: InitialSigma,
     /// Innovation gates.
     pub nis_gate: NisGate,
+    /// The correlated GNSS error the filter assumes: 1σ per axis (m) of a first-order
+    /// Gauss–Markov position error, ≥ 0; 0 (the default) = white errors only, the paper's
+    /// 24-state model.
+    #[serde(default)]
+    pub gnss_correlated_sigma_m: f64,
+    /// Its correlation time τ (s), > 0 when `gnss_correlated_sigma_m` > 0.
+    #[serde(default)]
+    pub gnss_correlation_time_s: f64,
 }
 
 /// Initial 1σ of each error-state block (paper eq. 15 order). All must be > 0.
