@@ -16,11 +16,12 @@ pub struct ImuLimits {
     pub period_s: f64,
     /// Accepted relative deviation of a sample's time step from the period. Default 0.1.
     pub period_tolerance: f64,
-    /// Largest plausible body rate per axis (rad/s); above it a sample is saturated.
-    /// Default 7.0 rad/s (≈ 400 °/s; the paper's manoeuvres reach 100 °/s).
+    /// The gyro's measurement range per axis (rad/s): a sample at or beyond it is saturated
+    /// (a saturated IMU outputs its full-scale value). Default 7.0 rad/s (≈ 400 °/s; the
+    /// paper's manoeuvres reach 100 °/s).
     pub max_rate_rad_s: f64,
-    /// Largest plausible specific force per axis (m/s²). Default 200 m/s² (≈ 20 g; the paper's
-    /// manoeuvres reach 50 m/s²).
+    /// The accelerometer's measurement range per axis (m/s²), as the gyro's. Default
+    /// 200 m/s² (≈ 20 g; the paper's manoeuvres reach 50 m/s²).
     pub max_specific_force_mps2: f64,
 }
 
@@ -135,7 +136,8 @@ impl ImuChecker {
         }
         let max_angle = self.limits.max_rate_rad_s * self.limits.period_s;
         let max_velocity = self.limits.max_specific_force_mps2 * self.limits.period_s;
-        if delta_angle.amax() > max_angle || delta_velocity.amax() > max_velocity {
+        // A saturated IMU outputs its full-scale value: at or beyond the range is saturated.
+        if delta_angle.amax() >= max_angle || delta_velocity.amax() >= max_velocity {
             return Err(ImuFault::Saturated);
         }
         let behind = self
@@ -371,17 +373,21 @@ mod tests {
         assert!(refused(|l| l.period_tolerance = 0.0));
         assert!(limits.validate().is_ok());
 
-        // An increment exactly at the saturation limit is accepted.
-        let mut checker = ImuChecker::new(limits).unwrap();
+        // An increment at the range (a saturated IMU's full-scale output) is saturated, on
+        // either channel; just below it is accepted.
         let max_angle = limits.max_rate_rad_s * limits.period_s;
         let max_velocity = limits.max_specific_force_mps2 * limits.period_s;
-        let at_limit = ImuSample {
+        let below = 1.0 - 1e-12;
+        let sample = |angle: f64, velocity: f64| ImuSample {
             sequence: 1,
             time_s: 0.002,
-            delta_angle_rad: [max_angle, -max_angle, 0.0],
-            delta_velocity_mps: [0.0, max_velocity, -max_velocity],
+            delta_angle_rad: [angle, -angle, 0.0],
+            delta_velocity_mps: [0.0, velocity, -velocity],
         };
-        assert!(checker.check(&at_limit).is_ok());
+        let check = |s: &ImuSample| ImuChecker::new(limits).unwrap().check(s);
+        assert!(check(&sample(max_angle * below, max_velocity * below)).is_ok());
+        assert_eq!(check(&sample(max_angle, 0.0)), Err(ImuFault::Saturated));
+        assert_eq!(check(&sample(0.0, max_velocity)), Err(ImuFault::Saturated));
 
         // Star: a norm exactly at the tolerance is accepted; a zero dot product with the
         // previous sample is not a sign change.

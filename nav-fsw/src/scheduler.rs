@@ -466,6 +466,7 @@ impl NavigationComputer {
 
     fn navigate(&mut self, sample: Option<ports::ImuSample>) {
         let period_s = self.config.imu.period_s;
+        let mut saturated = false;
         let checked = match sample {
             None => {
                 count(&mut self.health.imu_missing);
@@ -495,6 +496,7 @@ impl NavigationComputer {
                     }
                     Err(ImuFault::Saturated) => {
                         count(&mut self.health.imu_saturated);
+                        saturated = true;
                         None
                     }
                     Err(ImuFault::Duplicate) => {
@@ -504,10 +506,10 @@ impl NavigationComputer {
                 }
             }
         };
-        let held = match (&checked, &sample) {
+        let held = match (&checked, saturated) {
             (Some(_), _) => None,
-            (None, Some(raw)) if self.imu_checker_saturated(raw) => Some(self.saturation_sigma()),
-            (None, _) => Some(self.config.covariance.held_sample),
+            (None, true) => Some(self.saturation_sigma()),
+            (None, false) => Some(self.config.covariance.held_sample),
         };
         self.inflate_for_held_sample(held);
         let increment = match checked {
@@ -544,15 +546,6 @@ impl NavigationComputer {
                 self.navigation.time_s += period_s;
             }
         }
-    }
-
-    /// Whether a refused sample was refused for saturation (beyond the IMU's range).
-    fn imu_checker_saturated(&self, sample: &ports::ImuSample) -> bool {
-        let limits = &self.config.imu;
-        let angle = limits.max_rate_rad_s * limits.period_s;
-        let velocity = limits.max_specific_force_mps2 * limits.period_s;
-        let beyond = |values: &[f64; 3], limit: f64| values.iter().any(|v| v.abs() > limit);
-        beyond(&sample.delta_angle_rad, angle) || beyond(&sample.delta_velocity_mps, velocity)
     }
 
     /// A saturated sample's error: at least the IMU's range (the truth is beyond it).
