@@ -47,7 +47,7 @@ use nav_fsw::scheduler::NavigationComputer;
 use rayon::prelude::*;
 
 use crate::flight::{fly_observed, fsw_config, FlightError, FlightOptions, FlightResult};
-use crate::scenario::{frames_in, Scenario};
+use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
 
 /// Flight length of a row whose injection lasts at most [`SHORT_INJECTION_LIMIT_S`] (s, from
 /// the scenario start).
@@ -162,6 +162,9 @@ pub struct FaultClass {
     pub declared_faulty: [u32; 2],
     /// End-of-flight criterion.
     pub criterion: Criterion,
+    /// A change to the row's flight (an inserted manoeuvre, a filter setting), applied to
+    /// the scenario prefix before the flight; `None` flies the prefix as it is.
+    pub scenario_change: Option<fn(&mut Scenario)>,
     /// Builds the injector (a fresh one per flight).
     pub injector: fn() -> Injector,
 }
@@ -295,6 +298,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 10.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || Box::new(|_, _| {}),
         },
         FaultClass {
@@ -309,6 +313,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.05,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || imu_field_injector(0),
         },
         FaultClass {
@@ -322,6 +327,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.05,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || imu_field_injector(1),
         },
         FaultClass {
@@ -337,6 +343,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.05,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let Some(sample) = imu(ports) else { return };
@@ -364,6 +371,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 1.7,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     let Some(m) = star(ports) else { return };
@@ -387,6 +395,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.4,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     let Some(m) = star(ports) else { return };
@@ -413,6 +422,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 1.2,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_gnss(|n, ports| {
                     let Some(fix) = gnss(ports) else { return };
@@ -437,6 +447,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.4,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_gnss(|n, ports| {
                     let Some(fix) = gnss(ports) else { return };
@@ -456,6 +467,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 5.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let dropped = [(0, 1), (HZ, 10), (2 * HZ, 100), (4 * HZ, 500)]
@@ -479,6 +491,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 5.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let Some(sample) = imu(ports) else { return };
@@ -509,6 +522,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 3.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let Some(sample) = imu(ports) else { return };
@@ -535,6 +549,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 10.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 let mut frozen = None;
                 Box::new(move |relative, ports| {
@@ -555,6 +570,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 70.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let silent = [(0, HZ / 2), (2 * HZ, 5 * HZ), (10 * HZ, 60 * HZ)]
@@ -574,6 +590,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 600.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     if (0..600 * HZ).contains(&relative) {
@@ -590,6 +607,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 1.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     if n < 10 && n % 2 == 0 {
@@ -609,6 +627,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 1.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     let Some(m) = star(ports) else { return };
@@ -632,6 +651,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 2.1,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     if n % 10 == 0 && n < 30 {
@@ -650,6 +670,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 2.1,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_star(|n, ports| {
                     if n % 10 == 0 && n < 30 {
@@ -673,6 +694,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 7.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_gnss(|n, ports| {
                     let steps = [100.0, 500.0, 2_000.0, 10_000.0];
@@ -697,6 +719,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 3.0,
             declared_faulty: [0, 1],
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_gnss(|_, ports| {
                     if let Some(fix) = gnss(ports) {
@@ -718,6 +741,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 3.0,
             declared_faulty: [0, 1],
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 on_gnss(|_, ports| {
                     if let Some(fix) = gnss(ports) {
@@ -739,6 +763,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 600.0,
             declared_faulty: none,
             criterion: Criterion::CalibrationAndPositionWithinRamp { ramp_m: 30.0 },
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     if relative < 0 {
@@ -760,6 +785,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 600.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     if (0..600 * HZ).contains(&relative) {
@@ -776,6 +802,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.2,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 both(
                     on_star(|n, ports| {
@@ -805,6 +832,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.2,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 let mut previous = None;
                 both(
@@ -843,6 +871,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.2,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 let mut history: [Option<ImuSample>; 2] = [None; 2];
                 both(
@@ -879,6 +908,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 0.2,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 both(
                     on_star(|n, ports| {
@@ -904,6 +934,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 3.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 Box::new(|relative, ports| {
                     let Some(sample) = imu(ports) else { return };
@@ -932,6 +963,7 @@ pub fn campaign() -> Vec<FaultClass> {
             injection_s: 1.0,
             declared_faulty: none,
             criterion: calibration,
+            scenario_change: None,
             injector: || {
                 let mut offset = None;
                 Box::new(move |relative, ports| {
@@ -946,7 +978,207 @@ pub fn campaign() -> Vec<FaultClass> {
                 })
             },
         },
+        FaultClass {
+            name: "GNSS correlated drift",
+            injected: "a Gauss–Markov position error on every fix for 600 s: 8 m per ECEF axis, \
+                       τ = 300 s (on top of the white noise); the filter is given the receiver's \
+                       specification (filter.gnss_correlated_sigma_m = 8, \
+                       gnss_correlation_time_s = 300)",
+            reaction: "followed by the three correlated-error states; nothing refused",
+            counts: vec![(counter!(filter_errors), Expected::Exactly(0))],
+            injection_s: 600.0,
+            declared_faulty: none,
+            criterion: calibration,
+            scenario_change: Some(|scenario| {
+                scenario.filter.gnss_correlated_sigma_m = DRIFT_SIGMA_M;
+                scenario.filter.gnss_correlation_time_s = DRIFT_CORRELATION_TIME_S;
+            }),
+            injector: || {
+                let mut drift = GaussMarkovDrift::new(DRIFT_SIGMA_M, DRIFT_CORRELATION_TIME_S);
+                Box::new(move |relative, ports| {
+                    if !(0..600 * HZ).contains(&relative) {
+                        return;
+                    }
+                    for fix in ports.gnss.0.iter_mut() {
+                        let error = drift.at(fix.time_tag_s);
+                        for (value, e) in fix.position_ecef_m.iter_mut().zip(error) {
+                            *value += e;
+                        }
+                    }
+                })
+            },
+        },
+        FaultClass {
+            name: "star tracker loses track in a slew",
+            injected: "a 10 °/s slew (9 s, 80°) at 0 s; the tracker delivers nothing while \
+                       the body rate exceeds 3 °/s and for 10 s after (re-acquisition)",
+            reaction: "navigation on IMU + GNSS through the blind slew; the outage counted once",
+            counts: vec![(counter!(star_outages), Expected::Exactly(1))],
+            injection_s: 30.0,
+            declared_faulty: none,
+            criterion: calibration,
+            scenario_change: Some(|scenario| {
+                insert_segments(scenario, FAULT_START_S, &[slew(9.0, [0.0, 10.0, 0.0])]);
+            }),
+            injector: || {
+                let mut blind_until = i64::MIN;
+                Box::new(move |relative, ports| {
+                    if relative < 0 {
+                        return;
+                    }
+                    let rate_deg_s = ports.imu.0.as_ref().map_or(0.0, |sample| {
+                        Vector3::from(sample.delta_angle_rad).norm().to_degrees() * HZ as f64
+                    });
+                    if rate_deg_s > 3.0 {
+                        blind_until = relative + 10 * HZ;
+                    }
+                    if relative < blind_until {
+                        ports.star.0.clear();
+                    }
+                })
+            },
+        },
+        FaultClass {
+            name: "manoeuvre beyond the IMU range",
+            injected: "450 °/s about z for 2 s at 0 s, then 250 m/s² along x for 2 s at 7 s \
+                       (ranges 401 °/s, 200 m/s²): the IMU outputs its full scale",
+            reaction: "each full-scale sample refused as saturated and the last good one held; \
+                       the covariance grows by the range per held frame, so the star sensor \
+                       and GNSS pull the solution back and neither is declared faulty",
+            // Frames at or beyond full scale: the raised-cosine ramps (0.5 s) pass 401/450 of
+            // the peak rate 0.107 s before the plateau ends, 250/200 of the force 0.148 s:
+            // (1 + 2 × 0.107) s + (1 + 2 × 0.148) s at 500 Hz ≈ 607 + 648 frames.
+            counts: vec![(counter!(imu_saturated), Expected::Exactly(1254))],
+            injection_s: 10.0,
+            declared_faulty: none,
+            criterion: calibration,
+            scenario_change: Some(|scenario| {
+                insert_segments(
+                    scenario,
+                    FAULT_START_S,
+                    &[
+                        slew(2.0, [0.0, 0.0, 450.0]),
+                        slew(5.0, [0.0; 3]),
+                        thrust(2.0, [250.0, 0.0, 0.0]),
+                    ],
+                );
+            }),
+            injector: || {
+                Box::new(|relative, ports| {
+                    let Some(sample) = imu(ports) else { return };
+                    if relative < 0 {
+                        return;
+                    }
+                    // The default limits (nav-fsw ImuLimits): 7 rad/s and 200 m/s².
+                    let period_s = 1.0 / HZ as f64;
+                    let clip = |value: &mut f64, range: f64| *value = value.clamp(-range, range);
+                    for value in sample.delta_angle_rad.iter_mut() {
+                        clip(value, 7.0 * period_s);
+                    }
+                    for value in sample.delta_velocity_mps.iter_mut() {
+                        clip(value, 200.0 * period_s);
+                    }
+                })
+            },
+        },
     ]
+}
+
+/// 1σ per axis of the injected GNSS drift (m).
+const DRIFT_SIGMA_M: f64 = 8.0;
+/// Correlation time of the injected GNSS drift (s).
+const DRIFT_CORRELATION_TIME_S: f64 = 300.0;
+
+/// A first-order Gauss–Markov error per axis, stationary from its first sample, advanced
+/// exactly between the time tags it is asked for (seeded: every flight draws the same drift).
+struct GaussMarkovDrift {
+    sigma_m: f64,
+    correlation_time_s: f64,
+    rng: rand_chacha::ChaCha8Rng,
+    last: Option<(f64, [f64; 3])>,
+}
+
+impl GaussMarkovDrift {
+    fn new(sigma_m: f64, correlation_time_s: f64) -> Self {
+        use rand::SeedableRng;
+        Self {
+            sigma_m,
+            correlation_time_s,
+            rng: rand_chacha::ChaCha8Rng::seed_from_u64(0x6e55),
+            last: None,
+        }
+    }
+
+    fn normal(&mut self) -> f64 {
+        use rand_distr::Distribution;
+        rand_distr::StandardNormal.sample(&mut self.rng)
+    }
+
+    /// The error at `time_s` (not before the previous time asked).
+    fn at(&mut self, time_s: f64) -> [f64; 3] {
+        let error = match self.last {
+            None => [0; 3].map(|_| self.sigma_m * self.normal()),
+            Some((last_s, last)) => {
+                let phi = (-(time_s - last_s).max(0.0) / self.correlation_time_s).exp();
+                let walk = self.sigma_m * (1.0 - phi * phi).sqrt();
+                last.map(|value| phi * value + walk * self.normal())
+            }
+        };
+        self.last = Some((time_s, error));
+        error
+    }
+}
+
+/// A raised-cosine rotation (0.5 s ramps) at `rate_deg_s` for `duration_s`, no thrust.
+fn slew(duration_s: f64, rate_deg_s: [f64; 3]) -> ManoeuvreSegment {
+    ManoeuvreSegment {
+        label: "fault: slew".to_string(),
+        duration_s,
+        ramp_s: 0.5,
+        body_rate_deg_per_s: rate_deg_s,
+        specific_force_mps2: [0.0; 3],
+    }
+}
+
+/// A raised-cosine thrust (0.5 s ramps) of `force_mps2` for `duration_s`, no rotation.
+fn thrust(duration_s: f64, force_mps2: [f64; 3]) -> ManoeuvreSegment {
+    ManoeuvreSegment {
+        label: "fault: thrust".to_string(),
+        duration_s,
+        ramp_s: 0.5,
+        body_rate_deg_per_s: [0.0; 3],
+        specific_force_mps2: force_mps2,
+    }
+}
+
+/// Splits the constant segment running at `at_s` (from the scenario start) and inserts
+/// `inserted` there; the flight grows by their length. A ramped segment at `at_s` is left
+/// whole and the insertion follows it.
+fn insert_segments(scenario: &mut Scenario, at_s: f64, inserted: &[ManoeuvreSegment]) {
+    let mut elapsed_s = 0.0;
+    for index in 0..scenario.manoeuvres.len() {
+        let segment = scenario.manoeuvres[index].clone();
+        let end_s = elapsed_s + segment.duration_s;
+        if end_s > at_s {
+            let mut position = index + 1;
+            if segment.ramp_s == 0.0 && at_s > elapsed_s {
+                let mut first = segment.clone();
+                first.duration_s = at_s - elapsed_s;
+                let mut rest = segment;
+                rest.duration_s = end_s - at_s;
+                scenario.manoeuvres[index] = first;
+                scenario.manoeuvres.insert(index + 1, rest);
+            } else if segment.ramp_s == 0.0 {
+                position = index;
+            }
+            for (offset, new) in inserted.iter().enumerate() {
+                scenario.manoeuvres.insert(position + offset, new.clone());
+            }
+            return;
+        }
+        elapsed_s = end_s;
+    }
+    scenario.manoeuvres.extend_from_slice(inserted);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1049,6 +1281,11 @@ impl Monitor {
 
 /// Flies one row on the (prefix) scenario and checks every criterion.
 pub fn run_row(scenario: &Scenario, class: &FaultClass) -> Result<RowOutcome, FlightError> {
+    let mut changed = scenario.clone();
+    if let Some(change) = class.scenario_change {
+        change(&mut changed);
+    }
+    let scenario = &changed;
     let period_s = scenario.imu.frame_period_s();
     let fault_frame = frames_in(FAULT_START_S, period_s) as i64;
     let window_end = frames_in(class.injection_s + COUNT_MARGIN_S, period_s) as i64;
@@ -1177,10 +1414,22 @@ pub fn run_campaign(
     scenario: &Scenario,
     progress: impl Fn(u64, u64) + Sync,
 ) -> Result<CampaignResult, FlightError> {
+    run_campaign_rows(scenario, |_| true, progress)
+}
+
+/// [`run_campaign`] for the rows `select` keeps (e.g. one row while working on it).
+///
+/// # Errors
+/// As [`run_campaign`].
+pub fn run_campaign_rows(
+    scenario: &Scenario,
+    select: impl Fn(&FaultClass) -> bool,
+    progress: impl Fn(u64, u64) + Sync,
+) -> Result<CampaignResult, FlightError> {
     let started = std::time::Instant::now();
     let short = scenario_prefix(scenario, SHORT_FLIGHT_S);
     let long = scenario_prefix(scenario, LONG_FLIGHT_S);
-    let classes = campaign();
+    let classes: Vec<FaultClass> = campaign().into_iter().filter(|c| select(c)).collect();
     let total = classes.len() as u64;
     let done = AtomicU64::new(0);
     let outcomes = classes
