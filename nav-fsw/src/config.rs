@@ -55,6 +55,12 @@ pub struct GnssConfig {
     pub velocity_noise_mps: f64,
     /// NIS gate of the velocity update, χ²(3).
     pub velocity_gate_nis: f64,
+    /// Window (position fixes) of the innovation whiteness monitor
+    /// ([`crate::health::WhitenessMonitor`]).
+    pub whiteness_window_fixes: f64,
+    /// Weighted lag-one correlation of the normalised position innovations above which
+    /// `gnss_innovations_correlated` counts an episode.
+    pub whiteness_threshold: f64,
 }
 
 /// Measurement timing.
@@ -171,6 +177,11 @@ impl FswConfig {
                 max_jump_m: 1000.0,
                 velocity_noise_mps: 0.05,
                 velocity_gate_nis: 16.27,
+                // [chosen] 64 fixes: 1σ of the statistic 0.051 when the innovations are
+                // white; 0.25 is about 5σ, and well below the 0.4-0.6 of an unmodelled
+                // correlated error of the receiver's size.
+                whiteness_window_fixes: 64.0,
+                whiteness_threshold: 0.25,
             },
             timing: MeasurementTiming {
                 max_latency_s: 0.1,
@@ -255,6 +266,12 @@ impl FswConfig {
             && (positive(velocity_gate) || velocity_gate == f64::INFINITY))
         {
             return invalid(ConfigField::GnssVelocity);
+        }
+        if !(self.gnss.whiteness_window_fixes.is_finite()
+            && self.gnss.whiteness_window_fixes >= 1.0
+            && positive(self.gnss.whiteness_threshold))
+        {
+            return invalid(ConfigField::GnssWhiteness);
         }
         let held = self.covariance.held_sample;
         let non_negative = |value: f64| value.is_finite() && value >= 0.0;

@@ -41,6 +41,8 @@ pub enum ConfigField {
     GnssGate,
     /// `gnss.velocity_noise_mps` or `gnss.velocity_gate_nis`.
     GnssVelocity,
+    /// `gnss.whiteness_window_fixes` or `gnss.whiteness_threshold`.
+    GnssWhiteness,
     /// `filter.gnss_error` (correlated GNSS error σ or correlation time).
     GnssCorrelatedError,
     /// `covariance.held_sample` (uncertainty of a held IMU sample).

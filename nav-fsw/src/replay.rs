@@ -330,7 +330,7 @@ impl ReplaySetup {
 }
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 75;
+pub const OUTPUT_WORDS: usize = 76;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -409,6 +409,7 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "last_gnss_velocity_nis",
     "gnss_velocity_gate_rejections",
     "imu_held_frames",
+    "gnss_innovations_correlated",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -493,6 +494,7 @@ pub fn output_words(
     put(t.last_gnss_velocity_nis.to_bits());
     put(u64::from(h.gnss_velocity_gate_rejections));
     put(u64::from(h.imu_held_frames));
+    put(u64::from(h.gnss_innovations_correlated));
     words
 }
 

@@ -60,7 +60,7 @@ use crate::calibration_manager::{
 use crate::config::HeldSampleUncertainty;
 use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
 use crate::error::{ConfigField, FswError};
-use crate::health::{count, HealthCounters, OutageMonitor};
+use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
 use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
@@ -311,6 +311,7 @@ pub struct NavigationComputer {
     gnss_velocity: AidingSensor,
     star_outage: OutageMonitor,
     gnss_outage: OutageMonitor,
+    gnss_whiteness: WhitenessMonitor,
     sums: PropagationSums,
     /// Motion of the last covariance propagation (for referring late measurements).
     last_point: Option<LinearisationPoint>,
@@ -393,6 +394,7 @@ impl NavigationComputer {
             gnss_velocity: AidingSensor::default(),
             star_outage: OutageMonitor::default(),
             gnss_outage: OutageMonitor::default(),
+            gnss_whiteness: WhitenessMonitor::default(),
             sums: PropagationSums::EMPTY,
             last_point: None,
             model: StructuredModel::EMPTY,
@@ -1040,6 +1042,9 @@ impl NavigationComputer {
             Aid::GnssVelocity => &mut self.gnss_velocity,
         };
         statistics.last_nis = report.normalised_innovation_squared;
+        if aid == Aid::GnssPosition {
+            self.observe_whiteness(&report);
+        }
         if report.accepted {
             self.fault_state(aid).consecutive_rejections = 0;
             if self.filter.mode() == FilterMode::ClosedLoop {
@@ -1055,6 +1060,21 @@ impl NavigationComputer {
             self.note_rejection(aid);
         }
         aid.fusion(report.accepted)
+    }
+
+    /// Feeds a GNSS position innovation to the whiteness monitor (counted per episode).
+    fn observe_whiteness(&mut self, report: &nav_core::filter::InnovationReport) {
+        let (nu, s) = (&report.innovation, &report.covariance);
+        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+        let began = self.gnss_whiteness.observe(
+            &[nu.x, nu.y, nu.z],
+            &variances,
+            self.config.gnss.whiteness_window_fixes,
+            self.config.gnss.whiteness_threshold,
+        );
+        if began {
+            count(&mut self.health.gnss_innovations_correlated);
+        }
     }
 
     /// The fault state of the sensor behind `aid` (GNSS position and velocity share the

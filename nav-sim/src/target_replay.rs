@@ -195,13 +195,13 @@ pub fn cost_statistics(target: &[u64]) -> [(&'static str, CostStatistics); 4] {
         ("all frames", Vec::new()),
         ("IMU only", Vec::new()),
         ("with star update", Vec::new()),
-        ("with GNSS update", Vec::new()),
+        ("with GNSS update", Vec::new()), // position or velocity
     ];
     for frame in target.chunks_exact(FRAME_WORDS) {
         let cost = frame.last().copied().unwrap_or(0);
         let group = match frame.get(fusion_index).copied().unwrap_or(0) {
             1 | 2 => 2,
-            3 | 4 => 3,
+            3..=6 => 3,
             _ => 1,
         };
         groups[0].1.push(cost);

@@ -46,6 +46,8 @@ fn assert_paper_accuracy(result: &FlightResult, case: &str) {
     assert!(nees < CALIBRATION_NEES_BOUND, "{case}: NEES {nees:.1}");
     assert_eq!(result.health.star_declared_faulty, 0, "{case}");
     assert_eq!(result.health.gnss_declared_faulty, 0, "{case}");
+    // White receiver errors, as the filter assumes: the innovations stay white.
+    assert_eq!(result.health.gnss_innovations_correlated, 0, "{case}");
 }
 
 #[test]
