@@ -628,6 +628,27 @@ impl ErrorStateFilter {
             // Closed loop: x = 0 stays 0.
             FilterMode::ClosedLoop => None,
         };
+        if self.gnss_error.is_enabled() {
+            return self.predict_structured_bordered(model, state);
+        }
+        if !model.propagate_covariance(&mut self.covariance) {
+            return Err(NavError::NonFiniteState);
+        }
+        if let Some(state) = state {
+            self.state = state;
+        }
+        Ok(())
+    }
+
+    /// [`ErrorStateFilter::predict_structured`] with the correlated GNSS error states: the
+    /// border is propagated into a copy first, so nothing changes on an error. Not inlined:
+    /// the copy's stack space is taken only when the states are in use.
+    #[inline(never)]
+    fn predict_structured_bordered(
+        &mut self,
+        model: &StructuredModel,
+        state: Option<ErrorState>,
+    ) -> Result<(), NavError> {
         let mut gnss_error = self.gnss_error;
         if !gnss_error.propagate(model.interval_s(), |column| model.propagate_state(column)) {
             return Err(NavError::NonFiniteState);
@@ -663,16 +684,23 @@ impl ErrorStateFilter {
         check_measurement(measurement)?;
         let h = &measurement.jacobian;
         // H P = Mᵀ and H P Hᵀ, over the non-zero blocks of H.
-        let mut observed = structured::ObservedCovariance::new(h, &self.covariance);
-        let mut innovation = measurement.residual - h * self.state;
         // The correlated GNSS error states' border (crate::gnss_error), when in use.
-        let border = self.gnss_error.is_enabled().then(|| {
-            let coefficient = measurement.gnss_error_coefficient;
-            let border = self.gnss_error.border(h, coefficient);
-            observed.add_border(self.gnss_error.cross_rows(), &border);
-            innovation -= self.gnss_error.predicted_residual(coefficient);
+        let coefficient = measurement.gnss_error_coefficient;
+        let border = self
+            .gnss_error
+            .is_enabled()
+            .then(|| self.gnss_error.border(h, coefficient));
+        let observed = structured::ObservedCovariance::new(
+            h,
+            &self.covariance,
             border
-        });
+                .as_ref()
+                .map(|border| (self.gnss_error.cross_rows(), border)),
+        );
+        let mut innovation = measurement.residual - h * self.state;
+        if border.is_some() {
+            innovation -= self.gnss_error.predicted_residual(coefficient);
+        }
         let covariance = symmetrised3(&(observed.projected() + measurement.noise_covariance));
         let cholesky = structured::Cholesky3::new(&covariance)
             .ok_or(NavError::NonPositiveInnovationCovariance)?;
@@ -733,10 +761,12 @@ impl ErrorStateFilter {
         let [attitude, installation] =
             [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&error, block));
         structured::reset_covariance(&mut self.covariance, &attitude, &installation);
-        self.gnss_error.reset(
-            &block::from_matrix(&attitude),
-            &block::from_matrix(&installation),
-        );
+        if self.gnss_error.is_enabled() {
+            self.gnss_error.reset(
+                &block::from_matrix(&attitude),
+                &block::from_matrix(&installation),
+            );
+        }
         self.state = ErrorState::zeros();
         error
     }

@@ -1116,7 +1116,11 @@ impl ObservedCovariance {
     /// `M = P Hᵀ` and `H P Hᵀ` over the blocks of `H` that are not all zero: for each
     /// observed block `K`, `M_j += H_K P_{K,j}` over the 24 columns `j` (the symmetric `P`
     /// read by columns), then `H P Hᵀ = Σ_K H_K P_{K,·} H_Kᵀ`'s sum `Σ_K (M_K)ᵀ H_Kᵀ`.
-    pub(crate) fn new(jacobian: &MeasurementJacobian, p: &CovarianceMatrix) -> Self {
+    pub(crate) fn new(
+        jacobian: &MeasurementJacobian,
+        p: &CovarianceMatrix,
+        border: Option<(&StateRows, &crate::gnss_error::Border)>,
+    ) -> Self {
         // Built in its final place (a local array moved into `Self` would be copied).
         let mut observed = Self {
             products: [[0.0; 3]; STATE_DIMENSION],
@@ -1147,12 +1151,15 @@ impl ObservedCovariance {
                     mul_transpose_add(&observed.projected, &transpose(&[*m0, *m1, *m2]), h);
             }
         }
+        if let Some((cross, border)) = border {
+            observed.add_border(cross, border);
+        }
         observed
     }
 
     /// Adds the correlated-GNSS-error border ([`crate::gnss_error`]): `h_ε C_j` to each
     /// `M_j` and the border's terms to `H P Hᵀ`.
-    pub(crate) fn add_border(&mut self, cross: &StateRows, border: &crate::gnss_error::Border) {
+    fn add_border(&mut self, cross: &StateRows, border: &crate::gnss_error::Border) {
         for (product, c) in self.products.iter_mut().zip(cross) {
             *product = block::row_add_scaled(*product, *c, border.coefficient);
         }

@@ -101,7 +101,8 @@ impl OutageMonitor {
 
 /// Serial correlation of a measurement's innovations, the filter's own consistency check
 /// when no truth is at hand: an optimal filter's innovations are white, so consecutive
-/// normalised innovations `u_k = ν_k / √S_kk` (per axis) are uncorrelated. The monitor keeps
+/// normalised innovations `u_k = ν_k / √(tr S_k / 3)` are uncorrelated (one scale for the
+/// three axes of a position fix, whose variances are alike). The monitor keeps
 /// an exponentially weighted mean `c` of `x_k = (u_k · u_{k−1}) / 3` over about
 /// `window` measurements: `c ← c + (x_k − c) / window`. Under whiteness `x` has mean 0 and
 /// variance 1/3, so `c` has 1σ `√(1 / (6 window))` (0.051 for 64); errors correlated
@@ -126,14 +127,16 @@ impl WhitenessMonitor {
         window: f64,
         threshold: f64,
     ) -> bool {
-        let mut normalised = [0.0; 3];
-        for ((u, nu), variance) in normalised.iter_mut().zip(innovation).zip(variances) {
-            if !(variance.is_finite() && *variance > 0.0 && nu.is_finite()) {
-                self.previous = None;
-                return false;
-            }
-            *u = nu / libm::sqrt(*variance);
+        // One scale for the three axes (the mean variance: one square root per measurement).
+        let [s0, s1, s2] = *variances;
+        let mean_variance = (s0 + s1 + s2) / 3.0;
+        let finite = innovation.iter().chain(variances).all(|v| v.is_finite());
+        if !(finite && s0 > 0.0 && s1 > 0.0 && s2 > 0.0) {
+            self.previous = None;
+            return false;
         }
+        let scale = 1.0 / libm::sqrt(mean_variance);
+        let normalised = innovation.map(|nu| nu * scale);
         let Some(previous) = self.previous.replace(normalised) else {
             return false;
         };

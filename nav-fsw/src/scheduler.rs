@@ -186,9 +186,11 @@ struct Correction {
 /// A GNSS fix in the launch-inertial frame, queued until due.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct GnssQueued {
-    position_m: Vector3<f64>,
-    /// Present when the receiver outputs velocity and velocity fusion is configured.
-    velocity_mps: Option<Vector3<f64>>,
+    position_m: [f64; 3],
+    /// Valid when `has_velocity` (the receiver outputs velocity and velocity fusion is
+    /// configured); plain words rather than an `Option` keep the queue's copies word-aligned.
+    velocity_mps: [f64; 3],
+    has_velocity: bool,
 }
 
 /// Gate statistics and fault state of one aiding sensor.
@@ -818,8 +820,9 @@ impl NavigationComputer {
             _ => None,
         };
         Ok(GnssQueued {
-            position_m,
-            velocity_mps,
+            position_m: array3(&position_m),
+            velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
+            has_velocity: velocity_mps.is_some(),
         })
     }
 
@@ -859,8 +862,10 @@ impl NavigationComputer {
                 .map(|(tag, q)| Due::Star(tag, q))
         } else {
             let (tag, fix) = self.gnss_queue.pop_due(due_before_s)?;
-            self.pending_gnss_velocity = fix.velocity_mps.map(|velocity| (tag, velocity));
-            Some(Due::GnssPosition(tag, fix.position_m))
+            self.pending_gnss_velocity = fix
+                .has_velocity
+                .then(|| (tag, ports::vector(&fix.velocity_mps)));
+            Some(Due::GnssPosition(tag, ports::vector(&fix.position_m)))
         }
     }
 
@@ -881,15 +886,13 @@ impl NavigationComputer {
             count(&mut self.health.measurement_stale);
             return FrameFusion::None;
         };
-        let mut measurement = match self.form_measurement(&due, &snapshot) {
-            Ok(Some(measurement)) => Ok(measurement),
-            Ok(None) => {
-                count(&mut self.health.gnss_jump);
-                self.note_rejection(aid);
-                return aid.fusion(false);
-            }
-            Err(error) => Err(error),
-        };
+        if self.is_gnss_jump(&due, &snapshot) {
+            count(&mut self.health.gnss_jump);
+            self.note_rejection(aid);
+            return aid.fusion(false);
+        }
+        // Formed where it lies: the 672-byte measurement is never copied.
+        let mut measurement = self.form_measurement(&due, &snapshot);
         // A late measurement is referred to the current error state (nav-core docs), in
         // place: the 672-byte measurement is never copied (each copy is ~540 instructions
         // on the target).
@@ -906,13 +909,31 @@ impl NavigationComputer {
         self.conclude(aid, report)
     }
 
-    /// The linearised measurement of `due` at its time of validity (`snapshot`); `Ok(None)`
-    /// for a GNSS fix that jumps farther than `gnss.max_jump_m`.
+    /// Whether `due` is a GNSS fix farther than `gnss.max_jump_m` from the antenna position
+    /// predicted at its time of validity (`snapshot`).
+    fn is_gnss_jump(&self, due: &Due, snapshot: &Snapshot) -> bool {
+        let Due::GnssPosition(tag, position) = due else {
+            return false;
+        };
+        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
+        let predicted = snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
+        let fix = ports::GnssFix {
+            time_tag_s: *tag,
+            position_ecef_m: array3(position),
+            velocity_ecef_mps: None,
+        };
+        matches!(
+            check_gnss(&fix, position, &predicted, self.config.gnss.max_jump_m),
+            Err(GnssFault::Jump)
+        )
+    }
+
+    /// The linearised measurement of `due` at its time of validity (`snapshot`).
     fn form_measurement(
         &self,
         due: &Due,
         snapshot: &Snapshot,
-    ) -> Result<Option<LinearMeasurement>, NavError> {
+    ) -> Result<LinearMeasurement, NavError> {
         let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
         match due {
             Due::Star(_, measured) => star_sensor(
@@ -921,29 +942,15 @@ impl NavigationComputer {
                 &self.installation_estimate(),
                 measured,
                 self.config.star.noise_rad,
-            )
-            .map(Some),
-            Due::GnssPosition(tag, position) => {
-                let predicted =
-                    snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
-                let fix = ports::GnssFix {
-                    time_tag_s: *tag,
-                    position_ecef_m: array3(position),
-                    velocity_ecef_mps: None,
-                };
-                match check_gnss(&fix, position, &predicted, self.config.gnss.max_jump_m) {
-                    Err(GnssFault::Jump) => Ok(None),
-                    Err(GnssFault::NonFinite) => Err(NavError::NonFiniteInput),
-                    Ok(()) => gnss_position(
-                        &snapshot.attitude,
-                        &snapshot.position_m,
-                        &lever_arm,
-                        position,
-                        self.config.gnss.noise_m,
-                    )
-                    .map(Some),
-                }
-            }
+            ),
+            // nav-core refuses a non-finite fix (the jump check passes NaN through).
+            Due::GnssPosition(_, position) => gnss_position(
+                &snapshot.attitude,
+                &snapshot.position_m,
+                &lever_arm,
+                position,
+                self.config.gnss.noise_m,
+            ),
             Due::GnssVelocity(_, velocity) => {
                 // The lever-arm term's body rates: the mean of the last propagation interval.
                 let rate = self.last_point.map_or(
@@ -964,7 +971,6 @@ impl NavigationComputer {
                     velocity,
                     self.config.gnss.velocity_noise_mps,
                 )
-                .map(Some)
             }
         }
     }
