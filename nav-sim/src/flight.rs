@@ -238,7 +238,10 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
         // A zero-noise sensor (a test setting) still needs a positive R.
         star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
         star_gate_nis: settings.nis_gate.star_threshold,
-        gnss_noise_m: scenario.gnss.noise_m.max(1e-6),
+        gnss_noise_m: settings
+            .gnss_noise_m
+            .unwrap_or(scenario.gnss.noise_m)
+            .max(1e-6),
         gnss_gate_nis: settings.nis_gate.gnss_threshold,
         max_latency_s: defaults
             .timing

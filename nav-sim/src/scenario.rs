@@ -302,6 +302,10 @@ pub struct FilterSettings {
     /// Its correlation time τ (s), > 0 when `gnss_correlated_sigma_m` > 0.
     #[serde(default)]
     pub gnss_correlation_time_s: f64,
+    /// The white GNSS position noise the filter assumes, 1σ per axis (m); absent = the
+    /// simulated receiver's `[gnss] noise_m` (a study of a mis-specified filter sets it).
+    #[serde(default)]
+    pub gnss_noise_m: Option<f64>,
 }
 
 /// Initial 1σ of each error-state block (paper eq. 15 order). All must be > 0.
@@ -626,6 +630,19 @@ impl Scenario {
             "filter.nis_gate.gnss_threshold",
             filter.nis_gate.gnss_threshold,
         )?;
+        check.non_negative(
+            "filter.gnss_correlated_sigma_m",
+            filter.gnss_correlated_sigma_m,
+        )?;
+        if filter.gnss_correlated_sigma_m > 0.0 {
+            check.positive(
+                "filter.gnss_correlation_time_s",
+                filter.gnss_correlation_time_s,
+            )?;
+        }
+        if let Some(noise_m) = filter.gnss_noise_m {
+            check.positive("filter.gnss_noise_m", noise_m)?;
+        }
         Ok(())
     }
 
