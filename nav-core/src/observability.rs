@@ -28,7 +28,7 @@
 //! (`F` is already per step) and the rows are `W H F^k S`.
 //!
 //! ## Observability degree ([`ObservabilityAnalysis`])
-//! The singular-value method used in the paper (its ref. [15], the assignment popularised for
+//! The singular-value method used in the paper (its ref. \[15\], the assignment popularised for
 //! INS calibration analysis): for each singular value `σ_i` (descending), the state with the
 //! largest absolute component of the right singular vector `v_i` is assigned `σ_i / σ_max`;
 //! a state assigned several values keeps the largest, a state assigned none gets 0. This is a

@@ -63,7 +63,7 @@
 //! they run the lower triangle (and a saved diagonal) still holds the old `P`: it is read
 //! where an old value is needed after its upper twin was overwritten, and it is the
 //! roll-back copy if the result is not finite; on success the upper triangle is mirrored
-//! into the lower. The arithmetic is done on plain 3×3 arrays ([`crate::block`]).
+//! into the lower. The arithmetic is done on plain 3×3 arrays (`crate::block`).
 //!
 //! ## Reset
 //! The reset Jacobian is the identity except the attitude and installation diagonal blocks,
