@@ -19,17 +19,20 @@
 //! offsets 8, 16, …, 72. Floats are IEEE-754 binary64 bit patterns (`f64::to_le_bytes`), so the
 //! record is bit-exact; every float must be finite. Unused words are zero.
 //!
-//! | offset | IMU (tag 1) | star (tag 2) | GNSS (tag 3) |
-//! |---|---|---|---|
-//! | 8 | sequence (u64) | arrival time (s) | arrival time (s) |
-//! | 16 | time tag = arrival (s) | time tag (s) | time tag (s) |
-//! | 24 | interval (s) | q w | ECEF x (m) |
-//! | 32 | Δθ x (rad) | q x | ECEF y (m) |
-//! | 40 | Δθ y (rad) | q y | ECEF z (m) |
-//! | 48 | Δθ z (rad) | q z | 0 |
-//! | 56 | Δv x (m/s) | 0 | 0 |
-//! | 64 | Δv y (m/s) | 0 | 0 |
-//! | 72 | Δv z (m/s) | 0 | 0 |
+//! | offset | IMU (tag 1) | star (tag 2) | GNSS (tag 3) | GNSS with velocity (tag 4) |
+//! |---|---|---|---|---|
+//! | 8 | sequence (u64) | arrival time (s) | arrival time (s) | arrival time (s) |
+//! | 16 | time tag = arrival (s) | time tag (s) | time tag (s) | time tag (s) |
+//! | 24 | interval (s) | q w | ECEF x (m) | ECEF x (m) |
+//! | 32 | Δθ x (rad) | q x | ECEF y (m) | ECEF y (m) |
+//! | 40 | Δθ y (rad) | q y | ECEF z (m) | ECEF z (m) |
+//! | 48 | Δθ z (rad) | q z | 0 | ECEF v x (m/s) |
+//! | 56 | Δv x (m/s) | 0 | 0 | ECEF v y (m/s) |
+//! | 64 | Δv y (m/s) | 0 | 0 | ECEF v z (m/s) |
+//! | 72 | Δv z (m/s) | 0 | 0 | 0 |
+//!
+//! A position-only receiver's fixes are tag 3, so logs written before tag 4 existed read
+//! unchanged.
 //!
 //! Decoding accepts only this canonical form (known tag, zero reserved and unused bytes, finite
 //! floats), so `encode(decode(bytes)) == bytes` for every accepted record.
@@ -49,8 +52,10 @@ pub const FORMAT_VERSION: u32 = 1;
 pub const TAG_IMU: u8 = 1;
 /// Tag byte of a star-sensor record.
 pub const TAG_STAR: u8 = 2;
-/// Tag byte of a GNSS record.
+/// Tag byte of a GNSS record (position only).
 pub const TAG_GNSS: u8 = 3;
+/// Tag byte of a GNSS record with the receiver's velocity.
+pub const TAG_GNSS_VELOCITY: u8 = 4;
 
 /// Number of 8-byte words after the tag word.
 const WORDS: usize = 9;
@@ -96,6 +101,9 @@ pub struct GnssRecord {
     pub time_tag_s: f64,
     /// Measured position in ECEF, WGS-84 (m).
     pub position_ecef_m: [f64; 3],
+    /// Measured velocity relative to the rotating Earth, ECEF axes (m/s), if the receiver
+    /// outputs it.
+    pub velocity_ecef_mps: Option<[f64; 3]>,
 }
 
 /// One sensor event of the replay log.
@@ -130,6 +138,8 @@ pub enum RecordField {
     Attitude,
     /// GNSS `position_ecef_m`.
     Position,
+    /// GNSS `velocity_ecef_mps`.
+    Velocity,
 }
 
 /// Why bytes are not a valid log header or record.
@@ -149,7 +159,8 @@ pub enum LogRecordError {
         /// Bytes available.
         available: usize,
     },
-    /// The tag byte is not [`TAG_IMU`], [`TAG_STAR`] or [`TAG_GNSS`].
+    /// The tag byte is not [`TAG_IMU`], [`TAG_STAR`], [`TAG_GNSS`] or
+    /// [`TAG_GNSS_VELOCITY`].
     UnknownTag(u8),
     /// A reserved or unused byte is not zero.
     NonZeroPadding {
@@ -282,6 +293,10 @@ impl LogRecord {
         match self {
             Self::Imu(_) => TAG_IMU,
             Self::Star(_) => TAG_STAR,
+            Self::Gnss(GnssRecord {
+                velocity_ecef_mps: Some(_),
+                ..
+            }) => TAG_GNSS_VELOCITY,
             Self::Gnss(_) => TAG_GNSS,
         }
     }
@@ -322,15 +337,18 @@ impl LogRecord {
             }
             Self::Gnss(gnss) => {
                 let [x, y, z] = gnss.position_ecef_m;
+                let [vx, vy, vz] = gnss.velocity_ecef_mps.map_or([zero; 3], |velocity| {
+                    velocity.map(|v| float(v, RecordField::Velocity))
+                });
                 [
                     float(gnss.arrival_time_s, RecordField::ArrivalTime),
                     float(gnss.time_tag_s, RecordField::TimeTag),
                     float(x, RecordField::Position),
                     float(y, RecordField::Position),
                     float(z, RecordField::Position),
-                    zero,
-                    zero,
-                    zero,
+                    vx,
+                    vy,
+                    vz,
                     zero,
                 ]
             }
@@ -443,17 +461,31 @@ impl LogRecord {
                 unused_from(6)?;
                 Ok(Self::Star(star))
             }
-            TAG_GNSS => {
-                let gnss = GnssRecord {
-                    arrival_time_s: float(0, RecordField::ArrivalTime)?,
-                    time_tag_s: float(1, RecordField::TimeTag)?,
-                    position_ecef_m: [
-                        float(2, RecordField::Position)?,
-                        float(3, RecordField::Position)?,
-                        float(4, RecordField::Position)?,
-                    ],
+            TAG_GNSS | TAG_GNSS_VELOCITY => {
+                // Field by field in word order, so an error names the first bad word.
+                let arrival_time_s = float(0, RecordField::ArrivalTime)?;
+                let time_tag_s = float(1, RecordField::TimeTag)?;
+                let position_ecef_m = [
+                    float(2, RecordField::Position)?,
+                    float(3, RecordField::Position)?,
+                    float(4, RecordField::Position)?,
+                ];
+                let velocity_ecef_mps = if tag == TAG_GNSS_VELOCITY {
+                    Some([
+                        float(5, RecordField::Velocity)?,
+                        float(6, RecordField::Velocity)?,
+                        float(7, RecordField::Velocity)?,
+                    ])
+                } else {
+                    None
                 };
-                unused_from(5)?;
+                let gnss = GnssRecord {
+                    arrival_time_s,
+                    time_tag_s,
+                    position_ecef_m,
+                    velocity_ecef_mps,
+                };
+                unused_from(if tag == TAG_GNSS_VELOCITY { 8 } else { 5 })?;
                 Ok(Self::Gnss(gnss))
             }
             unknown => Err(LogRecordError::UnknownTag(unknown)),
@@ -508,7 +540,7 @@ impl GnssRecord {
         GnssFix {
             time_tag_s: self.time_tag_s,
             position_ecef_m: self.position_ecef_m,
-            velocity_ecef_mps: None,
+            velocity_ecef_mps: self.velocity_ecef_mps,
         }
     }
 }
@@ -536,6 +568,7 @@ mod tests {
             arrival_time_s: 30.5,
             time_tag_s: 30.375,
             position_ecef_m: [0.0; 3],
+            velocity_ecef_mps: None,
         });
         let times = [imu, star, gnss].map(|r| (r.arrival_time_s(), r.time_tag_s()));
         assert_eq!(times, [(12.5, 12.5), (20.25, 20.125), (30.5, 30.375)]);
@@ -596,15 +629,23 @@ mod tests {
                 })
             },
         );
-        let gnss = (finite(), finite(), proptest::array::uniform3(finite())).prop_map(
-            |(arrival_time_s, time_tag_s, position_ecef_m)| {
-                LogRecord::Gnss(GnssRecord {
-                    arrival_time_s,
-                    time_tag_s,
-                    position_ecef_m,
-                })
-            },
-        );
+        let velocity = proptest::option::of(proptest::array::uniform3(finite()));
+        let gnss = (
+            finite(),
+            finite(),
+            proptest::array::uniform3(finite()),
+            velocity,
+        )
+            .prop_map(
+                |(arrival_time_s, time_tag_s, position_ecef_m, velocity_ecef_mps)| {
+                    LogRecord::Gnss(GnssRecord {
+                        arrival_time_s,
+                        time_tag_s,
+                        position_ecef_m,
+                        velocity_ecef_mps,
+                    })
+                },
+            );
         prop_oneof![imu, star, gnss]
     }
 
@@ -631,7 +672,7 @@ mod tests {
         /// zero and arbitrary bits: every rejection is the typed error of the first bad word.
         #[test]
         fn rejections_name_the_first_bad_word(
-            tag in 1_u8..=3,
+            tag in 1_u8..=4,
             words in proptest::array::uniform9(prop_oneof![
                 any::<u64>(),
                 finite().prop_map(f64::to_bits),
@@ -649,6 +690,7 @@ mod tests {
             let (float_words, first_unused) = match tag {
                 TAG_IMU => (1..9, 9),
                 TAG_STAR => (0..6, 6),
+                TAG_GNSS_VELOCITY => (0..8, 8),
                 _ => (0..5, 5),
             };
             let first_non_finite = float_words
@@ -680,6 +722,7 @@ mod tests {
             arrival_time_s: 1.5,
             time_tag_s: 1.0,
             position_ecef_m: [-2.0, 0.25, 6.4e6],
+            velocity_ecef_mps: None,
         });
         let bytes = record.encode().unwrap();
         assert_eq!(bytes[0], TAG_GNSS);
@@ -688,6 +731,29 @@ mod tests {
         assert_eq!(bytes[24..32], (-2.0_f64).to_le_bytes());
         assert_eq!(bytes[40..48], 6.4e6_f64.to_le_bytes());
         assert!(bytes[48..].iter().all(|byte| *byte == 0));
+
+        // With the receiver's velocity: tag 4, velocity in the words at 48, 56, 64.
+        let with_velocity = LogRecord::Gnss(GnssRecord {
+            arrival_time_s: 1.5,
+            time_tag_s: 1.0,
+            position_ecef_m: [-2.0, 0.25, 6.4e6],
+            velocity_ecef_mps: Some([7.5e3, -0.5, 3.0]),
+        });
+        let bytes = with_velocity.encode().unwrap();
+        assert_eq!(bytes[0], TAG_GNSS_VELOCITY);
+        assert_eq!(bytes[48..56], 7.5e3_f64.to_le_bytes());
+        assert_eq!(bytes[64..72], 3.0_f64.to_le_bytes());
+        assert!(bytes[72..].iter().all(|byte| *byte == 0));
+        assert_eq!(LogRecord::decode(&bytes), Ok(with_velocity));
+        let mut bad = bytes;
+        bad[56..64].copy_from_slice(&f64::NAN.to_le_bytes());
+        assert_eq!(
+            LogRecord::decode(&bad),
+            Err(LogRecordError::NonFinite {
+                field: RecordField::Velocity,
+                offset: 56
+            })
+        );
 
         let imu = LogRecord::Imu(ImuRecord {
             sequence: 0x0000_0001_0000_0005,
@@ -723,10 +789,10 @@ mod tests {
             LogRecord::decode(&bytes),
             Err(LogRecordError::UnknownTag(0))
         );
-        bytes[0] = 4;
+        bytes[0] = 5;
         assert_eq!(
             LogRecord::decode(&bytes),
-            Err(LogRecordError::UnknownTag(4))
+            Err(LogRecordError::UnknownTag(5))
         );
 
         let mut bytes = good;

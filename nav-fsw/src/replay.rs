@@ -132,7 +132,7 @@ impl FrameAssembler {
 }
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 44;
+pub const SETUP_WORDS: usize = 46;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -170,6 +170,10 @@ pub struct ReplaySetup {
     pub gnss_error: nav_core::gnss_error::GnssErrorModel,
     /// GNSS velocity noise 1σ (m/s); 0 = velocities not fused.
     pub gnss_velocity_noise_mps: f64,
+    /// The gyro's measurement range per axis (rad/s).
+    pub imu_max_rate_rad_s: f64,
+    /// The accelerometer's measurement range per axis (m/s²).
+    pub imu_max_specific_force_mps2: f64,
 }
 
 impl ReplaySetup {
@@ -189,6 +193,8 @@ impl ReplaySetup {
         config.timing.max_latency_s = self.max_latency_s;
         config.filter.gnss_error = self.gnss_error;
         config.gnss.velocity_noise_mps = self.gnss_velocity_noise_mps;
+        config.imu.max_rate_rad_s = self.imu_max_rate_rad_s;
+        config.imu.max_specific_force_mps2 = self.imu_max_specific_force_mps2;
         config
     }
 
@@ -247,6 +253,8 @@ impl ReplaySetup {
             self.gnss_error.sigma_m,
             self.gnss_error.correlation_time_s,
             self.gnss_velocity_noise_mps,
+            self.imu_max_rate_rad_s,
+            self.imu_max_specific_force_mps2,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -279,7 +287,7 @@ impl ReplaySetup {
         };
         let order = u8::try_from(*order).map_err(|_| bad)?;
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, epoch, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise] =
+        let [lat, lon, height, azimuth, epoch, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -325,6 +333,8 @@ impl ReplaySetup {
                 correlation_time_s: correlation_time,
             },
             gnss_velocity_noise_mps: velocity_noise,
+            imu_max_rate_rad_s: max_rate,
+            imu_max_specific_force_mps2: max_force,
         })
     }
 }
@@ -524,6 +534,7 @@ mod tests {
             arrival_time_s: 0.0,
             time_tag_s: 0.0,
             position_ecef_m: [7e6, 0.0, 0.0],
+            velocity_ecef_mps: None,
         });
         let mut assembler = FrameAssembler::default();
         assert!(assembler.push(&star).is_none()); // before the first IMU: joins frame 0
@@ -571,6 +582,8 @@ mod tests {
                 correlation_time_s: 300.0,
             },
             gnss_velocity_noise_mps: 0.05,
+            imu_max_rate_rad_s: 7.0,
+            imu_max_specific_force_mps2: 200.0,
         };
         let words = setup.to_words();
         assert_eq!(ReplaySetup::from_words(&words), Ok(setup));

@@ -510,10 +510,10 @@ impl NavigationComputer {
                 }
             }
         };
-        let held = match (&checked, saturated) {
+        let held = match (&checked, &sample) {
             (Some(_), _) => None,
-            (None, true) => Some(self.saturation_sigma()),
-            (None, false) => Some(self.config.covariance.held_sample),
+            (None, Some(raw)) if saturated => Some(self.saturation_sigma(raw)),
+            (None, _) => Some(self.config.covariance.held_sample),
         };
         self.inflate_for_held_sample(held);
         let increment = match checked {
@@ -552,14 +552,30 @@ impl NavigationComputer {
         }
     }
 
-    /// A saturated sample's error: at least the IMU's range (the truth is beyond it).
-    fn saturation_sigma(&self) -> HeldSampleUncertainty {
-        let held = self.config.covariance.held_sample;
+    /// A saturated sample's error, channel by channel: at least the IMU's range on a channel
+    /// at or beyond full scale (the truth is beyond it by an unknown amount), the held-sample
+    /// σ on the other.
+    fn saturation_sigma(&self, sample: &ports::ImuSample) -> HeldSampleUncertainty {
+        let (held, limits) = (self.config.covariance.held_sample, self.config.imu);
+        let at_full_scale = |values: &[f64; 3], range: f64| {
+            values
+                .iter()
+                .any(|value| value.abs() >= range * limits.period_s)
+        };
+        let gyro = at_full_scale(&sample.delta_angle_rad, limits.max_rate_rad_s);
+        let accelerometer =
+            at_full_scale(&sample.delta_velocity_mps, limits.max_specific_force_mps2);
         HeldSampleUncertainty {
-            rate_rad_s: held.rate_rad_s.max(self.config.imu.max_rate_rad_s),
-            specific_force_mps2: held
-                .specific_force_mps2
-                .max(self.config.imu.max_specific_force_mps2),
+            rate_rad_s: if gyro {
+                held.rate_rad_s.max(limits.max_rate_rad_s)
+            } else {
+                held.rate_rad_s
+            },
+            specific_force_mps2: if accelerometer {
+                held.specific_force_mps2.max(limits.max_specific_force_mps2)
+            } else {
+                held.specific_force_mps2
+            },
         }
     }
 

@@ -232,6 +232,7 @@ mod tests {
             arrival_time_s: t,
             time_tag_s: t,
             position_ecef_m: [7e6, t, -t],
+            velocity_ecef_mps: None,
         })
     }
 

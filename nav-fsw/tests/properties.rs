@@ -245,6 +245,8 @@ fn reference_setup() -> ReplaySetup {
         max_latency_s: config.timing.max_latency_s,
         gnss_error: config.filter.gnss_error,
         gnss_velocity_noise_mps: config.gnss.velocity_noise_mps,
+        imu_max_rate_rad_s: config.imu.max_rate_rad_s,
+        imu_max_specific_force_mps2: config.imu.max_specific_force_mps2,
     }
 }
 

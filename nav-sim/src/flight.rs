@@ -226,6 +226,7 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
         z.to_radians(),
     ));
     let defaults = FswConfig::paper_defaults(truth::launch_site(scenario));
+    let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     Ok(ReplaySetup {
         launch_site: truth::launch_site(scenario),
         initial: initial_navigation(scenario, &truth_start),
@@ -248,7 +249,10 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
             .max_latency_s
             .max(scenario.gnss.latency_s + period_s),
         gnss_error: filter.gnss_error,
-        gnss_velocity_noise_mps: defaults.gnss.velocity_noise_mps,
+        // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
+        gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
+        imu_max_rate_rad_s: max_rate_rad_s,
+        imu_max_specific_force_mps2: max_force_mps2,
     })
 }
 

@@ -147,12 +147,43 @@ pub struct InitialAttitude {
 pub struct ImuSettings {
     /// Output rate of the increments (Hz), > 0.
     pub rate_hz: f64,
+    /// Gyro measurement range per axis (deg/s), > 0; absent = the flight software's
+    /// default (401 °/s, 7 rad/s). A manoeuvre at or beyond it is refused.
+    #[serde(default)]
+    pub max_rate_deg_per_s: Option<f64>,
+    /// Accelerometer measurement range per axis (m/s²), > 0; absent = the flight software's
+    /// default (200 m/s²). A manoeuvre at or beyond it is refused.
+    #[serde(default)]
+    pub max_specific_force_mps2: Option<f64>,
 }
 
 impl ImuSettings {
     /// The IMU frame (increment) period `T = 1 / rate` (s).
     pub fn frame_period_s(&self) -> f64 {
         1.0 / self.rate_hz
+    }
+
+    /// The measurement ranges in the flight software's units (rad/s, m/s²): the keys, or the
+    /// flight software's defaults exactly.
+    pub fn ranges_si(&self) -> (f64, f64) {
+        let defaults = nav_fsw::input_check::ImuLimits::default();
+        (
+            self.max_rate_deg_per_s
+                .map_or(defaults.max_rate_rad_s, f64::to_radians),
+            self.max_specific_force_mps2
+                .unwrap_or(defaults.max_specific_force_mps2),
+        )
+    }
+
+    /// The measurement ranges (deg/s, m/s²): the keys, or the flight software's defaults.
+    pub fn ranges(&self) -> (f64, f64) {
+        let defaults = nav_fsw::input_check::ImuLimits::default();
+        (
+            self.max_rate_deg_per_s
+                .unwrap_or(defaults.max_rate_rad_s.to_degrees()),
+            self.max_specific_force_mps2
+                .unwrap_or(defaults.max_specific_force_mps2),
+        )
     }
 }
 
@@ -229,6 +260,18 @@ pub struct StarSensorSettings {
     /// Installation error `q_ψ = exp(ψ)` as a rotation vector `ψ` (rad, the rotation angle, not
     /// the quaternion's vector part). Unknown to the flight code.
     pub installation_error_rotation_vector_rad: [f64; 3],
+    /// No output while the body rate's magnitude exceeds this (deg/s); 0 (the default) = no
+    /// limit.
+    #[serde(default)]
+    pub max_rate_deg_per_s: f64,
+    /// No output for this long after the rate falls back below `max_rate_deg_per_s` (s), ≥ 0
+    /// (re-acquisition).
+    #[serde(default)]
+    pub reacquisition_s: f64,
+    /// Outages `[[start_s, duration_s], ...]`, seconds after the scenario start: no output
+    /// during `[start, start + duration)`.
+    #[serde(default)]
+    pub outages: Vec<[f64; 2]>,
 }
 
 impl StarSensorSettings {
@@ -248,6 +291,28 @@ pub struct GnssSettings {
     pub noise_m: f64,
     /// Delivery latency (s), ≥ 0, a whole number of IMU frames.
     pub latency_s: f64,
+    /// Correlated position error: 1σ per ECEF axis (m) of a first-order Gauss–Markov error
+    /// added to the white `noise_m`, ≥ 0; 0 (the default) = none.
+    #[serde(default)]
+    pub correlated_noise_m: f64,
+    /// Its correlation time τ (s), > 0 when `correlated_noise_m` > 0.
+    #[serde(default)]
+    pub correlation_time_s: f64,
+    /// Velocity noise, 1σ per ECEF axis (m/s), ≥ 0: 0 (the default) = the receiver outputs
+    /// no velocity; > 0 = it also outputs ECEF velocity with this white noise.
+    #[serde(default)]
+    pub velocity_noise_mps: f64,
+    /// Outages `[[start_s, duration_s], ...]`, seconds after the scenario start: no fix is
+    /// valid during `[start, start + duration)`.
+    #[serde(default)]
+    pub outages: Vec<[f64; 2]>,
+}
+
+/// Whether `elapsed_s` (seconds after the scenario start) falls in one of `outages`.
+pub fn in_outage(outages: &[[f64; 2]], elapsed_s: f64) -> bool {
+    outages
+        .iter()
+        .any(|[start_s, duration_s]| (*start_s..start_s + duration_s).contains(&elapsed_s))
 }
 
 /// One manoeuvre segment: a raised-cosine pulse of body rate and body specific force.
@@ -352,6 +417,15 @@ impl Checker<'_> {
             key: key.to_string(),
             requirement: requirement.to_string(),
         }
+    }
+
+    /// `[[start_s, duration_s], ...]` with every start ≥ 0 and every duration > 0.
+    fn outages(&self, key: &str, outages: &[[f64; 2]]) -> Result<(), ScenarioError> {
+        for (index, [start_s, duration_s]) in outages.iter().enumerate() {
+            self.non_negative(&format!("{key}[{index}][0] (start_s)"), *start_s)?;
+            self.positive(&format!("{key}[{index}][1] (duration_s)"), *duration_s)?;
+        }
+        Ok(())
     }
 
     fn finite(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
@@ -579,6 +653,9 @@ impl Scenario {
             "star_sensor.installation_error_rotation_vector_rad",
             &star.installation_error_rotation_vector_rad,
         )?;
+        check.non_negative("star_sensor.max_rate_deg_per_s", star.max_rate_deg_per_s)?;
+        check.non_negative("star_sensor.reacquisition_s", star.reacquisition_s)?;
+        check.outages("star_sensor.outages", &star.outages)?;
 
         let gnss = &self.gnss;
         check.positive("gnss.rate_hz", gnss.rate_hz)?;
@@ -586,6 +663,15 @@ impl Scenario {
         check.non_negative("gnss.noise_m", gnss.noise_m)?;
         check.non_negative("gnss.latency_s", gnss.latency_s)?;
         check.whole_frames("gnss.latency_s", gnss.latency_s, period_s, 0.0)?;
+        check.non_negative("gnss.correlated_noise_m", gnss.correlated_noise_m)?;
+        if gnss.correlated_noise_m > 0.0 {
+            check.positive("gnss.correlation_time_s", gnss.correlation_time_s)?;
+        }
+        check.non_negative("gnss.velocity_noise_mps", gnss.velocity_noise_mps)?;
+        check.outages("gnss.outages", &gnss.outages)?;
+        let (max_rate_deg_per_s, max_force_mps2) = self.imu.ranges();
+        check.positive("imu.max_rate_deg_per_s", max_rate_deg_per_s)?;
+        check.positive("imu.max_specific_force_mps2", max_force_mps2)?;
 
         if self.manoeuvres.is_empty() {
             return Err(check.fail("manoeuvre", "must list at least one segment"));
@@ -600,6 +686,27 @@ impl Scenario {
             }
             check.finite3(&key("body_rate_deg_per_s"), &segment.body_rate_deg_per_s)?;
             check.finite3(&key("specific_force_mps2"), &segment.specific_force_mps2)?;
+            let beyond = |peaks: &[f64; 3], range: f64| peaks.iter().any(|v| v.abs() >= range);
+            if beyond(&segment.body_rate_deg_per_s, max_rate_deg_per_s) {
+                return Err(check.fail(
+                    &key("body_rate_deg_per_s"),
+                    &format!(
+                        "(segment \"{}\") must stay below the gyro's range \
+                         imu.max_rate_deg_per_s = {max_rate_deg_per_s} on every axis",
+                        segment.label
+                    ),
+                ));
+            }
+            if beyond(&segment.specific_force_mps2, max_force_mps2) {
+                return Err(check.fail(
+                    &key("specific_force_mps2"),
+                    &format!(
+                        "(segment \"{}\") must stay below the accelerometer's range \
+                         imu.max_specific_force_mps2 = {max_force_mps2} on every axis",
+                        segment.label
+                    ),
+                ));
+            }
         }
 
         let filter = &self.filter;

@@ -19,6 +19,10 @@
 //! | `delta_velocity_{x,y,z}_mps` | Δv, body axes | | |
 //! | `attitude_{w,x,y,z}` | | `q_is` (Hamilton, scalar first) | |
 //! | `position_ecef_{x,y,z}_m` | | | ECEF WGS-84 position |
+//! | `velocity_ecef_{x,y,z}_mps` | | | ECEF velocity (all three, or all three empty for a position-only receiver) |
+//!
+//! A log written before the velocity columns existed (18 columns, ending at
+//! `position_ecef_z_m`) reads as position-only.
 //!
 //! Floats are written in the shortest form that parses back to the same `f64` (ryu), so a
 //! file round-trips bit for bit; NaN and infinity are refused on writing and on reading. The
@@ -38,7 +42,7 @@ use crate::sensors::SensorEvent;
 use crate::simulation::{Simulation, SimulationError};
 
 /// The CSV header, in column order.
-pub const COLUMNS: [&str; 18] = [
+pub const COLUMNS: [&str; 21] = [
     "kind",
     "arrival_time_s",
     "time_tag_s",
@@ -57,7 +61,13 @@ pub const COLUMNS: [&str; 18] = [
     "position_ecef_x_m",
     "position_ecef_y_m",
     "position_ecef_z_m",
+    "velocity_ecef_x_mps",
+    "velocity_ecef_y_mps",
+    "velocity_ecef_z_mps",
 ];
+
+/// Columns of a log written before the velocity columns existed.
+const POSITION_ONLY_COLUMNS: usize = 18;
 
 /// Column indices into [`COLUMNS`].
 mod column {
@@ -70,6 +80,7 @@ mod column {
     pub const DELTA_VELOCITY: usize = 8;
     pub const ATTITUDE: usize = 11;
     pub const POSITION: usize = 15;
+    pub const VELOCITY: usize = 18;
 }
 
 /// Float columns of an IMU row, in the order of [`float_values`].
@@ -145,6 +156,7 @@ impl Kind {
     fn uses(self, column: usize) -> bool {
         column == column::KIND
             || (self == Self::Imu && column == column::SEQUENCE)
+            || (self == Self::Gnss && (column::VELOCITY..column::VELOCITY + 3).contains(&column))
             || self.float_columns().contains(&column)
     }
 }
@@ -329,10 +341,12 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
             time_tag_s,
             delivery_time_s,
             position_ecef_m,
+            velocity_ecef_mps,
         } => LogRecord::Gnss(GnssRecord {
             arrival_time_s: *delivery_time_s,
             time_tag_s: *time_tag_s,
             position_ecef_m: (*position_ecef_m).into(),
+            velocity_ecef_mps: velocity_ecef_mps.map(Into::into),
         }),
     }
 }
@@ -361,6 +375,7 @@ pub fn event_of(record: &LogRecord) -> Option<SensorEvent> {
             time_tag_s: gnss.time_tag_s,
             delivery_time_s: gnss.arrival_time_s,
             position_ecef_m: Vector3::from(gnss.position_ecef_m),
+            velocity_ecef_mps: gnss.velocity_ecef_mps.map(Vector3::from),
         }),
     }
 }
@@ -439,6 +454,25 @@ impl<W: Write> SensorLogWriter<W> {
                 .format_finite(value)
                 .clone_into(&mut row[index]);
         }
+        if let LogRecord::Gnss(GnssRecord {
+            velocity_ecef_mps: Some(velocity),
+            ..
+        }) = record
+        {
+            for (offset, value) in velocity.iter().enumerate() {
+                let index = column::VELOCITY + offset;
+                if !value.is_finite() {
+                    return Err(SensorLogError::NonFinite {
+                        line,
+                        column: COLUMNS[index],
+                        value: *value,
+                    });
+                }
+                self.float_buffer
+                    .format_finite(*value)
+                    .clone_into(&mut row[index]);
+            }
+        }
         self.order.check(line, record.arrival_time_s())?;
         self.csv
             .write_record(&row)
@@ -509,9 +543,19 @@ impl<R: Read> SensorLogReader<R> {
         let header = csv
             .headers()
             .map_err(|source| SensorLogError::Csv { line: 1, source })?;
-        let mismatch = (0..COLUMNS.len().max(header.len())).find_map(|index| {
+        // A position-only log of the earlier layout is its prefix.
+        let expected_columns = if header.len() == POSITION_ONLY_COLUMNS {
+            POSITION_ONLY_COLUMNS
+        } else {
+            COLUMNS.len()
+        };
+        let mismatch = (0..expected_columns.max(header.len())).find_map(|index| {
             let found = header.get(index).unwrap_or("");
-            let expected = COLUMNS.get(index).copied().unwrap_or("");
+            let expected = COLUMNS
+                .get(index)
+                .filter(|_| index < expected_columns)
+                .copied()
+                .unwrap_or("");
             (found != expected).then(|| SensorLogError::Header {
                 position: index + 1,
                 expected,
@@ -619,10 +663,18 @@ impl<R: Read> SensorLogReader<R> {
             Kind::Gnss => {
                 let [arrival_time_s, time_tag_s, x, y, z] =
                     parse_floats(GNSS_FLOAT_COLUMNS, &float)?;
+                let velocity_columns = [0, 1, 2].map(|offset| column::VELOCITY + offset);
+                // All three empty: a position-only receiver; else all three are required.
+                let velocity_ecef_mps = if velocity_columns.iter().all(|i| cell(*i).is_empty()) {
+                    None
+                } else {
+                    Some(parse_floats(velocity_columns, &float)?)
+                };
                 LogRecord::Gnss(GnssRecord {
                     arrival_time_s,
                     time_tag_s,
                     position_ecef_m: [x, y, z],
+                    velocity_ecef_mps,
                 })
             }
         };
@@ -794,7 +846,7 @@ mod tests {
     /// caller to keep the log in order.
     fn record_from(kind: u8, sequence: u64, arrival_time_s: f64, values: [f64; 9]) -> LogRecord {
         let [a, b, c, d, e, f, g, h, i] = values;
-        match kind % 3 {
+        match kind % 4 {
             0 => LogRecord::Imu(ImuRecord {
                 sequence,
                 time_s: arrival_time_s,
@@ -807,10 +859,17 @@ mod tests {
                 time_tag_s: a,
                 attitude_wxyz: [b, c, d, e],
             }),
+            2 => LogRecord::Gnss(GnssRecord {
+                arrival_time_s,
+                time_tag_s: h,
+                position_ecef_m: [i, a, b],
+                velocity_ecef_mps: None,
+            }),
             _ => LogRecord::Gnss(GnssRecord {
                 arrival_time_s,
                 time_tag_s: h,
                 position_ecef_m: [i, a, b],
+                velocity_ecef_mps: Some([c, d, e]),
             }),
         }
     }
@@ -919,15 +978,76 @@ mod tests {
 
     /// Expected error for a log whose only data row is `row` (line 2).
     fn error_of(row: &str) -> SensorLogError {
-        let text = format!("{}\n{row}\n", COLUMNS.join(","));
+        let text = format!("{}\n{row}\n", COLUMNS[..POSITION_ONLY_COLUMNS].join(","));
         read_csv(text.as_bytes()).unwrap_err()
+    }
+
+    /// GNSS velocity columns: all three filled or all three empty; the earlier 18-column
+    /// layout reads as position-only; a velocity round-trips bit for bit.
+    #[test]
+    fn gnss_velocity_columns() {
+        let header = COLUMNS.join(",");
+        let row = "gnss,2,2,,,,,,,,,,,,,1,2,3,0.5,-0.25,7500";
+        let records = read_csv(format!("{header}\n{row}\n").as_bytes()).unwrap();
+        let LogRecord::Gnss(gnss) = records[0] else {
+            panic!("not a GNSS record")
+        };
+        assert_eq!(gnss.velocity_ecef_mps, Some([0.5, -0.25, 7500.0]));
+        let position_only = "gnss,2,2,,,,,,,,,,,,,1,2,3,,,";
+        let records = read_csv(format!("{header}\n{position_only}\n").as_bytes()).unwrap();
+        assert!(matches!(
+            records[0],
+            LogRecord::Gnss(GnssRecord {
+                velocity_ecef_mps: None,
+                ..
+            })
+        ));
+        let partial = "gnss,2,2,,,,,,,,,,,,,1,2,3,0.5,,7500";
+        assert_eq!(
+            read_csv(format!("{header}\n{partial}\n").as_bytes())
+                .unwrap_err()
+                .to_string(),
+            "line 2, column `velocity_ecef_y_mps`: missing value (needed in `gnss` rows)"
+        );
+        let legacy = COLUMNS[..POSITION_ONLY_COLUMNS].join(",");
+        let records =
+            read_csv(format!("{legacy}\ngnss,2,2,,,,,,,,,,,,,1,2,3\n").as_bytes()).unwrap();
+        assert!(matches!(
+            records[0],
+            LogRecord::Gnss(GnssRecord {
+                velocity_ecef_mps: None,
+                ..
+            })
+        ));
+        let mut log = SensorLogWriter::new(Vec::new()).unwrap();
+        log.write(&records[0]).unwrap();
+        let with_velocity = LogRecord::Gnss(GnssRecord {
+            velocity_ecef_mps: Some([0.1, f64::MIN_POSITIVE, -7.6e3]),
+            ..match records[0] {
+                LogRecord::Gnss(gnss) => gnss,
+                _ => unreachable!(),
+            }
+        });
+        log.write(&with_velocity).unwrap();
+        let written = log.finish().unwrap();
+        assert_eq!(
+            bits(&read_csv(&written).unwrap()),
+            bits(&[records[0], with_velocity])
+        );
     }
 
     const IMU_ROW: &str = "imu,1.5,1.5,7,0.002,1e-6,0,0,0,0,-0.02,,,,,,,";
 
     #[test]
     fn reader_errors_name_line_and_column() {
-        let good = read_csv(format!("{}\n{IMU_ROW}\n", COLUMNS.join(",")).as_bytes()).unwrap();
+        let good = read_csv(
+            format!(
+                "{}\n{IMU_ROW}\n",
+                COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
+            )
+            .as_bytes(),
+        )
+        .unwrap();
         assert_eq!(good.len(), 1);
 
         let message = |error: SensorLogError| error.to_string();
@@ -991,14 +1111,16 @@ mod tests {
 
         let out_of_order = format!(
             "{}\n{IMU_ROW}\nstar,1.25,1.25,,,,,,,,,1,0,0,0,,,\n",
-            COLUMNS.join(",")
+            COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
         );
         assert!(matches!(
             read_csv(out_of_order.as_bytes()).unwrap_err(),
             SensorLogError::OutOfOrder { line: 3, .. }
         ));
 
-        let header = COLUMNS.join(",").replace("attitude_x", "attitude_i");
+        let header = COLUMNS[..POSITION_ONLY_COLUMNS]
+            .join(",")
+            .replace("attitude_x", "attitude_i");
         match SensorLogReader::new(header.as_bytes()).err().unwrap() {
             SensorLogError::Header {
                 position,
@@ -1018,7 +1140,10 @@ mod tests {
             SensorLogError::Header { position: 18, found, .. } if found.is_empty()
         ));
 
-        let latency = format!("{}\nstar,1.25,1,,,,,,,,,1,0,0,0,,,\n", COLUMNS.join(","));
+        let latency = format!(
+            "{}\nstar,1.25,1,,,,,,,,,1,0,0,0,,,\n",
+            COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
+        );
         assert!(read_csv(latency.as_bytes()).is_ok());
         assert!(matches!(
             read_events(latency.as_bytes()).unwrap_err(),
@@ -1034,6 +1159,7 @@ mod tests {
                 arrival_time_s,
                 time_tag_s: arrival_time_s,
                 position_ecef_m: [x, 0.0, 0.0],
+                velocity_ecef_mps: None,
             })
         };
         log.write(&gnss(2.0, 1.0)).unwrap();

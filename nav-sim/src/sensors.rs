@@ -80,6 +80,9 @@ pub enum SensorEvent {
         delivery_time_s: f64,
         /// Measured ECEF position (m, WGS-84).
         position_ecef_m: Vector3<f64>,
+        /// Measured ECEF velocity relative to the rotating Earth (m/s), from a receiver that
+        /// outputs it (`gnss.velocity_noise_mps > 0`).
+        velocity_ecef_mps: Option<Vector3<f64>>,
     },
 }
 
@@ -146,11 +149,12 @@ impl SensorEvent {
             Self::Gnss {
                 time_tag_s,
                 position_ecef_m,
+                velocity_ecef_mps,
                 ..
             } => Some(GnssFix {
                 time_tag_s: *time_tag_s,
                 position_ecef_m: [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
-                velocity_ecef_mps: None,
+                velocity_ecef_mps: velocity_ecef_mps.map(|v| [v.x, v.y, v.z]),
             }),
             _ => None,
         }
@@ -206,6 +210,10 @@ enum NoiseStream {
     AccelBiasWalk = 4,
     Star = 5,
     Gnss = 6,
+    // Streams of the realistic error models: drawn only when a model is switched on, so a
+    // scenario without them gets the very same numbers as before they existed.
+    GnssCorrelated = 7,
+    GnssVelocity = 8,
 }
 
 fn stream(seed: u64, which: NoiseStream) -> ChaCha8Rng {
@@ -283,6 +291,17 @@ pub struct SensorSimulator {
     gnss_frames_per_sample: u64,
     gnss_latency_s: f64,
     gnss_rng: ChaCha8Rng,
+    gnss_correlated: GaussMarkov,
+    gnss_velocity_noise_mps: f64,
+    gnss_velocity_rng: ChaCha8Rng,
+    gnss_outages: Vec<[f64; 2]>,
+    star_max_rate_rad_s: f64,
+    star_reacquisition_s: f64,
+    star_outages: Vec<[f64; 2]>,
+    /// The star tracker delivers nothing before this time (s): it lost track.
+    star_blind_until_s: f64,
+    /// Scenario start (s), the origin of the outage times.
+    start_time_s: f64,
     /// Fixes sampled but not yet delivered, oldest first.
     pending_gnss: std::collections::VecDeque<SensorEvent>,
 }
@@ -340,6 +359,20 @@ impl SensorSimulator {
             gnss_frames_per_sample: frames_in(1.0 / scenario.gnss.rate_hz, period_s),
             gnss_latency_s: scenario.gnss.latency_s,
             gnss_rng: stream(seed, NoiseStream::Gnss),
+            gnss_correlated: GaussMarkov {
+                sigma: scenario.gnss.correlated_noise_m,
+                correlation_time_s: scenario.gnss.correlation_time_s,
+                state: None,
+                rng: stream(seed, NoiseStream::GnssCorrelated),
+            },
+            gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
+            gnss_velocity_rng: stream(seed, NoiseStream::GnssVelocity),
+            gnss_outages: scenario.gnss.outages.clone(),
+            star_max_rate_rad_s: star.max_rate_deg_per_s.to_radians(),
+            star_reacquisition_s: star.reacquisition_s,
+            star_outages: star.outages.clone(),
+            star_blind_until_s: f64::NEG_INFINITY,
+            start_time_s: scenario.simulation.start_time_s,
             pending_gnss: std::collections::VecDeque::new(),
         })
     }
@@ -378,16 +411,22 @@ impl SensorSimulator {
         });
 
         let frames_elapsed = truth.frame_index + 1;
+        let tracking = self.star_tracking(truth);
         if frames_elapsed % self.star_frames_per_sample == 0 {
+            // Drawn whether or not the sample is delivered: the noise of every other sample
+            // stays what it is without the outage.
             let noise = normal3(&mut self.star_rng) * self.star_noise_rad;
             let measured = truth.attitude_q_ib
                 * self.star_mounting_q_bs
                 * self.star_installation_q_psi
                 * exp_rotation_vector(&noise);
-            events.push(SensorEvent::Star {
-                time_tag_s: truth.time_s,
-                attitude_q_is: canonical(&measured.normalize()),
-            });
+            let elapsed_s = truth.time_s - self.start_time_s;
+            if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
+                events.push(SensorEvent::Star {
+                    time_tag_s: truth.time_s,
+                    attitude_q_is: canonical(&measured.normalize()),
+                });
+            }
         }
 
         if frames_elapsed % self.gnss_frames_per_sample == 0 {
@@ -398,12 +437,18 @@ impl SensorSimulator {
                     time_s: truth.time_s,
                     reason: format!("{error:?}"),
                 })?;
-            let noise = normal3(&mut self.gnss_rng) * self.gnss_noise_m;
-            self.pending_gnss.push_back(SensorEvent::Gnss {
-                time_tag_s: truth.time_s,
-                delivery_time_s: truth.time_s + self.gnss_latency_s,
-                position_ecef_m: position_ecef_m + noise,
-            });
+            let noise = normal3(&mut self.gnss_rng) * self.gnss_noise_m
+                + self.gnss_correlated.at(truth.time_s);
+            let velocity_ecef_mps = self.gnss_velocity(truth)?;
+            let elapsed_s = truth.time_s - self.start_time_s;
+            if !crate::scenario::in_outage(&self.gnss_outages, elapsed_s) {
+                self.pending_gnss.push_back(SensorEvent::Gnss {
+                    time_tag_s: truth.time_s,
+                    delivery_time_s: truth.time_s + self.gnss_latency_s,
+                    position_ecef_m: position_ecef_m + noise,
+                    velocity_ecef_mps,
+                });
+            }
         }
         // Deliver every fix due by the end of this frame (half a frame of tolerance absorbs the
         // rounding of `time + latency`; latencies are whole frames).
@@ -417,6 +462,70 @@ impl SensorSimulator {
             }
         }
         Ok(())
+    }
+}
+
+impl SensorSimulator {
+    /// Whether the star tracker tracks during `truth`'s frame: not while the body rate's
+    /// magnitude (the frame's mean, `|Δθ| / T`) exceeds `star_sensor.max_rate_deg_per_s`,
+    /// nor for `reacquisition_s` after it falls back below.
+    fn star_tracking(&mut self, truth: &TruthFrame) -> bool {
+        if self.star_max_rate_rad_s <= 0.0 {
+            return true;
+        }
+        let rate_rad_s = truth.delta_angle_rad.norm() / truth.interval_s;
+        if rate_rad_s > self.star_max_rate_rad_s {
+            self.star_blind_until_s = truth.time_s + self.star_reacquisition_s;
+            return false;
+        }
+        truth.time_s >= self.star_blind_until_s
+    }
+
+    /// The receiver's ECEF velocity at `truth`'s time (truth through nav-core's
+    /// `launch_inertial_velocity_to_ecef`, plus white noise), or `None` for a receiver that
+    /// outputs none.
+    fn gnss_velocity(&mut self, truth: &TruthFrame) -> Result<Option<Vector3<f64>>, SensorError> {
+        if self.gnss_velocity_noise_mps <= 0.0 {
+            return Ok(None);
+        }
+        let velocity = self
+            .frame
+            .launch_inertial_velocity_to_ecef(&truth.position_m, &truth.velocity_mps, truth.time_s)
+            .map_err(|error| SensorError::FrameConversion {
+                time_s: truth.time_s,
+                reason: format!("{error:?}"),
+            })?;
+        let noise = normal3(&mut self.gnss_velocity_rng) * self.gnss_velocity_noise_mps;
+        Ok(Some(velocity + noise))
+    }
+}
+
+/// A first-order Gauss–Markov error per axis, `ε̇ = −ε/τ + w`, stationary 1σ `sigma`: drawn
+/// from `N(0, σ²)` at its first sample, then advanced exactly between samples,
+/// `ε ← φ ε + σ √(1 − φ²) w`, `φ = exp(−Δt/τ)`. Zero (and no draw) when `sigma` is 0.
+#[derive(Debug, Clone)]
+struct GaussMarkov {
+    sigma: f64,
+    correlation_time_s: f64,
+    state: Option<(f64, Vector3<f64>)>,
+    rng: ChaCha8Rng,
+}
+
+impl GaussMarkov {
+    /// The error at `time_s` (not before the previous sample).
+    fn at(&mut self, time_s: f64) -> Vector3<f64> {
+        if self.sigma <= 0.0 {
+            return Vector3::zeros();
+        }
+        let value = match self.state {
+            None => normal3(&mut self.rng) * self.sigma,
+            Some((last_s, last)) => {
+                let phi = (-(time_s - last_s).max(0.0) / self.correlation_time_s).exp();
+                last * phi + normal3(&mut self.rng) * (self.sigma * (1.0 - phi * phi).sqrt())
+            }
+        };
+        self.state = Some((time_s, value));
+        value
     }
 }
 

@@ -30,16 +30,17 @@ fn fly(scenario: &Scenario, inject: impl FnMut(u64, &mut FramePorts)) -> FlightR
 /// χ²(15) 99.9 % point: the bound on the NEES of the 15 calibration states.
 const CALIBRATION_NEES_BOUND: f64 = 37.70;
 
-/// The navigation solution within 3σ of the truth on every axis; the calibration states
-/// jointly consistent (NEES below the χ²(15) 99.9 % point) and each within 4σ (a per-state
-/// 3σ test on 15 states would fail 5 % of healthy runs); `P` positive definite.
+/// The navigation solution and the calibration states each within 4σ of the truth (one seed:
+/// a per-value 3σ test on these 21 values would fail 5 % of healthy runs; this seed's
+/// position ends 2.8σ off on z whatever the fault); the calibration states jointly consistent
+/// (NEES below the χ²(15) 99.9 % point); `P` positive definite.
 fn assert_consistent(result: &FlightResult, case: &str) {
     let last = result.last().unwrap();
     for axis in 0..3 {
         let position = last.position_error_m[axis].abs() / last.position_sigma_m[axis];
         let attitude = last.attitude_error_rad[axis].abs() / last.attitude_sigma_rad[axis];
         assert!(
-            position < 3.0 && attitude < 3.0,
+            position < 4.0 && attitude < 4.0,
             "{case}: axis {axis} position {position:.2}σ attitude {attitude:.2}σ"
         );
         for block in 0..5 {
