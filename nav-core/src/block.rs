@@ -132,8 +132,8 @@ pub(crate) fn scale(a: &Block, s: f64) -> Block {
     a.map(|row| row_scale(row, s))
 }
 
-/// `A + diag(v) B` (the block kernel's; the row kernel folds whole rows).
-#[cfg(any(test, target_arch = "arm"))]
+/// `A + diag(v) B` (the block kernel's and the correlated-error border's; the row kernel
+/// folds whole rows).
 #[inline(always)]
 pub(crate) fn add_scaled_rows(a: &Block, b: &Block, v: Row) -> Block {
     let ([a0, a1, a2], [b0, b1, b2], [v0, v1, v2]) = (*a, *b, v);

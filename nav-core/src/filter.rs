@@ -641,25 +641,26 @@ impl ErrorStateFilter {
     }
 
     /// [`ErrorStateFilter::predict_structured`] with the correlated GNSS error states: the
-    /// border is propagated into a copy first, so nothing changes on an error. Not inlined:
-    /// the copy's stack space is taken only when the states are in use.
+    /// border's new values are computed first, so nothing changes on an error. Not inlined:
+    /// their stack space is taken only when the states are in use.
     #[inline(never)]
     fn predict_structured_bordered(
         &mut self,
         model: &StructuredModel,
         state: Option<ErrorState>,
     ) -> Result<(), NavError> {
-        let mut gnss_error = self.gnss_error;
-        if !gnss_error.propagate(model.interval_s(), |column| model.propagate_state(column)) {
-            return Err(NavError::NonFiniteState);
-        }
+        let dynamic = model.propagate_rows(self.gnss_error.cross_rows());
+        let propagated = self
+            .gnss_error
+            .propagated(model.interval_s(), &dynamic)
+            .ok_or(NavError::NonFiniteState)?;
         if !model.propagate_covariance(&mut self.covariance) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(state) = state {
             self.state = state;
         }
-        self.gnss_error = gnss_error;
+        self.gnss_error.commit_propagation(&propagated);
         Ok(())
     }
 
@@ -726,30 +727,47 @@ impl ErrorStateFilter {
         if !block::all_finite(state.as_slice()) {
             return Err(NavError::NonFiniteState);
         }
-        let updated_border = match &border {
-            Some(border) => Some(
-                self.gnss_error
-                    .updated(
-                        border,
-                        &gains,
-                        observed.products(),
-                        &block::from_matrix(&covariance),
-                        |row| cholesky.solve(row),
-                        block::from_vector(&innovation),
-                    )
-                    .ok_or(NavError::NonFiniteState)?,
-            ),
-            None => None,
-        };
-        if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
+        if let Some(border) = &border {
+            let solved = (&cholesky, &covariance);
+            self.update_border_and_covariance(border, &gains, &observed, solved, &innovation)?;
+        } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
             return Err(NavError::NonFiniteState);
-        }
-        if let Some(updated) = &updated_border {
-            self.gnss_error.commit(updated);
         }
         self.state = state;
         report.accepted = true;
         Ok(report)
+    }
+
+    /// The covariance part of [`ErrorStateFilter::update_structured`] with the correlated
+    /// GNSS error states: the border's new values first (its new `C` into its spare buffer),
+    /// then the 24-state Joseph kernel with the bordered `M` and `S`, then the border
+    /// committed; nothing changes on an error.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if a result is not finite.
+    #[inline(never)]
+    fn update_border_and_covariance(
+        &mut self,
+        border: &crate::gnss_error::Border,
+        gains: &structured::StateRows,
+        observed: &structured::ObservedCovariance,
+        (cholesky, s): (&structured::Cholesky3, &Matrix3<f64>),
+        innovation: &Vector3<f64>,
+    ) -> Result<(), NavError> {
+        let (estimate, border_covariance) = self
+            .gnss_error
+            .updated(
+                border,
+                (gains, observed.products()),
+                |row| cholesky.solve(row),
+                block::from_vector(innovation),
+            )
+            .ok_or(NavError::NonFiniteState)?;
+        if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.gnss_error.commit(estimate, &border_covariance);
+        Ok(())
     }
 
     /// Closed-loop reset: returns the error state to feed back (see [`apply_error_state`]),

@@ -28,7 +28,7 @@
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-use crate::block::{self, dot, row_add, row_scale, row_sub, Block, FiniteCheck, Row, ZERO};
+use crate::block::{self, dot, row_add, row_scale, Block, FiniteCheck, Row, ZERO};
 use crate::measurement::MeasurementJacobian;
 use crate::state::STATE_DIMENSION;
 use crate::structured::StateRows;
@@ -109,15 +109,29 @@ impl GnssErrorModel {
 }
 
 /// The border of the 27-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct GnssErrorStates {
     model: GnssErrorModel,
     /// `ε̂` (m, launch-inertial axes).
     estimate: Row,
     /// `P_εε` (m²).
     covariance: Block,
-    /// Row `j`: `cov(x_j, ε)`.
-    cross: StateRows,
+    /// Two buffers of `C` (row `j`: `cov(x_j, ε)`): an update writes the new `C` into the
+    /// inactive one and a commit makes it active, so nothing is copied and nothing changes
+    /// if the update fails.
+    buffers: [StateRows; 2],
+    /// Whether `buffers[1]` holds `C`.
+    second_active: bool,
+}
+
+impl PartialEq for GnssErrorStates {
+    /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
+    fn eq(&self, other: &Self) -> bool {
+        self.model == other.model
+            && self.estimate == other.estimate
+            && self.covariance == other.covariance
+            && self.rows() == other.rows()
+    }
 }
 
 /// What an update adds to the 24-state quantities, and the border's own products.
@@ -131,12 +145,14 @@ pub(crate) struct Border {
     pub(crate) products: [Row; 3],
 }
 
-/// The border after an update, computed before anything is written.
+/// The border after a propagation, computed before anything is written: the new dynamic
+/// rows of `C` (ϑ, δp, δv), `φ` for its calibration rows, `P_εε` and `ε̂`.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct UpdatedBorder {
-    estimate: Row,
+pub(crate) struct PropagatedBorder {
+    dynamic: [Block; 3],
+    phi: f64,
     covariance: Block,
-    cross: StateRows,
+    estimate: Row,
 }
 
 impl GnssErrorStates {
@@ -151,7 +167,8 @@ impl GnssErrorStates {
             model,
             estimate: [0.0; 3],
             covariance: block::scale(&block::IDENTITY, variance),
-            cross: [[0.0; 3]; STATE_DIMENSION],
+            buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
+            second_active: false,
         })
     }
 
@@ -175,10 +192,40 @@ impl GnssErrorStates {
         block::to_matrix(&self.covariance)
     }
 
+    /// `C`, by rows.
+    fn rows(&self) -> &StateRows {
+        let [first, second] = &self.buffers;
+        if self.second_active {
+            second
+        } else {
+            first
+        }
+    }
+
+    /// `C`, by rows, to change in place.
+    fn rows_mut(&mut self) -> &mut StateRows {
+        let [first, second] = &mut self.buffers;
+        if self.second_active {
+            second
+        } else {
+            first
+        }
+    }
+
+    /// `C` = (the active buffer, the inactive one).
+    fn rows_and_spare(&mut self) -> (&StateRows, &mut StateRows) {
+        let [first, second] = &mut self.buffers;
+        if self.second_active {
+            (second, first)
+        } else {
+            (first, second)
+        }
+    }
+
     /// `C = P_xε` (24×3).
     pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, 3> {
         SMatrix::from_fn(|row, column| {
-            self.cross
+            self.rows()
                 .get(row)
                 .and_then(|r| r.get(column))
                 .copied()
@@ -200,7 +247,7 @@ impl GnssErrorStates {
         let phi = self.model.decay(interval_s);
         let columns: [SMatrix<f64, STATE_DIMENSION, 1>; 3] = core::array::from_fn(|a| {
             transition(&SMatrix::from_fn(|j, _| {
-                self.cross
+                self.rows()
                     .get(j)
                     .and_then(|r| r.get(a))
                     .copied()
@@ -227,19 +274,76 @@ impl GnssErrorStates {
         if !check.all_finite() {
             return false;
         }
-        self.cross = cross;
+        *self.rows_mut() = cross;
         self.covariance = covariance;
         self.estimate = estimate;
         true
     }
 
+    /// The structured propagation (flight path): [`GnssErrorStates::propagate`] with the
+    /// dynamic rows of `F C` given (`StructuredModel::propagate_rows`); `None` if not finite.
+    /// The calibration rows are scaled by `φ` when committed.
+    pub(crate) fn propagated(
+        &self,
+        interval_s: f64,
+        dynamic: &[Block; 3],
+    ) -> Option<PropagatedBorder> {
+        let phi = self.model.decay(interval_s);
+        let variance = self.model.sigma_m * self.model.sigma_m;
+        let covariance = block::add(
+            &block::scale(&self.covariance, phi * phi),
+            &block::scale(&block::IDENTITY, variance * (1.0 - phi * phi)),
+        );
+        let dynamic = dynamic.map(|b| block::scale(&b, phi));
+        let estimate = row_scale(self.estimate, phi);
+        let mut check = FiniteCheck::new();
+        dynamic.iter().for_each(|b| check.block(b));
+        check.block(&covariance);
+        check.row(&estimate);
+        check.value(phi);
+        check.all_finite().then_some(PropagatedBorder {
+            dynamic,
+            phi,
+            covariance,
+            estimate,
+        })
+    }
+
+    /// Writes a propagation computed by [`GnssErrorStates::propagated`], in place.
+    pub(crate) fn commit_propagation(&mut self, propagated: &PropagatedBorder) {
+        let (dynamic_rows, calibration_rows) = self.rows_mut().split_at_mut(9);
+        for (row, value) in dynamic_rows
+            .iter_mut()
+            .zip(propagated.dynamic.iter().flatten())
+        {
+            *row = *value;
+        }
+        for row in calibration_rows {
+            *row = row_scale(*row, propagated.phi);
+        }
+        self.covariance = propagated.covariance;
+        self.estimate = propagated.estimate;
+    }
+
     /// The border's part of an update with Jacobian `H_x` and coefficient `h_ε` (module
     /// docs): `G = H_x C`, then `S`'s and `M_ε`'s terms.
     pub(crate) fn border(&self, jacobian: &MeasurementJacobian, coefficient: f64) -> Border {
+        // G = Σ_K H_K C_K over the 3×3 blocks K of H that are not all zero (a star or GNSS
+        // measurement has two to five of the eight).
         let mut g = ZERO;
-        for (h_column, c_row) in jacobian.data.0.iter().zip(&self.cross) {
-            for (g_row, h) in g.iter_mut().zip(h_column) {
-                *g_row = block::row_add_scaled(*g_row, *c_row, *h);
+        let columns = jacobian
+            .data
+            .0
+            .chunks_exact(3)
+            .zip(self.rows().chunks_exact(3));
+        for (h_columns, c_rows) in columns {
+            if h_columns.iter().flatten().all(|value| *value == 0.0) {
+                continue;
+            }
+            for (h_column, c_row) in h_columns.iter().zip(c_rows) {
+                for (g_row, h) in g.iter_mut().zip(h_column) {
+                    *g_row = block::row_add_scaled(*g_row, *c_row, *h);
+                }
             }
         }
         let g_transpose = block::transpose(&g);
@@ -258,7 +362,7 @@ impl GnssErrorStates {
 
     /// `h_ε C_j` for row `j` (added to `M_x`).
     pub(crate) fn cross_rows(&self) -> &StateRows {
-        &self.cross
+        self.rows()
     }
 
     /// `h_ε ε̂` (subtracted from the innovation).
@@ -266,70 +370,54 @@ impl GnssErrorStates {
         Vector3::from(row_scale(self.estimate, coefficient))
     }
 
-    /// The border after the update with gains `K_x` (`gains`), `M_x` (`products`), `S`
-    /// (`s`) and innovation `ν` (module docs); `None` if not finite or `S` not invertible.
+    /// The border after the update with gains `K_x` (`gains`), `M_x` (`products`), `S⁻¹`
+    /// (`solve`) and innovation `ν` (module docs): the new `C` (per element
+    /// `C⁺_ia = C_ia + N_i·K_εa − K_i·M_εa`) into the spare buffer, which
+    /// [`GnssErrorStates::commit`] makes active; the new `ε̂` and `P_εε` returned; `None`
+    /// if anything is not finite (`C` unchanged).
     pub(crate) fn updated(
-        &self,
+        &mut self,
         border: &Border,
-        gains: &StateRows,
-        products: &StateRows,
-        s: &Block,
+        (gains, products): (&StateRows, &StateRows),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
-    ) -> Option<UpdatedBorder> {
-        let border_gains = border.products.map(&solve);
-        let [k0, k1, k2] = border_gains;
+    ) -> Option<(Row, Block)> {
+        let (old_rows, cross) = self.rows_and_spare();
         let [m0, m1, m2] = border.products;
-        let n_of = |k: Row, m: Row| row_sub(block::mul_vector_add([0.0; 3], s, k), m);
-        let n_border = [n_of(k0, m0), n_of(k1, m1), n_of(k2, m2)];
+        let [k0, k1, k2] = [solve(m0), solve(m1), solve(m2)];
+        // The expanded Joseph form `P_ij + N_i·K_j − K_i·M_j` with `N_i = K_i S − M_i`:
+        // `K_i S = M_i` (to round-off) for every row the update moves, so `N_i = 0` there,
+        // and `N_i = −M_i` for a frozen row (`K_i = 0`); each element takes one product.
         let mut check = FiniteCheck::new();
-        let cross: StateRows = core::array::from_fn(|i| {
-            let (Some(k), Some(m), Some(c)) = (gains.get(i), products.get(i), self.cross.get(i))
-            else {
-                return [f64::NAN; 3];
+        let rows = cross
+            .iter_mut()
+            .zip(old_rows)
+            .zip(gains.iter().zip(products));
+        for ((new, [c0, c1, c2]), (k, m)) in rows {
+            let (left, [r0, r1, r2]) = if k.iter().all(|gain| *gain == 0.0) {
+                (*m, [k0, k1, k2])
+            } else {
+                (*k, [m0, m1, m2])
             };
-            let n = row_sub(block::mul_vector_add([0.0; 3], s, *k), *m);
-            let row = core::array::from_fn(|a| {
-                let (Some(value), Some(k_a), Some(m_a)) =
-                    (c.get(a), border_gains.get(a), border.products.get(a))
-                else {
-                    return f64::NAN;
-                };
-                (value + dot(n, *k_a)) - dot(*k, *m_a)
-            });
-            check.row(&row);
-            row
-        });
-        let mut covariance = ZERO;
-        for (a, row) in covariance.iter_mut().enumerate() {
-            for (b, value) in row.iter_mut().enumerate() {
-                let entry = |x: &[Row; 3], index: usize| x.get(index).copied();
-                let (Some(n_a), Some(k_a), Some(k_b), Some(m_b), Some(old)) = (
-                    entry(&n_border, a),
-                    entry(&border_gains, a),
-                    entry(&border_gains, b),
-                    entry(&border.products, b),
-                    self.covariance.get(a).and_then(|r| r.get(b)),
-                ) else {
-                    *value = f64::NAN;
-                    continue;
-                };
-                *value = (old + dot(n_a, k_b)) - dot(k_a, m_b);
-            }
+            *new = [c0 - dot(left, r0), c1 - dot(left, r1), c2 - dot(left, r2)];
+            check.row(new);
         }
-        // Exactly symmetric (the two triangles differ by round-off).
-        let covariance = block::scale(
-            &block::add(&covariance, &block::transpose(&covariance)),
-            0.5,
+        let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = self.covariance;
+        // Upper triangle, mirrored: exactly symmetric. The ε rows are never frozen.
+        let (q00, q01, q02) = (p00 - dot(k0, m0), p01 - dot(k0, m1), p02 - dot(k0, m2));
+        let (q11, q12, q22) = (p11 - dot(k1, m1), p12 - dot(k1, m2), p22 - dot(k2, m2));
+        let covariance = [[q00, q01, q02], [q01, q11, q12], [q02, q12, q22]];
+        let estimate = row_add(
+            self.estimate,
+            [
+                dot(k0, innovation),
+                dot(k1, innovation),
+                dot(k2, innovation),
+            ],
         );
-        let estimate = row_add(self.estimate, border_gains.map(|k| dot(k, innovation)));
         check.block(&covariance);
         check.row(&estimate);
-        check.all_finite().then_some(UpdatedBorder {
-            estimate,
-            covariance,
-            cross,
-        })
+        check.all_finite().then_some((estimate, covariance))
     }
 
     /// Replaces `ε̂`, `P_εε` and `C` (the dense reference update writes its result).
@@ -341,16 +429,17 @@ impl GnssErrorStates {
     ) {
         self.estimate = block::from_vector(estimate);
         self.covariance = block::from_matrix(covariance);
-        self.cross = core::array::from_fn(|j| {
+        *self.rows_mut() = core::array::from_fn(|j| {
             [0, 1, 2].map(|a| cross.get((j, a)).copied().unwrap_or(f64::NAN))
         });
     }
 
-    /// Writes an update computed by [`GnssErrorStates::updated`].
-    pub(crate) fn commit(&mut self, updated: &UpdatedBorder) {
-        self.estimate = updated.estimate;
-        self.covariance = updated.covariance;
-        self.cross = updated.cross;
+    /// Writes an update computed by [`GnssErrorStates::updated`]: its `ε̂` and `P_εε`, and
+    /// its `C` made active.
+    pub(crate) fn commit(&mut self, estimate: Row, covariance: &Block) {
+        self.estimate = estimate;
+        self.covariance = *covariance;
+        self.second_active = !self.second_active;
     }
 
     /// `C ← J C` for the reset Jacobian (attitude rows `J_ϑϑ`, installation rows `J_ψψ`,
@@ -360,7 +449,7 @@ impl GnssErrorStates {
             (crate::state::ATTITUDE.index, attitude),
             (crate::state::STAR_INSTALLATION.index, installation),
         ] {
-            if let Some(rows) = self.cross.get_mut(offset..offset + 3) {
+            if let Some(rows) = self.rows_mut().get_mut(offset..offset + 3) {
                 let old: Block = [0, 1, 2].map(|i| rows.get(i).copied().unwrap_or([0.0; 3]));
                 let new = block::mul(jacobian, &old);
                 for (row, value) in rows.iter_mut().zip(new) {
@@ -372,7 +461,7 @@ impl GnssErrorStates {
 
     /// Row `index` of `C` times `scale` (a variance ceiling scaled that state).
     pub(crate) fn scale_cross_row(&mut self, index: usize, scale: f64) {
-        if let Some(row) = self.cross.get_mut(index) {
+        if let Some(row) = self.rows_mut().get_mut(index) {
             *row = row_scale(*row, scale);
         }
     }
@@ -421,7 +510,7 @@ mod tests {
         let all = |s: &GnssErrorStates| {
             let mut v: std::vec::Vec<u64> = s.estimate.iter().map(|x| x.to_bits()).collect();
             v.extend(s.covariance.iter().flatten().map(|x| x.to_bits()));
-            v.extend(s.cross.iter().flatten().map(|x| x.to_bits()));
+            v.extend(s.rows().iter().flatten().map(|x| x.to_bits()));
             v
         };
         all(a) == all(b)
@@ -444,7 +533,7 @@ mod tests {
                 worst = worst.max(d / (sigma_e(a_index) * sigma_e(b_index)));
             }
             for j in 0..STATE_DIMENSION {
-                let d = (a.cross[j][a_index] - b.cross[j][a_index]).abs();
+                let d = (a.rows()[j][a_index] - b.rows()[j][a_index]).abs();
                 worst = worst.max(d / (sigma_x(j) * sigma_e(a_index)));
             }
         }

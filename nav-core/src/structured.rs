@@ -729,6 +729,45 @@ impl StructuredModel {
         propagated
     }
 
+    /// Rows (ϑ, δp, δv) of `F C` for a 24×3 matrix `C` given by its rows (the calibration
+    /// rows of `F C` are those of `C`): `Φ C_d + E_g (C_bg + diag(ω_m) C_λg) + E_a (C_ba +
+    /// diag(f_m) C_λa)`, [`StructuredModel::propagate_state`] for three columns at once, by
+    /// blocks (the correlated-error border's cross-covariance, [`crate::gnss_error`]).
+    pub(crate) fn propagate_rows(&self, rows: &StateRows) -> [Block; 3] {
+        let block = |offset: usize| -> Block {
+            [0, 1, 2].map(|i| rows.get(offset + i).copied().unwrap_or([f64::NAN; 3]))
+        };
+        let gyro = block::add_scaled_rows(&block(BG), &block(SG), self.measured_rate_rad_s);
+        let accel =
+            block::add_scaled_rows(&block(BA), &block(SA), self.measured_specific_force_mps2);
+        let (attitude, position, velocity) = (block(A), block(P), block(V));
+        let t = &self.transition;
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        let new_attitude = mul_add(&mul(&t.attitude_attitude, &attitude), gyro_attitude, &gyro);
+        let new_position = [
+            (&t.position_position, &position),
+            (&t.position_velocity, &velocity),
+            (gyro_position, &gyro),
+            (accel_position, &accel),
+        ]
+        .iter()
+        .fold(mul(&t.position_attitude, &attitude), |sum, (m, x)| {
+            mul_add(&sum, m, x)
+        });
+        let new_velocity = [
+            (&t.velocity_position, &position),
+            (&t.velocity_velocity, &velocity),
+            (gyro_velocity, &gyro),
+            (accel_velocity, &accel),
+        ]
+        .iter()
+        .fold(mul(&t.velocity_attitude, &attitude), |sum, (m, x)| {
+            mul_add(&sum, m, x)
+        });
+        [new_attitude, new_position, new_velocity]
+    }
+
     /// Rows (ϑ, δp, δv) of `U = [Φ E] P` in one column block, given as its three columns of
     /// `P`; scale factors folded into the biases (module docs). Not inlined: one compact
     /// body called per column block keeps the working set in the registers and the

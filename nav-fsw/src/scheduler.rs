@@ -301,9 +301,11 @@ pub struct NavigationComputer {
     corrections: Deque<Correction, HISTORY_CAPACITY>,
     star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
     gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
-    /// The velocity of the GNSS fix whose position was fused last frame (one update per
-    /// frame: it is fused in the next).
-    pending_gnss_velocity: Option<(f64, Vector3<f64>)>,
+    /// The position of the GNSS fix whose velocity was fused last frame (one update per
+    /// frame: it is fused in the next). The velocity goes first: fused in its own frame it
+    /// needs no referral, while a position referred by one frame gains only a velocity block
+    /// in `H` (a velocity referred gains five).
+    pending_gnss_position: Option<(f64, Vector3<f64>)>,
     /// Consecutive frames whose IMU sample was held.
     held_frames: u32,
     last_star: Option<Quaternion<f64>>,
@@ -388,7 +390,7 @@ impl NavigationComputer {
             corrections: Deque::new(),
             star_queue: MeasurementBuffer::new(),
             gnss_queue: MeasurementBuffer::new(),
-            pending_gnss_velocity: None,
+            pending_gnss_position: None,
             held_frames: 0,
             last_star: None,
             star: AidingSensor::default(),
@@ -854,8 +856,8 @@ impl NavigationComputer {
     }
 
     fn next_due(&mut self) -> Option<Due> {
-        if let Some((tag, velocity)) = self.pending_gnss_velocity.take() {
-            return Some(Due::GnssVelocity(tag, velocity));
+        if let Some((tag, position)) = self.pending_gnss_position.take() {
+            return Some(Due::GnssPosition(tag, position));
         }
         let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
         let star_tag = self
@@ -878,10 +880,13 @@ impl NavigationComputer {
                 .map(|(tag, q)| Due::Star(tag, q))
         } else {
             let (tag, fix) = self.gnss_queue.pop_due(due_before_s)?;
-            self.pending_gnss_velocity = fix
-                .has_velocity
-                .then(|| (tag, ports::vector(&fix.velocity_mps)));
-            Some(Due::GnssPosition(tag, ports::vector(&fix.position_m)))
+            let position = ports::vector(&fix.position_m);
+            if fix.has_velocity {
+                self.pending_gnss_position = Some((tag, position));
+                Some(Due::GnssVelocity(tag, ports::vector(&fix.velocity_mps)))
+            } else {
+                Some(Due::GnssPosition(tag, position))
+            }
         }
     }
 
