@@ -623,54 +623,68 @@ impl NavigationComputer {
 
     /// `snapshot` with every correction fed back since it was recorded (in its frame or
     /// later), in feedback order: the same arithmetic as correcting the whole history at
-    /// each feedback. Frame counters are compared by age (wrapping).
+    /// each feedback. Frame counters are compared by age (wrapping). The corrections are in
+    /// feedback order, so those to apply are the newest ones: counted from the back, then
+    /// applied oldest first (a measurement of the current frame needs none).
     fn corrected(&self, snapshot: &Snapshot) -> Snapshot {
         let snapshot_age = self.frame.wrapping_sub(snapshot.frame);
+        let applies =
+            |correction: &Correction| self.frame.wrapping_sub(correction.frame) <= snapshot_age;
+        let newer = self
+            .corrections
+            .iter()
+            .rev()
+            .take_while(|correction| applies(correction))
+            .count();
+        let (older_half, newer_half) = self.corrections.as_slices();
+        let first = self.corrections.len().saturating_sub(newer);
+        let (from_older, from_newer) = match first.checked_sub(older_half.len()) {
+            None => (older_half.get(first..).unwrap_or(&[]), newer_half),
+            Some(offset) => (&[][..], newer_half.get(offset..).unwrap_or(&[])),
+        };
         let mut corrected = *snapshot;
-        for correction in self.corrections.iter() {
-            if self.frame.wrapping_sub(correction.frame) <= snapshot_age {
-                corrected.attitude = attitude::product(&corrected.attitude, &correction.attitude);
-                corrected.position_m += correction.position_m;
-                corrected.velocity_mps += correction.velocity_mps;
-            }
+        for correction in from_older.iter().chain(from_newer) {
+            corrected.attitude = attitude::product(&corrected.attitude, &correction.attitude);
+            corrected.position_m += correction.position_m;
+            corrected.velocity_mps += correction.velocity_mps;
         }
         corrected
     }
 
     /// The navigation solution at `time_s`, interpolated between the two bracketing frames
-    /// of the history (both corrected first); `None` outside the history.
+    /// of the history (both corrected first); `None` outside the history. Searched from the
+    /// newest frame, where most measurements fall (the frame times increase, so the match
+    /// or the bracketing pair is the one a search from the oldest would find).
     fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
         let tolerance = 1e-6 * self.config.imu.period_s;
-        let mut previous: Option<&Snapshot> = None;
-        for snapshot in self.history.iter() {
+        let mut later: Option<&Snapshot> = None;
+        for snapshot in self.history.iter().rev() {
             if (snapshot.time_s - time_s).abs() <= tolerance {
                 return Some(self.corrected(snapshot));
             }
-            if let Some(before) = previous {
-                if before.time_s < time_s && time_s < snapshot.time_s {
-                    let (before, after) = (self.corrected(before), self.corrected(snapshot));
-                    let s = (time_s - before.time_s) / (after.time_s - before.time_s);
-                    return Some(Snapshot {
-                        frame: after.frame,
-                        time_s,
-                        attitude: interpolate_attitude(&before.attitude, &after.attitude, s),
-                        position_m: before.position_m + (after.position_m - before.position_m) * s,
-                        velocity_mps: before.velocity_mps
-                            + (after.velocity_mps - before.velocity_mps) * s,
-                    });
-                }
+            if snapshot.time_s < time_s {
+                let Some(after) = later else {
+                    // A tag a little after the newest frame (within the future tolerance,
+                    // e.g. clock rounding) uses the newest frame.
+                    let future_s = time_s - snapshot.time_s;
+                    return (future_s <= self.config.timing.future_tolerance_s)
+                        .then(|| self.corrected(snapshot));
+                };
+                // `after` is later than `time_s`: it was neither a match nor earlier.
+                let (before, after) = (self.corrected(snapshot), self.corrected(after));
+                let s = (time_s - before.time_s) / (after.time_s - before.time_s);
+                return Some(Snapshot {
+                    frame: after.frame,
+                    time_s,
+                    attitude: interpolate_attitude(&before.attitude, &after.attitude, s),
+                    position_m: before.position_m + (after.position_m - before.position_m) * s,
+                    velocity_mps: before.velocity_mps
+                        + (after.velocity_mps - before.velocity_mps) * s,
+                });
             }
-            previous = Some(snapshot);
+            later = Some(snapshot);
         }
-        // A tag a little after the newest frame (within the future tolerance, e.g. clock
-        // rounding) uses the newest frame.
-        self.history
-            .back()
-            .filter(|newest| {
-                time_s > newest.time_s
-                    && time_s - newest.time_s <= self.config.timing.future_tolerance_s
-            })
-            .map(|newest| self.corrected(newest))
+        None
     }
 
     fn propagate_covariance(&mut self) {
