@@ -96,6 +96,19 @@ pub struct SimulationSettings {
     pub start_time_s: f64,
     /// Truth integration substeps per IMU frame (RK4), at least 1.
     pub truth_substeps_per_frame: u32,
+    /// Lowest altitude the truth trajectory may reach (m above the WGS-84 ellipsoid, along
+    /// the geocentric radius), ≥ 0; a flight that goes below it is refused, naming the
+    /// segment and the time. Default 150 km (below it the atmosphere the simulator does not
+    /// model decays the orbit within hours).
+    #[serde(default = "default_min_altitude_m")]
+    pub min_altitude_m: f64,
+}
+
+/// [`SimulationSettings::min_altitude_m`]'s default (m).
+pub const DEFAULT_MIN_ALTITUDE_M: f64 = 150_000.0;
+
+fn default_min_altitude_m() -> f64 {
+    DEFAULT_MIN_ALTITUDE_M
 }
 
 /// The launch site: origin and orientation of the launch-inertial frame.
@@ -566,6 +579,7 @@ impl Scenario {
         let check = Checker { origin };
         let simulation = &self.simulation;
         check.non_negative("simulation.start_time_s", simulation.start_time_s)?;
+        check.non_negative("simulation.min_altitude_m", simulation.min_altitude_m)?;
         if simulation.truth_substeps_per_frame == 0 {
             return Err(check.fail("simulation.truth_substeps_per_frame", "must be >= 1"));
         }

@@ -13,12 +13,32 @@ pub enum SimulationError {
     /// The sensors failed.
     #[error(transparent)]
     Sensor(#[from] SensorError),
+    /// The truth trajectory went below `simulation.min_altitude_m`.
+    #[error(
+        "the trajectory goes below simulation.min_altitude_m = {min_altitude_m} m: \
+         {altitude_m:.0} m at t = {time_s:.3} s, in manoeuvre[{segment_index}] \"{segment}\""
+    )]
+    BelowMinimumAltitude {
+        /// Time of the first frame below it (s).
+        time_s: f64,
+        /// Its altitude (m).
+        altitude_m: f64,
+        /// The limit (m).
+        min_altitude_m: f64,
+        /// Index of the manoeuvre segment flown then.
+        segment_index: usize,
+        /// Its label.
+        segment: String,
+    },
 }
 
 /// The scenario's truth trajectory and sensor models, advanced one IMU frame at a time.
 pub struct Simulation {
     truth: TruthSimulator<FlightGravity>,
     sensors: SensorSimulator,
+    frame: nav_core::frames::LaunchFrame,
+    min_altitude_m: f64,
+    segment_labels: Vec<String>,
 }
 
 impl Simulation {
@@ -30,6 +50,13 @@ impl Simulation {
         Ok(Self {
             truth: TruthSimulator::from_scenario(scenario)?,
             sensors: SensorSimulator::new(scenario)?,
+            frame: crate::truth::launch_frame(scenario)?,
+            min_altitude_m: scenario.simulation.min_altitude_m,
+            segment_labels: scenario
+                .manoeuvres
+                .iter()
+                .map(|segment| segment.label.clone())
+                .collect(),
         })
     }
 
@@ -55,8 +82,32 @@ impl Simulation {
         let Some(frame) = self.truth.next_frame()? else {
             return Ok(None);
         };
+        let altitude_m = self.altitude_m(&frame.position_m);
+        if altitude_m < self.min_altitude_m {
+            return Err(SimulationError::BelowMinimumAltitude {
+                time_s: frame.time_s,
+                altitude_m,
+                min_altitude_m: self.min_altitude_m,
+                segment_index: frame.segment_index,
+                segment: self
+                    .segment_labels
+                    .get(frame.segment_index)
+                    .cloned()
+                    .unwrap_or_default(),
+            });
+        }
         self.sensors.process_frame(&frame, events)?;
         Ok(Some(frame))
+    }
+
+    /// Altitude above the WGS-84 ellipsoid along the geocentric radius (m):
+    /// `|r| − a (1 − f sin²φ_c)` with `φ_c` the geocentric latitude (the ellipsoid's radius
+    /// to first order in the flattening; within ~20 m of the geodetic height in low orbit).
+    fn altitude_m(&self, position_launch_m: &nalgebra::Vector3<f64>) -> f64 {
+        use nav_core::frames::{WGS84_FLATTENING, WGS84_SEMI_MAJOR_AXIS_M};
+        let r = self.frame.geocentric_position_launch(position_launch_m);
+        let sin_latitude = self.frame.earth_axis_launch().dot(&r) / r.norm();
+        r.norm() - WGS84_SEMI_MAJOR_AXIS_M * (1.0 - WGS84_FLATTENING * sin_latitude * sin_latitude)
     }
 
     /// Runs to the end and returns every sensor event in delivery order.

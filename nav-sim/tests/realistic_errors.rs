@@ -200,3 +200,197 @@ fn the_filter_keys_are_validated_by_name() {
     );
     assert_eq!(config.gnss.noise_m.to_bits(), 6.0f64.to_bits());
 }
+
+// ---------------------------------------------------------------------------------------
+// The simulator's realistic error models.
+
+use nav_sim::faults::scenario_prefix;
+use nav_sim::sensor_log::record_of;
+use nav_sim::{SensorEvent, Simulation};
+
+/// FNV-1a of the encoded events of a scenario's first `seconds`.
+fn event_digest(scenario: &Scenario, seconds: f64) -> u64 {
+    let events = Simulation::new(&scenario_prefix(scenario, seconds))
+        .unwrap()
+        .event_stream()
+        .unwrap();
+    events
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325_u64, |hash, event| {
+            record_of(event)
+                .encode()
+                .unwrap()
+                .iter()
+                .fold(hash, |h, byte| {
+                    (h ^ u64::from(*byte)).wrapping_mul(0x100_0000_01b3)
+                })
+        })
+}
+
+/// A scenario without the new keys produces exactly the sensor data it produced before the
+/// keys existed (digest of the first 30 s recorded with the simulator before them).
+#[test]
+fn a_scenario_without_the_new_keys_gives_the_same_bits() {
+    let scenario = Scenario::default_scenario().unwrap();
+    assert_eq!(event_digest(&scenario, 30.0), DEFAULT_FIRST_30_S_DIGEST);
+}
+
+/// [`a_scenario_without_the_new_keys_gives_the_same_bits`]'s digest, computed with the
+/// simulator as it was before the realistic error models (the same value).
+const DEFAULT_FIRST_30_S_DIGEST: u64 = 0xaf38_49a5_dbe2_664e;
+
+/// The GNSS fixes of a scenario with a correlated error minus those of the same scenario
+/// without it (the white noise draws are the same): per axis.
+fn correlated_error_samples(sigma_m: f64, tau_s: f64, seconds: f64) -> Vec<[f64; 3]> {
+    let mut base = scenario_prefix(&Scenario::default_scenario().unwrap(), seconds);
+    base.simulation.truth_substeps_per_frame = 1;
+    let mut correlated = base.clone();
+    correlated.gnss.correlated_noise_m = sigma_m;
+    correlated.gnss.correlation_time_s = tau_s;
+    let fixes = |scenario: &Scenario| -> Vec<[f64; 3]> {
+        Simulation::new(scenario)
+            .unwrap()
+            .event_stream()
+            .unwrap()
+            .into_iter()
+            .filter_map(|event| match event {
+                SensorEvent::Gnss {
+                    position_ecef_m, ..
+                } => Some(position_ecef_m.into()),
+                _ => None,
+            })
+            .collect()
+    };
+    fixes(&correlated)
+        .iter()
+        .zip(fixes(&base))
+        .map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]])
+        .collect()
+}
+
+/// The correlated GNSS error has the σ and the lag-one correlation `exp(−Δt/τ)` of its
+/// model (τ = 1 s at 10 Hz over 600 s: 300 correlation times per axis).
+#[test]
+fn the_correlated_gnss_error_has_its_model_statistics() {
+    let samples = correlated_error_samples(8.0, 1.0, 600.0);
+    assert_eq!(samples.len(), 6000);
+    for axis in 0..3 {
+        let x: Vec<f64> = samples.iter().map(|s| s[axis]).collect();
+        let n = x.len() as f64;
+        let variance = x.iter().map(|v| v * v).sum::<f64>() / n;
+        let lag_one = x.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / (n - 1.0) / variance;
+        let sigma = variance.sqrt();
+        assert!((sigma - 8.0).abs() < 0.8, "axis {axis}: sigma {sigma}");
+        let expected = (-0.1_f64).exp();
+        assert!(
+            (lag_one - expected).abs() < 0.02,
+            "axis {axis}: lag one {lag_one}"
+        );
+    }
+}
+
+/// The star tracker delivers nothing above `max_rate_deg_per_s` and for
+/// `reacquisition_s` after; outages silence a sensor for their interval.
+#[test]
+fn blind_rates_and_outages_silence_the_sensors() {
+    let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 120.0);
+    scenario.simulation.truth_substeps_per_frame = 1;
+    scenario.star_sensor.max_rate_deg_per_s = 3.0;
+    scenario.star_sensor.reacquisition_s = 10.0;
+    scenario.gnss.outages = vec![[10.0, 5.0]];
+    scenario.star_sensor.outages = vec![[100.0, 2.0]];
+    let start = scenario.simulation.start_time_s;
+    let events = Simulation::new(&scenario).unwrap().event_stream().unwrap();
+    let star: Vec<f64> = events
+        .iter()
+        .filter_map(|e| match e {
+            SensorEvent::Star { time_tag_s, .. } => Some(time_tag_s - start),
+            _ => None,
+        })
+        .collect();
+    let gnss: Vec<f64> = events
+        .iter()
+        .filter_map(|e| match e {
+            SensorEvent::Gnss { time_tag_s, .. } => Some(time_tag_s - start),
+            _ => None,
+        })
+        .collect();
+    // The rotations run from 20 s to 77 s (rate above 3 °/s from 0.11 s into the first
+    // ramp to 0.11 s before the last ramp ends): blind from there to 10 s after.
+    assert!(star.iter().any(|t| (19.0..20.2).contains(t)));
+    assert!(!star.iter().any(|t| (20.2..86.8).contains(t)), "{star:?}");
+    assert!(star.iter().any(|t| (86.8..88.0).contains(t)));
+    assert!(!star.iter().any(|t| (100.0..102.0).contains(t)));
+    assert!(!gnss.iter().any(|t| (10.0..15.0).contains(t)));
+    assert_eq!(gnss.len(), 1200 - 50);
+}
+
+/// The receiver's velocity is the truth's ECEF velocity (noise off) through nav-core's
+/// conversion, within the conversion's round-off.
+#[test]
+fn the_gnss_velocity_is_the_true_ecef_velocity() {
+    let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 5.0);
+    scenario.simulation.truth_substeps_per_frame = 1;
+    scenario.gnss.velocity_noise_mps = 1e-300;
+    let frame = nav_sim::truth::launch_frame(&scenario).unwrap();
+    let mut simulation = Simulation::new(&scenario).unwrap();
+    let mut events = Vec::new();
+    let mut checked = 0;
+    while let Some(truth) = simulation.step(&mut events).unwrap() {
+        for event in events.drain(..) {
+            if let SensorEvent::Gnss {
+                velocity_ecef_mps, ..
+            } = event
+            {
+                let expected = frame
+                    .launch_inertial_velocity_to_ecef(
+                        &truth.position_m,
+                        &truth.velocity_mps,
+                        truth.time_s,
+                    )
+                    .unwrap();
+                let measured = velocity_ecef_mps.unwrap();
+                assert!((measured - expected).norm() < 1e-9, "{measured} {expected}");
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 50);
+}
+
+/// A trajectory below `simulation.min_altitude_m` is refused with the segment and the
+/// time; a manoeuvre at or beyond the IMU's range is refused by name.
+#[test]
+fn unflyable_scenarios_are_refused_by_name() {
+    let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 5.0);
+    scenario.simulation.min_altitude_m = 2_000_000.0;
+    let Err(error) = Simulation::new(&scenario).unwrap().event_stream() else {
+        panic!("a flight below its minimum altitude was accepted");
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains("simulation.min_altitude_m = 2000000")
+            && message.contains("manoeuvre[0] \"initial coast\"")
+            && message.contains("t = 600.002 s"),
+        "{message}"
+    );
+    let default = nav_sim::scenario::DEFAULT_SCENARIO_TOML;
+    for (from, to, named) in [
+        (
+            "body_rate_deg_per_s = [100.0, 0.0, 0.0]",
+            "body_rate_deg_per_s = [450.0, 0.0, 0.0]",
+            "manoeuvre[1].body_rate_deg_per_s (segment \"rotate about body x\") must stay below \
+             the gyro's range imu.max_rate_deg_per_s",
+        ),
+        (
+            "specific_force_mps2 = [50.0, 0.0, 0.0]",
+            "specific_force_mps2 = [250.0, 0.0, 0.0]",
+            "must stay below the accelerometer's range imu.max_specific_force_mps2 = 200",
+        ),
+    ] {
+        let error = Scenario::from_toml_str(&default.replacen(from, to, 1))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(named), "{error}");
+    }
+}
