@@ -68,6 +68,63 @@ pub struct HealthCounters {
     pub gnss_innovations_correlated: u32,
 }
 
+/// Number of counters in [`HealthCounters`].
+pub const HEALTH_COUNTER_COUNT: usize = 28;
+
+impl HealthCounters {
+    /// Every counter with its name (the field's), in declaration order: for reports and
+    /// ground tools.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_fsw::health::HealthCounters;
+    /// let mut health = HealthCounters::default();
+    /// health.imu_missing = 3;
+    /// assert!(health.named().contains(&("imu_missing", 3)));
+    /// ```
+    pub const fn named(&self) -> [(&'static str, u32); HEALTH_COUNTER_COUNT] {
+        [
+            ("imu_non_finite", self.imu_non_finite),
+            ("imu_saturated", self.imu_saturated),
+            ("imu_duplicate", self.imu_duplicate),
+            ("imu_missing", self.imu_missing),
+            ("imu_time_jump", self.imu_time_jump),
+            ("star_non_finite", self.star_non_finite),
+            ("star_not_unit", self.star_not_unit),
+            ("star_sign_flip", self.star_sign_flip),
+            ("gnss_non_finite", self.gnss_non_finite),
+            ("gnss_jump", self.gnss_jump),
+            ("measurement_stale", self.measurement_stale),
+            ("measurement_future", self.measurement_future),
+            ("measurement_overflow", self.measurement_overflow),
+            ("star_gate_rejections", self.star_gate_rejections),
+            ("gnss_gate_rejections", self.gnss_gate_rejections),
+            (
+                "gnss_velocity_gate_rejections",
+                self.gnss_velocity_gate_rejections,
+            ),
+            ("imu_held_frames", self.imu_held_frames),
+            ("covariance_clamps", self.covariance_clamps),
+            ("filter_resets", self.filter_resets),
+            ("frame_overruns", self.frame_overruns),
+            ("star_declared_faulty", self.star_declared_faulty),
+            ("gnss_declared_faulty", self.gnss_declared_faulty),
+            (
+                "ignored_from_faulty_sensor",
+                self.ignored_from_faulty_sensor,
+            ),
+            ("star_outages", self.star_outages),
+            ("gnss_outages", self.gnss_outages),
+            ("filter_errors", self.filter_errors),
+            ("strapdown_failures", self.strapdown_failures),
+            (
+                "gnss_innovations_correlated",
+                self.gnss_innovations_correlated,
+            ),
+        ]
+    }
+}
+
 /// Adds one to a counter without wrapping.
 #[inline]
 pub fn count(counter: &mut u32) {

@@ -30,7 +30,7 @@ enum Command {
         /// Write time-history CSVs and PNG plots into this directory.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Print the table as JSON (one object per parameter and axis).
+        /// Print one JSON object: `{"rows": [...], "met": n, "nees": x, "health": {...}}`.
         #[arg(long)]
         json: bool,
     },
@@ -45,6 +45,9 @@ enum Command {
         /// Write the NEES / RMS plot into this directory.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states"}`.
+        #[arg(long)]
+        json: bool,
     },
     /// Write a scenario's sensor log as CSV (the replay format, docs/replay-format.md).
     Log {
@@ -140,7 +143,10 @@ fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<
     let last = history.last().ok_or("the scenario has no frames")?;
     let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
     if json {
-        println!("{}", table.json()?);
+        println!(
+            "{}",
+            table.report_json(result.calibration_nees(), &result.health)?
+        );
     } else {
         println!(
             "{} frames ({:.0} s of flight) through nav-fsw in {:.2?}",
@@ -170,13 +176,26 @@ fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<
     Ok(())
 }
 
-fn monte_carlo(scenario: Option<&Path>, runs: u64, out: Option<&Path>) -> Result<(), Failure> {
+fn monte_carlo(
+    scenario: Option<&Path>,
+    runs: u64,
+    out: Option<&Path>,
+    json: bool,
+) -> Result<(), Failure> {
     let scenario = load(scenario)?;
     let seeds: Vec<u64> = (0..runs)
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .collect();
-    let outcomes = monte_carlo::fly_campaign(&scenario, &seeds, true)?;
+    let outcomes = monte_carlo::fly_campaign(&scenario, &seeds, !json)?;
     let summary = monte_carlo::summarise::<15, flight::FlightError>(&outcomes)?;
+    if json {
+        println!("{}", summary.json(&monte_carlo::calibration_labels())?);
+        if let Some(directory) = out {
+            std::fs::create_dir_all(directory)?;
+            summary.plot(&directory.join("monte_carlo.png"))?;
+        }
+        return Ok(());
+    }
     println!("{}", summary.table(&monte_carlo::calibration_labels()));
     println!("{}", summary.nees_line());
     for (sensor, test) in [
@@ -313,7 +332,8 @@ fn main() -> ExitCode {
             scenario,
             runs,
             out,
-        } => monte_carlo(scenario.as_deref(), runs, out.as_deref()),
+            json,
+        } => monte_carlo(scenario.as_deref(), runs, out.as_deref(), json),
         Command::Log { scenario, out } => write_log(scenario.as_deref(), &out),
         Command::Replay { log, scenario, out } => replay(&log, scenario.as_deref(), &out),
         Command::Scenario => {

@@ -401,15 +401,45 @@ impl<const N: usize> MonteCarloSummary<N> {
         ]);
         let right = |text: String| Cell::new(text).set_alignment(CellAlignment::Right);
         for ((parameter, axis), state) in labels.iter().zip(&self.states) {
+            // In the calibration table's units (the installation error as an angle).
+            let scale = parameter.state_to_report_scale();
             table.add_row([
                 Cell::new(format!("{} ({})", parameter.name(), parameter.unit())),
                 Cell::new(axis.name()),
-                right(format!("{:.3e}", state.rms_error)),
-                right(format!("{:.3e}", state.mean_sigma)),
+                right(format!("{:.3e}", scale * state.rms_error)),
+                right(format!("{:.3e}", scale * state.mean_sigma)),
                 right(format!("{:.2}", state.rms_error / state.mean_sigma)),
             ]);
         }
         table
+    }
+
+    /// The campaign as one JSON object: `{"runs": n, "nees_mean": x, "nees_interval_95":
+    /// [lo, hi], "states": [{"parameter", "axis", "rms_error", "mean_sigma"}, ...]}`, the
+    /// states in the calibration table's units (the installation error as an angle).
+    ///
+    /// # Errors
+    /// A serialisation error (none for finite numbers).
+    pub fn json(&self, labels: &[(Parameter, Axis); N]) -> Result<String, serde_json::Error> {
+        let states: Vec<serde_json::Value> = labels
+            .iter()
+            .zip(&self.states)
+            .map(|((parameter, axis), state)| {
+                let scale = parameter.state_to_report_scale();
+                serde_json::json!({
+                    "parameter": parameter.name(),
+                    "axis": axis.name(),
+                    "rms_error": scale * state.rms_error,
+                    "mean_sigma": scale * state.mean_sigma,
+                })
+            })
+            .collect();
+        serde_json::to_string_pretty(&serde_json::json!({
+            "runs": self.runs,
+            "nees_mean": self.nees.average,
+            "nees_interval_95": [self.nees.lower_bound, self.nees.upper_bound],
+            "states": states,
+        }))
     }
 
     /// One line on the NEES test.

@@ -93,6 +93,16 @@ impl Parameter {
         self.state_block().index / 3
     }
 
+    /// Factor from the filter's state to the reported value: 2 for the star installation
+    /// error (the state is the quaternion's vector part, about half the angle; reports give
+    /// the angle, as the calibration table does), 1 otherwise.
+    pub fn state_to_report_scale(self) -> f64 {
+        match self {
+            Self::StarInstallation | Self::Attitude => 2.0,
+            _ => 1.0,
+        }
+    }
+
     /// Unit of the block's values.
     pub fn unit(self) -> &'static str {
         match self {
@@ -404,6 +414,37 @@ impl CalibrationResult {
             })
             .collect();
         Ok(serde_json::to_string_pretty(&rows)?)
+    }
+
+    /// The calibration report as one JSON object: `{"rows": [...as json()...], "met": n,
+    /// "nees": x, "health": {counter: value, ...}}` (`met` counts the rows that meet the
+    /// paper's figure; `nees` is `null` without a positive definite covariance).
+    ///
+    /// # Errors
+    /// [`ReportError::Json`] if serialisation fails.
+    pub fn report_json(
+        &self,
+        nees: Option<f64>,
+        health: &nav_fsw::health::HealthCounters,
+    ) -> Result<String, ReportError> {
+        let rows: serde_json::Value = serde_json::from_str(&self.json()?)?;
+        let met = self
+            .rows
+            .iter()
+            .filter(|row| row.met() == Some(true))
+            .count();
+        let health: serde_json::Map<String, serde_json::Value> = health
+            .named()
+            .iter()
+            .map(|(name, value)| ((*name).to_string(), (*value).into()))
+            .collect();
+        let report = serde_json::json!({
+            "rows": rows,
+            "met": met,
+            "nees": nees,
+            "health": health,
+        });
+        Ok(serde_json::to_string_pretty(&report)?)
     }
 }
 

@@ -394,3 +394,62 @@ fn unflyable_scenarios_are_refused_by_name() {
         assert!(error.contains(named), "{error}");
     }
 }
+
+/// `calibrate --json` and `monte-carlo --json`: one object each with exactly the documented
+/// keys, the installation error in the calibration table's unit (an angle, twice the state).
+#[test]
+fn json_reports_have_the_documented_shape() {
+    let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 30.0);
+    scenario.simulation.truth_substeps_per_frame = 1;
+    let result = nav_sim::flight::fly(
+        &scenario,
+        nav_sim::flight::FlightOptions::default(),
+        |_, _| {},
+    )
+    .unwrap();
+    let last = result.samples.last().unwrap().time_history();
+    let table = nav_sim::report::CalibrationResult::from_sample(&last, &Parameter::CALIBRATION);
+    let report: serde_json::Value = serde_json::from_str(
+        &table
+            .report_json(result.calibration_nees(), &result.health)
+            .unwrap(),
+    )
+    .unwrap();
+    let mut keys: Vec<&String> = report.as_object().unwrap().keys().collect();
+    keys.sort();
+    assert_eq!(keys, ["health", "met", "nees", "rows"]);
+    assert_eq!(report["rows"].as_array().unwrap().len(), 15);
+    let met = report["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|row| row["met"] == serde_json::Value::Bool(true))
+        .count();
+    assert_eq!(report["met"].as_u64().unwrap(), met as u64);
+    assert!((report["nees"].as_f64().unwrap() - result.calibration_nees().unwrap()).abs() < 1e-9);
+    let health = report["health"].as_object().unwrap();
+    assert_eq!(health.len(), nav_fsw::health::HEALTH_COUNTER_COUNT);
+    assert_eq!(
+        health["imu_missing"].as_u64().unwrap(),
+        u64::from(result.health.imu_missing)
+    );
+
+    let seeds = [scenario.simulation.seed, scenario.simulation.seed + 1];
+    let outcomes = fly_campaign(&scenario, &seeds, false).unwrap();
+    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let campaign: serde_json::Value =
+        serde_json::from_str(&summary.json(&calibration_labels()).unwrap()).unwrap();
+    let mut keys: Vec<&String> = campaign.as_object().unwrap().keys().collect();
+    keys.sort();
+    assert_eq!(keys, ["nees_interval_95", "nees_mean", "runs", "states"]);
+    assert_eq!(campaign["runs"].as_u64().unwrap(), 2);
+    let interval = campaign["nees_interval_95"].as_array().unwrap();
+    assert!(interval[0].as_f64().unwrap() < 15.0 && interval[1].as_f64().unwrap() > 15.0);
+    let states = campaign["states"].as_array().unwrap();
+    assert_eq!(states.len(), 15);
+    let installation_x = &states[6];
+    assert_eq!(installation_x["parameter"], "star_installation");
+    assert_eq!(installation_x["axis"], "x");
+    let state_rms = summary.states[6].rms_error;
+    assert!((installation_x["rms_error"].as_f64().unwrap() - 2.0 * state_rms).abs() < 1e-18);
+}
