@@ -3,7 +3,8 @@
 #
 # 1. installs what is missing (idempotent): the thumbv7em-none-eabihf target, llvm-tools,
 #    qemu-system-arm (apt-get when root), defmt-print;
-# 2. formatting and clippy (host workspace and firmware workspace);
+# 2. formatting, clippy (host workspace and firmware workspace) and the flight crates' API
+#    docs with warnings as errors;
 # 3. host tests, then the fault-injection campaign with its table;
 # 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
 #    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
@@ -44,6 +45,9 @@ step "clippy (host workspace, all targets)"
 cargo clippy --workspace --all-targets -- -D warnings
 step "clippy (firmware workspace, $TARGET)"
 (cd qemu && cargo clippy --release --bins --features panic-never -- -D warnings)
+
+step "API docs of the flight crates (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p nav-core -p nav-fsw
 
 step "host tests"
 cargo test --workspace
