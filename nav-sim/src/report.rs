@@ -1,6 +1,7 @@
 //! Calibration report: the final table against the paper's accuracy figures (text and JSON),
 //! CSV time histories of every estimated block, and PNG plots of estimate − truth with its
-//! ±3σ envelope (the analogues of the paper's Figs. 1-5) plus the navigation errors.
+//! ±3σ envelope (the analogues of the paper's Figs. 1-5) beside |estimate − truth| and 1σ on a
+//! log scale, plus the navigation errors.
 //!
 //! The report knows nothing about the filter: the caller fills plain structs (truth, estimate,
 //! filter 1σ per block and axis) in the units of nav-core's error state
@@ -631,93 +632,201 @@ pub(crate) fn draw_panels(
     panels: &[Panel],
 ) -> Result<(), ReportError> {
     register_font()?;
-    let plot_error = |error: &dyn std::fmt::Display| ReportError::Plot {
-        path: path.to_path_buf(),
-        message: error.to_string(),
-    };
-    // Each panel spans the x range of its own points.
     let x_ranges = panels
         .iter()
-        .map(|panel| {
-            let (start, end) = panel
-                .curves
-                .iter()
-                .flat_map(|curve| &curve.points)
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), (x, _)| {
-                    (low.min(*x), high.max(*x))
-                });
-            if !(start.is_finite() && end.is_finite()) {
-                return Err(ReportError::Empty);
-            }
-            Ok((start, if end > start { end } else { start + 1.0 }))
-        })
+        .map(panel_x_range)
         .collect::<Result<Vec<_>, _>>()?;
     let root = BitMapBackend::new(path, PLOT_SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(|error| plot_error(&error))?;
+    root.fill(&WHITE)
+        .map_err(|error| plot_error(path, &error))?;
     let root = root
         .titled(title, ("sans-serif", 28))
-        .map_err(|error| plot_error(&error))?;
-    for ((area, panel), (x_start, x_end)) in root
+        .map_err(|error| plot_error(path, &error))?;
+    for ((area, panel), x_range) in root
         .split_evenly((panels.len(), 1))
         .iter()
         .zip(panels)
         .zip(x_ranges)
     {
-        let (low, high) = panel.y_range;
-        let (low, high) = if low.is_finite() && high.is_finite() && high > low {
-            (low, high)
-        } else {
-            (-1.0, 1.0)
-        };
-        let span = high - low;
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.caption, ("sans-serif", 20))
-            .margin(8)
-            .margin_right(30)
-            .x_label_area_size(35)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x_start..x_end, low..high)
-            .map_err(|error| plot_error(&error))?;
-        chart
-            .configure_mesh()
-            .x_desc(x_label)
-            .y_desc(&panel.y_label)
-            // Tick values are computed by stepping, so zero comes out as ±1e-21 or so.
-            .y_label_formatter(&|value| {
-                if value.abs() < 1e-9 * span {
-                    "0".to_string()
-                } else {
-                    format!("{value:.1e}")
-                }
-            })
-            .draw()
-            .map_err(|error| plot_error(&error))?;
-        for curve in &panel.curves {
-            let color = curve.color;
-            let points = curve
-                .points
-                .iter()
-                .filter(|(_, value)| !value.is_nan())
-                .map(|&(x, value)| (x, value.clamp(low, high)));
-            let series = chart
-                .draw_series(LineSeries::new(points, color.stroke_width(2)))
-                .map_err(|error| plot_error(&error))?;
-            // An unlabelled curve has no legend entry.
-            if !curve.label.is_empty() {
-                series
-                    .label(&curve.label)
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
-            }
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|error| plot_error(&error))?;
+        draw_linear_panel(path, area, panel, x_range, x_label)?;
     }
-    root.present().map_err(|error| plot_error(&error))?;
+    root.present().map_err(|error| plot_error(path, &error))?;
+    Ok(())
+}
+
+/// A plotting failure on the file `path`.
+fn plot_error(path: &Path, error: &dyn std::fmt::Display) -> ReportError {
+    ReportError::Plot {
+        path: path.to_path_buf(),
+        message: error.to_string(),
+    }
+}
+
+/// The x range spanned by a panel's points (each panel spans its own).
+fn panel_x_range(panel: &Panel) -> Result<(f64, f64), ReportError> {
+    let (start, end) = panel
+        .curves
+        .iter()
+        .flat_map(|curve| &curve.points)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), (x, _)| {
+            (low.min(*x), high.max(*x))
+        });
+    if !(start.is_finite() && end.is_finite()) {
+        return Err(ReportError::Empty);
+    }
+    Ok((start, if end > start { end } else { start + 1.0 }))
+}
+
+/// Adds a curve's legend entry (an unlabelled curve has none).
+fn label_series<DB: DrawingBackend>(
+    series: &mut plotters::chart::SeriesAnno<'_, DB>,
+    curve: &Curve,
+) {
+    if !curve.label.is_empty() {
+        let color = curve.color;
+        series
+            .label(&curve.label)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color));
+    }
+}
+
+/// Draws one panel with a linear y axis into `area`; points beyond the y range are clamped to
+/// its edge.
+fn draw_linear_panel(
+    path: &Path,
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    panel: &Panel,
+    (x_start, x_end): (f64, f64),
+    x_label: &str,
+) -> Result<(), ReportError> {
+    let (low, high) = panel.y_range;
+    let (low, high) = if low.is_finite() && high.is_finite() && high > low {
+        (low, high)
+    } else {
+        (-1.0, 1.0)
+    };
+    let span = high - low;
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.caption, ("sans-serif", 20))
+        .margin(8)
+        .margin_right(30)
+        .x_label_area_size(35)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x_start..x_end, low..high)
+        .map_err(|error| plot_error(path, &error))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(&panel.y_label)
+        // Tick values are computed by stepping, so zero comes out as ±1e-21 or so.
+        .y_label_formatter(&|value| {
+            if value.abs() < 1e-9 * span {
+                "0".to_string()
+            } else {
+                format!("{value:.1e}")
+            }
+        })
+        .draw()
+        .map_err(|error| plot_error(path, &error))?;
+    for curve in &panel.curves {
+        let points = curve
+            .points
+            .iter()
+            .filter(|(_, value)| !value.is_nan())
+            .map(|&(x, value)| (x, value.clamp(low, high)));
+        let series = chart
+            .draw_series(LineSeries::new(points, curve.color.stroke_width(2)))
+            .map_err(|error| plot_error(path, &error))?;
+        label_series(series, curve);
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|error| plot_error(path, &error))?;
+    Ok(())
+}
+
+/// Draws one panel with a logarithmic y axis into `area`. `panel.y_range` must be positive;
+/// values below its bottom (zero crossings of an |error|) are drawn at the bottom edge, values
+/// above its top at the top edge.
+fn draw_log_panel(
+    path: &Path,
+    area: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    panel: &Panel,
+    (x_start, x_end): (f64, f64),
+    x_label: &str,
+) -> Result<(), ReportError> {
+    let (low, high) = panel.y_range;
+    let (low, high) = if low.is_finite() && high.is_finite() && low > 0.0 && high > low {
+        (low, high)
+    } else {
+        (1e-3, 1.0)
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.caption, ("sans-serif", 20))
+        .margin(8)
+        .margin_right(30)
+        .x_label_area_size(35)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x_start..x_end, (low..high).log_scale())
+        .map_err(|error| plot_error(path, &error))?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(&panel.y_label)
+        .y_label_formatter(&|value| format!("{value:.0e}"))
+        .draw()
+        .map_err(|error| plot_error(path, &error))?;
+    for curve in &panel.curves {
+        let points = curve
+            .points
+            .iter()
+            .filter(|(_, value)| !value.is_nan())
+            .map(|&(x, value)| (x, value.clamp(low, high)));
+        let series = chart
+            .draw_series(LineSeries::new(points, curve.color.stroke_width(2)))
+            .map_err(|error| plot_error(path, &error))?;
+        label_series(series, curve);
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(|error| plot_error(path, &error))?;
+    Ok(())
+}
+
+/// Size of a block plot (pixels): two columns of panels.
+const BLOCK_PLOT_SIZE: (u32, u32) = (1800, 1000);
+
+/// Draws rows of panel pairs into a PNG: the left panel of each row with a linear y axis, the
+/// right one with a logarithmic y axis; all with the x axis `x_label`.
+fn draw_linear_and_log_panels(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    rows: &[(Panel, Panel)],
+) -> Result<(), ReportError> {
+    register_font()?;
+    let root = BitMapBackend::new(path, BLOCK_PLOT_SIZE).into_drawing_area();
+    root.fill(&WHITE)
+        .map_err(|error| plot_error(path, &error))?;
+    let root = root
+        .titled(title, ("sans-serif", 28))
+        .map_err(|error| plot_error(path, &error))?;
+    let areas = root.split_evenly((rows.len(), 2));
+    for ((linear, log), areas) in rows.iter().zip(areas.chunks(2)) {
+        if let [linear_area, log_area] = areas {
+            draw_linear_panel(path, linear_area, linear, panel_x_range(linear)?, x_label)?;
+            draw_log_panel(path, log_area, log, panel_x_range(log)?, x_label)?;
+        }
+    }
+    root.present().map_err(|error| plot_error(path, &error))?;
     Ok(())
 }
 
@@ -728,10 +837,20 @@ fn largest_magnitude(values: impl Iterator<Item = f64>) -> f64 {
         .fold(0.0, |largest, value| largest.max(value.abs()))
 }
 
-/// The plot of one block: a panel per axis with `estimate − truth` and `±3σ`.
-///
-/// The y range is ±1.2 × the larger of the largest |error| over the run and the final 3σ, so
-/// the converged end is readable; the (much larger) early 3σ is clipped at the panel edge.
+/// The first sample of the converged window of a run of `len` samples: its second half, long
+/// after the calibration manoeuvres of the paper's flight have made every state observable.
+fn converged_window_start(len: usize) -> usize {
+    len / 2
+}
+
+/// The plot of one block, a row per axis with two panels:
+/// - left, the paper's view (its Figs. 1-5): `estimate − truth` and `±3σ` over the whole run,
+///   on a linear scale of ±1.2 × the largest |error| and 3σ of the run's second half (the
+///   converged window), so the band the estimate settles in is readable; the larger transient
+///   before it is clipped at the panel edge;
+/// - right, the converged accuracy: `|estimate − truth|`, `1σ` and the paper's accuracy figure
+///   (where it has one) on a logarithmic scale, so the error after convergence, which is orders
+///   of magnitude below the prior, stays readable.
 ///
 /// # Errors
 /// [`ReportError::Empty`], [`ReportError::Plot`] or [`ReportError::Font`].
@@ -740,8 +859,11 @@ pub fn plot_block(
     history: &[TimeHistorySample],
     parameter: Parameter,
 ) -> Result<(), ReportError> {
-    let last = history.last().ok_or(ReportError::Empty)?.block(parameter);
-    let panels: Vec<Panel> = Axis::ALL
+    if history.is_empty() {
+        return Err(ReportError::Empty);
+    }
+    let accuracy = parameter.paper_accuracy();
+    let rows: Vec<(Panel, Panel)> = Axis::ALL
         .iter()
         .map(|&axis| {
             let axis_index = axis.index();
@@ -752,39 +874,96 @@ pub fn plot_block(
                     .collect()
             };
             let error = series(&|block| block.error()[axis_index]);
+            let sigma = series(&|block| block.sigma[axis_index]);
+            // The y scale of the converged window: the largest |error| and 3σ of its samples.
+            let window = converged_window_start(history.len());
             let limit = 1.2
-                * largest_magnitude(error.iter().map(|(_, value)| *value))
-                    .max(3.0 * largest_magnitude(std::iter::once(last.sigma[axis_index])));
-            Panel {
-                caption: format!("{} {}", parameter.name(), axis.name()),
+                * largest_magnitude(error[window..].iter().map(|(_, value)| *value))
+                    .max(3.0 * largest_magnitude(sigma[window..].iter().map(|(_, value)| *value)));
+            let caption = format!("{} {}", parameter.name(), axis.name());
+            let linear = Panel {
+                caption: format!("{caption}: y scaled to the run's second half"),
                 y_label: format!("estimate − truth ({})", parameter.unit()),
                 y_range: symmetric(limit),
                 curves: vec![
                     Curve {
                         label: "estimate − truth".to_string(),
                         color: BLUE,
-                        points: error,
+                        points: error.clone(),
                     },
                     Curve {
                         label: "+3σ".to_string(),
                         color: RED,
-                        points: series(&|block| 3.0 * block.sigma[axis_index]),
+                        points: sigma.iter().map(|&(t, value)| (t, 3.0 * value)).collect(),
                     },
                     Curve {
                         label: "−3σ".to_string(),
                         color: RED,
-                        points: series(&|block| -3.0 * block.sigma[axis_index]),
+                        points: sigma.iter().map(|&(t, value)| (t, -3.0 * value)).collect(),
                     },
                 ],
+            };
+            let magnitude: Vec<(f64, f64)> =
+                error.iter().map(|&(t, value)| (t, value.abs())).collect();
+            let mut log_curves = vec![
+                Curve {
+                    label: "|estimate − truth|".to_string(),
+                    color: BLUE,
+                    points: magnitude,
+                },
+                Curve {
+                    label: "1σ".to_string(),
+                    color: RED,
+                    points: sigma.clone(),
+                },
+            ];
+            if let Some(accuracy) = accuracy {
+                log_curves.push(Curve {
+                    label: "paper's accuracy".to_string(),
+                    color: BLACK,
+                    points: sigma.iter().map(|&(t, _)| (t, accuracy)).collect(),
+                });
             }
+            let log = Panel {
+                caption: format!("{caption}: |error| and 1σ"),
+                y_label: format!("|estimate − truth| ({})", parameter.unit()),
+                y_range: log_range(&log_curves),
+                curves: log_curves,
+            };
+            (linear, log)
         })
         .collect();
-    draw_panels(
+    draw_linear_and_log_panels(
         path,
-        &format!("{}: estimate − truth and ±3σ", parameter.name()),
+        &format!(
+            "{}: estimate − truth and ±3σ (left), |estimate − truth| and 1σ on a log scale (right)",
+            parameter.name()
+        ),
         "time (s)",
-        &panels,
+        &rows,
     )
+}
+
+/// How far below the smallest 1σ or accuracy value a log panel reaches (a decade), so an
+/// |error| well inside its 1σ stays visible.
+const LOG_FLOOR_FACTOR: f64 = 10.0;
+
+/// A logarithmic y range for `curves` (the |error| first, then 1σ and the accuracy): from
+/// [`LOG_FLOOR_FACTOR`] below the smallest positive value of the curves after the first (the
+/// |error|'s zero crossings have no floor) to twice the largest value of all.
+fn log_range(curves: &[Curve]) -> (f64, f64) {
+    let values = |curves: &[Curve]| -> Vec<f64> {
+        curves
+            .iter()
+            .flat_map(|curve| curve.points.iter().map(|(_, value)| *value))
+            .filter(|value| value.is_finite() && *value > 0.0)
+            .collect()
+    };
+    let high = 2.0 * values(curves).into_iter().fold(0.0, f64::max);
+    let floor = values(curves.get(1..).unwrap_or_default())
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    (floor / LOG_FLOOR_FACTOR, high)
 }
 
 /// The navigation-error plot: a panel per navigation block (attitude, position, velocity) with
@@ -1093,6 +1272,26 @@ mod tests {
     }
 
     #[test]
+    fn log_range_spans_a_decade_below_the_sigma_to_twice_the_largest_value() {
+        let curve = |points: Vec<(f64, f64)>| Curve {
+            label: String::new(),
+            color: BLUE,
+            points,
+        };
+        let curves = [
+            // |error|: a zero crossing (no floor) and the largest value.
+            curve(vec![(0.0, 4e-3), (1.0, 0.0), (2.0, 1e-12)]),
+            // 1σ falling to 2e-6, and an accuracy line above it.
+            curve(vec![(0.0, 1e-3), (1.0, 1e-5), (2.0, 2e-6)]),
+            curve(vec![(0.0, 5e-6), (2.0, 5e-6)]),
+        ];
+        let (low, high) = log_range(&curves);
+        assert!((low - 2e-7).abs() < 1e-20, "{low}");
+        assert!((high - 8e-3).abs() < 1e-15, "{high}");
+        assert_eq!(converged_window_start(401), 200);
+    }
+
+    #[test]
     fn plots_are_written() {
         let directory = tempfile::tempdir().unwrap();
         let files = write_plots(directory.path(), &synthetic_history()).unwrap();
@@ -1108,6 +1307,14 @@ mod tests {
                 bytes.len()
             );
         }
+        // Block plots are two columns wide (linear and log panels), the navigation plot one.
+        let size = |file: &Path| -> (u32, u32) {
+            let bytes = std::fs::read(file).unwrap();
+            let word = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap());
+            (word(16), word(20))
+        };
+        assert_eq!(size(&files[0]), BLOCK_PLOT_SIZE);
+        assert_eq!(size(files.last().unwrap()), PLOT_SIZE);
         assert!(matches!(
             plot_block(
                 &directory.path().join("empty.png"),
