@@ -1,5 +1,6 @@
 //! Every relative link in README.md, CHANGELOG.md and docs/*.md resolves to a file inside the
-//! repository (a link to `../shared` or a moved page would break in a clone).
+//! repository (a link to `../shared` or a moved page would break in a clone), and README.md and
+//! docs/*.md describe the present: no sessions, rounds or issue numbers.
 
 use std::path::{Path, PathBuf};
 
@@ -51,6 +52,79 @@ fn every_relative_link_resolves_inside_the_repository() {
     }
     // The README alone links a dozen pages: a parser that finds nothing is a broken test.
     assert!(checked >= 12, "only {checked} links found");
+}
+
+/// README.md and docs/*.md (history belongs in CHANGELOG.md and the commit messages).
+fn current_pages(root: &Path) -> Vec<PathBuf> {
+    let mut pages = vec![root.join("README.md")];
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|extension| extension == "md") {
+            pages.push(path);
+        }
+    }
+    pages
+}
+
+/// The first phrase of `text` that narrates the project's history rather than its state:
+/// sessions, rounds, or an issue by number.
+fn history_phrase(text: &str) -> Option<String> {
+    let lower = text.to_lowercase();
+    for phrase in [
+        "session",
+        "this round",
+        "last round",
+        "previous round",
+        "next round",
+    ] {
+        if lower.contains(phrase) {
+            return Some(phrase.to_string());
+        }
+    }
+    lower.match_indices("issue").find_map(|(at, _)| {
+        let rest = lower[at + "issue".len()..].trim_start_matches([' ', '#']);
+        rest.starts_with(|c: char| c.is_ascii_digit())
+            .then(|| lower[at..].chars().take(12).collect())
+    })
+}
+
+#[test]
+fn the_readme_and_docs_describe_the_present() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .unwrap();
+    let pages = current_pages(&root);
+    assert!(pages.len() >= 8, "only {} pages found", pages.len());
+    for page in pages {
+        let text = std::fs::read_to_string(&page).unwrap();
+        if let Some(phrase) = history_phrase(&text) {
+            panic!(
+                "{}: `{phrase}` is history: it belongs in CHANGELOG.md",
+                page.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn history_phrases_are_found() {
+    assert_eq!(
+        history_phrase("As in Issue 21, ...").as_deref(),
+        Some("issue 21, ..")
+    );
+    assert_eq!(history_phrase("see issue #7").as_deref(), Some("issue #7"));
+    assert_eq!(
+        history_phrase("measured in the previous session").as_deref(),
+        Some("session")
+    );
+    assert_eq!(history_phrase("an issue of the receiver, 3 times"), None);
+    assert_eq!(history_phrase("rounds correctly to nearest"), None);
+    // Multi-byte characters after the number are cut on a character boundary.
+    assert_eq!(
+        history_phrase("issue 2σσσσσσσσ").as_deref(),
+        Some("issue 2σσσσσ")
+    );
 }
 
 #[test]
