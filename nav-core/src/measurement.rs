@@ -1,5 +1,5 @@
 //! Measurement residuals and their Jacobians (paper Section 1.3.2, re-derived for the
-//! body-frame attitude error; see `shared/notes/model.md` on why the paper's `−C` block
+//! body-frame attitude error; see `docs/model.md` on why the paper's `−C` block
 //! becomes a constant here). Each sensor gives a 3-row block so it can update alone.
 //!
 //! ## Star sensor
@@ -25,7 +25,7 @@
 //! `q̂_ib`, and the installation block is the constant `I` (attitude block the constant
 //! `C_sb`). Attitude and installation error are then separated by the dynamics, not by `H`:
 //! rotation makes `−[ω̂×]ϑ` act on `ϑ` only, acceleration couples `ϑ` into `δv` via
-//! `−2Ĉ[f̂×]` (see `shared/notes/model.md`). The tests prove `H` against the nonlinear
+//! `−2Ĉ[f̂×]` (see `docs/model.md`). The tests prove `H` against the nonlinear
 //! residual, which the paper's `−C` would fail.
 //!
 //! ## GNSS

@@ -112,7 +112,7 @@ pub struct CalibrationTarget {
     pub unit: &'static str,
 }
 
-/// The paper's reported accuracies after convergence (Section 3, `shared/notes/model.md`).
+/// The paper's reported accuracies after convergence (Section 3, `docs/model.md`).
 pub const CALIBRATION_TARGETS: [CalibrationTarget; 5] = [
     CalibrationTarget {
         block: GYRO_BIAS,

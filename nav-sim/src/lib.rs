@@ -1,7 +1,7 @@
 //! # nav-sim (library)
 //!
 //! Host-side truth and sensor simulation for the INS/CNS/GNSS navigation flight software
-//! (Zong et al., J. Harbin Inst. Tech. 49(4), 2017; `shared/notes/model.md`).
+//! (Zong et al., J. Harbin Inst. Tech. 49(4), 2017; `docs/model.md`).
 //!
 //! * [`scenario`]: scenarios as TOML, the built-in default being the paper's Section 3.
 //! * [`truth`]: the truth trajectory in the launch-inertial frame (orbit with point-mass + J2

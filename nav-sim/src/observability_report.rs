@@ -35,7 +35,7 @@ use serde::Serialize;
 use crate::scenario::{Scenario, ScenarioError};
 
 /// The paper's Table 1, "singular values in different motion states", transcribed from the
-/// PDF text extraction (`shared/paper/*.txt`, Section 2.3): one row per error state in the
+/// PDF text extraction (Section 2.3 of the paper): one row per error state in the
 /// order of eq. (15) (= nav-core's `BLOCKS`), columns I, II, III.
 ///
 /// The extraction is garbled in places:
