@@ -342,6 +342,60 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// Adds the symmetric part of `covariance` (a 3×3 covariance in the block's units) to the
+    /// diagonal block of `block`: process noise with a direction, such as the attitude
+    /// kinematics' second-order term (nav-core [`crate::unmodelled`]).
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite entry or a negative diagonal entry;
+    /// nothing changes then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nalgebra::Matrix3;
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::state::ATTITUDE;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
+    /// let along_x_and_y = Matrix3::new(1e-8, 1e-8, 0.0, 1e-8, 1e-8, 0.0, 0.0, 0.0, 0.0);
+    /// filter.add_block_covariance(ATTITUDE, &along_x_and_y).unwrap();
+    /// assert!((filter.covariance()[(0, 1)] - 1e-8).abs() < 1e-22);
+    /// assert!(filter.add_block_covariance(ATTITUDE, &(-along_x_and_y)).is_err());
+    /// ```
+    pub fn add_block_covariance(
+        &mut self,
+        block: StateBlock,
+        covariance: &Matrix3<f64>,
+    ) -> Result<(), NavError> {
+        let finite = covariance.iter().all(|value| value.is_finite());
+        let diagonal_positive = covariance.diagonal().iter().all(|value| *value >= 0.0);
+        if !(finite && diagonal_positive) {
+            return Err(NavError::NonFiniteInput);
+        }
+        let symmetric = (covariance + covariance.transpose()) * 0.5;
+        for (row, values) in symmetric.row_iter().enumerate() {
+            for (column, value) in values.iter().enumerate() {
+                if let Some(entry) = self
+                    .covariance
+                    .data
+                    .0
+                    .get_mut(block.index.saturating_add(column))
+                    .and_then(|entries| entries.get_mut(block.index.saturating_add(row)))
+                {
+                    *entry += value;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Replaces `P` (for covariance protection by the caller).
     ///
     /// # Errors

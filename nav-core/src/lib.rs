@@ -62,5 +62,6 @@ pub mod selftest;
 pub mod state;
 pub mod strapdown;
 pub mod structured;
+pub mod unmodelled;
 
 pub use error::NavError;

@@ -95,6 +95,31 @@ pub struct CovarianceConfig {
     pub sigma_ceiling_factor: f64,
     /// What a held IMU sample may be wrong by ([`HeldSampleUncertainty`]).
     pub held_sample: HeldSampleUncertainty,
+    /// Whether the attitude covariance grows for the kinematics' second-order term while the
+    /// star sensor is unheard ([`SecondOrderAttitude`]).
+    pub second_order_attitude: SecondOrderAttitude,
+}
+
+/// The attitude-error kinematics' second-order term `½ ϑ × δω`, which the paper's linear
+/// model (eq. 7) drops (nav-core `unmodelled`). It matters when the star sensor is blind
+/// through a fast rotation: the attitude error then grows with the gyro scale-factor error
+/// times the angle turned, and the term biases the scale factors the filter infers when the
+/// sensor re-acquires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SecondOrderAttitude {
+    /// The paper's linear model: no covariance for the term.
+    Neglected,
+    /// The attitude variance grows, from the last accepted star-sensor update on, by the
+    /// term's variance bound accumulated coherently (the default).
+    Bounded,
+}
+
+impl SecondOrderAttitude {
+    /// Whether the covariance grows for the term.
+    pub const fn is_bounded(self) -> bool {
+        matches!(self, SecondOrderAttitude::Bounded)
+    }
 }
 
 /// 1σ per axis of the difference between the true motion and a held IMU increment (the last
@@ -208,6 +233,7 @@ impl FswConfig {
                     rate_rad_s: 0.1,
                     specific_force_mps2: 1.0,
                 },
+                second_order_attitude: SecondOrderAttitude::Bounded,
             },
             calibration: CalibrationManagerConfig::default(),
         }

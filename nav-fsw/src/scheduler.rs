@@ -52,6 +52,9 @@ use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
 use nav_core::structured::{refer_to_later_time_in_place, StructuredModel};
+use nav_core::unmodelled::{
+    bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
+};
 use nav_core::NavError;
 
 use crate::calibration_manager::{
@@ -306,8 +309,16 @@ pub struct NavigationComputer {
     /// needs no referral, while a position referred by one frame gains only a velocity block
     /// in `H` (a velocity referred gains five).
     pending_gnss_position: Option<(f64, Vector3<f64>)>,
-    /// Consecutive frames whose IMU sample was held.
-    held_frames: u32,
+    /// Attitude (half-angle) and velocity 1σ accumulated over the current run of held IMU
+    /// samples.
+    held_attitude: CoherentGrowth,
+    held_velocity: CoherentGrowth,
+    /// Attitude 1σ (half-angle) of the second-order kinematics term accumulated since the
+    /// last accepted star-sensor update.
+    second_order_attitude: CoherentGrowth,
+    /// Body rate of the previous growth step: the term grows coherently only while the gyro
+    /// rate error stays the same random variable.
+    second_order_rate_rad_s: Vector3<f64>,
     last_star: Option<Quaternion<f64>>,
     star: AidingSensor,
     gnss: AidingSensor,
@@ -391,7 +402,10 @@ impl NavigationComputer {
             star_queue: MeasurementBuffer::new(),
             gnss_queue: MeasurementBuffer::new(),
             pending_gnss_position: None,
-            held_frames: 0,
+            held_attitude: CoherentGrowth::default(),
+            held_velocity: CoherentGrowth::default(),
+            second_order_attitude: CoherentGrowth::default(),
+            second_order_rate_rad_s: Vector3::zeros(),
             last_star: None,
             star: AidingSensor::default(),
             gnss: AidingSensor::default(),
@@ -582,23 +596,27 @@ impl NavigationComputer {
     }
 
     /// The covariance grows for what a held IMU sample may be wrong by
-    /// ([`HeldSampleUncertainty`]): the `k`-th consecutive held frame adds `(2k − 1)` times
-    /// one frame's variance, so the 1σ grows as `k` (the held error is the same all gap
-    /// long). Attitude states are half-angles, so their σ is half the angle's.
+    /// ([`HeldSampleUncertainty`]), coherently (nav-core `unmodelled`): the held error is the
+    /// same all gap long, so the 1σ grows as the number of held frames. Attitude states are
+    /// half-angles, so their σ is half the angle's.
     fn inflate_for_held_sample(&mut self, held: Option<HeldSampleUncertainty>) {
         let Some(sigma) = held else {
-            self.held_frames = 0;
+            self.held_attitude.restart();
+            self.held_velocity.restart();
             return;
         };
         count(&mut self.health.imu_held_frames);
-        self.held_frames = self.held_frames.saturating_add(1);
-        let growth = 2.0 * f64::from(self.held_frames) - 1.0;
         let period_s = self.config.imu.period_s;
-        let half_angle = 0.5 * sigma.rate_rad_s * period_s;
-        let velocity = sigma.specific_force_mps2 * period_s;
         let added = [
-            (ATTITUDE, growth * half_angle * half_angle),
-            (VELOCITY, growth * velocity * velocity),
+            (
+                ATTITUDE,
+                self.held_attitude.grow(0.5 * sigma.rate_rad_s * period_s),
+            ),
+            (
+                VELOCITY,
+                self.held_velocity
+                    .grow(sigma.specific_force_mps2 * period_s),
+            ),
         ];
         for (block, variance) in added {
             if self.filter.add_block_variance(block, variance).is_err() {
@@ -736,8 +754,48 @@ impl NavigationComputer {
             ),
         };
         match result {
-            Ok(()) => self.protect_covariance(),
+            Ok(()) => {
+                self.inflate_for_second_order_attitude(&point.measured_rate_rad_s, interval_s);
+                self.protect_covariance();
+            }
             Err(_) => self.recover_filter(),
+        }
+    }
+
+    /// The attitude covariance grows for the kinematics' second-order term `½ ϑ × δω`
+    /// (`covariance.second_order_attitude`, nav-core `unmodelled`): in the direction of the
+    /// term's covariance, by its 1σ accumulated since the last accepted star-sensor update,
+    /// coherently while the gyro rate error stays correlated with the previous step's.
+    fn inflate_for_second_order_attitude(
+        &mut self,
+        measured_rate_rad_s: &Vector3<f64>,
+        interval_s: f64,
+    ) {
+        if !self.config.covariance.second_order_attitude.is_bounded() {
+            return;
+        }
+        let rate_covariance =
+            bilinear_attitude_rate_covariance(self.filter.covariance(), measured_rate_rad_s);
+        let rate_variance = rate_covariance.trace();
+        if !(rate_variance.is_finite() && rate_variance > 0.0) {
+            return;
+        }
+        let correlation = rate_error_correlation(
+            self.filter.covariance(),
+            measured_rate_rad_s,
+            &self.second_order_rate_rad_s,
+        );
+        self.second_order_rate_rad_s = *measured_rate_rad_s;
+        let added = self
+            .second_order_attitude
+            .grow_correlated(libm::sqrt(rate_variance) * interval_s, correlation);
+        let direction = rate_covariance / rate_variance;
+        if self
+            .filter
+            .add_block_covariance(ATTITUDE, &(direction * added))
+            .is_err()
+        {
+            count(&mut self.health.filter_errors);
         }
     }
 
@@ -750,6 +808,7 @@ impl NavigationComputer {
         if let Ok(filter) = ErrorStateFilter::new(&self.config.filter) {
             self.filter = filter;
         }
+        self.second_order_attitude.restart();
         self.manager.restart();
     }
 
@@ -1088,6 +1147,9 @@ impl NavigationComputer {
         }
         if report.accepted {
             self.fault_state(aid).consecutive_rejections = 0;
+            if aid.is_star() {
+                self.second_order_attitude.restart();
+            }
             if self.filter.mode() == FilterMode::ClosedLoop {
                 self.feed_back();
             }
