@@ -319,6 +319,8 @@ pub struct NavigationComputer {
     /// Body rate of the previous growth step: the term grows coherently only while the gyro
     /// rate error stays the same random variable.
     second_order_rate_rad_s: Vector3<f64>,
+    /// Propagation time (s) the second-order growth has not yet covered.
+    second_order_pending_s: f64,
     last_star: Option<Quaternion<f64>>,
     star: AidingSensor,
     gnss: AidingSensor,
@@ -406,6 +408,7 @@ impl NavigationComputer {
             held_velocity: CoherentGrowth::default(),
             second_order_attitude: CoherentGrowth::default(),
             second_order_rate_rad_s: Vector3::zeros(),
+            second_order_pending_s: 0.0,
             last_star: None,
             star: AidingSensor::default(),
             gnss: AidingSensor::default(),
@@ -480,6 +483,9 @@ impl NavigationComputer {
         }
         self.poll_measurements(star, gnss);
         let fusion = self.fuse_one_due_measurement();
+        if fusion == FrameFusion::None {
+            self.inflate_for_second_order_attitude();
+        }
         self.evaluate_calibration();
         self.telemetry(fusion)
     }
@@ -755,7 +761,7 @@ impl NavigationComputer {
         };
         match result {
             Ok(()) => {
-                self.inflate_for_second_order_attitude(&point.measured_rate_rad_s, interval_s);
+                self.second_order_pending_s += interval_s;
                 self.protect_covariance();
             }
             Err(_) => self.recover_filter(),
@@ -766,14 +772,19 @@ impl NavigationComputer {
     /// (`covariance.second_order_attitude`, nav-core `unmodelled`): in the direction of the
     /// term's covariance, by its 1σ accumulated since the last accepted star-sensor update,
     /// coherently while the gyro rate error stays correlated with the previous step's.
-    fn inflate_for_second_order_attitude(
-        &mut self,
-        measured_rate_rad_s: &Vector3<f64>,
-        interval_s: f64,
-    ) {
-        if !self.config.covariance.second_order_attitude.is_bounded() {
+    /// It runs in frames that fuse no measurement, which have time to spare (aiding comes at
+    /// 10 Hz, the IMU at 500 Hz), over the propagation time since it last ran, at the last
+    /// propagation's rate.
+    fn inflate_for_second_order_attitude(&mut self) {
+        let (Some(point), true) = (
+            self.last_point,
+            self.config.covariance.second_order_attitude.is_bounded(),
+        ) else {
             return;
-        }
+        };
+        let (measured_rate_rad_s, interval_s) =
+            (&point.measured_rate_rad_s, self.second_order_pending_s);
+        self.second_order_pending_s = 0.0;
         let rate_covariance =
             bilinear_attitude_rate_covariance(self.filter.covariance(), measured_rate_rad_s);
         let rate_variance = rate_covariance.trace();
@@ -809,6 +820,7 @@ impl NavigationComputer {
             self.filter = filter;
         }
         self.second_order_attitude.restart();
+        self.second_order_pending_s = 0.0;
         self.manager.restart();
     }
 
@@ -1149,6 +1161,7 @@ impl NavigationComputer {
             self.fault_state(aid).consecutive_rejections = 0;
             if aid.is_star() {
                 self.second_order_attitude.restart();
+                self.second_order_pending_s = 0.0;
             }
             if self.filter.mode() == FilterMode::ClosedLoop {
                 self.feed_back();
