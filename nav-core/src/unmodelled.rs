@@ -107,9 +107,13 @@ impl CoherentGrowth {
 /// closed loop resets the error state's mean to zero), write `A = P_ϑ`,
 /// `U = E[u uᵀ] = P_bb + P_bλ D + D P_λb + D P_λλ D`, `C = E[ϑ uᵀ] = P_ϑb + P_ϑλ D`,
 /// `D = diag(ω_m)`. Isserlis' theorem on `(ϑ × u)_i = ε_ijk ϑ_j u_k` and the expansion of
-/// `ε_ijk ε_lmn` in Kronecker deltas give
-/// `E[(ϑ × u)(ϑ × u)ᵀ] = a aᵀ + (tr A tr U − tr AU) I − tr U A − tr A U + AU + UA
-///  + (‖C‖² − (tr C)²) I − C Cᵀ − Cᵀ C + tr C (C + Cᵀ)`, `a_i = ε_ijk C_jk`.
+/// `ε_ijk ε_lmn` in Kronecker deltas give, with `a_i = ε_ijk C_jk`,
+///
+/// ```text
+/// E[(ϑ × u)(ϑ × u)ᵀ] = a aᵀ + (tr A tr U − tr AU) I − tr U A − tr A U + AU + UA
+///                    + (‖C‖² − (tr C)²) I − C Cᵀ − Cᵀ C + tr C (C + Cᵀ).
+/// ```
+///
 /// Its trace is `E[|ϑ|²|u|²] − E[(ϑ·u)²]`: the parts of `ϑ` and `u` along the same axis (a
 /// rotation about one axis with that axis' scale-factor error) cancel, as in the cross
 /// product.
@@ -307,8 +311,8 @@ mod tests {
     #[test]
     fn a_non_finite_growth_step_adds_nothing() {
         let mut growth = CoherentGrowth::default();
-        assert_eq!(growth.grow(f64::INFINITY), 0.0);
-        assert_eq!(growth.grow(-1.0), 0.0);
-        assert_eq!(growth.accumulated_sigma(), 0.0);
+        assert_eq!(growth.grow(f64::INFINITY).to_bits(), 0);
+        assert_eq!(growth.grow(-1.0).to_bits(), 0);
+        assert_eq!(growth.accumulated_sigma().to_bits(), 0);
     }
 }
