@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Target benchmark (issue 6): builds the replay firmware and runs `nav-sim target-bench`,
+# Target benchmark: builds the replay firmware and runs `nav-sim target-bench`,
 # which replays the first SECONDS (default 60) of the scenario (default: the built-in one) on
 # QEMU and on the host, checks bit-for-bit agreement and prints the per-frame cost by frame
 # type, the stack high-water mark and the image's flash and static RAM.

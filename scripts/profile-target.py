@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Instruction profile of one frame of each kind on the Cortex-M7 target (issue 8).
+"""Instruction profile of one frame of each kind on the Cortex-M7 target.
 
 Reads QEMU's `-d exec,nochain,in_asm` log of the `profile` firmware (scripts/profile-target.sh),
 takes the executions between `profile_window_begin` and `profile_window_end`, counts the

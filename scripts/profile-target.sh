@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Instruction profile of one IMU-only, one star and one late-GNSS frame on the Cortex-M7
-# target (issue 8): builds the `profile` firmware, runs it on QEMU with the execution trace
+# target: builds the `profile` firmware, runs it on QEMU with the execution trace
 # on (-d exec,nochain,in_asm) and attributes every instruction of the bracketed frames to
 # its function and source line (scripts/profile-target.py; needs python3 and binutils'
 # addr2line). Usage: scripts/profile-target.sh [TOP-N] > profile.txt

@@ -83,8 +83,8 @@ pub const BLOCKS: [StateBlock; 8] = [
     ACCEL_SCALE_FACTOR,
 ];
 
-/// The 15 calibration states (biases, installation error, scale factors): states 10-24 (the
-/// issue tracker says 18; five 3-state blocks are 15).
+/// The 15 calibration states (biases, installation error, scale factors): states 10-24, five
+/// 3-state blocks.
 pub const CALIBRATION_BLOCKS: [StateBlock; 5] = [
     GYRO_BIAS,
     ACCEL_BIAS,

@@ -57,7 +57,7 @@ pub enum EstimationPolicy {
     /// installation error. The other calibration blocks are frozen in that phase.
     /// `Unknown` estimates all.
     PaperSchedule,
-    /// Observability-driven (issue 9): a calibration block is frozen while the current motion
+    /// Observability-driven: a calibration block is frozen while the current motion
     /// (its [`MotionSignature`], from the measured body rate and specific force) makes no
     /// direction of it observable **and** an earlier motion did; otherwise it is estimated.
     /// "Observable" is nav-core's structural test ([`motion_observability_analysis`]: the

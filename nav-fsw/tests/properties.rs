@@ -1,4 +1,4 @@
-//! Issue 7: property tests (proptest) on every input decoder and validator of the flight
+//! Property tests (proptest) on every input decoder and validator of the flight
 //! software, and on the scheduler as a whole: whatever the bytes, numbers or time tags, nothing
 //! panics, every refusal is a typed error, what is accepted satisfies the documented
 //! invariants, and the filter's state and covariance stay finite, symmetric and positive

@@ -1,4 +1,4 @@
-//! The fault-injection campaign (issue 7): one flight per fault class through the flight
+//! The fault-injection campaign: one flight per fault class through the flight
 //! software (nav-fsw), each with its injected fault, its expected reaction, the health
 //! counters that must count it, and its pass criteria, checked here and printed as a table
 //! (`nav-sim faults`, `tests-host/tests/fault_campaign.rs`).

@@ -1,4 +1,4 @@
-//! Issue 7: long-run covariance conditioning through the whole flight code. One simulated hour
+//! Long-run covariance conditioning through the whole flight code. One simulated hour
 //! at 500 Hz (the default calibration scenario, every rotation and burn, followed by a coast to
 //! 3600 s) with precise aiding (star sensor 1″, GNSS 0.1 m: ten and a hundred times better
 //! than the paper's, so the updates remove as much variance as they can): once per simulated

@@ -359,7 +359,7 @@ fn a_failed_gnss_receiver_is_declared_faulty_and_navigation_continues_on_the_sta
     assert_consistent(&result, "failed GNSS");
 }
 
-/// The observability-driven calibration policy (issue 9) through the whole flight code, on the
+/// The observability-driven calibration policy through the whole flight code, on the
 /// short scenario (coast, rotation about z, coast): before the rotation nothing is frozen
 /// (nothing revealed yet, so the result is the all-blocks one bit for bit); in the final coast
 /// the installation error and gyro scale factor that the rotation revealed are frozen (their

@@ -7,10 +7,10 @@
 //! run), to a small fraction of σ. A term the model lacks shows up as a deterministic offset
 //! of several σ that scales with the source.
 //!
-//! This is the test that located the filter-inconsistency finding of issue 5 (gyro bias,
-//! installation error about y and z gyro scale factor 1.5-2.8× overconfident after the
-//! rotation, `tests/consistency.rs`): every source passes in closed loop, and the open-loop
-//! filter (the paper's, then the default) fails, because its navigation solution is never
+//! It separates a consistent model from a linearisation that breaks down (an overconfident
+//! gyro bias, installation error or gyro scale factor after the rotation,
+//! `tests/consistency.rs`): every source passes in closed loop, and the open-loop filter (the
+//! paper's) fails, because its navigation solution is never
 //! corrected and the attitude-error kinematics it linearises,
 //! `ϑ̇ = −[ω̂×]ϑ + ½ s δω + ½ ϑ × δω` (`s = √(1 − |ϑ|²)`, nav-core `error_model` derivation
 //! with the second-order terms kept), lose the bilinear `½ ϑ × δω` and `s − 1` terms that

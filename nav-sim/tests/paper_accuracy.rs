@@ -1,4 +1,4 @@
-//! Issue 5, done-when: `nav-sim calibrate` on the default scenario meets every accuracy figure
+//! `nav-sim calibrate` on the default scenario meets every accuracy figure
 //! the paper reports, on every axis, through the flight code; a scenario with made-up truth
 //! errors (not the paper's: `scenarios/made_up_errors.toml`) is estimated just as well; and a
 //! small Monte Carlo of the default scenario (the 50-run campaign is
@@ -103,7 +103,7 @@ fn a_small_monte_carlo_of_the_default_scenario_is_consistent() {
     assert_campaign_consistent(4);
 }
 
-/// Issue 7's campaign: 100 runs of the whole default scenario (about 8 min on two cores in
+/// The consistency campaign: 100 runs of the whole default scenario (about 8 min on two cores in
 /// release). Not in the default suite; run it with
 /// `cargo test --release -p nav-sim --test paper_accuracy -- --ignored --nocapture`.
 #[test]

@@ -1,4 +1,4 @@
-//! Issue 7: no recursion in the flight binary's call graph. The test command disassembles the
+//! No recursion in the flight binary's call graph. The test command disassembles the
 //! panic-never flight ELF (`llvm-objdump -d`, the whole flight path: scheduler, filter,
 //! calibration manager, input checks, after LTO) and passes the listing in
 //! `NAV_FLIGHT_DISASSEMBLY`; this test builds the call graph from the direct calls and tail

@@ -1,6 +1,7 @@
 //! Every relative link in README.md, CHANGELOG.md and docs/*.md resolves to a file inside the
-//! repository (a link to `../shared` or a moved page would break in a clone), and README.md and
-//! docs/*.md describe the present: no sessions, rounds or issue numbers.
+//! repository (a link to `../shared` or a moved page would break in a clone), README.md and
+//! docs/*.md describe the present (no sessions, rounds or issue numbers), and so do the
+//! comments of the code (no issue numbers).
 
 use std::path::{Path, PathBuf};
 
@@ -81,6 +82,12 @@ fn history_phrase(text: &str) -> Option<String> {
             return Some(phrase.to_string());
         }
     }
+    issue_number(&lower)
+}
+
+/// The first mention of an issue by number in `text`, lower-cased.
+fn issue_number(text: &str) -> Option<String> {
+    let lower = text.to_lowercase();
     lower.match_indices("issue").find_map(|(at, _)| {
         let rest = lower[at + "issue".len()..].trim_start_matches([' ', '#']);
         rest.starts_with(|c: char| c.is_ascii_digit())
@@ -102,6 +109,57 @@ fn the_readme_and_docs_describe_the_present() {
             panic!(
                 "{}: `{phrase}` is history: it belongs in CHANGELOG.md",
                 page.display()
+            );
+        }
+    }
+}
+
+/// The project's source files: Rust, shell, Python and Cargo manifests under the crates,
+/// the firmware, the tests, the fuzz targets and the scripts (build output skipped).
+fn source_files(directory: &Path, found: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(directory).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if path.is_dir() {
+            if name != "target" && !name.starts_with('.') {
+                source_files(&path, found);
+            }
+        } else if name == "Cargo.toml"
+            || path
+                .extension()
+                .is_some_and(|extension| ["rs", "sh", "py"].iter().any(|e| extension == *e))
+        {
+            found.push(path);
+        }
+    }
+}
+
+#[test]
+fn the_code_comments_carry_no_issue_numbers() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .unwrap();
+    let mut files = Vec::new();
+    for directory in [
+        "nav-core",
+        "nav-fsw",
+        "nav-sim",
+        "qemu",
+        "tests-host",
+        "fuzz",
+        "scripts",
+    ] {
+        source_files(&root.join(directory), &mut files);
+    }
+    assert!(files.len() >= 50, "only {} source files found", files.len());
+    let this_test = root.join("tests-host/tests/doc_links.rs");
+    for file in files.iter().filter(|file| **file != this_test) {
+        let text = std::fs::read_to_string(file).unwrap();
+        if let Some(phrase) = issue_number(&text) {
+            panic!(
+                "{}: `{phrase}` is history: it belongs in CHANGELOG.md and the commit messages",
+                file.display()
             );
         }
     }

@@ -1,4 +1,4 @@
-//! Issue 7, done-when: the fault-injection campaign (`nav_sim::faults`, also
+//! The fault-injection campaign (`nav_sim::faults`, also
 //! `nav-sim faults`) over the default scenario, its table printed, every row met.
 //!
 //! Ignored in the plain `cargo test --workspace` (it flies one 800 s flight per fault class):

@@ -1,4 +1,4 @@
-//! Issue 6: the default scenario replayed through nav-fsw on the host and, from the very same
+//! The default scenario replayed through nav-fsw on the host and, from the very same
 //! input file, by the firmware on QEMU (500 Hz SysTick frames in virtual time); every output
 //! word of every frame must agree bit for bit, and the painted stack must stay within its
 //! budget. Prints the per-frame target cost (instructions) by frame type, the stack
