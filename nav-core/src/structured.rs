@@ -130,9 +130,9 @@ struct DynamicBlocks {
 /// `n + shift ≤ order` (an absent power is simply not listed). A diagonal first term
 /// (`DIAGONAL_FIRST`: the identity, or `ΔI`) adds only its scaled diagonal (the same
 /// products, without the zero off-diagonal ones). Inlined at each call, so the term
-/// array, the shift and the diagonal flag fold into constants (as a called function the
-/// arrays of `(n, &T_n)` were built in memory for every call: ~400 instructions per
-/// rebuild on the target).
+/// array, the shift and the diagonal flag fold into constants (a called function builds
+/// the arrays of `(n, &T_n)` in memory at every call, about 400 instructions per rebuild
+/// on the target).
 #[inline(always)]
 fn series_into<const N: usize, const DIAGONAL_FIRST: bool>(
     out: &mut Block,

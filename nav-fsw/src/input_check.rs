@@ -356,9 +356,9 @@ mod tests {
         );
     }
 
-    /// Boundaries of every check (found by mutation testing: `>` vs `>=` at the limits,
-    /// `&&` vs `||` in the tolerance check, and the sign of the GNSS difference were not
-    /// pinned by the other tests).
+    /// Boundaries of every check: `>` against `>=` at the limits, `&&` against `||` in the
+    /// tolerance check, and the sign of the GNSS difference (mutations the other tests
+    /// would let through).
     #[test]
     fn limits_are_inclusive_and_validation_refuses_each_edge() {
         let limits = ImuLimits::default();

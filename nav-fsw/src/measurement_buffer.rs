@@ -143,8 +143,8 @@ mod tests {
         assert!(buffer.is_empty());
     }
 
-    /// The acceptance window is closed at both ends (found by mutation testing: `<` vs `<=`
-    /// at the edges, and the sign of the future tolerance, were not pinned).
+    /// The acceptance window is closed at both ends: `<` against `<=` at the edges, and the
+    /// sign of the future tolerance.
     #[test]
     fn the_acceptance_window_includes_its_edges_and_reports_the_oldest_tag() {
         let mut buffer: MeasurementBuffer<u8, 4> = MeasurementBuffer::new();
