@@ -37,6 +37,7 @@ use nav_core::state::{
     StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, GYRO_BIAS, GYRO_SCALE_FACTOR, STAR_INSTALLATION,
 };
 use nav_core::NavError;
+use nav_fsw::calibration_manager::CalibrationThresholds;
 
 use crate::scenario::{frames_in, Scenario};
 use crate::sensors::{SensorErrorTruth, SensorSimulator};
@@ -112,35 +113,38 @@ pub struct CalibrationTarget {
     pub unit: &'static str,
 }
 
+/// The paper's figures, defined once in nav-fsw.
+const PAPER: CalibrationThresholds = CalibrationThresholds::PAPER_ACCURACY;
+
 /// The paper's reported accuracies after convergence (Section 3, `docs/model.md`).
 pub const CALIBRATION_TARGETS: [CalibrationTarget; 5] = [
     CalibrationTarget {
         block: GYRO_BIAS,
-        target: 1.5e-6,
+        target: PAPER.gyro_bias_rad_s,
         state_to_unit: 1.0,
         unit: "rad/s",
     },
     CalibrationTarget {
         block: ACCEL_BIAS,
-        target: 2.75e-4,
+        target: PAPER.accel_bias_mps2,
         state_to_unit: 1.0,
         unit: "m/s^2",
     },
     CalibrationTarget {
         block: STAR_INSTALLATION,
-        target: 5.0e-6,
+        target: PAPER.star_installation_rad,
         state_to_unit: 2.0,
         unit: "rad (angle)",
     },
     CalibrationTarget {
         block: GYRO_SCALE_FACTOR,
-        target: 1.0e-6,
+        target: PAPER.gyro_scale_factor,
         state_to_unit: 1.0,
         unit: "-",
     },
     CalibrationTarget {
         block: ACCEL_SCALE_FACTOR,
-        target: 2.0e-6,
+        target: PAPER.accel_scale_factor,
         state_to_unit: 1.0,
         unit: "-",
     },

@@ -117,14 +117,16 @@ impl Parameter {
     }
 
     /// The accuracy the paper reports after convergence (Section 3), per axis; `None` for the
-    /// navigation blocks.
+    /// navigation blocks. Defined once, in nav-fsw's
+    /// [`CalibrationThresholds::PAPER_ACCURACY`](nav_fsw::calibration_manager::CalibrationThresholds::PAPER_ACCURACY).
     pub fn paper_accuracy(self) -> Option<f64> {
+        let paper = nav_fsw::calibration_manager::CalibrationThresholds::PAPER_ACCURACY;
         match self {
-            Self::GyroScaleFactor => Some(1e-6),
-            Self::AccelerometerScaleFactor => Some(2e-6),
-            Self::StarInstallation => Some(5e-6),
-            Self::GyroBias => Some(1.5e-6),
-            Self::AccelerometerBias => Some(2.75e-4),
+            Self::GyroScaleFactor => Some(paper.gyro_scale_factor),
+            Self::AccelerometerScaleFactor => Some(paper.accel_scale_factor),
+            Self::StarInstallation => Some(paper.star_installation_rad),
+            Self::GyroBias => Some(paper.gyro_bias_rad_s),
+            Self::AccelerometerBias => Some(paper.accel_bias_mps2),
             Self::Attitude | Self::Position | Self::Velocity => None,
         }
     }
