@@ -110,8 +110,9 @@ pub struct CovarianceConfig {
 pub enum SecondOrderAttitude {
     /// The paper's linear model: no covariance for the term.
     Neglected,
-    /// The attitude variance grows, from the last accepted star-sensor update on, by the
-    /// term's variance bound accumulated coherently (the default).
+    /// The attitude covariance grows, from the last accepted star-sensor update on, in the
+    /// direction of the term's covariance and by its 1σ accumulated coherently while the
+    /// gyro rate error stays the same (the default).
     Bounded,
 }
 

@@ -810,6 +810,13 @@ impl NavigationComputer {
         }
     }
 
+    /// The attitude is measured (or the filter starts afresh): the second-order growth starts
+    /// again from zero.
+    fn restart_second_order_attitude(&mut self) {
+        self.second_order_attitude.restart();
+        self.second_order_pending_s = 0.0;
+    }
+
     /// Documented recovery from a filter that nav-core refuses to propagate (non-finite
     /// result): `x = 0`, `P` re-initialised from the configured 1σ, calibration convergence
     /// forgotten; the navigation solution and the sensor corrections fed back so far are
@@ -819,8 +826,7 @@ impl NavigationComputer {
         if let Ok(filter) = ErrorStateFilter::new(&self.config.filter) {
             self.filter = filter;
         }
-        self.second_order_attitude.restart();
-        self.second_order_pending_s = 0.0;
+        self.restart_second_order_attitude();
         self.manager.restart();
     }
 
@@ -1160,8 +1166,7 @@ impl NavigationComputer {
         if report.accepted {
             self.fault_state(aid).consecutive_rejections = 0;
             if aid.is_star() {
-                self.second_order_attitude.restart();
-                self.second_order_pending_s = 0.0;
+                self.restart_second_order_attitude();
             }
             if self.filter.mode() == FilterMode::ClosedLoop {
                 self.feed_back();

@@ -56,15 +56,20 @@ struct Campaign {
     accuracy: Vec<(String, f64, f64)>,
 }
 
-fn fly(scenario: &Scenario) -> Campaign {
+/// The campaign's seeds: `NAV_MC_RUNS` of them from the scenario's seed plus
+/// `NAV_MC_FIRST_RUN`.
+fn seeds(scenario: &Scenario) -> Vec<u64> {
     let first: u64 = std::env::var("NAV_MC_FIRST_RUN")
         .ok()
         .and_then(|text| text.parse().ok())
         .unwrap_or(0);
-    let seeds: Vec<u64> = (first..first + runs())
+    (first..first + runs())
         .map(|run| scenario.simulation.seed.wrapping_add(run))
-        .collect();
-    let outcomes = fly_campaign(scenario, &seeds, false).unwrap();
+        .collect()
+}
+
+fn fly(scenario: &Scenario) -> Campaign {
+    let outcomes = fly_campaign(scenario, &seeds(scenario), false).unwrap();
     let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
     let (worst_sigma, worst_seed) = outcomes
         .iter()
@@ -165,14 +170,20 @@ fn a_mis_specified_correlated_error_model() {
     }
 }
 
-/// Mean NEES of the three gyro scale factors and of the 15 calibration states over `runs`
-/// runs of `scenario` (truth drawn from the prior, seeds from `first`), flown with the
-/// attitude kinematics' second-order term neglected or bounded.
+/// Mean NEES of the three gyro scale factors and of the 15 calibration states over the runs
+/// of `scenario` with `seeds` (truth drawn from the prior), flown with the attitude
+/// kinematics' second-order term neglected or bounded.
 fn second_order_campaign(
     scenario: &Scenario,
     treatment: SecondOrderAttitude,
     seeds: &[u64],
 ) -> (f64, f64) {
+    let scale_factor_states: Vec<usize> = calibration_labels()
+        .iter()
+        .enumerate()
+        .filter(|(_, (parameter, _))| *parameter == Parameter::GyroScaleFactor)
+        .map(|(index, _)| index)
+        .collect();
     let (mut scale_factor_nees, mut nees) = (0.0, 0.0);
     for seed in seeds {
         let drawn = with_truth_drawn_from_prior(scenario, *seed);
@@ -183,8 +194,9 @@ fn second_order_campaign(
         };
         let result = fly_with(&drawn, config, options, |_, _| {}, |_, _| {}).unwrap();
         let (error, covariance) = (result.calibration_error, result.calibration_covariance);
-        scale_factor_nees += (9..12)
-            .map(|i| error[i] * error[i] / covariance[(i, i)])
+        scale_factor_nees += scale_factor_states
+            .iter()
+            .map(|&i| error[i] * error[i] / covariance[(i, i)])
             .sum::<f64>();
         nees += (error.transpose() * covariance.try_inverse().unwrap() * error)[(0, 0)];
     }
@@ -199,13 +211,7 @@ fn second_order_campaign(
 #[ignore = "a study for the docs: NAV_MC_RUNS=100 NAV_MC_FIRST_RUN=200 ... -- --ignored --nocapture"]
 fn the_second_order_attitude_term_with_a_blind_star_tracker() {
     let flown = scenario("star_tracker_rate_limited");
-    let first: u64 = std::env::var("NAV_MC_FIRST_RUN")
-        .ok()
-        .and_then(|text| text.parse().ok())
-        .unwrap_or(0);
-    let seeds: Vec<u64> = (first..first + runs())
-        .map(|run| flown.simulation.seed.wrapping_add(run))
-        .collect();
+    let seeds = seeds(&flown);
     let treatments = [SecondOrderAttitude::Neglected, SecondOrderAttitude::Bounded];
     std::thread::scope(|scope| {
         let handles = treatments.map(|treatment| {

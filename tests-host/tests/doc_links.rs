@@ -82,7 +82,7 @@ fn history_phrase(text: &str) -> Option<String> {
             return Some(phrase.to_string());
         }
     }
-    issue_number(&lower)
+    issue_number(text)
 }
 
 /// The first mention of an issue by number in `text`, lower-cased.
