@@ -10,6 +10,7 @@
 //!   seeded, deterministic, time-ordered stream of sensor events.
 //! * [`simulation`]: truth and sensors together, frame by frame.
 //! * [`flight`]: a scenario flown through the flight software (nav-fsw), recorded.
+//! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
@@ -24,6 +25,7 @@
 pub mod covariance_design;
 pub mod faults;
 pub mod flight;
+pub mod log_replay;
 pub mod monte_carlo;
 pub mod observability_report;
 pub mod report;

@@ -224,57 +224,15 @@ fn write_log(scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
 }
 
 fn replay(log: &Path, scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
-    use nav_fsw::replay::FrameAssembler;
-    use nav_fsw::scheduler::NavigationComputer;
-    use std::io::Write;
     let scenario = load(scenario)?;
-    let setup = flight::replay_setup(&scenario)?;
-    let mut computer = NavigationComputer::new(setup.config(), setup.initial)
-        .map_err(|error| format!("flight software configuration refused: {error:?}"))?;
-    let reader = nav_sim::sensor_log::SensorLogReader::new(std::fs::File::open(log)?)?;
-    let mut output = std::io::BufWriter::new(std::fs::File::create(out)?);
-    writeln!(
-        output,
-        "time_s,position_x_m,position_y_m,position_z_m,velocity_x_mps,velocity_y_mps,velocity_z_mps,\
-         gyro_bias_x,gyro_bias_y,gyro_bias_z,accel_bias_x,accel_bias_y,accel_bias_z,\
-         installation_x,installation_y,installation_z,gyro_sf_x,gyro_sf_y,gyro_sf_z,\
-         accel_sf_x,accel_sf_y,accel_sf_z"
-    )?;
-    let mut assembler = FrameAssembler::default();
-    let mut frames = 0_u64;
-    let mut run = |ports: Option<nav_fsw::replay::FramePorts>,
-                   output: &mut dyn Write|
-     -> Result<(), Failure> {
-        let Some(mut ports) = ports else {
-            return Ok(());
-        };
-        let telemetry = ports.run(&mut computer);
-        frames += 1;
-        if frames % 500 == 0 {
-            let mut line = format!("{}", telemetry.time_s);
-            for value in telemetry.position_m.iter().chain(&telemetry.velocity_mps) {
-                line += &format!(",{value}");
-            }
-            for (_, entry) in computer.calibration_table().entries() {
-                for value in entry.value {
-                    line += &format!(",{value}");
-                }
-            }
-            writeln!(output, "{line}")?;
-        }
-        Ok(())
-    };
-    for record in reader {
-        let ports = assembler.push(&record?);
-        run(ports, &mut output)?;
-    }
-    run(assembler.finish(), &mut output)?;
-    output.flush()?;
+    let input = std::fs::File::open(log)?;
+    let output = std::fs::File::create(out)?;
+    let summary = nav_sim::log_replay::replay(input, &scenario, output)?;
     println!(
         "replayed {} frames of {}; health {:?}; output {}",
-        frames,
+        summary.frames,
         log.display(),
-        computer.health(),
+        summary.health,
         out.display()
     );
     Ok(())
