@@ -7,9 +7,15 @@
 
 use libfuzzer_sys::fuzz_target;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
-use nav_fsw::replay::{FrameAssembler, ReplaySetup, SETUP_WORDS};
+use nav_fsw::replay::{FrameAssembler, FrameGrid, ReplaySetup, DEFAULT_MAX_GAP_S, SETUP_WORDS};
 
 fuzz_target!(|data: &[u8]| {
+    let mut grid = FrameGrid {
+        start_time_s: 0.0,
+        period_s: 0.002,
+        tolerance: 0.1,
+        max_gap_s: DEFAULT_MAX_GAP_S,
+    };
     // The setup words (any bytes).
     if let Some(setup_bytes) = data.get(..SETUP_WORDS * 8) {
         let mut words = [0_u64; SETUP_WORDS];
@@ -21,6 +27,7 @@ fuzz_target!(|data: &[u8]| {
         if let Ok(setup) = ReplaySetup::from_words(&words) {
             assert_eq!(setup.to_words(), words);
             let _ = setup.config().validate();
+            grid = setup.frame_grid();
         }
     }
     // The log header, then records, exactly as the firmware streams them.
@@ -29,18 +36,23 @@ fuzz_target!(|data: &[u8]| {
         fixed.copy_from_slice(header);
         let _ = decode_header(&fixed);
     }
-    let mut assembler = FrameAssembler::default();
+    let Ok(mut assembler) = FrameAssembler::new(grid) else {
+        return;
+    };
     let mut rest = data;
     while rest.len() >= RECORD_SIZE {
         match LogRecord::decode_prefix(rest) {
             Ok((record, remaining)) => {
                 let encoded = record.encode().expect("a decoded record encodes");
                 assert_eq!(&encoded[..], &rest[..RECORD_SIZE]);
+                // A refused record is skipped, as the firmware stops there.
                 let _ = assembler.push(&record);
+                while assembler.next_frame().is_some() {}
                 rest = remaining;
             }
             Err(_) => rest = &rest[1..],
         }
     }
-    let _ = assembler.finish();
+    assembler.finish();
+    while assembler.next_frame().is_some() {}
 });

@@ -1366,6 +1366,16 @@ impl NavigationComputer {
         &self.health
     }
 
+    /// Measurements received and waiting to be fused (star and GNSS queues; a GNSS fix whose
+    /// velocity is fused and whose position waits counts once): with the fusions and the
+    /// health counters, every measurement received is accounted for.
+    pub fn queued_measurements(&self) -> usize {
+        self.star_queue
+            .len()
+            .saturating_add(self.gnss_queue.len())
+            .saturating_add(usize::from(self.pending_gnss_position.is_some()))
+    }
+
     /// The launch-inertial frame in use.
     pub fn launch_frame(&self) -> &LaunchFrame {
         &self.launch_frame

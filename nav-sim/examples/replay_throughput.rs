@@ -21,18 +21,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scenario = Scenario::default_scenario()?;
     let setup = nav_sim::flight::replay_setup(&scenario)?;
     let mut simulation = Simulation::new(&scenario)?;
-    let mut assembler = FrameAssembler::default();
+    let mut assembler = FrameAssembler::new(setup.frame_grid())?;
     let mut frames: Vec<FramePorts> = Vec::new();
     let mut events = Vec::new();
     let wanted = (seconds * 500.0) as usize;
     while frames.len() < wanted && simulation.step(&mut events)?.is_some() {
         for event in events.drain(..) {
-            if let Some(frame) = assembler.push(&sensor_log::record_of(&event)) {
-                frames.push(frame);
-            }
+            assembler.push(&sensor_log::record_of(&event))?;
+            frames.extend(std::iter::from_fn(|| assembler.next_frame()));
         }
     }
-    frames.extend(assembler.finish());
+    assembler.finish();
+    frames.extend(std::iter::from_fn(|| assembler.next_frame()));
     let structured_only = std::env::args().nth(2).as_deref() == Some("structured");
     let mut rates = Vec::new();
     for (label, arithmetic) in [

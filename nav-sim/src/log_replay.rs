@@ -1,11 +1,16 @@
 //! `nav-sim replay`: a recorded sensor log (CSV, `docs/replay-format.md`) fed through the
-//! flight software frame by frame (nav-fsw's `FrameAssembler`, the same one the QEMU replay
-//! firmware uses), with the per-second navigation and calibration output written as CSV.
+//! flight software frame by frame by nav-fsw's `FrameAssembler` (the one the QEMU replay
+//! firmware uses), which places every record by its own time: a missing IMU sample is a frame
+//! without one, never a shift of navigation time. The output CSV has one row per second of
+//! navigation time and one at the end: the estimates with their filter 1σ, the flight
+//! software's health counters and the assembler's counts, so nothing in the log goes unseen.
 
 use std::io::{Read, Write};
 
-use nav_fsw::replay::FrameAssembler;
+use nav_core::state::{ATTITUDE, POSITION, VELOCITY};
+use nav_fsw::replay::{AssemblyCounts, FrameAssembler};
 use nav_fsw::scheduler::NavigationComputer;
+use nav_fsw::telemetry::FrameTelemetry;
 
 use crate::flight;
 use crate::sensor_log::SensorLogReader;
@@ -16,18 +21,114 @@ use crate::Scenario;
 pub struct ReplaySummary {
     /// Frames run.
     pub frames: u64,
+    /// What the frame assembler did with the log's records.
+    pub counts: AssemblyCounts,
     /// The flight software's health counters at the end.
     pub health: nav_fsw::health::HealthCounters,
+}
+
+impl ReplaySummary {
+    /// One paragraph for people: frames, what the assembler dropped, the non-zero health
+    /// counters.
+    pub fn text(&self) -> String {
+        let c = &self.counts;
+        let counters: Vec<String> = self
+            .health
+            .named()
+            .iter()
+            .filter(|(_, value)| *value > 0)
+            .map(|(name, value)| format!("{name} {value}"))
+            .collect();
+        format!(
+            "{} frames ({} without an IMU sample); IMU records dropped (duplicate or late): {}; \
+             measurements delivered {}, dropped (more than a frame's ports hold) {}\n\
+             flight software counters: {}",
+            self.frames,
+            c.frames_without_imu,
+            c.imu_records_dropped,
+            c.measurements_delivered,
+            c.measurements_dropped,
+            if counters.is_empty() {
+                "all zero".to_owned()
+            } else {
+                counters.join(", ")
+            }
+        )
+    }
 }
 
 /// A replay failure.
 pub type ReplayFailure = Box<dyn std::error::Error>;
 
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The output CSV's header.
+pub fn output_columns(computer: &NavigationComputer) -> Vec<String> {
+    let mut columns = vec!["time_s".to_owned()];
+    columns.extend(["w", "x", "y", "z"].map(|c| format!("attitude_{c}")));
+    columns.extend(AXES.map(|a| format!("attitude_sigma_{a}_rad")));
+    for (name, unit) in [("position", "m"), ("velocity", "mps")] {
+        columns.extend(AXES.map(|a| format!("{name}_{a}_{unit}")));
+        columns.extend(AXES.map(|a| format!("{name}_sigma_{a}_{unit}")));
+    }
+    for (block, _) in computer.calibration_table().entries() {
+        columns.extend(AXES.map(|a| format!("{}_{a}", block.name)));
+        columns.extend(AXES.map(|a| format!("{}_sigma_{a}", block.name)));
+    }
+    columns.extend(computer.health().named().map(|(name, _)| name.to_owned()));
+    columns.extend(
+        [
+            "replay_frames_without_imu",
+            "replay_imu_records_dropped",
+            "replay_measurements_delivered",
+            "replay_measurements_dropped",
+        ]
+        .map(str::to_owned),
+    );
+    columns
+}
+
+/// One output row (the columns of [`output_columns`]).
+fn output_row(
+    telemetry: &FrameTelemetry,
+    computer: &NavigationComputer,
+    counts: &AssemblyCounts,
+) -> String {
+    let sigma = computer.filter().standard_deviations();
+    let block_sigma = |index: usize, scale: f64| -> Vec<f64> {
+        (0..3).map(|axis| scale * sigma[index + axis]).collect()
+    };
+    let mut values: Vec<String> = vec![telemetry.time_s.to_string()];
+    let mut put = |numbers: &[f64]| values.extend(numbers.iter().map(f64::to_string));
+    put(&telemetry.attitude_wxyz);
+    // The attitude states are half-angles: the rotation's 1σ is twice theirs.
+    put(&block_sigma(ATTITUDE.index, 2.0));
+    put(&telemetry.position_m);
+    put(&block_sigma(POSITION.index, 1.0));
+    put(&telemetry.velocity_mps);
+    put(&block_sigma(VELOCITY.index, 1.0));
+    for (_, entry) in computer.calibration_table().entries() {
+        put(&entry.value);
+        put(&entry.sigma());
+    }
+    let counters = computer.health().named().map(|(_, value)| value);
+    let replay = [
+        counts.frames_without_imu,
+        counts.imu_records_dropped,
+        counts.measurements_delivered,
+        counts.measurements_dropped,
+    ];
+    values.extend(counters.iter().chain(&replay).map(u32::to_string));
+    values.join(",")
+}
+
 /// Replays `log` through the flight software set up by `scenario` and writes the output CSV
-/// to `output`.
+/// (module docs) to `output`.
 ///
 /// # Errors
-/// A log or configuration error, or an I/O error of `output`.
+/// A log error naming its line (including a log at another IMU rate, on another time base or
+/// with a jump the replay does not bridge, `nav_fsw::replay::FrameAssemblyError`), a refused
+/// configuration, or an I/O error of `output`.
 pub fn replay<R: Read, W: Write>(
     log: R,
     scenario: &Scenario,
@@ -36,47 +137,47 @@ pub fn replay<R: Read, W: Write>(
     let setup = flight::replay_setup(scenario)?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| format!("flight software configuration refused: {error:?}"))?;
-    let reader = SensorLogReader::new(log)?;
+    let mut assembler = FrameAssembler::new(setup.frame_grid())?;
+    let mut reader = SensorLogReader::new(log)?;
     let mut output = std::io::BufWriter::new(output);
-    writeln!(
-        output,
-        "time_s,position_x_m,position_y_m,position_z_m,velocity_x_mps,velocity_y_mps,velocity_z_mps,\
-         gyro_bias_x,gyro_bias_y,gyro_bias_z,accel_bias_x,accel_bias_y,accel_bias_z,\
-         installation_x,installation_y,installation_z,gyro_sf_x,gyro_sf_y,gyro_sf_z,\
-         accel_sf_x,accel_sf_y,accel_sf_z"
-    )?;
-    let mut assembler = FrameAssembler::default();
+    writeln!(output, "{}", output_columns(&computer).join(","))?;
+    let frames_per_row = (1.0 / setup.imu_period_s).round().max(1.0) as u64;
     let mut frames = 0_u64;
-    let mut run = |ports: Option<nav_fsw::replay::FramePorts>,
-                   output: &mut dyn Write|
-     -> Result<(), ReplayFailure> {
-        let Some(mut ports) = ports else {
-            return Ok(());
-        };
-        let telemetry = ports.run(&mut computer);
-        frames += 1;
-        if frames % 500 == 0 {
-            let mut line = format!("{}", telemetry.time_s);
-            for value in telemetry.position_m.iter().chain(&telemetry.velocity_mps) {
-                line += &format!(",{value}");
-            }
-            for (_, entry) in computer.calibration_table().entries() {
-                for value in entry.value {
-                    line += &format!(",{value}");
+    let mut last_row: Option<String> = None;
+    let mut run_ready =
+        |assembler: &mut FrameAssembler, output: &mut dyn Write| -> Result<(), ReplayFailure> {
+            while let Some(mut ports) = assembler.next_frame() {
+                let telemetry = ports.run(&mut computer);
+                frames += 1;
+                let row = output_row(&telemetry, &computer, &assembler.counts());
+                if frames % frames_per_row == 0 {
+                    writeln!(output, "{row}")?;
+                    last_row = None;
+                } else {
+                    last_row = Some(row);
                 }
             }
-            writeln!(output, "{line}")?;
-        }
-        Ok(())
-    };
-    for record in reader {
-        let ports = assembler.push(&record?);
-        run(ports, &mut output)?;
+            Ok(())
+        };
+    while let Some(record) = reader.next() {
+        let line = reader.line();
+        assembler
+            .push(&record?)
+            .map_err(|error| format!("line {line}: {error}"))?;
+        run_ready(&mut assembler, &mut output)?;
     }
-    run(assembler.finish(), &mut output)?;
+    assembler.finish();
+    run_ready(&mut assembler, &mut output)?;
+    if let Some(row) = last_row {
+        writeln!(output, "{row}")?;
+    }
     output.flush()?;
+    if frames == 0 {
+        return Err("the log has no IMU record: nothing to replay".into());
+    }
     Ok(ReplaySummary {
         frames,
+        counts: assembler.counts(),
         health: *computer.health(),
     })
 }

@@ -103,23 +103,25 @@ pub fn run_on_host(input: &[u8]) -> Result<Vec<u64>, ReplayError> {
         sensor_log::read_binary(log).map_err(|error| ReplayError::Input(error.to_string()))?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| ReplayError::Input(format!("configuration: {error:?}")))?;
-    let mut assembler = FrameAssembler::default();
+    let mut assembler = FrameAssembler::new(setup.frame_grid())
+        .map_err(|error| ReplayError::Input(format!("frame grid: {error}")))?;
     let mut output = Vec::new();
-    let mut dropped = 0_u32;
-    let mut run = |mut ports: nav_fsw::replay::FramePorts, output: &mut Vec<u64>| {
-        let telemetry = ports.run(&mut computer);
-        dropped = dropped.saturating_add(ports.dropped);
-        output.extend_from_slice(&output_words(&telemetry, &computer, dropped));
-        output.push(0);
-    };
-    for record in &records {
-        if let Some(ports) = assembler.push(record) {
-            run(ports, &mut output);
+    // Record by record, frame by frame, in the firmware's order, so the counts match too.
+    let mut run_ready = |assembler: &mut FrameAssembler, output: &mut Vec<u64>| {
+        while let Some(mut ports) = assembler.next_frame() {
+            let telemetry = ports.run(&mut computer);
+            output.extend_from_slice(&output_words(&telemetry, &computer, &assembler.counts()));
+            output.push(0);
         }
+    };
+    for (index, record) in records.iter().enumerate() {
+        assembler
+            .push(record)
+            .map_err(|error| ReplayError::Input(format!("record {index}: {error}")))?;
+        run_ready(&mut assembler, &mut output);
     }
-    if let Some(ports) = assembler.finish() {
-        run(ports, &mut output);
-    }
+    assembler.finish();
+    run_ready(&mut assembler, &mut output);
     Ok(output)
 }
 
@@ -289,6 +291,8 @@ pub struct TargetReplayReport {
     pub qemu_wall_time: std::time::Duration,
     /// The first host/target difference, if any.
     pub difference: Option<FirstDifference>,
+    /// The host's output words ([`FRAME_WORDS`] per frame, cost words 0).
+    pub host_output: Vec<u64>,
 }
 
 impl TargetReplayReport {
@@ -349,11 +353,50 @@ pub fn replay_on_target(
     // Seconds of flight are far below 2⁵³: exact in f64.
     let frames = crate::scenario::frames_in(seconds as f64, period_s);
     let input_path = directory.join("replay-in.bin");
-    let written = write_input(
+    write_input(
         scenario,
         frames,
         std::io::BufWriter::new(std::fs::File::create(&input_path)?),
     )?;
+    run_and_compare(&input_path, period_s, elf, runner, directory)
+}
+
+/// As [`replay_on_target`], for a log given as records (a recorded or edited log) with the
+/// flight software set up by `scenario`.
+///
+/// # Errors
+/// As [`replay_on_target`].
+pub fn replay_records_on_target(
+    scenario: &Scenario,
+    records: &[LogRecord],
+    elf: &std::path::Path,
+    runner: &std::path::Path,
+    directory: &std::path::Path,
+) -> Result<TargetReplayReport, ReplayError> {
+    std::fs::create_dir_all(directory)?;
+    let input_path = directory.join("replay-in.bin");
+    let mut writer = std::io::BufWriter::new(std::fs::File::create(&input_path)?);
+    for word in replay_setup(scenario)?.to_words() {
+        writer.write_all(&word.to_le_bytes())?;
+    }
+    writer.write_all(&log_record::encode_header())?;
+    for record in records {
+        writer.write_all(&record.encode().map_err(ReplayError::Log)?)?;
+    }
+    writer.flush()?;
+    drop(writer);
+    let period_s = scenario.imu.frame_period_s();
+    run_and_compare(&input_path, period_s, elf, runner, directory)
+}
+
+/// Runs the replay input at `input_path` on QEMU and on the host and compares the outputs.
+fn run_and_compare(
+    input_path: &std::path::Path,
+    period_s: f64,
+    elf: &std::path::Path,
+    runner: &std::path::Path,
+    directory: &std::path::Path,
+) -> Result<TargetReplayReport, ReplayError> {
     let runner = runner.canonicalize()?;
     let started = std::time::Instant::now();
     let status = std::process::Command::new(runner)
@@ -367,7 +410,7 @@ pub fn replay_on_target(
         )));
     }
     let target = output_file_words(&std::fs::read(directory.join("replay-out.bin"))?);
-    let host = run_on_host(&std::fs::read(&input_path)?)?;
+    let host = run_on_host(&std::fs::read(input_path)?)?;
     let stack_words = words_of(&std::fs::read(directory.join("replay-stack.bin"))?);
     let stack = match stack_words.as_slice() {
         [high_water_bytes, region_bytes, start_up_bytes] => StackUsage {
@@ -381,14 +424,16 @@ pub fn replay_on_target(
             ))
         }
     };
+    let frames = u64::try_from(target.len() / FRAME_WORDS).unwrap_or(u64::MAX);
     Ok(TargetReplayReport {
-        frames: written,
+        frames,
         // Frame counts are far below 2⁵³: exact in f64.
-        seconds: written as f64 * period_s,
+        seconds: frames as f64 * period_s,
         costs: cost_statistics(&target),
         stack,
         memory: image_memory(&std::fs::read(elf)?)?,
         qemu_wall_time,
         difference: first_difference(&host, &target),
+        host_output: host,
     })
 }

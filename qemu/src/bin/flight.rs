@@ -45,7 +45,7 @@ fn scheduler_frames() {
     use nav_core::strapdown::NavigationState;
     use nav_fsw::config::FswConfig;
     use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
-    use nav_fsw::replay::{output_words, FramePorts};
+    use nav_fsw::replay::{output_words, AssemblyCounts, FramePorts};
     use nav_fsw::scheduler::NavigationComputer;
 
     let site = black_box(LaunchSite {
@@ -88,7 +88,14 @@ fn scheduler_frames() {
             }));
         }
         let telemetry = ports.run(&mut computer);
-        let words = black_box(output_words(&telemetry, &computer, ports.dropped));
+        let words = black_box(output_words(
+            &telemetry,
+            &computer,
+            &AssemblyCounts {
+                measurements_dropped: ports.dropped,
+                ..AssemblyCounts::default()
+            },
+        ));
         if frame == 10 {
             defmt::println!(
                 "flight scheduler: frame {=u32}, {=usize} output words, fusion {}",

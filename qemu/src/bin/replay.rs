@@ -146,7 +146,10 @@ fn main() -> ! {
     }) else {
         exit_failure()
     };
-    let mut assembler = FrameAssembler::default();
+    let Ok(mut assembler) = FrameAssembler::new(setup.frame_grid()) else {
+        defmt::error!("replay: bad frame grid");
+        exit_failure()
+    };
     let Some(out_words) = cortex_m::singleton!(: [u64; FRAME_WORDS * FRAMES_PER_WRITE] = [0; FRAME_WORDS * FRAMES_PER_WRITE])
     else {
         exit_failure()
@@ -162,19 +165,26 @@ fn main() -> ! {
     let start_up_stack = nav_qemu::stack::usage();
     nav_qemu::stack::repaint_below_current_stack_pointer();
     let mut frames = 0_u32;
-    let mut dropped = 0_u32;
     let mut log_ended = false;
     let _systick = start_frame_timer(peripherals.SYST);
     let mut frames_started = 0_u32;
     loop {
-        // Assemble the next frame from the log (outside the measured frame).
-        let mut next: Option<FramePorts> = None;
+        // Assemble the next frame from the log (outside the measured frame); every ready
+        // frame is taken before the next record is pushed.
+        let mut next: Option<FramePorts> = assembler.next_frame();
         while next.is_none() && !log_ended {
             match log.next() {
-                Ok(Some(record)) => next = assembler.push(&record),
+                Ok(Some(record)) => {
+                    if let Err(error) = assembler.push(&record) {
+                        defmt::error!("replay: log refused: {}", error);
+                        exit_failure()
+                    }
+                    next = assembler.next_frame();
+                }
                 Ok(None) => {
                     log_ended = true;
-                    next = assembler.finish();
+                    assembler.finish();
+                    next = assembler.next_frame();
                 }
                 Err(()) => exit_failure(),
             }
@@ -207,8 +217,7 @@ fn main() -> ! {
             // The frame ran into the next one: skip the interrupts it overlapped.
             frames_started += ticks_passed;
         }
-        dropped = dropped.saturating_add(ports.dropped);
-        let record = output_words(&telemetry, computer, dropped);
+        let record = output_words(&telemetry, computer, &assembler.counts());
         let base = out_frames * FRAME_WORDS;
         if let Some(slot) = out_words.get_mut(base..base + FRAME_WORDS) {
             let (record_slot, cost_slot) = slot.split_at_mut(OUTPUT_WORDS);
