@@ -98,3 +98,80 @@ fn realistic_sensor_scenario_replays_bit_for_bit_on_host_and_target() {
 const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";
 /// Worst frame the flight path may take on the Cortex-M7 (instructions).
 const WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 40_000;
+
+/// A recorded log with what real logs have: IMU samples missing (one, then five in a row), a
+/// duplicated IMU record, a duplicated star record and a time jump of 40 ms. The firmware's
+/// frame builder places every record by its own time exactly as the host's: bit for bit, the
+/// missing samples are frames without one (counted), the duplicate is dropped (counted), and
+/// no later measurement is refused as from the future.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
+    use nav_fsw::log_record::LogRecord;
+    use nav_fsw::replay::OUTPUT_FIELD_NAMES;
+    use nav_sim::target_replay::{replay_records_on_target, FRAME_WORDS};
+
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let elf = root.join(
+        std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
+    );
+    let scenario = Scenario::default_scenario().unwrap();
+    let mut simulation = nav_sim::Simulation::new(&scenario).unwrap();
+    let mut events = Vec::new();
+    for _ in 0..10_000 {
+        simulation.step(&mut events).unwrap().unwrap();
+    }
+    let mut log: Vec<LogRecord> = events.iter().map(nav_sim::sensor_log::record_of).collect();
+    let imu_index = |log: &[LogRecord], sequence: u64| {
+        log.iter()
+            .position(|r| matches!(r, LogRecord::Imu(imu) if imu.sequence == sequence))
+            .unwrap()
+    };
+    let missing = imu_index(&log, 1_000);
+    log.remove(missing);
+    for sequence in 3_000..3_005 {
+        let index = imu_index(&log, sequence);
+        log.remove(index);
+    }
+    let duplicate = imu_index(&log, 4_000);
+    log.insert(duplicate + 1, log[duplicate]);
+    let star = log
+        .iter()
+        .position(|r| matches!(r, LogRecord::Star(_)))
+        .unwrap();
+    log.insert(star + 1, log[star]);
+    let jump = imu_index(&log, 6_000);
+    for record in &mut log[jump..] {
+        match record {
+            LogRecord::Imu(imu) => imu.time_s += 0.04,
+            LogRecord::Star(star) => {
+                star.arrival_time_s += 0.04;
+                star.time_tag_s += 0.04;
+            }
+            LogRecord::Gnss(gnss) => {
+                gnss.arrival_time_s += 0.04;
+                gnss.time_tag_s += 0.04;
+            }
+        }
+    }
+    let report = replay_records_on_target(
+        &scenario,
+        &log,
+        &elf,
+        &root.join("qemu/run.sh"),
+        &root.join("target/qemu/replay-edited"),
+    )
+    .unwrap();
+    print!("{}", report.text());
+    if let Some(difference) = &report.difference {
+        panic!("host and target differ first at {difference:?}");
+    }
+    // 10,000 frames, 6 without a sample, and 20 more bridging the 40 ms jump.
+    assert_eq!(report.frames, 10_020);
+    let last = report.host_output.chunks_exact(FRAME_WORDS).last().unwrap();
+    let word = |name: &str| last[OUTPUT_FIELD_NAMES.iter().position(|n| *n == name).unwrap()];
+    assert_eq!(word("imu_missing"), 6 + 20);
+    assert_eq!(word("imu_records_dropped"), 1);
+    assert_eq!(word("measurement_future"), 0);
+    assert_eq!(word("imu_time_jump"), 1);
+}
