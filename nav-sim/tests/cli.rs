@@ -20,9 +20,17 @@ specific_force_mps2 = [0.0, 0.0, 0.0]
 
 "#;
 
+/// The seed line of the built-in scenario.
+const SEED: &str = "seed = 20170415";
+
 /// A seed of the short scenario whose single Monte Carlo run has a NEES of 31.9, above the
 /// 95 % interval [6.26, 27.49] of one χ²(15) draw.
-const INCONSISTENT_SEED: u64 = 20_170_442;
+const INCONSISTENT_SEED: &str = "seed = 20170442";
+
+/// The gyro scale factor of the built-in scenario, and a value 30σ of the filter's prior
+/// (1e-4) from zero: the NEES of a flight with it is far above its bound.
+const GYRO_SCALE_FACTOR: &str = "scale_factor = [3.0e-5, 3.0e-5, 3.0e-5]";
+const GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR: &str = "scale_factor = [3.0e-3, 3.0e-3, 3.0e-3]";
 
 fn nav_sim(directory: &Path, arguments: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_nav-sim"))
@@ -40,17 +48,17 @@ fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-/// Writes the short scenario as `name` in `directory`, with `seed` if given.
-fn short_scenario(directory: &Path, name: &str, seed: Option<u64>) -> PathBuf {
+/// Writes the short scenario as `name` in `directory`, with each `(line, replacement)` of
+/// `edits` applied to the settings before the manoeuvres.
+fn short_scenario(directory: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
     let default = stdout(&nav_sim(directory, &["scenario"]));
     let first = default.find("[[manoeuvre]]").unwrap();
     let filter = default.find("[filter]").unwrap();
-    let mut text = String::new();
-    for line in default[..first].lines() {
-        match seed {
-            Some(seed) if line.starts_with("seed = ") => text += &format!("seed = {seed}\n"),
-            _ => text += &format!("{line}\n"),
-        }
+    let mut text = default[..first].to_string();
+    for (line, replacement) in edits {
+        let line = format!("\n{line}\n");
+        assert_eq!(text.matches(&line).count(), 1, "{line}");
+        text = text.replace(&line, &format!("\n{replacement}\n"));
     }
     text += SHORT_MANOEUVRE;
     text += &default[filter..];
@@ -92,7 +100,7 @@ fn replay_refuses_to_write_over_its_log() {
 #[test]
 fn log_refuses_to_write_over_its_scenario() {
     let directory = tempfile::tempdir().unwrap();
-    let scenario = short_scenario(directory.path(), "short.toml", None);
+    let scenario = short_scenario(directory.path(), "short.toml", &[]);
     let before = std::fs::read(&scenario).unwrap();
     let output = nav_sim(
         directory.path(),
@@ -119,7 +127,7 @@ fn log_refuses_to_write_over_its_scenario() {
 #[test]
 fn a_failed_replay_leaves_the_previous_output_and_a_good_one_replaces_it() {
     let directory = tempfile::tempdir().unwrap();
-    short_scenario(directory.path(), "short.toml", None);
+    short_scenario(directory.path(), "short.toml", &[]);
     let output = nav_sim(directory.path(), &["log", "short.toml", "--out", "log.csv"]);
     assert!(output.status.success(), "{}", stderr(&output));
     // The log's first 3000 bytes and a line with the wrong number of fields.
@@ -160,7 +168,7 @@ fn a_failed_replay_leaves_the_previous_output_and_a_good_one_replaces_it() {
 #[test]
 fn a_bad_output_file_path_is_named() {
     let directory = tempfile::tempdir().unwrap();
-    short_scenario(directory.path(), "short.toml", None);
+    short_scenario(directory.path(), "short.toml", &[]);
     std::fs::create_dir(directory.path().join("existing")).unwrap();
     for (out, reason) in [
         ("existing", "is a directory"),
@@ -179,7 +187,7 @@ fn a_bad_output_file_path_is_named() {
 #[test]
 fn a_bad_output_directory_fails_before_the_flight() {
     let directory = tempfile::tempdir().unwrap();
-    short_scenario(directory.path(), "short.toml", None);
+    short_scenario(directory.path(), "short.toml", &[]);
     for out in ["short.toml", "short.toml/plots"] {
         let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--out", out]);
         assert_failed_naming(&output, out);
@@ -194,9 +202,26 @@ fn a_bad_output_directory_fails_before_the_flight() {
 }
 
 #[test]
+fn calibrate_check_fails_when_the_nees_is_above_its_bound() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(
+        directory.path(),
+        "beyond.toml",
+        &[(GYRO_SCALE_FACTOR, GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR)],
+    );
+    let output = nav_sim(directory.path(), &["calibrate", "beyond.toml", "--check"]);
+    assert!(!output.status.success());
+    assert!(
+        stderr(&output).contains("is above its χ²(15) 95 % bound 25.0"),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
 fn calibrate_check_fails_when_a_figure_is_not_met() {
     let directory = tempfile::tempdir().unwrap();
-    short_scenario(directory.path(), "short.toml", None);
+    short_scenario(directory.path(), "short.toml", &[]);
     let output = nav_sim(directory.path(), &["calibrate", "short.toml"]);
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(stdout(&output).contains("0 of 15 parameter axes meet"));
@@ -212,11 +237,11 @@ fn calibrate_check_fails_when_a_figure_is_not_met() {
 #[test]
 fn monte_carlo_check_fails_when_the_nees_is_outside_its_interval() {
     let directory = tempfile::tempdir().unwrap();
-    short_scenario(directory.path(), "consistent.toml", None);
+    short_scenario(directory.path(), "consistent.toml", &[]);
     short_scenario(
         directory.path(),
         "inconsistent.toml",
-        Some(INCONSISTENT_SEED),
+        &[(SEED, INCONSISTENT_SEED)],
     );
     let run = |scenario: &str, check: bool| {
         let mut arguments = vec!["monte-carlo", scenario, "--runs", "1", "--json"];
