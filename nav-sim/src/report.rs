@@ -661,27 +661,44 @@ fn register_font() -> Result<(), ReportError> {
     }
 }
 
-/// Draws panels stacked vertically into a PNG, all with the x axis `x_label`; the file is
-/// written whole or not at all ([`OutputFile`]).
+/// Draws a PNG of `size` at `path`: a white canvas titled `title`, its area below the title
+/// filled by `draw`. The file is written whole or not at all ([`OutputFile`]).
+fn draw_png(
+    path: &Path,
+    size: (u32, u32),
+    title: &str,
+    draw: impl FnOnce(
+        &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), ReportError>,
+) -> Result<(), ReportError> {
+    register_font()?;
+    let output = OutputFile::create(path)?;
+    {
+        let root = BitMapBackend::new(output.staging_path(), size).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(|error| plot_error(path, &error))?;
+        let root = root
+            .titled(title, ("sans-serif", 28))
+            .map_err(|error| plot_error(path, &error))?;
+        draw(&root)?;
+        root.present().map_err(|error| plot_error(path, &error))?;
+    }
+    output.commit()?;
+    Ok(())
+}
+
+/// Draws panels stacked vertically into a PNG, all with the x axis `x_label`.
 pub(crate) fn draw_panels(
     path: &Path,
     title: &str,
     x_label: &str,
     panels: &[Panel],
 ) -> Result<(), ReportError> {
-    register_font()?;
     let x_ranges = panels
         .iter()
         .map(panel_x_range)
         .collect::<Result<Vec<_>, _>>()?;
-    let output = OutputFile::create(path)?;
-    {
-        let root = BitMapBackend::new(output.staging_path(), PLOT_SIZE).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(|error| plot_error(path, &error))?;
-        let root = root
-            .titled(title, ("sans-serif", 28))
-            .map_err(|error| plot_error(path, &error))?;
+    draw_png(path, PLOT_SIZE, title, |root| {
         for ((area, panel), x_range) in root
             .split_evenly((panels.len(), 1))
             .iter()
@@ -690,10 +707,8 @@ pub(crate) fn draw_panels(
         {
             draw_linear_panel(path, area, panel, x_range, x_label)?;
         }
-        root.present().map_err(|error| plot_error(path, &error))?;
-    }
-    output.commit()?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// A plotting failure on the file `path`.
@@ -847,23 +862,14 @@ fn draw_log_panel(
 const BLOCK_PLOT_SIZE: (u32, u32) = (1800, 1000);
 
 /// Draws rows of panel pairs into a PNG: the left panel of each row with a linear y axis, the
-/// right one with a logarithmic y axis; all with the x axis `x_label`; the file is written
-/// whole or not at all ([`OutputFile`]).
+/// right one with a logarithmic y axis; all with the x axis `x_label`.
 fn draw_linear_and_log_panels(
     path: &Path,
     title: &str,
     x_label: &str,
     rows: &[(Panel, Panel)],
 ) -> Result<(), ReportError> {
-    register_font()?;
-    let output = OutputFile::create(path)?;
-    {
-        let root = BitMapBackend::new(output.staging_path(), BLOCK_PLOT_SIZE).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(|error| plot_error(path, &error))?;
-        let root = root
-            .titled(title, ("sans-serif", 28))
-            .map_err(|error| plot_error(path, &error))?;
+    draw_png(path, BLOCK_PLOT_SIZE, title, |root| {
         let areas = root.split_evenly((rows.len(), 2));
         for ((linear, log), areas) in rows.iter().zip(areas.chunks(2)) {
             if let [linear_area, log_area] = areas {
@@ -871,10 +877,8 @@ fn draw_linear_and_log_panels(
                 draw_log_panel(path, log_area, log, panel_x_range(log)?, x_label)?;
             }
         }
-        root.present().map_err(|error| plot_error(path, &error))?;
-    }
-    output.commit()?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Largest finite absolute value (0 if none).

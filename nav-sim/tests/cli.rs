@@ -77,9 +77,10 @@ fn names(directory: &Path) -> Vec<String> {
     names
 }
 
-fn assert_failed_naming(output: &Output, path: &str) {
+/// The command failed and its message contains `text` (e.g. the path it names).
+fn assert_failed_saying(output: &Output, text: &str) {
     assert!(!output.status.success(), "{output:?}");
-    assert!(stderr(output).contains(path), "{}", stderr(output));
+    assert!(stderr(output).contains(text), "{}", stderr(output));
 }
 
 #[test]
@@ -91,7 +92,7 @@ fn replay_refuses_to_write_over_its_log() {
     std::fs::hard_link(&log, directory.path().join("same.csv")).unwrap();
     for out in ["log.csv", "./log.csv", "same.csv"] {
         let output = nav_sim(directory.path(), &["replay", "log.csv", "--out", out]);
-        assert_failed_naming(&output, out);
+        assert_failed_saying(&output, out);
         assert!(stderr(&output).contains("refusing"), "{}", stderr(&output));
         assert_eq!(std::fs::read(&log).unwrap(), content);
     }
@@ -106,7 +107,7 @@ fn log_refuses_to_write_over_its_scenario() {
         directory.path(),
         &["log", "short.toml", "--out", "short.toml"],
     );
-    assert_failed_naming(&output, "short.toml");
+    assert_failed_saying(&output, "short.toml");
     assert!(stderr(&output).contains("refusing"), "{}", stderr(&output));
     assert_eq!(std::fs::read(&scenario).unwrap(), before);
     let output = nav_sim(
@@ -120,7 +121,7 @@ fn log_refuses_to_write_over_its_scenario() {
             "short.toml",
         ],
     );
-    assert_failed_naming(&output, "short.toml");
+    assert_failed_saying(&output, "short.toml");
     assert_eq!(std::fs::read(&scenario).unwrap(), before);
 }
 
@@ -144,7 +145,7 @@ fn a_failed_replay_leaves_the_previous_output_and_a_good_one_replaces_it() {
         directory.path(),
         &[&["replay", "damaged.csv"], &arguments[..]].concat(),
     );
-    assert_failed_naming(&output, "damaged.csv");
+    assert_failed_saying(&output, "damaged.csv");
     assert_eq!(std::fs::read(&out).unwrap(), previous);
     assert_eq!(
         names(directory.path()),
@@ -176,7 +177,7 @@ fn a_bad_output_file_path_is_named() {
         ("short.toml/log.csv", "Not a directory"),
     ] {
         let output = nav_sim(directory.path(), &["log", "short.toml", "--out", out]);
-        assert_failed_naming(&output, out);
+        assert_failed_saying(&output, out);
         assert!(stderr(&output).contains(reason), "{}", stderr(&output));
         assert!(!stdout(&output).contains("wrote"), "{}", stdout(&output));
     }
@@ -190,13 +191,13 @@ fn a_bad_output_directory_fails_before_the_flight() {
     short_scenario(directory.path(), "short.toml", &[]);
     for out in ["short.toml", "short.toml/plots"] {
         let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--out", out]);
-        assert_failed_naming(&output, out);
+        assert_failed_saying(&output, out);
         assert!(stdout(&output).is_empty(), "{}", stdout(&output));
         let output = nav_sim(
             directory.path(),
             &["monte-carlo", "short.toml", "--runs", "1", "--out", out],
         );
-        assert_failed_naming(&output, out);
+        assert_failed_saying(&output, out);
         assert!(stdout(&output).is_empty(), "{}", stdout(&output));
     }
 }
@@ -210,12 +211,7 @@ fn calibrate_check_fails_when_the_nees_is_above_its_bound() {
         &[(GYRO_SCALE_FACTOR, GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR)],
     );
     let output = nav_sim(directory.path(), &["calibrate", "beyond.toml", "--check"]);
-    assert!(!output.status.success());
-    assert!(
-        stderr(&output).contains("is above its χ²(15) 95 % bound 25.0"),
-        "{}",
-        stderr(&output)
-    );
+    assert_failed_saying(&output, "is above its χ²(15) 95 % bound 25.0");
 }
 
 #[test]
@@ -226,11 +222,9 @@ fn calibrate_check_fails_when_a_figure_is_not_met() {
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(stdout(&output).contains("0 of 15 parameter axes meet"));
     let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--check"]);
-    assert!(!output.status.success());
-    assert!(
-        stderr(&output).contains("15 of 15 parameter axes do not meet the paper's accuracy"),
-        "{}",
-        stderr(&output)
+    assert_failed_saying(
+        &output,
+        "15 of 15 parameter axes do not meet the paper's accuracy",
     );
 }
 
@@ -253,12 +247,7 @@ fn monte_carlo_check_fails_when_the_nees_is_outside_its_interval() {
     let output = run("inconsistent.toml", false);
     assert!(output.status.success(), "{}", stderr(&output));
     let output = run("inconsistent.toml", true);
-    assert!(!output.status.success());
-    assert!(
-        stderr(&output).contains("outside its 95 % interval"),
-        "{}",
-        stderr(&output)
-    );
+    assert_failed_saying(&output, "outside its 95 % interval");
     let output = run("consistent.toml", true);
     assert!(output.status.success(), "{}", stderr(&output));
 }
