@@ -13,6 +13,7 @@
 //! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`output`]: output files written atomically, refused when they are an input.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
@@ -28,6 +29,7 @@ pub mod flight;
 pub mod log_replay;
 pub mod monte_carlo;
 pub mod observability_report;
+pub mod output;
 pub mod report;
 pub mod scenario;
 pub mod sensor_log;

@@ -2,6 +2,7 @@
 //! through the flight code (nav-fsw), Monte Carlo campaigns over seeds, replays of recorded
 //! sensor logs, and prints or writes the scenarios and logs they use.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -9,8 +10,10 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use nav_sim::flight::{self, FlightOptions, FlightResult};
 use nav_sim::monte_carlo;
+use nav_sim::output::{self, OutputFile};
 use nav_sim::report::{self, CalibrationResult, Parameter, TimeHistorySample};
 use nav_sim::Scenario;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
 #[derive(Parser)]
@@ -33,14 +36,20 @@ enum Command {
         /// Print one JSON object: `{"rows": [...], "met": n, "nees": x, "health": {...}}`.
         #[arg(long)]
         json: bool,
+        /// Exit non-zero if a parameter axis misses the paper's accuracy or the NEES of the
+        /// calibration states is above its χ² 95 % bound.
+        #[arg(long)]
+        check: bool,
     },
     /// Monte Carlo over seeds (each run's sensor-error truth drawn from the filter's prior):
     /// RMS error, mean filter 1σ and the NEES consistency test.
     MonteCarlo {
         /// Scenario TOML (default: the built-in one).
         scenario: Option<PathBuf>,
-        /// Number of runs (seeds: the scenario's seed, +1, +2, ...).
-        #[arg(long, default_value_t = 50)]
+        /// Number of runs, 1 or more (seeds: the scenario's seed, +1, +2, ...).
+        // Negative numbers reach the parser, which names the flag and the accepted range,
+        // rather than being taken for an unknown flag.
+        #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = parse_runs)]
         runs: u64,
         /// Write the NEES / RMS plot into this directory.
         #[arg(long)]
@@ -48,12 +57,15 @@ enum Command {
         /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states"}`.
         #[arg(long)]
         json: bool,
+        /// Exit non-zero if the average NEES is outside its 95 % interval.
+        #[arg(long)]
+        check: bool,
     },
     /// Write a scenario's sensor log as CSV (the replay format, docs/replay-format.md).
     Log {
         /// Scenario TOML (default: the built-in one).
         scenario: Option<PathBuf>,
-        /// The CSV file to write.
+        /// The CSV file to write (not the scenario).
         #[arg(long)]
         out: PathBuf,
     },
@@ -66,7 +78,7 @@ enum Command {
         /// initial solution); default: the built-in one.
         #[arg(long)]
         scenario: Option<PathBuf>,
-        /// Output CSV.
+        /// Output CSV (not the log or the scenario).
         #[arg(long, default_value = "replay-output.csv")]
         out: PathBuf,
     },
@@ -106,6 +118,14 @@ enum Command {
 
 type Failure = Box<dyn std::error::Error>;
 
+/// `--runs`: a whole number of runs, 1 or more (clap names the flag and the value).
+fn parse_runs(text: &str) -> Result<u64, String> {
+    text.parse::<u64>()
+        .ok()
+        .filter(|&runs| runs >= 1)
+        .ok_or_else(|| "expected a whole number of runs, 1 or more".to_string())
+}
+
 fn load(scenario: Option<&Path>) -> Result<Scenario, Failure> {
     Ok(match scenario {
         Some(path) => Scenario::load(path)?,
@@ -128,8 +148,82 @@ fn history(result: &FlightResult) -> Vec<TimeHistorySample> {
     result.samples.iter().map(|s| s.time_history()).collect()
 }
 
-fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<(), Failure> {
-    let scenario = load(scenario)?;
+/// The probability below the bound of the single-flight NEES test of `calibrate --check`.
+const NEES_BOUND_PROBABILITY: f64 = 0.95;
+
+/// The bound that the NEES of the calibration states stays below with probability
+/// [`NEES_BOUND_PROBABILITY`] for a consistent filter: the χ²(15) quantile.
+fn calibration_nees_bound() -> Result<f64, Failure> {
+    let distribution = ChiSquared::new(monte_carlo::CALIBRATION_STATES as f64)?;
+    Ok(distribution.inverse_cdf(NEES_BOUND_PROBABILITY))
+}
+
+/// The scenario file as the input list of a command (the built-in one has none).
+fn inputs(scenario: Option<&Path>) -> Vec<&Path> {
+    scenario.into_iter().collect()
+}
+
+/// Checks an output directory and the files a command writes into it before the run, so a
+/// bad `--out` fails at once rather than after the flight.
+fn prepare_outputs(directory: &Path, files: &[PathBuf], inputs: &[&Path]) -> Result<(), Failure> {
+    for file in files {
+        output::refuse_inputs(file, inputs)?;
+    }
+    output::prepare_directory(directory)?;
+    Ok(())
+}
+
+/// What `calibrate --check` finds wrong with a calibration: the axes that miss the paper's
+/// accuracy and a NEES above its bound (`None` if nothing).
+fn calibration_failures(
+    table: &CalibrationResult,
+    nees: Option<f64>,
+    bound: f64,
+) -> Option<String> {
+    let mut failures = Vec::new();
+    let missed: Vec<String> = table
+        .rows
+        .iter()
+        .filter(|row| row.met() != Some(true))
+        .map(|row| format!("{} {}", row.parameter.name(), row.axis.name()))
+        .collect();
+    if !missed.is_empty() {
+        failures.push(format!(
+            "{} of {} parameter axes do not meet the paper's accuracy ({})",
+            missed.len(),
+            table.rows.len(),
+            missed.join(", ")
+        ));
+    }
+    match nees {
+        Some(nees) if nees <= bound => {}
+        Some(nees) => failures.push(format!(
+            "the NEES of the calibration states, {nees:.1}, is above its χ²({}) 95 % bound {bound:.1}",
+            monte_carlo::CALIBRATION_STATES
+        )),
+        None => failures.push(
+            "the NEES of the calibration states is undefined (covariance not positive definite)"
+                .to_string(),
+        ),
+    }
+    (!failures.is_empty()).then(|| failures.join("; "))
+}
+
+fn calibrate(
+    scenario_path: Option<&Path>,
+    out: Option<&Path>,
+    json: bool,
+    check: bool,
+) -> Result<(), Failure> {
+    let scenario = load(scenario_path)?;
+    if let Some(directory) = out {
+        prepare_outputs(
+            directory,
+            &report::output_files(directory),
+            &inputs(scenario_path),
+        )?;
+    }
+    let nees_bound = calibration_nees_bound()?;
     let bar = progress_bar(scenario.frame_count(), "calibrate");
     if json {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
@@ -142,11 +236,9 @@ fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<
     let history = history(&result);
     let last = history.last().ok_or("the scenario has no frames")?;
     let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
+    let nees = result.calibration_nees();
     if json {
-        println!(
-            "{}",
-            table.report_json(result.calibration_nees(), &result.health)?
-        );
+        println!("{}", table.report_json(nees, &result.health)?);
     } else {
         println!(
             "{} frames ({:.0} s of flight) through nav-fsw in {:.2?}",
@@ -155,13 +247,14 @@ fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<
             started.elapsed()
         );
         println!("{}", report::summary(&table));
-        if let Some(nees) = result.calibration_nees() {
-            println!("NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below 25.0)");
+        if let Some(nees) = nees {
+            println!(
+                "NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below {nees_bound:.1})"
+            );
         }
         println!("health: {:?}", result.health);
     }
     if let Some(directory) = out {
-        std::fs::create_dir_all(directory)?;
         let csv = report::write_time_histories(directory, &history)?;
         let png = report::write_plots(directory, &history)?;
         if !json {
@@ -173,16 +266,30 @@ fn calibrate(scenario: Option<&Path>, out: Option<&Path>, json: bool) -> Result<
             );
         }
     }
+    if check {
+        if let Some(failures) = calibration_failures(&table, nees, nees_bound) {
+            return Err(format!("calibrate --check: {failures}").into());
+        }
+    }
     Ok(())
 }
 
 fn monte_carlo(
-    scenario: Option<&Path>,
+    scenario_path: Option<&Path>,
     runs: u64,
     out: Option<&Path>,
     json: bool,
+    check: bool,
 ) -> Result<(), Failure> {
-    let scenario = load(scenario)?;
+    let scenario = load(scenario_path)?;
+    let plot = out.map(|directory| directory.join("monte_carlo.png"));
+    if let (Some(directory), Some(plot)) = (out, &plot) {
+        prepare_outputs(
+            directory,
+            std::slice::from_ref(plot),
+            &inputs(scenario_path),
+        )?;
+    }
     let seeds: Vec<u64> = (0..runs)
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .collect();
@@ -190,44 +297,55 @@ fn monte_carlo(
     let summary = monte_carlo::summarise::<15, flight::FlightError>(&outcomes)?;
     if json {
         println!("{}", summary.json(&monte_carlo::calibration_labels())?);
-        if let Some(directory) = out {
-            std::fs::create_dir_all(directory)?;
-            summary.plot(&directory.join("monte_carlo.png"))?;
-        }
-        return Ok(());
-    }
-    println!("{}", summary.table(&monte_carlo::calibration_labels()));
-    println!("{}", summary.nees_line());
-    for (sensor, test) in [
-        ("star sensor", &summary.star_nis),
-        ("GNSS", &summary.gnss_nis),
-    ] {
-        if let Some(test) = test {
-            println!("{}", test.line(sensor));
+    } else {
+        println!("{}", summary.table(&monte_carlo::calibration_labels()));
+        println!("{}", summary.nees_line());
+        for (sensor, test) in [
+            ("star sensor", &summary.star_nis),
+            ("GNSS", &summary.gnss_nis),
+        ] {
+            if let Some(test) = test {
+                println!("{}", test.line(sensor));
+            }
         }
     }
-    if let Some(directory) = out {
-        std::fs::create_dir_all(directory)?;
-        let path = directory.join("monte_carlo.png");
-        summary.plot(&path)?;
-        println!("wrote {}", path.display());
+    if let Some(plot) = &plot {
+        summary.plot(plot)?;
+        if !json {
+            println!("wrote {}", plot.display());
+        }
+    }
+    if check && !summary.nees.consistent() {
+        let nees = &summary.nees;
+        return Err(format!(
+            "monte-carlo --check: the average NEES {:.3} over {} runs is outside its 95 % interval [{:.3}, {:.3}]",
+            nees.average, summary.runs, nees.lower_bound, nees.upper_bound
+        )
+        .into());
     }
     Ok(())
 }
 
-fn write_log(scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
-    let scenario = load(scenario)?;
-    let file = std::io::BufWriter::new(std::fs::File::create(out)?);
-    let rows = nav_sim::sensor_log::record_simulation(nav_sim::Simulation::new(&scenario)?, file)?;
+fn write_log(scenario_path: Option<&Path>, out: &Path) -> Result<(), Failure> {
+    let mut file = OutputFile::create_distinct(out, &inputs(scenario_path))?;
+    let scenario = load(scenario_path)?;
+    let rows =
+        nav_sim::sensor_log::record_simulation(nav_sim::Simulation::new(&scenario)?, &mut file)?;
+    file.commit()?;
     println!("wrote {rows} sensor events to {}", out.display());
     Ok(())
 }
 
-fn replay(log: &Path, scenario: Option<&Path>, out: &Path) -> Result<(), Failure> {
-    let scenario = load(scenario)?;
-    let input = std::fs::File::open(log)?;
-    let output = std::fs::File::create(out)?;
-    let summary = nav_sim::log_replay::replay(input, &scenario, output)?;
+fn replay(log: &Path, scenario_path: Option<&Path>, out: &Path) -> Result<(), Failure> {
+    let mut input_paths = inputs(scenario_path);
+    input_paths.push(log);
+    let mut output = OutputFile::create_distinct(out, &input_paths)?;
+    let scenario = load(scenario_path)?;
+    let input = std::fs::File::open(log)
+        .map_err(|error| format!("cannot open {}: {error}", log.display()))?;
+    let summary = nav_sim::log_replay::replay(input, &scenario, &mut output)
+        .map_err(|error| format!("replaying {}: {error}", log.display()))?;
+    output.commit()?;
     println!(
         "replayed {} frames of {}; health {:?}; output {}",
         summary.frames,
@@ -266,7 +384,9 @@ fn target_bench(
     let text = report.text();
     print!("{text}");
     let path = out.join("target-bench-report.txt");
-    std::fs::write(&path, &text)?;
+    let mut file = OutputFile::create(&path)?;
+    file.write_all(text.as_bytes())?;
+    file.commit()?;
     println!("report written to {}", path.display());
     if let Some(difference) = report.difference {
         return Err(format!("host and target differ first at {difference:?}").into());
@@ -280,18 +400,21 @@ fn main() -> ExitCode {
         scenario: None,
         out: None,
         json: false,
+        check: false,
     }) {
         Command::Calibrate {
             scenario,
             out,
             json,
-        } => calibrate(scenario.as_deref(), out.as_deref(), json),
+            check,
+        } => calibrate(scenario.as_deref(), out.as_deref(), json, check),
         Command::MonteCarlo {
             scenario,
             runs,
             out,
             json,
-        } => monte_carlo(scenario.as_deref(), runs, out.as_deref(), json),
+            check,
+        } => monte_carlo(scenario.as_deref(), runs, out.as_deref(), json, check),
         Command::Log { scenario, out } => write_log(scenario.as_deref(), &out),
         Command::Replay { log, scenario, out } => replay(&log, scenario.as_deref(), &out),
         Command::Scenario => {

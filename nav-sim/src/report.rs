@@ -24,6 +24,8 @@ use nav_core::state::{self, StateBlock};
 use plotters::prelude::*;
 use serde::Serialize;
 
+use crate::output::{OutputError, OutputFile};
+
 /// One block of the error state (nav-core's layout, paper eq. 15).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Parameter {
@@ -323,6 +325,9 @@ pub enum ReportError {
     /// JSON serialisation failed.
     #[error("JSON: {0}")]
     Json(#[from] serde_json::Error),
+    /// An output file could not be created or committed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// Scientific notation with four significant digits (table cells).
@@ -462,12 +467,42 @@ fn history_header() -> Vec<String> {
     header
 }
 
+/// The time-history CSV of `parameter` in `directory`.
+fn time_history_file(directory: &Path, parameter: Parameter) -> PathBuf {
+    directory.join(format!("{}.csv", parameter.name()))
+}
+
+/// The plot of `parameter` in `directory`.
+fn plot_file(directory: &Path, parameter: Parameter) -> PathBuf {
+    directory.join(format!("{}.png", parameter.name()))
+}
+
+/// The navigation-error plot in `directory`.
+fn navigation_plot_file(directory: &Path) -> PathBuf {
+    directory.join("navigation_errors.png")
+}
+
+/// The files [`write_time_histories`] and [`write_plots`] write into `directory`, so a caller
+/// can check them before a run.
+pub fn output_files(directory: &Path) -> Vec<PathBuf> {
+    Parameter::ALL
+        .iter()
+        .map(|&parameter| time_history_file(directory, parameter))
+        .chain(
+            Parameter::ALL
+                .iter()
+                .map(|&parameter| plot_file(directory, parameter)),
+        )
+        .chain(std::iter::once(navigation_plot_file(directory)))
+        .collect()
+}
+
 /// Writes one CSV per block into `directory` (`<block name>.csv`: `time_s`, `estimate_{x,y,z}`,
 /// `sigma_{x,y,z}`, `truth_{x,y,z}`, `error_{x,y,z}`; floats in shortest round-trip form).
-/// Returns the files written.
+/// Each file is written whole or not at all ([`OutputFile`]). Returns the files written.
 ///
 /// # Errors
-/// [`ReportError::Io`] / [`ReportError::Csv`] naming the file.
+/// [`ReportError::Output`] / [`ReportError::Csv`] naming the file.
 pub fn write_time_histories(
     directory: &Path,
     history: &[TimeHistorySample],
@@ -476,14 +511,13 @@ pub fn write_time_histories(
     Parameter::ALL
         .iter()
         .map(|&parameter| {
-            let path = directory.join(format!("{}.csv", parameter.name()));
+            let path = time_history_file(directory, parameter);
             let csv_error = |line, source| ReportError::Csv {
                 path: path.clone(),
                 line,
                 source,
             };
-            let mut writer =
-                csv::Writer::from_path(&path).map_err(|source| csv_error(1, source))?;
+            let mut writer = csv::Writer::from_writer(OutputFile::create(&path)?);
             writer
                 .write_record(history_header())
                 .map_err(|source| csv_error(1, source))?;
@@ -508,10 +542,11 @@ pub fn write_time_histories(
                     .write_record(&row)
                     .map_err(|source| csv_error(line, source))?;
             }
-            writer.flush().map_err(|source| ReportError::Io {
+            let output = writer.into_inner().map_err(|error| ReportError::Io {
                 path: path.clone(),
-                source,
+                source: error.into_error(),
             })?;
+            output.commit()?;
             Ok(path)
         })
         .collect()
@@ -626,6 +661,32 @@ fn register_font() -> Result<(), ReportError> {
     }
 }
 
+/// Draws a PNG of `size` at `path`: a white canvas titled `title`, its area below the title
+/// filled by `draw`. The file is written whole or not at all ([`OutputFile`]).
+fn draw_png(
+    path: &Path,
+    size: (u32, u32),
+    title: &str,
+    draw: impl FnOnce(
+        &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), ReportError>,
+) -> Result<(), ReportError> {
+    register_font()?;
+    let output = OutputFile::create(path)?;
+    {
+        let root = BitMapBackend::new(output.staging_path(), size).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(|error| plot_error(path, &error))?;
+        let root = root
+            .titled(title, ("sans-serif", 28))
+            .map_err(|error| plot_error(path, &error))?;
+        draw(&root)?;
+        root.present().map_err(|error| plot_error(path, &error))?;
+    }
+    output.commit()?;
+    Ok(())
+}
+
 /// Draws panels stacked vertically into a PNG, all with the x axis `x_label`.
 pub(crate) fn draw_panels(
     path: &Path,
@@ -633,27 +694,21 @@ pub(crate) fn draw_panels(
     x_label: &str,
     panels: &[Panel],
 ) -> Result<(), ReportError> {
-    register_font()?;
     let x_ranges = panels
         .iter()
         .map(panel_x_range)
         .collect::<Result<Vec<_>, _>>()?;
-    let root = BitMapBackend::new(path, PLOT_SIZE).into_drawing_area();
-    root.fill(&WHITE)
-        .map_err(|error| plot_error(path, &error))?;
-    let root = root
-        .titled(title, ("sans-serif", 28))
-        .map_err(|error| plot_error(path, &error))?;
-    for ((area, panel), x_range) in root
-        .split_evenly((panels.len(), 1))
-        .iter()
-        .zip(panels)
-        .zip(x_ranges)
-    {
-        draw_linear_panel(path, area, panel, x_range, x_label)?;
-    }
-    root.present().map_err(|error| plot_error(path, &error))?;
-    Ok(())
+    draw_png(path, PLOT_SIZE, title, |root| {
+        for ((area, panel), x_range) in root
+            .split_evenly((panels.len(), 1))
+            .iter()
+            .zip(panels)
+            .zip(x_ranges)
+        {
+            draw_linear_panel(path, area, panel, x_range, x_label)?;
+        }
+        Ok(())
+    })
 }
 
 /// A plotting failure on the file `path`.
@@ -814,22 +869,16 @@ fn draw_linear_and_log_panels(
     x_label: &str,
     rows: &[(Panel, Panel)],
 ) -> Result<(), ReportError> {
-    register_font()?;
-    let root = BitMapBackend::new(path, BLOCK_PLOT_SIZE).into_drawing_area();
-    root.fill(&WHITE)
-        .map_err(|error| plot_error(path, &error))?;
-    let root = root
-        .titled(title, ("sans-serif", 28))
-        .map_err(|error| plot_error(path, &error))?;
-    let areas = root.split_evenly((rows.len(), 2));
-    for ((linear, log), areas) in rows.iter().zip(areas.chunks(2)) {
-        if let [linear_area, log_area] = areas {
-            draw_linear_panel(path, linear_area, linear, panel_x_range(linear)?, x_label)?;
-            draw_log_panel(path, log_area, log, panel_x_range(log)?, x_label)?;
+    draw_png(path, BLOCK_PLOT_SIZE, title, |root| {
+        let areas = root.split_evenly((rows.len(), 2));
+        for ((linear, log), areas) in rows.iter().zip(areas.chunks(2)) {
+            if let [linear_area, log_area] = areas {
+                draw_linear_panel(path, linear_area, linear, panel_x_range(linear)?, x_label)?;
+                draw_log_panel(path, log_area, log, panel_x_range(log)?, x_label)?;
+            }
         }
-    }
-    root.present().map_err(|error| plot_error(path, &error))?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Largest finite absolute value (0 if none).
@@ -855,7 +904,8 @@ fn converged_window_start(len: usize) -> usize {
 ///   of magnitude below the prior, stays readable.
 ///
 /// # Errors
-/// [`ReportError::Empty`], [`ReportError::Plot`] or [`ReportError::Font`].
+/// [`ReportError::Empty`], [`ReportError::Plot`], [`ReportError::Font`] or
+/// [`ReportError::Output`] (the file cannot be created or replaced).
 pub fn plot_block(
     path: &Path,
     history: &[TimeHistorySample],
@@ -1031,11 +1081,11 @@ pub fn write_plots(
 ) -> Result<Vec<PathBuf>, ReportError> {
     let mut written = Vec::new();
     for parameter in Parameter::ALL {
-        let path = directory.join(format!("{}.png", parameter.name()));
+        let path = plot_file(directory, parameter);
         plot_block(&path, history, parameter)?;
         written.push(path);
     }
-    let path = directory.join("navigation_errors.png");
+    let path = navigation_plot_file(directory);
     plot_navigation_errors(&path, history)?;
     written.push(path);
     Ok(written)

@@ -1,0 +1,266 @@
+//! The `nav-sim` command line on bad input and bad output paths: an output that is an input is
+//! refused and the input left byte for byte, a failed run leaves an existing output as it was,
+//! a bad `--out` fails before the run naming its path, `--check` turns a missed calibration
+//! figure or an inconsistent NEES into a failure, and `--runs` accepts 1 or more.
+//!
+//! Every flight here is a 2 s scenario (the built-in one with its manoeuvres replaced by one
+//! short coast), so the tests stay fast in a debug build.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The one manoeuvre of the short scenario: 2 s of quiet coast, far too short for any
+/// calibration figure to be met.
+const SHORT_MANOEUVRE: &str = r#"[[manoeuvre]]
+label = "short coast"
+duration_s = 2.0
+ramp_s = 0.0
+body_rate_deg_per_s = [2.4e-4, 2.4e-4, 2.4e-4]
+specific_force_mps2 = [0.0, 0.0, 0.0]
+
+"#;
+
+/// The seed line of the built-in scenario.
+const SEED: &str = "seed = 20170415";
+
+/// A seed of the short scenario whose single Monte Carlo run has a NEES of 31.9, above the
+/// 95 % interval [6.26, 27.49] of one χ²(15) draw.
+const INCONSISTENT_SEED: &str = "seed = 20170442";
+
+/// The gyro scale factor of the built-in scenario, and a value 30σ of the filter's prior
+/// (1e-4) from zero: the NEES of a flight with it is far above its bound.
+const GYRO_SCALE_FACTOR: &str = "scale_factor = [3.0e-5, 3.0e-5, 3.0e-5]";
+const GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR: &str = "scale_factor = [3.0e-3, 3.0e-3, 3.0e-3]";
+
+fn nav_sim(directory: &Path, arguments: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nav-sim"))
+        .args(arguments)
+        .current_dir(directory)
+        .output()
+        .unwrap()
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Writes the short scenario as `name` in `directory`, with each `(line, replacement)` of
+/// `edits` applied to the settings before the manoeuvres.
+fn short_scenario(directory: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let default = stdout(&nav_sim(directory, &["scenario"]));
+    let first = default.find("[[manoeuvre]]").unwrap();
+    let filter = default.find("[filter]").unwrap();
+    let mut text = default[..first].to_string();
+    for (line, replacement) in edits {
+        let line = format!("\n{line}\n");
+        assert_eq!(text.matches(&line).count(), 1, "{line}");
+        text = text.replace(&line, &format!("\n{replacement}\n"));
+    }
+    text += SHORT_MANOEUVRE;
+    text += &default[filter..];
+    let path = directory.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The names in `directory`, sorted (temporary files left behind would show here).
+fn names(directory: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(directory)
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// The command failed and its message contains `text` (e.g. the path it names).
+fn assert_failed_saying(output: &Output, text: &str) {
+    assert!(!output.status.success(), "{output:?}");
+    assert!(stderr(output).contains(text), "{}", stderr(output));
+}
+
+#[test]
+fn replay_refuses_to_write_over_its_log() {
+    let directory = tempfile::tempdir().unwrap();
+    let log = directory.path().join("log.csv");
+    let content = b"kind,arrival_time_s\nimu,600.002\n";
+    std::fs::write(&log, content).unwrap();
+    std::fs::hard_link(&log, directory.path().join("same.csv")).unwrap();
+    for out in ["log.csv", "./log.csv", "same.csv"] {
+        let output = nav_sim(directory.path(), &["replay", "log.csv", "--out", out]);
+        assert_failed_saying(&output, out);
+        assert!(stderr(&output).contains("refusing"), "{}", stderr(&output));
+        assert_eq!(std::fs::read(&log).unwrap(), content);
+    }
+}
+
+#[test]
+fn log_refuses_to_write_over_its_scenario() {
+    let directory = tempfile::tempdir().unwrap();
+    let scenario = short_scenario(directory.path(), "short.toml", &[]);
+    let before = std::fs::read(&scenario).unwrap();
+    let output = nav_sim(
+        directory.path(),
+        &["log", "short.toml", "--out", "short.toml"],
+    );
+    assert_failed_saying(&output, "short.toml");
+    assert!(stderr(&output).contains("refusing"), "{}", stderr(&output));
+    assert_eq!(std::fs::read(&scenario).unwrap(), before);
+    let output = nav_sim(
+        directory.path(),
+        &[
+            "replay",
+            "other.csv",
+            "--scenario",
+            "short.toml",
+            "--out",
+            "short.toml",
+        ],
+    );
+    assert_failed_saying(&output, "short.toml");
+    assert_eq!(std::fs::read(&scenario).unwrap(), before);
+}
+
+#[test]
+fn a_failed_replay_leaves_the_previous_output_and_a_good_one_replaces_it() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(directory.path(), "short.toml", &[]);
+    let output = nav_sim(directory.path(), &["log", "short.toml", "--out", "log.csv"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    // The log's first 3000 bytes and a line with the wrong number of fields.
+    let mut damaged = std::fs::read(directory.path().join("log.csv")).unwrap();
+    damaged.truncate(3000);
+    damaged.extend_from_slice(b"\nimu,1,2\n");
+    std::fs::write(directory.path().join("damaged.csv"), damaged).unwrap();
+    let previous = b"the previous output\n";
+    let out = directory.path().join("out.csv");
+    std::fs::write(&out, previous).unwrap();
+
+    let arguments = ["--scenario", "short.toml", "--out", "out.csv"];
+    let output = nav_sim(
+        directory.path(),
+        &[&["replay", "damaged.csv"], &arguments[..]].concat(),
+    );
+    assert_failed_saying(&output, "damaged.csv");
+    assert_eq!(std::fs::read(&out).unwrap(), previous);
+    assert_eq!(
+        names(directory.path()),
+        ["damaged.csv", "log.csv", "out.csv", "short.toml"]
+    );
+
+    let output = nav_sim(
+        directory.path(),
+        &[&["replay", "log.csv"], &arguments[..]].concat(),
+    );
+    assert!(output.status.success(), "{}", stderr(&output));
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(written.starts_with("time_s,"), "{written}");
+    assert_eq!(written.lines().count(), 3, "{written}");
+    assert_eq!(
+        names(directory.path()),
+        ["damaged.csv", "log.csv", "out.csv", "short.toml"]
+    );
+}
+
+#[test]
+fn a_bad_output_file_path_is_named() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(directory.path(), "short.toml", &[]);
+    std::fs::create_dir(directory.path().join("existing")).unwrap();
+    for (out, reason) in [
+        ("existing", "is a directory"),
+        ("missing/log.csv", "No such file or directory"),
+        ("short.toml/log.csv", "Not a directory"),
+    ] {
+        let output = nav_sim(directory.path(), &["log", "short.toml", "--out", out]);
+        assert_failed_saying(&output, out);
+        assert!(stderr(&output).contains(reason), "{}", stderr(&output));
+        assert!(!stdout(&output).contains("wrote"), "{}", stdout(&output));
+    }
+    assert_eq!(names(directory.path()), ["existing", "short.toml"]);
+    assert!(names(&directory.path().join("existing")).is_empty());
+}
+
+#[test]
+fn a_bad_output_directory_fails_before_the_flight() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(directory.path(), "short.toml", &[]);
+    for out in ["short.toml", "short.toml/plots"] {
+        let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--out", out]);
+        assert_failed_saying(&output, out);
+        assert!(stdout(&output).is_empty(), "{}", stdout(&output));
+        let output = nav_sim(
+            directory.path(),
+            &["monte-carlo", "short.toml", "--runs", "1", "--out", out],
+        );
+        assert_failed_saying(&output, out);
+        assert!(stdout(&output).is_empty(), "{}", stdout(&output));
+    }
+}
+
+#[test]
+fn calibrate_check_fails_when_the_nees_is_above_its_bound() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(
+        directory.path(),
+        "beyond.toml",
+        &[(GYRO_SCALE_FACTOR, GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR)],
+    );
+    let output = nav_sim(directory.path(), &["calibrate", "beyond.toml", "--check"]);
+    assert_failed_saying(&output, "is above its χ²(15) 95 % bound 25.0");
+}
+
+#[test]
+fn calibrate_check_fails_when_a_figure_is_not_met() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(directory.path(), "short.toml", &[]);
+    let output = nav_sim(directory.path(), &["calibrate", "short.toml"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stdout(&output).contains("0 of 15 parameter axes meet"));
+    let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--check"]);
+    assert_failed_saying(
+        &output,
+        "15 of 15 parameter axes do not meet the paper's accuracy",
+    );
+}
+
+#[test]
+fn monte_carlo_check_fails_when_the_nees_is_outside_its_interval() {
+    let directory = tempfile::tempdir().unwrap();
+    short_scenario(directory.path(), "consistent.toml", &[]);
+    short_scenario(
+        directory.path(),
+        "inconsistent.toml",
+        &[(SEED, INCONSISTENT_SEED)],
+    );
+    let run = |scenario: &str, check: bool| {
+        let mut arguments = vec!["monte-carlo", scenario, "--runs", "1", "--json"];
+        if check {
+            arguments.push("--check");
+        }
+        nav_sim(directory.path(), &arguments)
+    };
+    let output = run("inconsistent.toml", false);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let output = run("inconsistent.toml", true);
+    assert_failed_saying(&output, "outside its 95 % interval");
+    let output = run("consistent.toml", true);
+    assert!(output.status.success(), "{}", stderr(&output));
+}
+
+#[test]
+fn runs_must_be_one_or_more() {
+    let directory = tempfile::tempdir().unwrap();
+    for runs in ["-1", "0", "many"] {
+        let output = nav_sim(directory.path(), &["monte-carlo", "--runs", runs]);
+        assert_eq!(output.status.code(), Some(2), "{output:?}");
+        let message = stderr(&output);
+        assert!(message.contains("--runs"), "{message}");
+        assert!(message.contains("1 or more"), "{message}");
+        assert!(!message.contains("'-- -1'"), "{message}");
+    }
+}
