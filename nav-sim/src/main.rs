@@ -346,13 +346,8 @@ fn replay(log: &Path, scenario_path: Option<&Path>, out: &Path) -> Result<(), Fa
     let summary = nav_sim::log_replay::replay(input, &scenario, &mut output)
         .map_err(|error| format!("replaying {}: {error}", log.display()))?;
     output.commit()?;
-    println!(
-        "replayed {} frames of {}; health {:?}; output {}",
-        summary.frames,
-        log.display(),
-        summary.health,
-        out.display()
-    );
+    println!("replayed {}: {}", log.display(), summary.text());
+    println!("output {}", out.display());
     Ok(())
 }
 
