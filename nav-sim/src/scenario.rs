@@ -51,20 +51,17 @@ pub const MAX_TRUTH_STEPS: f64 = 1.0e9;
 /// upper stage's mission.
 pub const MAX_START_TIME_S: f64 = 1.0e7;
 
-/// Factor between the flight software's σ rule ([`nav_fsw::config::SIGMA_MIN`],
-/// [`nav_fsw::config::SIGMA_MAX`]) and the scenario's ([`SIGMA_RANGE`]): room for the unit
-/// conversions between the keys and the flight software (1″ = 4.8e-6 rad, 1 °/h = 4.8e-9
-/// rad/s, a per-sample σ times `√T`), so a valid scenario never fails the flight software's
-/// check.
-const SIGMA_UNIT_MARGIN: f64 = 1.0e50;
+/// Range of every 1σ and noise key (in the key's units): its square stays far inside the
+/// normal f64 range, neither infinite nor zero / subnormal in the filter's covariance. It is
+/// the flight software's σ rule ([`nav_fsw::config::SIGMA_MIN`],
+/// [`nav_fsw::config::SIGMA_MAX`], 1e∓150) narrowed by [`SIGMA_UNIT_MARGIN`] on each side, so
+/// that the unit conversions between the keys and the flight software (1″ = 4.8e-6 rad,
+/// 1 °/h = 4.8e-9 rad/s, a per-sample σ times `√T`) never take a valid key outside it.
+/// Noise keys whose 0 switches the noise off also accept 0.
+pub const SIGMA_RANGE: (f64, f64) = (1.0e-100, 1.0e100);
 
-/// Range of every 1σ and noise key (in the key's units), [1e-100, 1e100]: its square stays
-/// far inside the normal f64 range, neither infinite nor zero / subnormal in the filter's
-/// covariance. Noise keys whose 0 switches the noise off also accept 0.
-pub const SIGMA_RANGE: (f64, f64) = (
-    nav_fsw::config::SIGMA_MIN * SIGMA_UNIT_MARGIN,
-    nav_fsw::config::SIGMA_MAX / SIGMA_UNIT_MARGIN,
-);
+/// Decades between [`SIGMA_RANGE`] and the flight software's σ rule, as a factor.
+pub const SIGMA_UNIT_MARGIN: f64 = 1.0e50;
 
 /// Largest `gnss.latency_s` the flight software can fuse at an IMU period (s): its navigation
 /// history reaches [`nav_fsw::config::max_latency_limit_s`] back (63 frames), and the flight
