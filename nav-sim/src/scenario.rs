@@ -527,41 +527,28 @@ impl Checker<'_> {
         unit: &str,
         reason: &str,
     ) -> Result<(), ScenarioError> {
-        if value.is_finite() && value <= limit {
-            Ok(())
-        } else {
-            Err(self.fail(
-                key,
-                &format!(
-                    "= {}{unit} is above the limit {}{unit} ({reason})",
-                    number(value),
-                    number(limit)
-                ),
-            ))
-        }
+        let ok = value.is_finite() && value <= limit;
+        self.limit(ok, key, value, ("is above", limit), unit, reason)
     }
 
-    /// `value` strictly above `limit`; the message quotes both and the limit's reason.
-    fn above(
+    /// `Ok` if `ok`, else "`key` = value `relation` the limit L (reason)", e.g. "is above".
+    fn limit(
         &self,
+        ok: bool,
         key: &str,
         value: f64,
-        limit: f64,
+        (relation, limit): (&str, f64),
         unit: &str,
         reason: &str,
     ) -> Result<(), ScenarioError> {
-        if value > limit {
-            Ok(())
-        } else {
-            Err(self.fail(
-                key,
-                &format!(
-                    "= {}{unit} is not above the limit {}{unit} ({reason})",
-                    number(value),
-                    number(limit)
-                ),
-            ))
+        if ok {
+            return Ok(());
         }
+        let (value, limit) = (number(value), number(limit));
+        Err(self.fail(
+            key,
+            &format!("= {value}{unit} {relation} the limit {limit}{unit} ({reason})"),
+        ))
     }
 
     /// A 1σ or noise key: in [`SIGMA_RANGE`], or 0 where `zero_is_off`.
@@ -850,10 +837,11 @@ impl Scenario {
 
         let star = &self.star_sensor;
         check.positive("star_sensor.rate_hz", star.rate_hz)?;
-        check.above(
+        check.limit(
+            star.rate_hz > min_aiding_rate_hz,
             "star_sensor.rate_hz",
             star.rate_hz,
-            min_aiding_rate_hz,
+            ("is not above", min_aiding_rate_hz),
             " Hz",
             &outage_reason,
         )?;
@@ -873,10 +861,11 @@ impl Scenario {
 
         let gnss = &self.gnss;
         check.positive("gnss.rate_hz", gnss.rate_hz)?;
-        check.above(
+        check.limit(
+            gnss.rate_hz > min_aiding_rate_hz,
             "gnss.rate_hz",
             gnss.rate_hz,
-            min_aiding_rate_hz,
+            ("is not above", min_aiding_rate_hz),
             " Hz",
             &outage_reason,
         )?;
