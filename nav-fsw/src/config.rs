@@ -18,6 +18,59 @@ pub const ARCSEC_TO_RAD: f64 = core::f64::consts::PI / (180.0 * 3600.0);
 /// be fused at its time of validity, `(capacity − 1) × frame period` = 126 ms at 500 Hz.
 pub const HISTORY_CAPACITY: usize = 64;
 
+/// Frames the navigation history reaches back, `HISTORY_CAPACITY − 1`: the measurement
+/// latency limit in frames ([`max_latency_limit_s`]).
+pub fn history_span_frames() -> u32 {
+    u32::try_from(HISTORY_CAPACITY).map_or(0, |capacity| capacity.saturating_sub(1))
+}
+
+/// Largest accepted `timing.max_latency_s` for an IMU period: [`history_span_frames`] ×
+/// `period_s` (126 ms at 500 Hz). An older measurement has no navigation snapshot left to
+/// be fused against.
+pub fn max_latency_limit_s(period_s: f64) -> f64 {
+    f64::from(history_span_frames()) * period_s
+}
+
+/// Largest `covariance.propagation_interval_frames`: one second at 500 Hz, beyond which the
+/// accumulated interval's mean rates no longer describe the motion.
+pub const MAX_PROPAGATION_INTERVAL_FRAMES: u32 = 500;
+
+/// Smallest 1σ or noise density accepted where the filter squares it ([`sigma_is_squarable`]).
+pub const SIGMA_MIN: f64 = 1e-150;
+
+/// Largest 1σ or noise density accepted where the filter squares it ([`sigma_is_squarable`]).
+pub const SIGMA_MAX: f64 = 1e150;
+
+/// The one rule for every 1σ and noise density the filter squares into `P`, `Q` or `R`:
+/// `σ` in [[`SIGMA_MIN`], [`SIGMA_MAX`]], so `σ²` lies in [1e-300, 1e300], inside the normal
+/// `f64` range [2.2e-308, 1.8e308]. The square then neither overflows to ∞ nor underflows to
+/// 0 or a subnormal (an infinite or singular covariance), with eight decades left for the
+/// factors the filter applies to it (the half-angle states' ½, the ceiling factor, frame
+/// periods). NaN, 0 and negative values fail.
+pub fn sigma_is_squarable(sigma: f64) -> bool {
+    (SIGMA_MIN..=SIGMA_MAX).contains(&sigma)
+}
+
+/// [`sigma_is_squarable`], or exactly 0 for a value whose 0 switches its term off (process
+/// noise densities, GNSS velocity noise, correlated GNSS error, held-sample uncertainty).
+pub fn sigma_is_squarable_or_off(sigma: f64) -> bool {
+    sigma == 0.0 || sigma_is_squarable(sigma)
+}
+
+/// The eight block values of an [`InitialUncertainty`] (initial 1σ or floor).
+fn uncertainty_values(uncertainty: &InitialUncertainty) -> [f64; 8] {
+    [
+        uncertainty.attitude_rad,
+        uncertainty.position_m,
+        uncertainty.velocity_mps,
+        uncertainty.gyro_bias_rad_s,
+        uncertainty.accel_bias_mps2,
+        uncertainty.star_installation_rad,
+        uncertainty.gyro_scale_factor,
+        uncertainty.accel_scale_factor,
+    ]
+}
+
 /// Capacity of the star-sensor measurement queue.
 pub const STAR_QUEUE_CAPACITY: usize = 8;
 
@@ -246,29 +299,89 @@ impl FswConfig {
     /// [`FswError::InvalidConfiguration`] naming the field.
     pub fn validate(&self) -> Result<(), FswError> {
         let invalid = |field| Err(FswError::InvalidConfiguration(field));
-        let positive = |value: f64| value.is_finite() && value > 0.0;
         if self.launch_site.validate().is_err() {
             return invalid(ConfigField::LaunchSite);
         }
+        self.validate_squared_sigmas()?;
         if self.filter.gnss_error.validate().is_err() {
             return invalid(ConfigField::GnssCorrelatedError);
         }
         if self.filter.validate().is_err() {
             return invalid(ConfigField::FilterInitialUncertainty);
         }
-        if !self.process_noise.is_valid() {
-            return invalid(ConfigField::ProcessNoise);
-        }
         self.imu.validate()?;
+        self.validate_sensors()?;
+        self.validate_timing()?;
+        self.validate_covariance()?;
+        self.calibration.validate()
+    }
+
+    /// Every 1σ and noise density the filter squares, by [`sigma_is_squarable`] (or 0 where 0
+    /// switches the term off).
+    fn validate_squared_sigmas(&self) -> Result<(), FswError> {
+        let noise = &self.process_noise;
+        let held = &self.covariance.held_sample;
+        let required: [(&[f64], ConfigField); 5] = [
+            (
+                &uncertainty_values(&self.filter.initial),
+                ConfigField::FilterInitialUncertainty,
+            ),
+            (
+                &uncertainty_values(&self.covariance.sigma_floor),
+                ConfigField::SigmaFloor,
+            ),
+            (&[self.star.noise_rad], ConfigField::StarNoise),
+            (&[self.gnss.noise_m], ConfigField::GnssNoise),
+            (
+                &self.calibration.convergence_sigma.values(),
+                ConfigField::CalibrationThreshold,
+            ),
+        ];
+        let optional: [(&[f64], ConfigField); 4] = [
+            (
+                &[
+                    noise.gyro_noise_density_rad_s_per_sqrt_hz,
+                    noise.accel_noise_density_mps2_per_sqrt_hz,
+                    noise.gyro_bias_walk_rad_s2_per_sqrt_hz,
+                    noise.accel_bias_walk_mps3_per_sqrt_hz,
+                ],
+                ConfigField::ProcessNoise,
+            ),
+            (&[self.gnss.velocity_noise_mps], ConfigField::GnssVelocity),
+            (
+                &[self.filter.gnss_error.sigma_m],
+                ConfigField::GnssCorrelatedError,
+            ),
+            (
+                &[held.rate_rad_s, held.specific_force_mps2],
+                ConfigField::HeldSampleUncertainty,
+            ),
+        ];
+        let failing = |(values, field): &(&[f64], ConfigField), rule: fn(f64) -> bool| {
+            (!values.iter().all(|value| rule(*value))).then_some(*field)
+        };
+        let first = required
+            .iter()
+            .find_map(|entry| failing(entry, sigma_is_squarable))
+            .or_else(|| {
+                optional
+                    .iter()
+                    .find_map(|entry| failing(entry, sigma_is_squarable_or_off))
+            });
+        first.map_or(Ok(()), |field| Err(FswError::InvalidConfiguration(field)))
+    }
+
+    /// The star sensor's and the GNSS receiver's settings other than their noise.
+    fn validate_sensors(&self) -> Result<(), FswError> {
+        let invalid = |field| Err(FswError::InvalidConfiguration(field));
+        let positive = |value: f64| value.is_finite() && value > 0.0;
+        let gate = |value: f64| positive(value) || value == f64::INFINITY;
         let [w, x, y, z] = self.star.mounting_wxyz;
         let norm = libm::sqrt(w * w + x * x + y * y + z * z);
         if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
             return invalid(ConfigField::StarMounting);
         }
-        if !positive(self.star.noise_rad) {
-            return invalid(ConfigField::StarNoise);
-        }
-        if !positive(self.star.gate_nis) && self.star.gate_nis != f64::INFINITY {
+        if !gate(self.star.gate_nis) {
             return invalid(ConfigField::StarGate);
         }
         if !(positive(self.star.unit_norm_tolerance) && self.star.unit_norm_tolerance < 0.5) {
@@ -277,21 +390,13 @@ impl FswConfig {
         if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
             return invalid(ConfigField::GnssLeverArm);
         }
-        if !positive(self.gnss.noise_m) {
-            return invalid(ConfigField::GnssNoise);
-        }
-        if !positive(self.gnss.gate_nis) && self.gnss.gate_nis != f64::INFINITY {
+        if !gate(self.gnss.gate_nis) {
             return invalid(ConfigField::GnssGate);
         }
         if !positive(self.gnss.max_jump_m) {
             return invalid(ConfigField::GnssMaxJump);
         }
-        let velocity_noise = self.gnss.velocity_noise_mps;
-        let velocity_gate = self.gnss.velocity_gate_nis;
-        if !(velocity_noise.is_finite()
-            && velocity_noise >= 0.0
-            && (positive(velocity_gate) || velocity_gate == f64::INFINITY))
-        {
+        if !gate(self.gnss.velocity_gate_nis) {
             return invalid(ConfigField::GnssVelocity);
         }
         if !(self.gnss.whiteness_window_fixes.is_finite()
@@ -300,45 +405,44 @@ impl FswConfig {
         {
             return invalid(ConfigField::GnssWhiteness);
         }
-        let held = self.covariance.held_sample;
-        let non_negative = |value: f64| value.is_finite() && value >= 0.0;
-        if !(non_negative(held.rate_rad_s) && non_negative(held.specific_force_mps2)) {
-            return invalid(ConfigField::HeldSampleUncertainty);
-        }
-        let history_span_s =
-            f64::from(u32::try_from(HISTORY_CAPACITY).unwrap_or(1) - 1) * self.imu.period_s;
+        Ok(())
+    }
+
+    /// Measurement latency, future tolerance, outage timeout and fault declaration.
+    fn validate_timing(&self) -> Result<(), FswError> {
+        let invalid = |field| Err(FswError::InvalidConfiguration(field));
         let latency = self.timing.max_latency_s;
-        if !(latency.is_finite() && latency >= 0.0 && latency <= history_span_s) {
+        if !(latency.is_finite()
+            && latency >= 0.0
+            && latency <= max_latency_limit_s(self.imu.period_s))
+        {
             return invalid(ConfigField::MaxLatency);
         }
         let future = self.timing.future_tolerance_s;
         if !(future.is_finite() && future >= 0.0 && future < self.imu.period_s) {
             return invalid(ConfigField::FutureTolerance);
         }
-        if !positive(self.timing.outage_timeout_s) {
+        if !(self.timing.outage_timeout_s.is_finite() && self.timing.outage_timeout_s > 0.0) {
             return invalid(ConfigField::OutageTimeout);
         }
         if self.timing.rejections_to_declare_faulty == 0 {
             return invalid(ConfigField::RejectionsToDeclareFaulty);
         }
-        if self.covariance.propagation_interval_frames == 0
-            || self.covariance.propagation_interval_frames > 500
-        {
+        Ok(())
+    }
+
+    /// Propagation interval and variance ceiling (the floors are checked with the sigmas).
+    fn validate_covariance(&self) -> Result<(), FswError> {
+        let invalid = |field| Err(FswError::InvalidConfiguration(field));
+        let interval = self.covariance.propagation_interval_frames;
+        if !(1..=MAX_PROPAGATION_INTERVAL_FRAMES).contains(&interval) {
             return invalid(ConfigField::PropagationInterval);
         }
-        let floor_config = FilterConfig {
-            initial: self.covariance.sigma_floor,
-            ..self.filter
-        };
-        if floor_config.validate().is_err() {
-            return invalid(ConfigField::SigmaFloor);
-        }
-        if !(positive(self.covariance.sigma_ceiling_factor)
-            && self.covariance.sigma_ceiling_factor >= 1.0)
-        {
+        let ceiling = self.covariance.sigma_ceiling_factor;
+        if !(ceiling.is_finite() && ceiling >= 1.0) {
             return invalid(ConfigField::SigmaCeiling);
         }
-        self.calibration.validate()
+        Ok(())
     }
 }
 
@@ -528,6 +632,185 @@ mod tests {
         assert_eq!(
             refused(|c| c.covariance.sigma_ceiling_factor = f64::INFINITY),
             Some(F::SigmaCeiling)
+        );
+    }
+
+    /// Every σ and noise density the filter squares, with the field that reports it.
+    type SigmaField = (fn(&mut FswConfig, f64), ConfigField);
+
+    const SQUARED_SIGMAS: [SigmaField; 31] = {
+        use ConfigField as F;
+        [
+            (
+                |c, v| c.filter.initial.attitude_rad = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.position_m = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.velocity_mps = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.gyro_bias_rad_s = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.accel_bias_mps2 = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.star_installation_rad = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.gyro_scale_factor = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.filter.initial.accel_scale_factor = v,
+                F::FilterInitialUncertainty,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.attitude_rad = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.position_m = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.velocity_mps = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.gyro_bias_rad_s = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.accel_bias_mps2 = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.star_installation_rad = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.gyro_scale_factor = v,
+                F::SigmaFloor,
+            ),
+            (
+                |c, v| c.covariance.sigma_floor.accel_scale_factor = v,
+                F::SigmaFloor,
+            ),
+            (|c, v| c.star.noise_rad = v, F::StarNoise),
+            (|c, v| c.gnss.noise_m = v, F::GnssNoise),
+            (
+                |c, v| c.calibration.convergence_sigma.gyro_bias_rad_s = v,
+                F::CalibrationThreshold,
+            ),
+            (
+                |c, v| c.calibration.convergence_sigma.accel_bias_mps2 = v,
+                F::CalibrationThreshold,
+            ),
+            (
+                |c, v| c.calibration.convergence_sigma.star_installation_rad = v,
+                F::CalibrationThreshold,
+            ),
+            (
+                |c, v| c.calibration.convergence_sigma.gyro_scale_factor = v,
+                F::CalibrationThreshold,
+            ),
+            (
+                |c, v| c.calibration.convergence_sigma.accel_scale_factor = v,
+                F::CalibrationThreshold,
+            ),
+            (
+                |c, v| c.process_noise.gyro_noise_density_rad_s_per_sqrt_hz = v,
+                F::ProcessNoise,
+            ),
+            (
+                |c, v| c.process_noise.accel_noise_density_mps2_per_sqrt_hz = v,
+                F::ProcessNoise,
+            ),
+            (
+                |c, v| c.process_noise.gyro_bias_walk_rad_s2_per_sqrt_hz = v,
+                F::ProcessNoise,
+            ),
+            (
+                |c, v| c.process_noise.accel_bias_walk_mps3_per_sqrt_hz = v,
+                F::ProcessNoise,
+            ),
+            (|c, v| c.gnss.velocity_noise_mps = v, F::GnssVelocity),
+            (
+                |c, v| {
+                    c.filter.gnss_error = nav_core::gnss_error::GnssErrorModel {
+                        sigma_m: v,
+                        correlation_time_s: 300.0,
+                    }
+                },
+                F::GnssCorrelatedError,
+            ),
+            (
+                |c, v| c.covariance.held_sample.rate_rad_s = v,
+                F::HeldSampleUncertainty,
+            ),
+            (
+                |c, v| c.covariance.held_sample.specific_force_mps2 = v,
+                F::HeldSampleUncertainty,
+            ),
+        ]
+    };
+
+    #[test]
+    fn every_squared_sigma_whose_square_overflows_or_underflows_is_refused() {
+        for (index, (set, field)) in SQUARED_SIGMAS.iter().enumerate() {
+            // σ² = inf (1e300) or 0 (1e-300), and the first values outside the rule.
+            for bad in [1e300, 1e-300, SIGMA_MAX * 1.000_001, SIGMA_MIN * 0.999_999] {
+                assert_eq!(
+                    refused(|c| set(c, bad)),
+                    Some(*field),
+                    "row {index}, {bad:e}"
+                );
+            }
+            // The rule's ends are accepted.
+            for good in [SIGMA_MIN, SIGMA_MAX] {
+                assert_eq!(refused(|c| set(c, good)), None, "row {index}, {good:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_rule_texts_quote_the_limits_the_checks_use() {
+        use ConfigField as F;
+        let text = |field: F| std::format!("{field}");
+        assert!(text(F::MaxLatency).starts_with("timing.max_latency_s must be"));
+        let span = std::format!("{} IMU periods", history_span_frames());
+        assert!(text(F::MaxLatency).contains(&span));
+        let span_ms = std::format!("{:.0} ms", 1e3 * max_latency_limit_s(0.002));
+        assert!(text(F::MaxLatency).contains(&span_ms), "{span_ms}");
+        let interval = std::format!("1..={MAX_PROPAGATION_INTERVAL_FRAMES}");
+        assert!(text(F::PropagationInterval).contains(&interval));
+        let range = std::format!("[{SIGMA_MIN:e}, {SIGMA_MAX:e}]");
+        for field in [
+            F::FilterInitialUncertainty,
+            F::StarNoise,
+            F::ProcessNoise,
+            F::SigmaFloor,
+        ] {
+            assert!(text(field).contains(&range), "{}", text(field));
+        }
+        let (low, high) = nav_core::frames::SITE_HEIGHT_RANGE_M;
+        let height = std::format!("[{low}, {high}] m");
+        assert!(text(F::LaunchSite).contains(&height));
+        let order = std::format!("1..={}", nav_core::discretise::MAX_ORDER);
+        assert!(text(F::FilterInitialUncertainty).contains(&order));
+        let message = std::format!("{}", FswError::InvalidConfiguration(F::StarNoise));
+        assert!(
+            message.contains("star.noise_rad must be in [1e-150, 1e150]"),
+            "{message}"
         );
     }
 }

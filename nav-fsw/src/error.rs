@@ -73,6 +73,113 @@ pub enum ConfigField {
     InitialNavigation,
 }
 
+impl ConfigField {
+    /// The field's path in [`crate::config::FswConfig`], e.g. `timing.max_latency_s`.
+    pub const fn key(self) -> &'static str {
+        match self {
+            ConfigField::ImuPeriod => "imu.period_s",
+            ConfigField::ImuPeriodTolerance => "imu.period_tolerance",
+            ConfigField::ImuMaxRate => "imu.max_rate_rad_s",
+            ConfigField::ImuMaxSpecificForce => "imu.max_specific_force_mps2",
+            ConfigField::StarNormTolerance => "star.unit_norm_tolerance",
+            ConfigField::GnssMaxJump => "gnss.max_jump_m",
+            ConfigField::MaxLatency => "timing.max_latency_s",
+            ConfigField::LaunchSite => "launch_site",
+            ConfigField::FilterInitialUncertainty => "filter.initial",
+            ConfigField::ProcessNoise => "process_noise",
+            ConfigField::StarMounting => "star.mounting_wxyz",
+            ConfigField::StarNoise => "star.noise_rad",
+            ConfigField::StarGate => "star.gate_nis",
+            ConfigField::GnssLeverArm => "gnss.lever_arm_body_m",
+            ConfigField::GnssNoise => "gnss.noise_m",
+            ConfigField::GnssGate => "gnss.gate_nis",
+            ConfigField::GnssVelocity => "gnss.velocity_noise_mps / gnss.velocity_gate_nis",
+            ConfigField::GnssWhiteness => "gnss.whiteness_window_fixes / gnss.whiteness_threshold",
+            ConfigField::GnssCorrelatedError => "filter.gnss_error",
+            ConfigField::HeldSampleUncertainty => "covariance.held_sample",
+            ConfigField::FutureTolerance => "timing.future_tolerance_s",
+            ConfigField::OutageTimeout => "timing.outage_timeout_s",
+            ConfigField::RejectionsToDeclareFaulty => "timing.rejections_to_declare_faulty",
+            ConfigField::PropagationInterval => "covariance.propagation_interval_frames",
+            ConfigField::SigmaFloor => "covariance.sigma_floor",
+            ConfigField::SigmaCeiling => "covariance.sigma_ceiling_factor",
+            ConfigField::CalibrationThreshold => "calibration.convergence_sigma",
+            ConfigField::CalibrationWindow => "calibration.stability_window_s",
+            ConfigField::CalibrationStability => "calibration.stability_fraction",
+            ConfigField::CalibrationMotionThreshold => "calibration.motion_*_threshold",
+            ConfigField::CalibrationObservabilityTable => "calibration.motion_observability",
+            ConfigField::InitialNavigation => "initial navigation state",
+        }
+    }
+
+    /// The rule [`crate::config::FswConfig::validate`] applies to the field, as a phrase that
+    /// follows the key ("must be ..."). `σ-rule` is [`crate::config::sigma_is_squarable`].
+    pub const fn rule(self) -> &'static str {
+        match self {
+            ConfigField::ImuPeriod
+            | ConfigField::ImuMaxRate
+            | ConfigField::ImuMaxSpecificForce
+            | ConfigField::GnssMaxJump
+            | ConfigField::OutageTimeout
+            | ConfigField::CalibrationStability
+            | ConfigField::CalibrationMotionThreshold => "must be finite and > 0",
+            ConfigField::ImuPeriodTolerance => "must be finite, > 0 and < 1",
+            ConfigField::StarNormTolerance => "must be finite, > 0 and < 0.5",
+            ConfigField::MaxLatency => {
+                "must be finite, >= 0 and at most (HISTORY_CAPACITY - 1) = 63 IMU periods \
+                 (126 ms at 500 Hz): the navigation history holds no older snapshot"
+            }
+            ConfigField::LaunchSite => {
+                "must be finite, latitude within +-90 deg, longitude and azimuth within \
+                 +-360 deg, height within [-1000, 10000] m"
+            }
+            ConfigField::FilterInitialUncertainty => {
+                "must have every 1-sigma in [1e-150, 1e150] (its square inside the normal f64 \
+                 range) and a discretisation order in 1..=4"
+            }
+            ConfigField::SigmaFloor | ConfigField::CalibrationThreshold => {
+                "must have every 1-sigma in [1e-150, 1e150] (its square inside the normal f64 range)"
+            }
+            ConfigField::StarNoise | ConfigField::GnssNoise => {
+                "must be in [1e-150, 1e150] (its square inside the normal f64 range)"
+            }
+            ConfigField::ProcessNoise | ConfigField::HeldSampleUncertainty => {
+                "must have every value 0 or in [1e-150, 1e150] (its square inside the normal \
+                 f64 range)"
+            }
+            ConfigField::StarMounting => "must be a unit quaternion (norm within 1e-9 of 1)",
+            ConfigField::StarGate | ConfigField::GnssGate => "must be > 0 (or +infinity: no gate)",
+            ConfigField::GnssLeverArm => "must be finite",
+            ConfigField::GnssVelocity => {
+                "must have a noise 0 (off) or in [1e-150, 1e150] and a gate > 0 (or +infinity)"
+            }
+            ConfigField::GnssWhiteness => "must have a window >= 1 fix and a threshold > 0",
+            ConfigField::GnssCorrelatedError => {
+                "must have a 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \
+                 finite and > 0 when the 1-sigma is > 0"
+            }
+            ConfigField::FutureTolerance => "must be finite, >= 0 and below one IMU period",
+            ConfigField::RejectionsToDeclareFaulty => "must be >= 1",
+            ConfigField::PropagationInterval => "must be in 1..=500 frames",
+            ConfigField::SigmaCeiling => "must be finite and >= 1",
+            ConfigField::CalibrationWindow => "must be finite and >= 0",
+            ConfigField::CalibrationObservabilityTable => {
+                "must name calibration blocks only (no attitude, position or velocity)"
+            }
+            ConfigField::InitialNavigation => {
+                "must be finite, with a unit attitude quaternion"
+            }
+        }
+    }
+}
+
+/// `key rule`, e.g. "timing.max_latency_s must be finite, >= 0 and at most ...".
+impl core::fmt::Display for ConfigField {
+    fn fmt(&self, formatter: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(formatter, "{} {}", self.key(), self.rule())
+    }
+}
+
 /// Why a nav-fsw operation refused its input or could not complete.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -81,6 +188,18 @@ pub enum FswError {
     InvalidConfiguration(ConfigField),
     /// nav-core refused an operation.
     Navigation(NavError),
+}
+
+/// `invalid configuration: ` and the field with its rule, or the nav-core error.
+impl core::fmt::Display for FswError {
+    fn fmt(&self, formatter: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FswError::InvalidConfiguration(field) => {
+                write!(formatter, "invalid configuration: {field}")
+            }
+            FswError::Navigation(error) => write!(formatter, "navigation error: {error:?}"),
+        }
+    }
 }
 
 impl From<NavError> for FswError {

@@ -14,7 +14,7 @@ use nav_fsw::health::HealthCounters;
 use nav_fsw::replay::{FramePorts, ReplaySetup};
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
-use nav_fsw::FswError;
+use nav_fsw::{ConfigField, FswError};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -39,15 +39,89 @@ pub enum FlightError {
     /// The simulation failed.
     #[error(transparent)]
     Simulation(#[from] SimulationError),
-    /// The flight software refused its configuration.
-    #[error("flight software configuration refused: {0:?}")]
-    Configuration(FswError),
+    /// The flight software refused its configuration ([`configuration_error`]).
+    #[error("flight software configuration refused: {message}")]
+    Configuration {
+        /// The flight software's error.
+        error: FswError,
+        /// The scenario key that sets the refused field, with its value and limit where the
+        /// scenario gives them, and the flight software's rule.
+        message: String,
+    },
     /// The scenario's launch site was refused.
     #[error("launch site refused: {0}")]
     LaunchSite(String),
     /// A scenario setting the flight software cannot take.
     #[error("scenario setting: {0}")]
     Setting(String),
+}
+
+/// The scenario key that sets a flight-software configuration field ([`replay_setup`]), or
+/// `None` for a field the scenario leaves at the flight software's default.
+pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
+    use ConfigField as F;
+    match field {
+        F::ImuPeriod | F::FutureTolerance => Some("imu.rate_hz"),
+        F::ImuMaxRate => Some("imu.max_rate_deg_per_s"),
+        F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
+        F::MaxLatency => Some("gnss.latency_s"),
+        F::LaunchSite => Some("launch_site"),
+        F::FilterInitialUncertainty => Some("filter.initial_sigma / filter.discretisation_order"),
+        F::ProcessNoise => Some(
+            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz / \
+             gyro.bias_random_walk_rad_per_s_per_sqrt_s / accelerometer.noise_per_sample_mps2 \
+             / accelerometer.bias_random_walk_mps2_per_sqrt_s",
+        ),
+        F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
+        F::StarNoise => Some("star_sensor.noise_arcsec"),
+        F::StarGate => Some("filter.nis_gate.star_threshold"),
+        F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
+        F::GnssGate => Some("filter.nis_gate.gnss_threshold"),
+        F::GnssVelocity => Some("gnss.velocity_noise_mps"),
+        F::GnssCorrelatedError => {
+            Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
+        }
+        F::InitialNavigation => Some("initial_orbit / initial_attitude"),
+        F::ImuPeriodTolerance
+        | F::StarNormTolerance
+        | F::GnssMaxJump
+        | F::GnssLeverArm
+        | F::GnssWhiteness
+        | F::HeldSampleUncertainty
+        | F::OutageTimeout
+        | F::RejectionsToDeclareFaulty
+        | F::PropagationInterval
+        | F::SigmaFloor
+        | F::SigmaCeiling
+        | F::CalibrationThreshold
+        | F::CalibrationWindow
+        | F::CalibrationStability
+        | F::CalibrationMotionThreshold
+        | F::CalibrationObservabilityTable => None,
+    }
+}
+
+/// The flight software's refusal of the configuration made from `scenario`, as the user
+/// reads it: the scenario key that sets the field ([`scenario_key`]), with its value and the
+/// limit where the scenario determines them, and the flight software's rule.
+pub fn configuration_error(scenario: &Scenario, error: FswError) -> FlightError {
+    let period_s = scenario.imu.frame_period_s();
+    let latency_s = scenario.gnss.latency_s;
+    let message = match error {
+        FswError::InvalidConfiguration(ConfigField::MaxLatency) => {
+            scenario::gnss_latency_violation(latency_s, period_s)
+                .map(|requirement| format!("gnss.latency_s {requirement}"))
+        }
+        _ => None,
+    };
+    let message = message.unwrap_or_else(|| match error {
+        FswError::InvalidConfiguration(field) => match scenario_key(field) {
+            Some(key) => format!("{key} is refused: the flight software's {field}"),
+            None => format!("the flight software's own setting {field} (not a scenario key)"),
+        },
+        FswError::Navigation(_) => error.to_string(),
+    });
+    FlightError::Configuration { error, message }
 }
 
 /// Values of the five calibration blocks, per axis, in [`CALIBRATION_BLOCKS`] order (gyro
@@ -462,8 +536,8 @@ pub fn fly_observed(
     let mut simulation = Simulation::new(scenario)?;
     let start = *simulation.truth().state();
     let initial = replay_setup(scenario)?.initial;
-    let mut computer =
-        NavigationComputer::new(config, initial).map_err(FlightError::Configuration)?;
+    let mut computer = NavigationComputer::new(config, initial)
+        .map_err(|error| configuration_error(scenario, error))?;
     let total_frames = scenario.frame_count();
     let segment_frames: Vec<(u64, ManoeuvrePhase)> = {
         let period_s = scenario.imu.frame_period_s();

@@ -10,6 +10,7 @@
 
 use std::path::Path;
 
+use nav_fsw::config::FswConfig;
 use serde::Deserialize;
 
 /// The default scenario file, verbatim (what `nav-sim scenario` prints).
@@ -24,6 +25,81 @@ const ARCSEC_PER_DEG: f64 = 3600.0;
 pub const MAX_SCALE_FACTOR_MAGNITUDE: f64 = 0.1;
 /// Relative tolerance when checking that a duration is a whole number of IMU frames.
 const WHOLE_FRAME_TOLERANCE: f64 = 1.0e-9;
+
+/// Longest flight, the sum of the manoeuvre durations (s): one day. A calibration flight is
+/// an upper stage's orbital phase of minutes to hours; run time and the recorded history grow
+/// with the duration (one day at 500 Hz is 43.2 M frames, 28 default flights, and 345,600
+/// recorded samples of about 0.5 kB).
+pub const MAX_DURATION_S: f64 = 86_400.0;
+
+/// Most truth integration substeps per IMU frame. RK4's local error falls as `h⁵`: the
+/// default 16 (125 µs at 500 Hz) already puts the truth's integration error far below the
+/// sensors' noise, and 256 is 16 times finer still; beyond it the truth costs more without
+/// being more accurate (rounding dominates).
+pub const MAX_TRUTH_SUBSTEPS_PER_FRAME: u32 = 256;
+
+/// Most truth integration steps in one flight (frames × substeps): about 40 default flights
+/// (2.46e7 steps each), minutes of run time in a release build; one day at 500 Hz with the
+/// default 16 substeps is 6.9e8.
+pub const MAX_TRUTH_STEPS: f64 = 1.0e9;
+
+/// Largest `simulation.start_time_s` (s). Every time in a run is at most this plus
+/// [`MAX_DURATION_S`], below 2²⁴ s, where the f64 resolution ulp(t) is 2⁻²⁹ s = 1.9e-9 s: a
+/// millionth of the 2 ms frame, so frame times `t₀ + k T` and the sensors' time tags agree to
+/// nanoseconds. At 1e12 s ulp(t) is 1.2e-4 s (6 % of a frame) and GNSS fixes miss their
+/// frames; at 1e17 s it is 16 s. 1e7 s is 116 days after the launch epoch, longer than any
+/// upper stage's mission.
+pub const MAX_START_TIME_S: f64 = 1.0e7;
+
+/// Range of every 1σ and noise key (in the key's units): its square stays far inside the
+/// normal f64 range, neither infinite nor zero / subnormal in the filter's covariance. It is
+/// the flight software's σ rule ([`nav_fsw::config::SIGMA_MIN`],
+/// [`nav_fsw::config::SIGMA_MAX`], 1e∓150) narrowed by [`SIGMA_UNIT_MARGIN`] on each side, so
+/// that the unit conversions between the keys and the flight software (1″ = 4.8e-6 rad,
+/// 1 °/h = 4.8e-9 rad/s, a per-sample σ times `√T`) never take a valid key outside it.
+/// Noise keys whose 0 switches the noise off also accept 0.
+pub const SIGMA_RANGE: (f64, f64) = (1.0e-100, 1.0e100);
+
+/// Decades between [`SIGMA_RANGE`] and the flight software's σ rule, as a factor.
+pub const SIGMA_UNIT_MARGIN: f64 = 1.0e50;
+
+/// Largest `gnss.latency_s` the flight software can fuse at an IMU period (s): its navigation
+/// history reaches [`nav_fsw::config::max_latency_limit_s`] back (63 frames), and the flight
+/// is configured with `latency_s` plus one frame of hand-over margin
+/// ([`crate::flight::replay_setup`]): 62 frames, 0.124 s at 500 Hz.
+pub fn max_gnss_latency_s(period_s: f64) -> f64 {
+    nav_fsw::config::max_latency_limit_s(period_s) - period_s
+}
+
+/// The requirement `gnss.latency_s` violates at IMU period `period_s`, if any: the message
+/// of both [`Scenario::validate`] and the flight's configuration error.
+pub fn gnss_latency_violation(latency_s: f64, period_s: f64) -> Option<String> {
+    let limit_s = max_gnss_latency_s(period_s);
+    (latency_s > limit_s).then(|| {
+        format!(
+            "= {} s is above the flight software's limit {} s (its measurement history, \
+             nav_fsw::config::HISTORY_CAPACITY = {} frames, reaches {} frames of {} s back, \
+             one of them the hand-over margin: {} frames of latency)",
+            number(latency_s),
+            number(limit_s),
+            nav_fsw::config::HISTORY_CAPACITY,
+            nav_fsw::config::history_span_frames(),
+            number(period_s),
+            nav_fsw::config::history_span_frames().saturating_sub(1),
+        )
+    })
+}
+
+/// A number as a message shows it: plain between 1e-4 and 1e7 (at most 9 decimals, no
+/// trailing zeros), otherwise in exponent form (`1e9`, `1e-300`).
+pub fn number(value: f64) -> String {
+    if value == 0.0 || (1.0e-4..1.0e7).contains(&value.abs()) {
+        let text = format!("{value:.9}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{value:e}")
+    }
+}
 
 /// Why a scenario could not be loaded or is not valid.
 #[derive(Debug, thiserror::Error)]
@@ -441,6 +517,60 @@ impl Checker<'_> {
         Ok(())
     }
 
+    /// `value` (finite) at most `limit`; the message quotes both, with `unit` (" s", or ""
+    /// for a count), and the limit's reason.
+    fn at_most(
+        &self,
+        key: &str,
+        value: f64,
+        limit: f64,
+        unit: &str,
+        reason: &str,
+    ) -> Result<(), ScenarioError> {
+        let ok = value.is_finite() && value <= limit;
+        self.limit(ok, key, value, ("is above", limit), unit, reason)
+    }
+
+    /// `Ok` if `ok`, else "`key` = value `relation` the limit L (reason)", e.g. "is above".
+    fn limit(
+        &self,
+        ok: bool,
+        key: &str,
+        value: f64,
+        (relation, limit): (&str, f64),
+        unit: &str,
+        reason: &str,
+    ) -> Result<(), ScenarioError> {
+        if ok {
+            return Ok(());
+        }
+        let (value, limit) = (number(value), number(limit));
+        Err(self.fail(
+            key,
+            &format!("= {value}{unit} {relation} the limit {limit}{unit} ({reason})"),
+        ))
+    }
+
+    /// A 1σ or noise key: in [`SIGMA_RANGE`], or 0 where `zero_is_off`.
+    fn sigma(&self, key: &str, value: f64, zero_is_off: bool) -> Result<(), ScenarioError> {
+        let (low, high) = SIGMA_RANGE;
+        if (zero_is_off && value == 0.0) || (low..=high).contains(&value) {
+            return Ok(());
+        }
+        let off = if zero_is_off { "0 (off) or " } else { "" };
+        Err(self.fail(
+            key,
+            &format!(
+                "= {} must be {off}in [{low:e}, {high:e}] (its square must stay a normal f64 \
+                 in the filter's covariance: the flight software's range [{:e}, {:e}] with \
+                 {SIGMA_UNIT_MARGIN:e} to spare for unit conversions)",
+                number(value),
+                nav_fsw::config::SIGMA_MIN,
+                nav_fsw::config::SIGMA_MAX,
+            ),
+        ))
+    }
+
     fn finite(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
         if value.is_finite() {
             Ok(())
@@ -521,6 +651,17 @@ impl Checker<'_> {
     }
 }
 
+/// Why a flight is at most [`MAX_DURATION_S`] long (the error message's wording).
+const DURATION_REASON: &str = "one day of flight: an upper stage's orbital phase lasts \
+                               minutes to hours, and run time and recorded history grow with it";
+
+/// Largest IMU rate the flight software's measurement history supports (Hz): the history's
+/// [`nav_fsw::config::history_span_frames`] frames must span the latency window
+/// `timing.max_latency_s` of `fsw` (630 Hz with the defaults, 63 frames and 0.1 s).
+pub fn max_imu_rate_hz(fsw: &FswConfig) -> f64 {
+    f64::from(nav_fsw::config::history_span_frames()) / fsw.timing.max_latency_s
+}
+
 /// WGS-84 equatorial radius (m): the lowest acceptable perigee radius of the initial orbit.
 const EARTH_EQUATORIAL_RADIUS_M: f64 = 6_378_137.0;
 /// Largest filter discretisation order the flight code accepts.
@@ -579,10 +720,26 @@ impl Scenario {
         let check = Checker { origin };
         let simulation = &self.simulation;
         check.non_negative("simulation.start_time_s", simulation.start_time_s)?;
+        check.at_most(
+            "simulation.start_time_s",
+            simulation.start_time_s,
+            MAX_START_TIME_S,
+            " s",
+            "the f64 time resolution stays 1.9e-9 s, a millionth of a 2 ms frame; \
+             at 1e12 s it is 1.2e-4 s and time tags miss their frames",
+        )?;
         check.non_negative("simulation.min_altitude_m", simulation.min_altitude_m)?;
         if simulation.truth_substeps_per_frame == 0 {
             return Err(check.fail("simulation.truth_substeps_per_frame", "must be >= 1"));
         }
+        check.at_most(
+            "simulation.truth_substeps_per_frame",
+            f64::from(simulation.truth_substeps_per_frame),
+            f64::from(MAX_TRUTH_SUBSTEPS_PER_FRAME),
+            "",
+            "RK4 at the default 16 is already far below the sensor noise; \
+             more substeps only cost run time",
+        )?;
 
         let site = &self.launch_site;
         check.within("launch_site.latitude_deg", site.latitude_deg, -90.0, 90.0)?;
@@ -628,37 +785,68 @@ impl Scenario {
 
         check.positive("imu.rate_hz", self.imu.rate_hz)?;
         let period_s = self.imu.frame_period_s();
+        let fsw = FswConfig::paper_defaults(crate::truth::launch_site(self));
+        let span_frames = nav_fsw::config::history_span_frames();
+        check.at_most(
+            "imu.rate_hz",
+            self.imu.rate_hz,
+            max_imu_rate_hz(&fsw),
+            " Hz",
+            &format!(
+                "the flight software's navigation history of {span_frames} frames must span \
+                 its latency window timing.max_latency_s = {} s",
+                number(fsw.timing.max_latency_s)
+            ),
+        )?;
+        let min_aiding_rate_hz = 1.0 / fsw.timing.outage_timeout_s;
+        let outage_reason = format!(
+            "a sensor silent for longer than the flight software's timing.outage_timeout_s = \
+             {} s is in an outage",
+            number(fsw.timing.outage_timeout_s)
+        );
 
         let gyro = &self.gyro;
-        check.non_negative(
+        check.sigma(
             "gyro.rate_noise_density_deg_per_h_per_sqrt_hz",
             gyro.rate_noise_density_deg_per_h_per_sqrt_hz,
+            true,
         )?;
         check.finite3("gyro.bias_rad_per_s", &gyro.bias_rad_per_s)?;
         check.scale_factors("gyro.scale_factor", &gyro.scale_factor)?;
-        check.non_negative(
+        check.sigma(
             "gyro.bias_random_walk_rad_per_s_per_sqrt_s",
             gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+            true,
         )?;
         check.non_negative("gyro.quantum_rad", gyro.quantum_rad)?;
 
         let accelerometer = &self.accelerometer;
-        check.non_negative(
+        check.sigma(
             "accelerometer.noise_per_sample_mps2",
             accelerometer.noise_per_sample_mps2,
+            true,
         )?;
         check.finite3("accelerometer.bias_mps2", &accelerometer.bias_mps2)?;
         check.scale_factors("accelerometer.scale_factor", &accelerometer.scale_factor)?;
-        check.non_negative(
+        check.sigma(
             "accelerometer.bias_random_walk_mps2_per_sqrt_s",
             accelerometer.bias_random_walk_mps2_per_sqrt_s,
+            true,
         )?;
         check.non_negative("accelerometer.quantum_mps", accelerometer.quantum_mps)?;
 
         let star = &self.star_sensor;
         check.positive("star_sensor.rate_hz", star.rate_hz)?;
+        check.limit(
+            star.rate_hz > min_aiding_rate_hz,
+            "star_sensor.rate_hz",
+            star.rate_hz,
+            ("is not above", min_aiding_rate_hz),
+            " Hz",
+            &outage_reason,
+        )?;
         check.whole_frames("star_sensor.rate_hz", 1.0 / star.rate_hz, period_s, 1.0)?;
-        check.non_negative("star_sensor.noise_arcsec", star.noise_arcsec)?;
+        check.sigma("star_sensor.noise_arcsec", star.noise_arcsec, true)?;
         check.finite3(
             "star_sensor.mounting_rotation_vector_deg",
             &star.mounting_rotation_vector_deg,
@@ -673,15 +861,26 @@ impl Scenario {
 
         let gnss = &self.gnss;
         check.positive("gnss.rate_hz", gnss.rate_hz)?;
+        check.limit(
+            gnss.rate_hz > min_aiding_rate_hz,
+            "gnss.rate_hz",
+            gnss.rate_hz,
+            ("is not above", min_aiding_rate_hz),
+            " Hz",
+            &outage_reason,
+        )?;
         check.whole_frames("gnss.rate_hz", 1.0 / gnss.rate_hz, period_s, 1.0)?;
-        check.non_negative("gnss.noise_m", gnss.noise_m)?;
+        check.sigma("gnss.noise_m", gnss.noise_m, true)?;
         check.non_negative("gnss.latency_s", gnss.latency_s)?;
         check.whole_frames("gnss.latency_s", gnss.latency_s, period_s, 0.0)?;
-        check.non_negative("gnss.correlated_noise_m", gnss.correlated_noise_m)?;
+        if let Some(requirement) = gnss_latency_violation(gnss.latency_s, period_s) {
+            return Err(check.fail("gnss.latency_s", &requirement));
+        }
+        check.sigma("gnss.correlated_noise_m", gnss.correlated_noise_m, true)?;
         if gnss.correlated_noise_m > 0.0 {
             check.positive("gnss.correlation_time_s", gnss.correlation_time_s)?;
         }
-        check.non_negative("gnss.velocity_noise_mps", gnss.velocity_noise_mps)?;
+        check.sigma("gnss.velocity_noise_mps", gnss.velocity_noise_mps, true)?;
         check.outages("gnss.outages", &gnss.outages)?;
         let (max_rate_deg_per_s, max_force_mps2) = self.imu.ranges();
         check.positive("imu.max_rate_deg_per_s", max_rate_deg_per_s)?;
@@ -693,6 +892,13 @@ impl Scenario {
         for (index, segment) in self.manoeuvres.iter().enumerate() {
             let key = |field: &str| format!("manoeuvre[{index}].{field}");
             check.positive(&key("duration_s"), segment.duration_s)?;
+            check.at_most(
+                &key("duration_s"),
+                segment.duration_s,
+                MAX_DURATION_S,
+                " s",
+                DURATION_REASON,
+            )?;
             check.whole_frames(&key("duration_s"), segment.duration_s, period_s, 1.0)?;
             check.non_negative(&key("ramp_s"), segment.ramp_s)?;
             if 2.0 * segment.ramp_s > segment.duration_s {
@@ -723,6 +929,28 @@ impl Scenario {
             }
         }
 
+        check.at_most(
+            "manoeuvre[..].duration_s (total)",
+            self.duration_s(),
+            MAX_DURATION_S,
+            " s",
+            DURATION_REASON,
+        )?;
+        let truth_steps =
+            self.frame_count() as f64 * f64::from(simulation.truth_substeps_per_frame);
+        if truth_steps > MAX_TRUTH_STEPS {
+            return Err(check.fail(
+                "simulation.truth_substeps_per_frame",
+                &format!(
+                    "= {} gives {} truth integration steps (flight duration x imu.rate_hz x \
+                     substeps), above the limit {} (about 40 default flights of run time)",
+                    simulation.truth_substeps_per_frame,
+                    number(truth_steps),
+                    number(MAX_TRUTH_STEPS)
+                ),
+            ));
+        }
+
         let filter = &self.filter;
         if !(1..=MAX_DISCRETISATION_ORDER).contains(&filter.discretisation_order) {
             return Err(check.fail(
@@ -741,7 +969,7 @@ impl Scenario {
             ("gyro_scale_factor", sigma.gyro_scale_factor),
             ("accel_scale_factor", sigma.accel_scale_factor),
         ] {
-            check.positive(&format!("filter.initial_sigma.{name}"), value)?;
+            check.sigma(&format!("filter.initial_sigma.{name}"), value, false)?;
         }
         check.positive(
             "filter.nis_gate.star_threshold",
@@ -751,9 +979,10 @@ impl Scenario {
             "filter.nis_gate.gnss_threshold",
             filter.nis_gate.gnss_threshold,
         )?;
-        check.non_negative(
+        check.sigma(
             "filter.gnss_correlated_sigma_m",
             filter.gnss_correlated_sigma_m,
+            true,
         )?;
         if filter.gnss_correlated_sigma_m > 0.0 {
             check.positive(
@@ -762,7 +991,7 @@ impl Scenario {
             )?;
         }
         if let Some(noise_m) = filter.gnss_noise_m {
-            check.positive("filter.gnss_noise_m", noise_m)?;
+            check.sigma("filter.gnss_noise_m", noise_m, false)?;
         }
         Ok(())
     }
