@@ -140,6 +140,13 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
         .position(|r| matches!(r, LogRecord::Star(_)))
         .unwrap();
     log.insert(star + 1, log[star]);
+    // Twelve fixes in one frame: its ports hold four, the other eight are counted.
+    let fix = log
+        .iter()
+        .position(|r| matches!(r, LogRecord::Gnss(_)))
+        .unwrap();
+    let copies = vec![log[fix]; 11];
+    log.splice(fix + 1..fix + 1, copies);
     let jump = imu_index(&log, 6_000);
     for record in &mut log[jump..] {
         match record {
@@ -174,4 +181,70 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
     assert_eq!(word("imu_records_dropped"), 1);
     assert_eq!(word("measurement_future"), 0);
     assert_eq!(word("imu_time_jump"), 1);
+    assert_eq!(word("dropped_measurements"), 8);
+}
+
+/// The firmware refuses what the host refuses: a log on another time base (shifted by
+/// 0.5 s), a log at another IMU rate (100 Hz against the scenario's 500 Hz) and a log without
+/// IMU records each end the firmware's replay with a failure, and the host's run of the same
+/// input returns an error.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn the_firmware_refuses_a_log_on_another_time_base_or_rate_or_without_imu() {
+    use nav_fsw::log_record::LogRecord;
+    use nav_sim::target_replay::replay_records_on_target;
+
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let elf = root.join(
+        std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
+    );
+    let records = |scenario: &Scenario| -> Vec<LogRecord> {
+        let mut simulation = nav_sim::Simulation::new(scenario).unwrap();
+        let mut events = Vec::new();
+        for _ in 0..200 {
+            simulation.step(&mut events).unwrap().unwrap();
+        }
+        events.iter().map(nav_sim::sensor_log::record_of).collect()
+    };
+    let scenario = Scenario::default_scenario().unwrap();
+    let mut shifted = records(&scenario);
+    for record in &mut shifted {
+        if let LogRecord::Imu(imu) = record {
+            imu.time_s += 0.5;
+        }
+    }
+    let mut slow = scenario.clone();
+    slow.imu.rate_hz = 100.0;
+    let without_imu: Vec<LogRecord> = records(&scenario)
+        .into_iter()
+        .filter(|r| !matches!(r, LogRecord::Imu(_)))
+        .collect();
+    for (case, log) in [
+        ("time base", shifted),
+        ("IMU rate", records(&slow)),
+        ("no IMU", without_imu),
+    ] {
+        let outcome = replay_records_on_target(
+            &scenario,
+            &log,
+            &elf,
+            &root.join("qemu/run.sh"),
+            &root.join("target/qemu/replay-refused"),
+        );
+        let error = outcome.expect_err(case).to_string();
+        assert!(error.contains("firmware replay failed"), "{case}: {error}");
+        let mut input = Vec::new();
+        for word in nav_sim::flight::replay_setup(&scenario).unwrap().to_words() {
+            input.extend_from_slice(&word.to_le_bytes());
+        }
+        input.extend_from_slice(&nav_fsw::log_record::encode_header());
+        for record in &log {
+            input.extend_from_slice(&record.encode().unwrap());
+        }
+        let host = nav_sim::target_replay::run_on_host(&input);
+        assert!(
+            host.as_ref().is_err() || host.as_ref().is_ok_and(|words| words.is_empty()),
+            "{case}: the host accepts it"
+        );
+    }
 }
