@@ -13,6 +13,8 @@
 //! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`benefit`]: what the calibration buys: navigation error through an aiding outage after
+//!   the calibration flight, with and without the calibration states (`nav-sim benefit`).
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
@@ -22,6 +24,7 @@
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod benefit;
 pub mod covariance_design;
 pub mod faults;
 pub mod flight;
