@@ -326,8 +326,19 @@ impl OutageRun {
     }
 }
 
-/// Flies the outage scenario (from [`outage_scenario`]) with one filter and keeps the errors
-/// from the start of the outage, `calibration_duration_s` after the scenario start.
+/// The configuration with the innovation gates open and no sensor ever declared faulty: every
+/// measurement is fused, so an overconfident filter keeps its aiding sensors.
+pub fn with_open_gates(mut config: FswConfig) -> FswConfig {
+    config.star.gate_nis = f64::INFINITY;
+    config.gnss.gate_nis = f64::INFINITY;
+    config.gnss.velocity_gate_nis = f64::INFINITY;
+    config.timing.rejections_to_declare_faulty = u32::MAX;
+    config
+}
+
+/// Flies the outage scenario (from [`outage_scenario`]) with one filter (its gates open if
+/// `open_gates`, [`with_open_gates`]) and keeps the errors from the start of the outage,
+/// `calibration_duration_s` after the scenario start.
 ///
 /// # Errors
 /// [`BenefitError::Flight`] if the flight fails, [`BenefitError::NoOutageSamples`] if it
@@ -336,6 +347,7 @@ pub fn fly_outage(
     outage: &Scenario,
     calibration_duration_s: f64,
     filter: Filter,
+    open_gates: bool,
     progress: impl FnMut(u64, u64),
 ) -> Result<OutageRun, BenefitError> {
     let seed = outage.simulation.seed;
@@ -349,6 +361,11 @@ pub fn fly_outage(
         Filter::Uncalibrated => uncalibrated_config(outage),
     }
     .map_err(failed)?;
+    let config = if open_gates {
+        with_open_gates(config)
+    } else {
+        config
+    };
     let options = FlightOptions {
         record_interval_s: RECORD_INTERVAL_S,
     };
@@ -407,6 +424,9 @@ pub struct BenefitOptions {
     /// Draw each run's sensor-error truth from the filter's prior
     /// ([`flight::with_truth_drawn_from_prior`]) instead of keeping the scenario's.
     pub draw_truth: bool,
+    /// Fly both filters with their innovation gates open and no sensor declared faulty
+    /// ([`with_open_gates`]).
+    pub open_gates: bool,
 }
 
 /// Flies both filters for every seed, in parallel (rayon, one task per seed and filter), with
@@ -452,7 +472,13 @@ pub fn compare(
                 seeded.simulation.seed = seed;
                 seeded
             };
-            fly_outage(&seeded, calibration_duration_s, filter, |_, _| {})
+            fly_outage(
+                &seeded,
+                calibration_duration_s,
+                filter,
+                options.open_gates,
+                |_, _| {},
+            )
         })
         .collect();
     bar.finish_and_clear();
@@ -807,6 +833,10 @@ pub struct BenefitArgs {
     /// instead of keeping the scenario's sensor errors.
     #[arg(long)]
     pub draw_truth: bool,
+    /// Fly both filters with the innovation gates open and no sensor ever declared faulty, so
+    /// the uncalibrated filter keeps its aiding sensors however overconfident it is.
+    #[arg(long)]
+    pub open_gates: bool,
     /// Write the error-growth plot (benefit.png) into this directory.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -823,6 +853,7 @@ impl BenefitArgs {
             },
             runs: self.runs,
             draw_truth: self.draw_truth,
+            open_gates: self.open_gates,
         }
     }
 }
@@ -848,7 +879,7 @@ pub fn run(
         .sum();
     let mut report = format!(
         "calibration flight {:.0} s, then a {:.0} s coast with GNSS lost for {:.0} s and the \
-         star tracker for {:.0} s from its start; {} run(s) from seed {}{}\n\
+         star tracker for {:.0} s from its start; {} run(s) from seed {}{}{}\n\
          calibrated: the 24-state filter; uncalibrated: star installation error and scale \
          factors held at zero (1σ {SWITCHED_OFF_SIGMA:e}), a 15-state filter on the same \
          sensor data\n{} flights, {frames} frames through nav-fsw in {:.1?}\n\n",
@@ -860,6 +891,11 @@ pub fn run(
         scenario.simulation.seed,
         if options.draw_truth {
             ", sensor-error truth drawn from the prior"
+        } else {
+            ""
+        },
+        if options.open_gates {
+            "; gates open, no sensor declared faulty"
         } else {
             ""
         },
