@@ -369,8 +369,7 @@ pub fn fly_outage(
     let options = FlightOptions {
         record_interval_s: RECORD_INTERVAL_S,
     };
-    let result =
-        flight::fly_with(outage, config, options, progress, |_, _| {}).map_err(failed)?;
+    let result = flight::fly_with(outage, config, options, progress, |_, _| {}).map_err(failed)?;
     let outage_start_s = outage.simulation.start_time_s + calibration_duration_s;
     let samples: Vec<OutageSample> = result
         .samples
@@ -451,9 +450,9 @@ pub fn compare(
         .collect();
     let bar = if show_progress {
         let bar = ProgressBar::new(u64::try_from(jobs.len()).unwrap_or(u64::MAX));
-        if let Ok(style) = ProgressStyle::with_template(
-            "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} flights",
-        ) {
+        if let Ok(style) =
+            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} flights")
+        {
             bar.set_style(style);
         }
         bar.set_message("benefit");
@@ -651,12 +650,13 @@ pub fn text(comparisons: &[Comparison], plan: &OutagePlan) -> String {
         for row in rows(comparisons, quantity, plan.coast_s) {
             let scale = quantity.report_scale();
             table.add_row([
-                right(row.time_into_outage_s.map_or("max".to_string(), |t| {
-                    format!("{t:.0}")
-                })),
+                right(
+                    row.time_into_outage_s
+                        .map_or("max".to_string(), |t| format!("{t:.0}")),
+                ),
                 right(row.calibrated.cell(scale, runs)),
                 right(row.uncalibrated.cell(scale, runs)),
-                right(format!("{:.3}", row.ratio())),
+                right(significant(row.ratio())),
             ]);
         }
         let _ = writeln!(text, "{}\n{table}\n", quantity.label());
@@ -666,12 +666,12 @@ pub fn text(comparisons: &[Comparison], plan: &OutagePlan) -> String {
             let ratios = Spread::of(comparisons.iter().map(|c| c.max_ratio(quantity)));
             let _ = writeln!(
                 text,
-                "per-run ratio of the maximum {}, calibrated / uncalibrated: mean {:.3}, \
-                 range [{:.3}, {:.3}]",
+                "per-run ratio of the maximum {}, calibrated / uncalibrated: mean {}, \
+                 range [{}, {}]",
                 quantity.label(),
-                ratios.mean,
-                ratios.min,
-                ratios.max
+                significant(ratios.mean),
+                significant(ratios.min),
+                significant(ratios.max)
             );
         }
     }
@@ -736,8 +736,7 @@ pub fn plot(path: &Path, comparisons: &[Comparison]) -> Result<PathBuf, BenefitE
         .map(|&quantity| {
             let scale = quantity.report_scale();
             let mut curves = Vec::new();
-            for (filter, [mean_colour, max_colour]) in Filter::BOTH.into_iter().zip(CURVE_COLOURS)
-            {
+            for (filter, [mean_colour, max_colour]) in Filter::BOTH.into_iter().zip(CURVE_COLOURS) {
                 let series = |pick: fn(&Spread) -> f64| -> Vec<(f64, f64)> {
                     first
                         .run(filter)

@@ -97,16 +97,24 @@ fn assert_calibration_buys_accuracy(comparisons: &[Comparison], bounds: &Bounds)
     let mean_ratio = mean(ratios.iter().copied());
     assert!(mean_ratio < bounds.mean_position_ratio, "{ratios:?}");
     assert!(
-        ratios.iter().all(|ratio| *ratio < bounds.worst_position_ratio),
+        ratios
+            .iter()
+            .all(|ratio| *ratio < bounds.worst_position_ratio),
         "{ratios:?}"
     );
     let mean_max = |filter: Filter, quantity: Quantity| {
         mean(comparisons.iter().map(|c| c.run(filter).max(quantity)))
     };
     let uncalibrated_m = mean_max(Filter::Uncalibrated, Quantity::Position);
-    assert!(uncalibrated_m > bounds.uncalibrated_position_m, "{uncalibrated_m}");
+    assert!(
+        uncalibrated_m > bounds.uncalibrated_position_m,
+        "{uncalibrated_m}"
+    );
     let calibrated_m = mean_max(Filter::Calibrated, Quantity::Position);
-    assert!(calibrated_m < bounds.calibrated_position_m, "{calibrated_m}");
+    assert!(
+        calibrated_m < bounds.calibrated_position_m,
+        "{calibrated_m}"
+    );
     // The installation error, (1, 2, 3) mrad: 3.74 mrad.
     let calibrated_rad = mean_max(Filter::Calibrated, Quantity::Attitude);
     let uncalibrated_rad = mean_max(Filter::Uncalibrated, Quantity::Attitude);
@@ -147,7 +155,10 @@ fn calibration_reduces_the_outage_position_error_as_configured() {
             &comparison.uncalibrated.health,
         );
         assert_eq!(
-            (calibrated.star_declared_faulty, calibrated.gnss_declared_faulty),
+            (
+                calibrated.star_declared_faulty,
+                calibrated.gnss_declared_faulty
+            ),
             (0, 0)
         );
         assert_eq!(uncalibrated.star_declared_faulty, 1);
@@ -197,7 +208,10 @@ fn the_outage_scenario_appends_the_coast_and_the_outages() {
     assert_eq!(bits(&outage.gnss.outages), bits(&[[107.0, 300.0]]));
     assert_eq!(bits(&outage.star_sensor.outages), bits(&[[107.0, 120.0]]));
     let coast = outage.manoeuvres.last().unwrap();
-    assert!(coast.specific_force_mps2.iter().all(|force| force.to_bits() == 0));
+    assert!(coast
+        .specific_force_mps2
+        .iter()
+        .all(|force| force.to_bits() == 0));
     let refused = |plan: OutagePlan| benefit::outage_scenario(&scenario, &plan).is_err();
     assert!(refused(OutagePlan {
         coast_s: 0.0,
