@@ -677,12 +677,16 @@ pub fn text(comparisons: &[Comparison], plan: &OutagePlan) -> String {
     }
     for filter in Filter::BOTH {
         let health = |field: fn(&HealthCounters) -> u32| {
-            Spread::of(
+            let spread = Spread::of(
                 comparisons
                     .iter()
                     .map(|c| f64::from(field(&c.run(filter).health))),
-            )
-            .cell(1.0, runs)
+            );
+            if runs <= 1 {
+                format!("{:.0}", spread.mean)
+            } else {
+                format!("{:.1} [{:.0}, {:.0}]", spread.mean, spread.min, spread.max)
+            }
         };
         let _ = writeln!(
             text,
