@@ -27,7 +27,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
-use indicatif::{ParallelProgressIterator, ProgressBar, ProgressStyle};
+use indicatif::ParallelProgressIterator;
 use nalgebra::Vector3;
 use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
@@ -448,18 +448,7 @@ pub fn compare(
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .flat_map(|seed| Filter::BOTH.map(|filter| (seed, filter)))
         .collect();
-    let bar = if show_progress {
-        let bar = ProgressBar::new(u64::try_from(jobs.len()).unwrap_or(u64::MAX));
-        if let Ok(style) =
-            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} flights")
-        {
-            bar.set_style(style);
-        }
-        bar.set_message("benefit");
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = crate::monte_carlo::campaign_bar(jobs.len(), "benefit", "flights", show_progress);
     let runs: Vec<Result<OutageRun, BenefitError>> = jobs
         .par_iter()
         .progress_with(bar.clone())
