@@ -13,12 +13,12 @@
 //! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
-//! * [`benefit`]: what the calibration buys: navigation error through an aiding outage after
-//!   the calibration flight, with and without the calibration states (`nav-sim benefit`).
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
 //!   scenario's schedule (`nav-sim observability`).
+//! * [`benefit`]: what the calibration buys: navigation error through an aiding outage after
+//!   the calibration flight, with and without the calibration states (`nav-sim benefit`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
