@@ -18,11 +18,14 @@
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
 //!   scenario's schedule (`nav-sim observability`).
+//! * [`benefit`]: what the calibration buys: navigation error through an aiding outage after
+//!   the calibration flight, with and without the calibration states (`nav-sim benefit`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
 //! Times are navigation time, seconds since the launch epoch.
 
+pub mod benefit;
 pub mod covariance_design;
 pub mod faults;
 pub mod flight;

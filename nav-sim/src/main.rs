@@ -114,6 +114,10 @@ enum Command {
         #[arg(long, default_value = "target/qemu/bench")]
         out: PathBuf,
     },
+    /// What calibration buys: fly the scenario, then a coast with GNSS and star tracker lost,
+    /// with the on-line calibration and with it switched off (same sensor data), and print the
+    /// position, velocity and attitude error growth side by side (`--runs N`: over seeds).
+    Benefit(nav_sim::benefit::BenefitArgs),
 }
 
 type Failure = Box<dyn std::error::Error>;
@@ -389,6 +393,16 @@ fn target_bench(
     Ok(())
 }
 
+fn benefit(arguments: &nav_sim::benefit::BenefitArgs) -> Result<(), Failure> {
+    let scenario = load(arguments.scenario.as_deref())?;
+    let options = arguments.options();
+    print!(
+        "{}",
+        nav_sim::benefit::run(&scenario, &options, arguments.out.as_deref(), true)?
+    );
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command.unwrap_or(Command::Calibrate {
@@ -425,6 +439,7 @@ fn main() -> ExitCode {
             runner,
             out,
         } => target_bench(scenario.as_deref(), &elf, seconds, &runner, &out),
+        Command::Benefit(arguments) => benefit(&arguments),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

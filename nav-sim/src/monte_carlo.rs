@@ -366,18 +366,7 @@ where
     E: std::error::Error + Send + 'static,
     F: Fn(u64) -> Result<RunOutcome<N>, E> + Sync,
 {
-    let bar = if show_progress {
-        let bar = ProgressBar::new(u64::try_from(seeds.len()).unwrap_or(u64::MAX));
-        if let Ok(style) =
-            ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} runs")
-        {
-            bar.set_style(style);
-        }
-        bar.set_message("Monte Carlo");
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = campaign_bar(seeds.len(), "Monte Carlo", "runs", show_progress);
     let outcomes = seeds
         .par_iter()
         .progress_with(bar.clone())
@@ -385,6 +374,26 @@ where
         .collect();
     bar.finish();
     outcomes
+}
+
+/// A progress bar over `count` items of a parallel campaign (`{message} [elapsed] bar
+/// done/count {unit}`), hidden unless `show`.
+pub(crate) fn campaign_bar(
+    count: usize,
+    message: &'static str,
+    unit: &str,
+    show: bool,
+) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(u64::try_from(count).unwrap_or(u64::MAX));
+    let template = format!("{{msg}} [{{elapsed_precise}}] {{wide_bar}} {{pos}}/{{len}} {unit}");
+    if let Ok(style) = ProgressStyle::with_template(&template) {
+        bar.set_style(style);
+    }
+    bar.set_message(message);
+    bar
 }
 
 impl<const N: usize> MonteCarloSummary<N> {

@@ -863,7 +863,7 @@ const BLOCK_PLOT_SIZE: (u32, u32) = (1800, 1000);
 
 /// Draws rows of panel pairs into a PNG: the left panel of each row with a linear y axis, the
 /// right one with a logarithmic y axis; all with the x axis `x_label`.
-fn draw_linear_and_log_panels(
+pub(crate) fn draw_linear_and_log_panels(
     path: &Path,
     title: &str,
     x_label: &str,
