@@ -65,3 +65,7 @@ pub mod structured;
 pub mod unmodelled;
 
 pub use error::NavError;
+/// nalgebra as nav-core builds it (`no_std`, `libm`, `libm-force`): the types of nav-core's
+/// API come from here, so an integrator depends on nav-core (or nav-fsw) alone and never on a
+/// second nalgebra whose default features pull in `std`.
+pub use nalgebra;

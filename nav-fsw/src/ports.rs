@@ -2,8 +2,8 @@
 //! hardware, in the host simulator and in the QEMU firmware. nav-core does no I/O; only these
 //! ports do. On hardware, [`crate::stream_ports`] adapts any `embedded_io` byte stream (a HAL's
 //! UART) carrying the documented 80-byte records; a device with its own protocol needs its own
-//! small decoder behind these traits. (embedded-hal 1.0 has no monotonic-clock trait, so a
-//! [`ClockPort`] is written over the target's timer directly.)
+//! small decoder behind these traits. Navigation time is the frame count times the period:
+//! the scheduler needs no clock port.
 
 use nalgebra::{Quaternion, Vector3};
 
@@ -60,12 +60,6 @@ pub trait StarSensorPort {
 pub trait GnssPort {
     /// A fix that arrived since the last poll, if any.
     fn poll(&mut self) -> Option<GnssFix>;
-}
-
-/// The vehicle clock (navigation time).
-pub trait ClockPort {
-    /// Current navigation time (s).
-    fn now_s(&self) -> f64;
 }
 
 /// `[x, y, z]` as a vector.
