@@ -24,3 +24,23 @@ pub enum NavError {
     /// A requested discretisation order is outside 1..=4.
     InvalidDiscretisationOrder,
 }
+
+/// One line per variant, as its documentation says.
+impl core::fmt::Display for NavError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NonFiniteInput => "an input contained NaN or infinity",
+            Self::DegenerateQuaternion => "a quaternion has (near) zero norm",
+            Self::InvalidTimeStep => "a time step is not strictly positive and finite",
+            Self::NonPositiveInnovationCovariance => {
+                "the innovation covariance is not positive definite"
+            }
+            Self::SingularMatrix => "a matrix to invert is singular",
+            Self::NonFiniteState => "the filter state or covariance became non-finite",
+            Self::InvalidConfiguration => "a configuration value is out of its documented range",
+            Self::InvalidDiscretisationOrder => "the discretisation order is outside 1..=4",
+        })
+    }
+}
+
+impl core::error::Error for NavError {}

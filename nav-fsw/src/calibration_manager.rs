@@ -80,6 +80,21 @@ pub enum EstimationPolicy {
     MotionObservability,
 }
 
+impl EstimationPolicy {
+    /// Whether the policy reads the manoeuvre phase (`Command::SetPhase`): only
+    /// [`EstimationPolicy::PaperSchedule`] does.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_fsw::calibration_manager::EstimationPolicy;
+    /// assert!(EstimationPolicy::PaperSchedule.uses_phase());
+    /// assert!(!EstimationPolicy::AllBlocks.uses_phase());
+    /// ```
+    pub const fn uses_phase(self) -> bool {
+        matches!(self, Self::PaperSchedule)
+    }
+}
+
 /// The structure of the current motion: which body axes rotate faster than
 /// [`CalibrationManagerConfig::motion_rate_threshold_rad_s`] (bits 0-2, x y z) and which
 /// carry a specific force above [`CalibrationManagerConfig::motion_force_threshold_mps2`]

@@ -197,10 +197,12 @@ impl core::fmt::Display for FswError {
             FswError::InvalidConfiguration(field) => {
                 write!(formatter, "invalid configuration: {field}")
             }
-            FswError::Navigation(error) => write!(formatter, "navigation error: {error:?}"),
+            FswError::Navigation(error) => write!(formatter, "navigation error: {error}"),
         }
     }
 }
+
+impl core::error::Error for FswError {}
 
 impl From<NavError> for FswError {
     fn from(error: NavError) -> Self {

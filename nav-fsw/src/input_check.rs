@@ -83,6 +83,19 @@ pub enum ImuFault {
     TimeJump,
 }
 
+impl core::fmt::Display for ImuFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NonFinite => "an IMU field is not finite",
+            Self::Saturated => "an IMU rate or specific force is at or beyond its range",
+            Self::Duplicate => "the IMU sample repeats or precedes the last one",
+            Self::TimeJump => "the IMU time step disagrees with the period",
+        })
+    }
+}
+
+impl core::error::Error for ImuFault {}
+
 /// A sequence number at most this many samples behind the last accepted one is a late
 /// (out-of-order) sample, discarded as [`ImuFault::Duplicate`]. Farther behind is taken as a
 /// counter restart, accepted as a forward gap (2 s at 500 Hz; without this window a late
@@ -178,6 +191,17 @@ pub enum StarFault {
     NotUnit,
 }
 
+impl core::fmt::Display for StarFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NonFinite => "a star-sensor component or time tag is not finite",
+            Self::NotUnit => "the star-sensor quaternion is not unit within the tolerance",
+        })
+    }
+}
+
+impl core::error::Error for StarFault {}
+
 /// Checks a star-sensor quaternion and returns it normalised, with its sign made continuous
 /// with `previous` (a `q → −q` flip is the same attitude and is not a fault; it is undone here
 /// so the residual never sees it) and whether a flip was undone.
@@ -216,6 +240,19 @@ pub enum GnssFault {
     /// gross error, well beyond what the innovation gate is for). Reaction: discarded.
     Jump,
 }
+
+impl core::fmt::Display for GnssFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NonFinite => "a GNSS component or time tag is not finite",
+            Self::Jump => {
+                "the GNSS fix is farther from the navigation solution than the jump limit"
+            }
+        })
+    }
+}
+
+impl core::error::Error for GnssFault {}
 
 /// Checks a GNSS fix against the predicted antenna position (both in the same frame).
 ///

@@ -22,6 +22,19 @@ pub enum BufferRefusal {
     NonFinite,
 }
 
+impl core::fmt::Display for BufferRefusal {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::Stale => "older than the latency limit, or not newer than the last accepted",
+            Self::Future => "time-tagged after the navigation time plus the future tolerance",
+            Self::Overflow => "the measurement queue is full",
+            Self::NonFinite => "the time tag is not finite",
+        })
+    }
+}
+
+impl core::error::Error for BufferRefusal {}
+
 /// A time-ordered queue of measurements of type `M`, capacity `N`.
 #[derive(Debug, Clone)]
 pub struct MeasurementBuffer<M, const N: usize> {

@@ -58,7 +58,7 @@ use nav_core::unmodelled::{
 use nav_core::NavError;
 
 use crate::calibration_manager::{
-    CalibrationManager, CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT,
+    CalibrationManager, CalibrationTable, EstimationPolicy, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT,
 };
 use crate::config::HeldSampleUncertainty;
 use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
@@ -76,13 +76,37 @@ pub const MAX_POLLS_PER_FRAME: usize = 4;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Command {
-    /// The manoeuvre phase (drives the calibration manager).
+    /// The manoeuvre phase: drives the calibration manager under
+    /// [`EstimationPolicy::PaperSchedule`]; refused under a policy that does not read it
+    /// ([`EstimationPolicy::uses_phase`]).
     SetPhase(ManoeuvrePhase),
     /// Forget the fault declarations: both sensors are used again.
     ClearSensorFaults,
     /// Forget calibration convergence (unfreeze every block).
     RestartCalibration,
 }
+
+/// Why a [`Command`] was refused (the computer is unchanged).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommandError {
+    /// `SetPhase` under a policy that does not read the manoeuvre phase.
+    PhaseNotUsed(EstimationPolicy),
+}
+
+impl core::fmt::Display for CommandError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::PhaseNotUsed(policy) => write!(
+                f,
+                "SetPhase refused: the calibration policy {policy:?} does not use the manoeuvre \
+                 phase (only PaperSchedule does)"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for CommandError {}
 
 /// Which implementation of the filter's matrix arithmetic the scheduler uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -455,9 +479,19 @@ impl NavigationComputer {
     }
 
     /// Executes a command.
-    pub fn command(&mut self, command: Command) {
+    ///
+    /// # Errors
+    /// [`CommandError::PhaseNotUsed`] for `SetPhase` under a policy that does not read the
+    /// phase; the computer is unchanged.
+    pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
         match command {
-            Command::SetPhase(phase) => self.manager.set_phase(phase),
+            Command::SetPhase(phase) => {
+                let policy = self.config.calibration.policy;
+                if !policy.uses_phase() {
+                    return Err(CommandError::PhaseNotUsed(policy));
+                }
+                self.manager.set_phase(phase);
+            }
             Command::ClearSensorFaults => {
                 self.star = AidingSensor::default();
                 self.gnss = AidingSensor::default();
@@ -465,6 +499,7 @@ impl NavigationComputer {
             }
             Command::RestartCalibration => self.manager.restart(),
         }
+        Ok(())
     }
 
     /// One minor frame (module docs). Never fails: every fault is handled, counted and
@@ -1566,7 +1601,9 @@ mod tests {
         config.calibration.policy = EstimationPolicy::PaperSchedule;
         let initial = computer().navigation;
         let mut computer = NavigationComputer::new(config, initial).unwrap();
-        computer.command(Command::SetPhase(ManoeuvrePhase::Coast));
+        computer
+            .command(Command::SetPhase(ManoeuvrePhase::Coast))
+            .unwrap();
         one_frame(&mut computer, 1);
         let frozen = computer.frozen_blocks();
         assert!(!frozen.contains(GYRO_BIAS) && !frozen.contains(ACCEL_BIAS));

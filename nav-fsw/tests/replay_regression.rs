@@ -258,7 +258,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                 .unwrap();
         }
         if frame == CLEAR_FRAME {
-            computer.command(Command::ClearSensorFaults);
+            computer.command(Command::ClearSensorFaults).unwrap();
         }
         let telemetry = ports.run(&mut computer);
         let cost = frame % 1_500;

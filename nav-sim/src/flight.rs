@@ -560,9 +560,14 @@ pub fn fly_observed(
     let mut last = None;
     let mut star_nis = NisSum::default();
     let mut gnss_nis = NisSum::default();
+    // The flight plan tells the phase only to a policy that reads it.
+    let uses_phase = computer.config().calibration.policy.uses_phase();
     while let Some(frame) = simulation.step(&mut events)? {
-        if let Some((_, phase)) = segment_frames.iter().find(|(f, _)| *f == frame.frame_index) {
-            computer.command(Command::SetPhase(*phase));
+        let phase_due = segment_frames.iter().find(|(f, _)| *f == frame.frame_index);
+        if let (Some((_, phase)), true) = (phase_due, uses_phase) {
+            computer
+                .command(Command::SetPhase(*phase))
+                .map_err(|error| FlightError::Setting(error.to_string()))?;
         }
         let mut ports = FramePorts::default();
         for event in events.drain(..) {
