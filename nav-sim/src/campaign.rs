@@ -45,7 +45,7 @@ pub const OUTLIER_NEES_PROBABILITY: f64 = 0.999;
 /// A state's |error| beyond this many filter σ marks its run as an outlier.
 pub const OUTLIER_SIGMAS: f64 = 3.0;
 
-/// Why a campaign, a shard file or a merge failed. Every variant names its file.
+/// Why a campaign, a shard file or a merge failed; an error about a file names it.
 #[derive(Debug, thiserror::Error)]
 pub enum CampaignError {
     /// `--shard` is not `K/M` with `K < M`.
@@ -286,6 +286,18 @@ struct Header {
     shards: u64,
 }
 
+impl Header {
+    /// The fields that name the campaign, which every shard file of it shares.
+    fn campaign(&self) -> [(&'static str, String); 4] {
+        [
+            ("scenario hash", self.scenario_hash.clone()),
+            ("seed base", self.seed_base.to_string()),
+            ("runs", self.runs.to_string()),
+            ("shards", self.shards.to_string()),
+        ]
+    }
+}
+
 /// The largest |error| / 1σ over the states of a run.
 fn max_error_over_sigma(outcome: &RunOutcome) -> f64 {
     (0..CALIBRATION_STATES)
@@ -445,15 +457,19 @@ fn shard_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, CampaignError> {
         files.extend(found);
     }
     if files.is_empty() {
-        return Err(CampaignError::NoShardFiles {
-            paths: paths
-                .iter()
-                .map(|path| path.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", "),
-        });
+        return Err(no_shard_files(paths));
     }
     Ok(files)
+}
+
+fn no_shard_files(paths: &[PathBuf]) -> CampaignError {
+    CampaignError::NoShardFiles {
+        paths: paths
+            .iter()
+            .map(|path| path.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
 }
 
 /// A shard file read back: its header and runs.
@@ -543,31 +559,11 @@ pub fn merge(paths: &[PathBuf]) -> Result<MergedCampaign, CampaignError> {
     for path in shard_files(paths)? {
         let (header, records) = read_shard(&path)?;
         if let Some((first_path, first_header)) = &first {
-            let fields: [(&'static str, String, String); 4] = [
-                (
-                    "scenario hash",
-                    first_header.scenario_hash.clone(),
-                    header.scenario_hash.clone(),
-                ),
-                (
-                    "seed base",
-                    first_header.seed_base.to_string(),
-                    header.seed_base.to_string(),
-                ),
-                (
-                    "runs",
-                    first_header.runs.to_string(),
-                    header.runs.to_string(),
-                ),
-                (
-                    "shards",
-                    first_header.shards.to_string(),
-                    header.shards.to_string(),
-                ),
-            ];
-            if let Some((field, first_value, second_value)) = fields
+            if let Some(((field, first_value), (_, second_value))) = first_header
+                .campaign()
                 .into_iter()
-                .find(|(_, first, second)| first != second)
+                .zip(header.campaign())
+                .find(|((_, first), (_, second))| first != second)
             {
                 return Err(CampaignError::DifferentCampaigns {
                     first: first_path.clone(),
@@ -601,9 +597,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<MergedCampaign, CampaignError> {
         }
     }
     let Some((_, header)) = first else {
-        return Err(CampaignError::NoShardFiles {
-            paths: String::new(),
-        });
+        return Err(no_shard_files(paths));
     };
     if let Some(run) = (0..header.runs).find(|run| !runs.contains_key(run)) {
         let shard = run % header.shards;
