@@ -59,7 +59,8 @@ enum Command {
         /// Fly run K alone and print its JSON line (as in a shard file).
         #[arg(long, value_name = "K", conflicts_with_all = ["shard", "out", "json", "check"])]
         run: Option<u64>,
-        /// Write the NEES / RMS plot into this directory (with --shard: the shard file).
+        /// Write the NEES / RMS plot into this directory (with --shard: the shard file
+        /// OUT/shard-K-of-M.jsonl).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states", ...}`.
