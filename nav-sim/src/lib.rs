@@ -13,6 +13,8 @@
 //! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`campaign`]: Monte Carlo campaigns in shards (JSON Lines per run), merged into one
+//!   report with percentiles and the runs outside 3σ (`nav-sim monte-carlo --shard`, `merge`).
 //! * [`output`]: output files written atomically, refused when they are an input.
 //! * [`report`]: calibration table (text, JSON), time-history CSVs and PNG plots.
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
@@ -26,6 +28,7 @@
 //! Times are navigation time, seconds since the launch epoch.
 
 pub mod benefit;
+pub mod campaign;
 pub mod covariance_design;
 pub mod faults;
 pub mod flight;

@@ -42,19 +42,41 @@ enum Command {
         check: bool,
     },
     /// Monte Carlo over seeds (each run's sensor-error truth drawn from the filter's prior):
-    /// RMS error, mean filter 1σ and the NEES consistency test.
+    /// RMS error, mean filter 1σ, |error| percentiles, the NEES consistency test and the runs
+    /// outside 3σ (docs/monte-carlo.md).
     MonteCarlo {
         /// Scenario TOML (default: the built-in one).
         scenario: Option<PathBuf>,
-        /// Number of runs, 1 or more (seeds: the scenario's seed, +1, +2, ...).
+        /// Number of runs, 1 or more (run k has the seed: the scenario's seed + k).
         // Negative numbers reach the parser, which names the flag and the accepted range,
         // rather than being taken for an unknown flag.
         #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = parse_runs)]
         runs: u64,
-        /// Write the NEES / RMS plot into this directory.
+        /// Fly only shard K of M (runs k with k mod M = K) and write OUT/shard-K-of-M.jsonl,
+        /// one JSON line per run, for `nav-sim merge`.
+        #[arg(long, value_name = "K/M", requires = "out", conflicts_with_all = ["json", "check"])]
+        shard: Option<nav_sim::campaign::Shard>,
+        /// Fly run K alone and print its JSON line (as in a shard file).
+        #[arg(long, value_name = "K", conflicts_with_all = ["shard", "out", "json", "check"])]
+        run: Option<u64>,
+        /// Write the NEES / RMS plot into this directory (with --shard: the shard file
+        /// OUT/shard-K-of-M.jsonl).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states"}`.
+        /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states", ...}`.
+        #[arg(long)]
+        json: bool,
+        /// Exit non-zero if the average NEES is outside its 95 % interval.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Merge the shard files of a sharded Monte Carlo campaign (`monte-carlo --shard`) and
+    /// print the report of the whole campaign, as `monte-carlo` prints it.
+    Merge {
+        /// Shard files, or directories holding them (their shard-*-of-*.jsonl files).
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+        /// Print the report as one JSON object (as `monte-carlo --json`).
         #[arg(long)]
         json: bool,
         /// Exit non-zero if the average NEES is outside its 95 % interval.
@@ -278,56 +300,90 @@ fn calibrate(
     Ok(())
 }
 
-fn monte_carlo(
-    scenario_path: Option<&Path>,
+/// The arguments of `nav-sim monte-carlo`.
+struct MonteCarloArgs<'a> {
+    scenario_path: Option<&'a Path>,
     runs: u64,
-    out: Option<&Path>,
+    shard: Option<nav_sim::campaign::Shard>,
+    run: Option<u64>,
+    out: Option<&'a Path>,
     json: bool,
     check: bool,
-) -> Result<(), Failure> {
+}
+
+fn monte_carlo(arguments: MonteCarloArgs<'_>) -> Result<(), Failure> {
+    use nav_sim::campaign;
+    let scenario_path = arguments.scenario_path;
     let scenario = load(scenario_path)?;
-    let plot = out.map(|directory| directory.join("monte_carlo.png"));
-    if let (Some(directory), Some(plot)) = (out, &plot) {
+    if let Some(run) = arguments.run {
+        let records = campaign::fly_runs(&scenario, &[run], false)?;
+        for record in records {
+            println!("{}", record.json_line()?);
+        }
+        return Ok(());
+    }
+    if let (Some(shard), Some(directory)) = (arguments.shard, arguments.out) {
+        let (path, runs) = campaign::write_shard(
+            &scenario,
+            scenario_path,
+            arguments.runs,
+            shard,
+            directory,
+            true,
+        )?;
+        println!("wrote {runs} runs to {}", path.display());
+        return Ok(());
+    }
+    let plot = arguments
+        .out
+        .map(|directory| directory.join("monte_carlo.png"));
+    if let (Some(directory), Some(plot)) = (arguments.out, &plot) {
         prepare_outputs(
             directory,
             std::slice::from_ref(plot),
             &inputs(scenario_path),
         )?;
     }
-    let seeds: Vec<u64> = (0..runs)
-        .map(|run| scenario.simulation.seed.wrapping_add(run))
-        .collect();
-    let outcomes = monte_carlo::fly_campaign(&scenario, &seeds, !json)?;
-    let summary = monte_carlo::summarise::<15, flight::FlightError>(&outcomes)?;
-    if json {
-        println!("{}", summary.json(&monte_carlo::calibration_labels())?);
-    } else {
-        println!("{}", summary.table(&monte_carlo::calibration_labels()));
-        println!("{}", summary.nees_line());
-        for (sensor, test) in [
-            ("star sensor", &summary.star_nis),
-            ("GNSS", &summary.gnss_nis),
-        ] {
-            if let Some(test) = test {
-                println!("{}", test.line(sensor));
-            }
-        }
-    }
+    let runs: Vec<u64> = (0..arguments.runs).collect();
+    let records = campaign::fly_runs(&scenario, &runs, !arguments.json)?;
+    let label = scenario_path.map(|path| path.display().to_string());
+    let report = campaign::CampaignReport::new(&records, label.as_deref())?;
+    print_campaign(&report, arguments.json)?;
     if let Some(plot) = &plot {
-        summary.plot(plot)?;
-        if !json {
+        report.summary.plot(plot)?;
+        if !arguments.json {
             println!("wrote {}", plot.display());
         }
     }
-    if check && !summary.nees.consistent() {
-        let nees = &summary.nees;
-        return Err(format!(
-            "monte-carlo --check: the average NEES {:.3} over {} runs is outside its 95 % interval [{:.3}, {:.3}]",
-            nees.average, summary.runs, nees.lower_bound, nees.upper_bound
-        )
-        .into());
+    check_campaign(&report, arguments.check, "monte-carlo")
+}
+
+fn print_campaign(report: &nav_sim::campaign::CampaignReport, json: bool) -> Result<(), Failure> {
+    if json {
+        println!("{}", report.json()?);
+    } else {
+        print!("{}", report.text());
     }
     Ok(())
+}
+
+fn check_campaign(
+    report: &nav_sim::campaign::CampaignReport,
+    check: bool,
+    command: &str,
+) -> Result<(), Failure> {
+    match report.check_failure() {
+        Some(failure) if check => Err(format!("{command} --check: {failure}").into()),
+        _ => Ok(()),
+    }
+}
+
+fn merge(paths: &[PathBuf], json: bool, check: bool) -> Result<(), Failure> {
+    let merged = nav_sim::campaign::merge(paths)?;
+    let report =
+        nav_sim::campaign::CampaignReport::new(&merged.records, merged.scenario.as_deref())?;
+    print_campaign(&report, json)?;
+    check_campaign(&report, check, "merge")
 }
 
 fn write_log(scenario_path: Option<&Path>, out: &Path) -> Result<(), Failure> {
@@ -420,10 +476,21 @@ fn main() -> ExitCode {
         Command::MonteCarlo {
             scenario,
             runs,
+            shard,
+            run,
             out,
             json,
             check,
-        } => monte_carlo(scenario.as_deref(), runs, out.as_deref(), json, check),
+        } => monte_carlo(MonteCarloArgs {
+            scenario_path: scenario.as_deref(),
+            runs,
+            shard,
+            run,
+            out: out.as_deref(),
+            json,
+            check,
+        }),
+        Command::Merge { paths, json, check } => merge(&paths, json, check),
         Command::Log { scenario, out } => write_log(scenario.as_deref(), &out),
         Command::Replay { log, scenario, out } => replay(&log, scenario.as_deref(), &out),
         Command::Scenario => {

@@ -57,6 +57,8 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub star_nis: crate::flight::NisSum,
     /// NIS of the GNSS fixes' tested updates.
     pub gnss_nis: crate::flight::NisSum,
+    /// Norm of the final navigation position error (m; NaN if the flight recorded no sample).
+    pub position_error_m: f64,
 }
 
 /// Flies `scenario` once per seed in parallel, each run's sensor-error truth drawn from the
@@ -81,6 +83,9 @@ pub fn fly_campaign(
                     covariance: result.calibration_covariance,
                     star_nis: result.star_nis,
                     gnss_nis: result.gnss_nis,
+                    position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
+                        nalgebra::Vector3::from(sample.position_error_m).norm()
+                    }),
                 },
             )
         },
@@ -297,6 +302,14 @@ impl NisTest {
     }
 }
 
+/// The NEES of one run, `eᵀ P⁻¹ e`, or `None` if its covariance is not positive definite.
+pub fn run_nees<const N: usize>(outcome: &RunOutcome<N>) -> Option<f64> {
+    // εᵢ = eᵀ P⁻¹ e = |L⁻¹ e|² with P = L Lᵀ.
+    let cholesky = outcome.covariance.cholesky()?;
+    let whitened = cholesky.l().solve_lower_triangular(&outcome.error)?;
+    Some(whitened.norm_squared())
+}
+
 /// Computes the per-state statistics and the NEES test of the runs.
 ///
 /// # Errors
@@ -309,16 +322,8 @@ pub fn summarise<const N: usize, E: std::error::Error>(
     let per_run = outcomes
         .iter()
         .map(|outcome| {
-            // εᵢ = eᵀ P⁻¹ e = |L⁻¹ e|² with P = L Lᵀ.
-            let cholesky = outcome
-                .covariance
-                .cholesky()
-                .ok_or(MonteCarloError::CovarianceNotPositiveDefinite { seed: outcome.seed })?;
-            let whitened = cholesky
-                .l()
-                .solve_lower_triangular(&outcome.error)
-                .ok_or(MonteCarloError::CovarianceNotPositiveDefinite { seed: outcome.seed })?;
-            Ok(whitened.norm_squared())
+            run_nees(outcome)
+                .ok_or(MonteCarloError::CovarianceNotPositiveDefinite { seed: outcome.seed })
         })
         .collect::<Result<Vec<f64>, _>>()?;
     let runs_f64 = outcomes.len() as f64;
@@ -430,6 +435,11 @@ impl<const N: usize> MonteCarloSummary<N> {
     /// # Errors
     /// A serialisation error (none for finite numbers).
     pub fn json(&self, labels: &[(Parameter, Axis); N]) -> Result<String, serde_json::Error> {
+        serde_json::to_string_pretty(&self.json_value(labels))
+    }
+
+    /// The object that [`json`](Self::json) prints, for reports that add to it.
+    pub fn json_value(&self, labels: &[(Parameter, Axis); N]) -> serde_json::Value {
         let states: Vec<serde_json::Value> = labels
             .iter()
             .zip(&self.states)
@@ -443,12 +453,12 @@ impl<const N: usize> MonteCarloSummary<N> {
                 })
             })
             .collect();
-        serde_json::to_string_pretty(&serde_json::json!({
+        serde_json::json!({
             "runs": self.runs,
             "nees_mean": self.nees.average,
             "nees_interval_95": [self.nees.lower_bound, self.nees.upper_bound],
             "states": states,
-        }))
+        })
     }
 
     /// One line on the NEES test.
@@ -591,6 +601,7 @@ mod tests {
                     covariance,
                     star_nis: crate::flight::NisSum::default(),
                     gnss_nis: crate::flight::NisSum::default(),
+                    position_error_m: 0.0,
                 }
             })
             .collect()
