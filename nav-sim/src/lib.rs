@@ -18,6 +18,8 @@
 //! * [`sensor_log`]: the replay log (CSV and binary) of the sensor-event stream.
 //! * [`observability_report`]: the paper's Table 1 recomputed for its motion states and a
 //!   scenario's schedule (`nav-sim observability`).
+//! * [`manoeuvre_design`]: a manoeuvre schedule searched with the covariance analysis under a
+//!   vehicle's limits, written as a scenario (`nav-sim design`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
@@ -27,6 +29,7 @@ pub mod covariance_design;
 pub mod faults;
 pub mod flight;
 pub mod log_replay;
+pub mod manoeuvre_design;
 pub mod monte_carlo;
 pub mod observability_report;
 pub mod output;

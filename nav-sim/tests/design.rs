@@ -6,6 +6,7 @@
 
 use nav_sim::covariance_design::{analyse, DesignOptions, DesignReport};
 use nav_sim::flight::{fly, FlightOptions};
+use nav_sim::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
 const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");
@@ -66,4 +67,59 @@ fn the_covariance_analysis_predicts_the_upper_stage_flight_within_ten_percent() 
     };
     let report = analyse(&scenario, &options).unwrap();
     assert_agrees(&report, &flown_sigmas(&scenario));
+}
+
+#[test]
+fn a_schedule_designed_under_the_upper_stage_limits_flies_to_its_predicted_accuracy() {
+    let scenario = Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap();
+    let constraints = Constraints::upper_stage();
+    let design = manoeuvre_design::design(&scenario, &constraints, 2).unwrap();
+    print!("{}", design.text());
+    // What `nav-sim design --out` writes, read back: the other sections unchanged.
+    let written = manoeuvre_design::replace_manoeuvres(
+        UPPER_STAGE_TOML,
+        &design.scenario.manoeuvres,
+        "designed",
+    );
+    let designed = Scenario::from_toml_str(&written).unwrap();
+    assert_eq!(designed.manoeuvres, design.scenario.manoeuvres);
+    let mut unchanged = designed.clone();
+    unchanged.manoeuvres.clone_from(&scenario.manoeuvres);
+    assert_eq!(unchanged, scenario);
+    // The limits: slews below the body-rate limit, translations within the acceleration
+    // limit and the Δv budget, the main-engine burns where the mission has them.
+    let mut lateral_mps = 0.0;
+    for segment in &designed.manoeuvres {
+        let [x, y, z] = segment.body_rate_deg_per_s;
+        assert!((x * x + y * y + z * z).sqrt() < 3.0, "{}", segment.label);
+        let [_, fy, fz] = segment.specific_force_mps2;
+        assert!(fy.abs() <= 1.0 && fz.abs() <= 1.0, "{}", segment.label);
+        lateral_mps += (fy.abs() + fz.abs()) * (segment.duration_s - segment.ramp_s);
+    }
+    assert!(lateral_mps <= 50.0 + 1e-6, "{lateral_mps} m/s");
+    let burn_starts = |scenario: &Scenario| -> Vec<f64> {
+        let mut start_s = 0.0;
+        let mut starts = Vec::new();
+        for segment in &scenario.manoeuvres {
+            if segment.specific_force_mps2[0] > 1.0 {
+                starts.push(start_s);
+            }
+            start_s += segment.duration_s;
+        }
+        starts
+    };
+    let (original, kept) = (burn_starts(&scenario), burn_starts(&designed));
+    assert_eq!(original.len(), 2);
+    assert_eq!(kept.len(), original.len());
+    for (a, b) in original.iter().zip(&kept) {
+        assert!((a - b).abs() < 1e-6, "burn moved from {a} s to {b} s");
+    }
+    assert!(design.report.orbit.minimum_altitude_m > designed.simulation.min_altitude_m);
+    // Not worse than the hand-made schedule (worst sigma/target 23.7).
+    assert!(
+        design.report.worst_ratio() < 23.7,
+        "{}",
+        design.report.worst_ratio()
+    );
+    assert_agrees(&design.report, &flown_sigmas(&designed));
 }
