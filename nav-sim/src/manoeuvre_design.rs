@@ -8,30 +8,36 @@
 //! translations) is replaced.
 //!
 //! **The template.** The coasts between the mission's segments are windows; the design fills
-//! them, in this order:
-//! * first window: a 60 s initial coast, then the `+` translations (one per thrusting axis,
-//!   at the lateral acceleration limit, each followed by a 20 s quiet coast);
+//! them:
+//! * the first window starts with a 60 s initial coast;
 //! * slew rounds: a round is six slews, `turns` whole turns about +x, −x, +y, −y, +z, −z at
 //!   the slew rate with 5 s ramps, each followed by 20 s of quiet coast; whole turns bring the
 //!   vehicle back to the attitude it had, so every burn starts in its attitude; each round
-//!   goes into the first window (from the start) with room for it;
-//! * the `−` translations (the same Δv back, so the net Δv of the translations is zero) go
-//!   into one window before the first mission slew (while body axes point where they did
-//!   for the `+`), placed at a fraction of that window's spare coast;
+//!   goes into the first window (from the start) with room for it, after what is there;
+//! * the `+` translations (one per thrusting axis, at the lateral acceleration limit, each
+//!   followed by a quiet coast, the translation gap) fly in the first window, at a fraction
+//!   of its spare coast (0 = right after its slews, 1 = right before the next mission
+//!   segment);
+//! * the `−` translations (the same Δv back, so the translations' net Δv is zero) fly in one
+//!   window before the first mission slew, while body axes point where they did for the `+`,
+//!   at a fraction of that window's spare coast (after the `+` when in the same window);
 //! * the rest of each window is quiet coast at the input's coast rate.
 //!
 //! **The search** minimises the worst `σ / target` over the 15 calibration states
-//! ([`CALIBRATION_TARGETS`]), ties broken by the sum of the ratios, by coordinate descent over
-//! five parameters: the slew rate (14/15 of the tighter of the body-rate limit and the star
-//! tracker's tracking limit; also 14/15 of the body-rate limit when the tracker is the tighter,
-//! so the search can weigh a blind tracker against a faster slew), turns per slew (1-3),
-//! slew rounds (1-3), the first thrusting axis' share of the lateral Δv budget (0.3-0.7),
-//! and where the `−` translations fly. Candidates are analysed coarsely (covariance steps of
-//! 2 s, every 20th measurement epoch with 1/20 of the variance, one truth substep), which
-//! [`crate::covariance_design`]'s tests show changes no 1σ by more than 0.1 %; the chosen
-//! schedule is analysed again at the full rate. A candidate that fails
-//! [`Scenario::validate`], whose lowest altitude goes below `simulation.min_altitude_m`, or
-//! that does not fit its windows, is discarded.
+//! ([`crate::covariance_design::CALIBRATION_TARGETS`]), ties (within 0.1 %) broken by the sum
+//! of the ratios, by coordinate descent over six coordinates: the slew rate (14/15 of the
+//! tighter of the body-rate limit and the star tracker's tracking limit; also 14/15 of the
+//! body-rate limit when the tracker's is the tighter, so the search weighs a blind tracker
+//! against a faster slew), (turns per slew, slew rounds) in {1, 2, 3}², the first thrusting
+//! axis' share of the lateral Δv budget (0.3-0.7), the `+` placement (0, ½, 1), the `−`
+//! window and placement, and the translation gap (20 or 300 s). It starts from one round of
+//! one turn, an even split, and sweeps each coordinate in turn, at most three passes. The
+//! candidates are analysed coarsely (covariance steps up to 2 s, every 20th measurement epoch
+//! with 1/20 of the variance, one truth substep: within 0.05 % of the full analysis on the
+//! upper stage); the chosen schedule is analysed again at every epoch. A candidate that does
+//! not fit its windows, fails [`Scenario::validate`], or whose lowest altitude (geocentric
+//! radius minus the equatorial radius, below the ellipsoid altitude) goes below
+//! `simulation.min_altitude_m`, is discarded.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
