@@ -24,8 +24,8 @@
 //! * the rest of each window is quiet coast at the input's coast rate.
 //!
 //! **The search** minimises the worst `σ / target` over the 15 calibration states
-//! ([`crate::covariance_design::CALIBRATION_TARGETS`]), ties (within 0.1 %) broken by the sum
-//! of the ratios, by coordinate descent over six coordinates: the slew rate (14/15 of the
+//! ([`crate::covariance_design::CALIBRATION_TARGETS`]), ties (within 2 %) broken by the
+//! next-worst ratio and so on, by coordinate descent over six coordinates: the slew rate (14/15 of the
 //! tighter of the body-rate limit and the star tracker's tracking limit; also 14/15 of the
 //! body-rate limit when the tracker's is the tighter, so the search weighs a blind tracker
 //! against a faster slew), (turns per slew, slew rounds) in {1, 2, 3}², the first thrusting
@@ -405,8 +405,13 @@ impl Mission {
                 }
                 round.push(ManoeuvreSegment {
                     label: format!(
-                        "calibration slew: {} turns {}{} at {:.2} deg/s",
+                        "calibration slew: {} turn{} {}{} at {:.2} deg/s",
                         parameters.turns_per_slew,
+                        if parameters.turns_per_slew == 1 {
+                            ""
+                        } else {
+                            "s"
+                        },
                         if sign > 0.0 { "+" } else { "-" },
                         Axis::name(axis),
                         rate_deg_per_s
@@ -552,28 +557,31 @@ impl Mission {
     }
 }
 
-/// One analysed candidate.
+/// Two ratios within this relative difference are a tie, decided by the next-worst ratio.
+const TIE_TOLERANCE: f64 = 0.02;
+
+/// One analysed candidate: its `σ / target` ratios, worst first.
 #[derive(Debug, Clone)]
 struct Evaluation {
-    worst_ratio: f64,
-    ratio_sum: f64,
+    ratios: Vec<f64>,
 }
 
 impl Evaluation {
     fn of(report: &DesignReport) -> Self {
-        Self {
-            worst_ratio: report.worst_ratio(),
-            ratio_sum: report.rows.iter().map(|row| row.ratio()).sum(),
-        }
+        let mut ratios: Vec<f64> = report.rows.iter().map(|row| row.ratio()).collect();
+        ratios.sort_by(|a, b| b.total_cmp(a));
+        Self { ratios }
     }
 
-    /// Lower worst ratio; within 0.1 % of it, lower sum.
+    /// A lower worst ratio; within [`TIE_TOLERANCE`] of each other, a lower next-worst, and
+    /// so on: when the worst axis is out of reach, the others still improve.
     fn better_than(&self, other: &Self) -> bool {
-        if (self.worst_ratio - other.worst_ratio).abs() <= 1e-3 * other.worst_ratio {
-            self.ratio_sum < other.ratio_sum
-        } else {
-            self.worst_ratio < other.worst_ratio
+        for (mine, theirs) in self.ratios.iter().zip(&other.ratios) {
+            if (mine - theirs).abs() > TIE_TOLERANCE * theirs {
+                return mine < theirs;
+            }
         }
+        false
     }
 }
 
@@ -841,7 +849,7 @@ impl ManoeuvreDesign {
         let mut text = String::new();
         let _ = writeln!(
             text,
-            "design: slews at {:.2} deg/s, {} turns each way per axis, {} round(s); lateral \
+            "design: slews at {:.2} deg/s, {} turn(s) each way per axis, {} round(s); lateral \
              share of the first thrust axis {:.2} ({:.1} m/s of translation in all), {:.0} s \
              apart; outbound translations at {:.0} % of the first window's spare coast, \
              returns in window {} at {:.0} % of its spare coast",
