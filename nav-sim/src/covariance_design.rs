@@ -66,7 +66,7 @@ use nav_core::NavError;
 use nav_fsw::calibration_manager::CalibrationThresholds;
 
 use crate::scenario::{frames_in, in_outage, Scenario};
-use crate::sensors::{SensorErrorTruth, SensorSimulator};
+use crate::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
 use crate::truth::{launch_frame, TruthError, TruthFrame, TruthSimulator};
 
 /// Why the analysis could not run.
@@ -525,18 +525,15 @@ impl Aiding {
     }
 
     /// Whether the star tracker tracks during `truth`'s frame: the sensor model's rule
-    /// (`crate::sensors`), blind while the frame's mean rate `|Δθ| / T` exceeds the limit and
-    /// for the re-acquisition time after.
+    /// ([`star_tracker_tracks`]).
     fn star_tracking(&mut self, truth: &TruthFrame) -> bool {
-        if self.star_max_rate_rad_s <= 0.0 {
-            return true;
-        }
-        let rate_rad_s = truth.delta_angle_rad.norm() / truth.interval_s;
-        if rate_rad_s > self.star_max_rate_rad_s {
-            self.star_blind_until_s = truth.time_s + self.star_reacquisition_s;
-            return false;
-        }
-        truth.time_s >= self.star_blind_until_s
+        let (limit_rad_s, reacquisition_s) = (self.star_max_rate_rad_s, self.star_reacquisition_s);
+        star_tracker_tracks(
+            truth,
+            limit_rad_s,
+            reacquisition_s,
+            &mut self.star_blind_until_s,
+        )
     }
 
     fn star_update(
