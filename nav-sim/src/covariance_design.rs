@@ -25,7 +25,8 @@
 //!   rule), and no sample of either sensor inside its `outages`;
 //! * the flight software's second-order attitude growth while the star sensor is unheard
 //!   (`covariance.second_order_attitude`, nav-core `unmodelled`), with the scheduler's rule:
-//!   grown after each propagation that no star update follows, restarted by a star update.
+//!   grown after each propagation that no star update follows, restarted by a star update;
+//!   while the sensor is unheard the covariance steps are single frames, as in flight.
 //!
 //! Simplifications (stated in `docs/scenario-design.md`):
 //! * the covariance is propagated over steps of [`DesignOptions::step_frames`] IMU frames
@@ -729,9 +730,13 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
         step.frames.push(current);
         let frames_elapsed = current.frame_index + 1;
         let elapsed_s = current.time_s - start_time_s;
-        let star_due = frames_elapsed % star_frames == 0
-            && tracking
-            && !in_outage(&scenario.star_sensor.outages, elapsed_s);
+        let star_heard = tracking && !in_outage(&scenario.star_sensor.outages, elapsed_s);
+        let star_due = frames_elapsed % star_frames == 0 && star_heard;
+        // While the star sensor is unheard, the second-order growth is evaluated every frame,
+        // as the flight software does: it depends on the covariance it feeds, and coarser
+        // steps under-grow it (0.1 s steps: gyro scale factors 6-12 % low behind a blind
+        // tracker).
+        let frame_steps = !star_heard && options.second_order_attitude;
         let gnss_due =
             frames_elapsed % gnss_frames == 0 && !in_outage(&scenario.gnss.outages, elapsed_s);
         let last_frame = frames_elapsed >= frame_count;
@@ -741,7 +746,12 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                 .segments
                 .get(current.segment_index)
                 .is_some_and(|segment| current.time_s >= segment.end_time_s() - 0.5 * period_s);
-        if !(step.frames.len() >= step_frames || star_due || gnss_due || segment_ends) {
+        if !(step.frames.len() >= step_frames
+            || frame_steps
+            || star_due
+            || gnss_due
+            || segment_ends)
+        {
             continue;
         }
         let mut measured_rate = None;
