@@ -2,7 +2,7 @@
 //! against the paper's reported accuracy, the history per manoeuvre segment and the orbit check.
 //!
 //! ```sh
-//! cargo run --release -p nav-sim --example covariance_design -- [scenario.toml] [--step-frames N]
+//! cargo run --release -p nav-sim --example covariance_design -- [scenario.toml] [--step-frames N] [--measurement-stride N]
 //! ```
 //! Without a file: the built-in default scenario. `--help` lists the options.
 
@@ -28,6 +28,9 @@ struct Arguments {
     /// Tune the filter with nav-core's `ProcessNoise::PAPER` instead of the scenario's noise.
     #[arg(long)]
     paper_process_noise: bool,
+    /// Fuse every N-th measurement epoch with 1/N of the noise variance (coarse, faster).
+    #[arg(long, default_value_t = 1)]
+    measurement_stride: u32,
 }
 
 fn main() -> ExitCode {
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
         step_frames: arguments.step_frames,
         gravity_gradient: !arguments.no_gravity_gradient,
         process_noise: arguments.paper_process_noise.then_some(ProcessNoise::PAPER),
+        measurement_stride: arguments.measurement_stride,
         ..DesignOptions::default()
     };
     if let Ok([radial, along_track, normal]) =

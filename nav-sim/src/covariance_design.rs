@@ -6,10 +6,27 @@
 //! the error model [`system_matrix`] / [`noise_input_matrix`] linearised at the truth, nav-core's
 //! [`discretise`] at the scenario's order (paper: 3), [`ErrorStateFilter::predict`] and the
 //! Joseph-form [`ErrorStateFilter::update`] with the Jacobians of nav-core's
-//! [`measurement::star_sensor`] and [`measurement::gnss_position`] evaluated at the truth, at the
-//! scenario's measurement epochs. For a linear(ised) system the Kalman covariance does not
-//! depend on the measured values, so the result is the 1σ the filter reports after the flight,
-//! and, when the filter's model matches the truth, the 1σ of its actual estimation error.
+//! [`measurement::star_sensor`], [`measurement::gnss_velocity`] and
+//! [`measurement::gnss_position`] evaluated at the truth, at the scenario's measurement epochs.
+//! For a linear(ised) system the Kalman covariance does not depend on the measured values, so
+//! the result is the 1σ the filter reports after the flight, and, when the filter's model
+//! matches the truth, the 1σ of its actual estimation error.
+//!
+//! What the flight filter models, the analysis models when the scenario asks for it:
+//! * the receiver's velocity (`gnss.velocity_noise_mps > 0`), fused before the position of the
+//!   same fix, as nav-fsw's scheduler orders them (star sample first when both are due);
+//! * the correlated GNSS error states (`filter.gnss_correlated_sigma_m > 0`): the filter built
+//!   by [`filter_config`] carries them, nav-core's `predict` propagates them and the position
+//!   Jacobian's `h_ε = 1` includes them in the update;
+//! * the white position noise the filter is told (`filter.gnss_noise_m`, default
+//!   `gnss.noise_m`);
+//! * a blind star tracker: no star sample while the frame's mean body rate exceeds
+//!   `star_sensor.max_rate_deg_per_s`, nor for `reacquisition_s` after (the sensor model's
+//!   rule), and no sample of either sensor inside its `outages`;
+//! * the flight software's second-order attitude growth while the star sensor is unheard
+//!   (`covariance.second_order_attitude`, nav-core `unmodelled`), with the scheduler's rule:
+//!   grown after each propagation that no star update follows, restarted by a star update;
+//!   while the sensor is unheard the covariance steps are single frames, as in flight.
 //!
 //! Simplifications (stated in `docs/scenario-design.md`):
 //! * the covariance is propagated over steps of [`DesignOptions::step_frames`] IMU frames
@@ -21,7 +38,13 @@
 //!   outputs `ω_m = (ω + b_g) ./ (1 − λ_g)`, `f_m = (f + b_a) ./ (1 − λ_a)` of the scenario's
 //!   true sensor errors (open loop: `ω̂ = ω_m`; closed loop: `ω̂ = ω`); the sensor errors
 //!   change the Jacobians only at relative order 1e-4, so the result barely depends on them;
-//! * GNSS fixes are used at their time of validity (latency ignored), no lever arm.
+//! * the updates of one epoch are fused at the epoch; the flight software fuses one
+//!   measurement per 2 ms frame, so its velocity and position updates come one and two frames
+//!   later, referred back by `H (I − A Δ)` (a change of order `|A| Δ` ≈ 1e-5);
+//! * GNSS fixes are used at their time of validity (latency ignored), no lever arm; no gate
+//!   rejections, no held IMU samples, no covariance floors (none binds on a nominal flight);
+//! * [`DesignOptions::measurement_stride`] > 1 (a coarse search) fuses every n-th epoch with
+//!   1/n of the noise variance (the mean of n epochs): the same information, fused less often.
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use nav_core::attitude::{exp_rotation_vector, rotation_matrix};
@@ -34,13 +57,17 @@ use nav_core::frames::{LaunchFrame, WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
 use nav_core::gravity::GravityModel;
 use nav_core::measurement;
 use nav_core::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, GYRO_BIAS, GYRO_SCALE_FACTOR, STAR_INSTALLATION,
+    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    STAR_INSTALLATION,
+};
+use nav_core::unmodelled::{
+    bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
 };
 use nav_core::NavError;
 use nav_fsw::calibration_manager::CalibrationThresholds;
 
-use crate::scenario::{frames_in, Scenario};
-use crate::sensors::{SensorErrorTruth, SensorSimulator};
+use crate::scenario::{frames_in, in_outage, Scenario};
+use crate::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
 use crate::truth::{launch_frame, TruthError, TruthFrame, TruthSimulator};
 
 /// Why the analysis could not run.
@@ -86,6 +113,13 @@ pub struct DesignOptions {
     /// The filter's process noise; `None` = the scenario's true sensor noise
     /// ([`scenario_process_noise`]).
     pub process_noise: Option<ProcessNoise>,
+    /// Fuse every n-th measurement epoch of each sensor (≥ 1) with 1/n of its noise
+    /// variance: the information of n epochs in one update. 1 = every epoch (the flight's);
+    /// larger values speed up a coarse search.
+    pub measurement_stride: u32,
+    /// Grow the attitude covariance for the second-order attitude term while the star sensor
+    /// is unheard, as the flight software does (`covariance.second_order_attitude`).
+    pub second_order_attitude: bool,
 }
 
 impl Default for DesignOptions {
@@ -95,6 +129,8 @@ impl Default for DesignOptions {
             truth_substeps_per_frame: Some(2),
             gravity_gradient: true,
             process_noise: None,
+            measurement_stride: 1,
+            second_order_attitude: true,
         }
     }
 }
@@ -435,6 +471,179 @@ impl OrbitTracker {
     }
 }
 
+/// The aiding sensors as the flight software sees them: which samples arrive (the star
+/// tracker's rate limit), their Jacobians at the truth and the flight filter's noise, and the
+/// second-order attitude growth while the star sensor is unheard.
+struct Aiding {
+    mounting: Quaternion<f64>,
+    /// Open loop: the installation estimate stays the identity; closed loop: the update's
+    /// Jacobian does not depend on it to first order.
+    installation_estimate: Quaternion<f64>,
+    star_noise_rad: f64,
+    gnss_noise_m: f64,
+    /// 0 = the receiver outputs no velocity (no velocity update).
+    gnss_velocity_noise_mps: f64,
+    star_max_rate_rad_s: f64,
+    star_reacquisition_s: f64,
+    star_blind_until_s: f64,
+    second_order: Option<CoherentGrowth>,
+    second_order_rate_rad_s: Vector3<f64>,
+}
+
+impl Aiding {
+    fn new(scenario: &Scenario, options: &DesignOptions) -> Result<Self, DesignError> {
+        let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
+        // One update stands for the mean of n epochs: 1/n of the variance.
+        let stride_sigma = 1.0 / f64::from(options.measurement_stride.max(1)).sqrt();
+        let gnss_noise_m = scenario
+            .filter
+            .gnss_noise_m
+            .unwrap_or(scenario.gnss.noise_m);
+        let star = &scenario.star_sensor;
+        if !(star.max_rate_deg_per_s.is_finite() && star.reacquisition_s.is_finite()) {
+            return Err(DesignError::Setting {
+                key: "star_sensor.max_rate_deg_per_s / reacquisition_s",
+                requirement: "must be finite",
+            });
+        }
+        Ok(Self {
+            mounting: exp_rotation_vector(&Vector3::new(
+                x.to_radians(),
+                y.to_radians(),
+                z.to_radians(),
+            )),
+            installation_estimate: *UnitQuaternion::identity().quaternion(),
+            // The flight configuration's floors: a zero-noise sensor still has a positive R.
+            star_noise_rad: star.noise_rad().max(1e-12) * stride_sigma,
+            gnss_noise_m: gnss_noise_m.max(1e-6) * stride_sigma,
+            gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps * stride_sigma,
+            star_max_rate_rad_s: star.max_rate_deg_per_s.to_radians(),
+            star_reacquisition_s: star.reacquisition_s,
+            star_blind_until_s: f64::NEG_INFINITY,
+            second_order: options.second_order_attitude.then(CoherentGrowth::default),
+            second_order_rate_rad_s: Vector3::zeros(),
+        })
+    }
+
+    /// Whether the star tracker tracks during `truth`'s frame: the sensor model's rule
+    /// ([`star_tracker_tracks`]).
+    fn star_tracking(&mut self, truth: &TruthFrame) -> bool {
+        let (limit_rad_s, reacquisition_s) = (self.star_max_rate_rad_s, self.star_reacquisition_s);
+        star_tracker_tracks(
+            truth,
+            limit_rad_s,
+            reacquisition_s,
+            &mut self.star_blind_until_s,
+        )
+    }
+
+    fn star_update(
+        &mut self,
+        filter: &mut ErrorStateFilter,
+        truth: &TruthFrame,
+    ) -> Result<bool, DesignError> {
+        let attitude: Quaternion<f64> = truth.attitude_q_ib;
+        let predicted = attitude * self.mounting * self.installation_estimate;
+        let report = measurement::star_sensor(
+            &attitude,
+            &self.mounting,
+            &self.installation_estimate,
+            &predicted,
+            self.star_noise_rad,
+        )
+        .and_then(|linear| filter.update(&linear, f64::INFINITY))
+        .map_err(|error| DesignError::Filter {
+            operation: "star update",
+            time_s: truth.time_s,
+            error,
+        })?;
+        if report.accepted {
+            if let Some(growth) = &mut self.second_order {
+                growth.restart();
+            }
+        }
+        Ok(report.accepted)
+    }
+
+    /// Velocity (when the receiver outputs it), then position of one fix; whether the
+    /// position update was accepted.
+    fn gnss_update(
+        &self,
+        filter: &mut ErrorStateFilter,
+        truth: &TruthFrame,
+    ) -> Result<bool, DesignError> {
+        let failed = |operation| {
+            move |error| DesignError::Filter {
+                operation,
+                time_s: truth.time_s,
+                error,
+            }
+        };
+        if self.gnss_velocity_noise_mps > 0.0 {
+            // No lever arm: the body rates do not enter the Jacobian.
+            let rate = measurement::BodyRate {
+                corrected_rad_s: Vector3::zeros(),
+                measured_rad_s: Vector3::zeros(),
+            };
+            measurement::gnss_velocity(
+                &truth.attitude_q_ib,
+                &truth.velocity_mps,
+                &Vector3::zeros(),
+                &rate,
+                &truth.velocity_mps,
+                self.gnss_velocity_noise_mps,
+            )
+            .and_then(|linear| filter.update(&linear, f64::INFINITY))
+            .map_err(failed("GNSS velocity update"))?;
+        }
+        let report = measurement::gnss_position(
+            &truth.attitude_q_ib,
+            &truth.position_m,
+            &Vector3::zeros(),
+            &truth.position_m,
+            self.gnss_noise_m,
+        )
+        .and_then(|linear| filter.update(&linear, f64::INFINITY))
+        .map_err(failed("GNSS update"))?;
+        Ok(report.accepted)
+    }
+
+    /// The scheduler's second-order attitude growth (nav-fsw
+    /// `inflate_for_second_order_attitude`) over one propagation of `interval_s` at the
+    /// measured rate `measured_rate_rad_s`.
+    fn grow_second_order_attitude(
+        &mut self,
+        filter: &mut ErrorStateFilter,
+        measured_rate_rad_s: &Vector3<f64>,
+        interval_s: f64,
+        time_s: f64,
+    ) -> Result<(), DesignError> {
+        let Some(growth) = &mut self.second_order else {
+            return Ok(());
+        };
+        let rate_covariance =
+            bilinear_attitude_rate_covariance(filter.covariance(), measured_rate_rad_s);
+        let rate_variance = rate_covariance.trace();
+        if !(rate_variance.is_finite() && rate_variance > 0.0) {
+            return Ok(());
+        }
+        let correlation = rate_error_correlation(
+            filter.covariance(),
+            measured_rate_rad_s,
+            &self.second_order_rate_rad_s,
+        );
+        self.second_order_rate_rad_s = *measured_rate_rad_s;
+        let added = growth.grow_correlated(rate_variance.sqrt() * interval_s, correlation);
+        filter
+            .add_block_covariance(ATTITUDE, &(rate_covariance * (added / rate_variance)))
+            .map_err(|error| DesignError::Filter {
+                operation: "second-order attitude growth",
+                time_s,
+                error,
+            })
+    }
+}
+
 fn calibration_sigmas(filter: &ErrorStateFilter) -> [f64; 15] {
     let sigma = filter.standard_deviations();
     let mut values = [0.0; 15];
@@ -480,18 +689,10 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
     let gravity_for_gradient = options.gravity_gradient.then_some(&gravity);
 
     let period_s = scenario.imu.frame_period_s();
-    let star_frames = frames_in(1.0 / scenario.star_sensor.rate_hz, period_s).max(1);
-    let gnss_frames = frames_in(1.0 / scenario.gnss.rate_hz, period_s).max(1);
-    let [mount_x, mount_y, mount_z] = scenario.star_sensor.mounting_rotation_vector_deg;
-    let mounting = exp_rotation_vector(&Vector3::new(
-        mount_x.to_radians(),
-        mount_y.to_radians(),
-        mount_z.to_radians(),
-    ));
-    // Open loop: the installation estimate stays the identity.
-    let installation_estimate = *UnitQuaternion::identity().quaternion();
-    let star_noise_rad = scenario.star_sensor.noise_rad();
-    let gnss_noise_m = scenario.gnss.noise_m;
+    let stride = u64::from(options.measurement_stride.max(1));
+    let star_frames = frames_in(1.0 / scenario.star_sensor.rate_hz, period_s).max(1) * stride;
+    let gnss_frames = frames_in(1.0 / scenario.gnss.rate_hz, period_s).max(1) * stride;
+    let mut aiding = Aiding::new(scenario, options)?;
     let step_frames = usize::try_from(options.step_frames).unwrap_or(usize::MAX);
 
     let mut orbit = OrbitTracker {
@@ -525,10 +726,19 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
 
     while let Some(current) = truth.next_frame()? {
         orbit.observe(&current);
+        let tracking = aiding.star_tracking(&current);
         step.frames.push(current);
         let frames_elapsed = current.frame_index + 1;
-        let star_due = frames_elapsed % star_frames == 0;
-        let gnss_due = frames_elapsed % gnss_frames == 0;
+        let elapsed_s = current.time_s - start_time_s;
+        let star_heard = tracking && !in_outage(&scenario.star_sensor.outages, elapsed_s);
+        let star_due = frames_elapsed % star_frames == 0 && star_heard;
+        // While the star sensor is unheard, the second-order growth is evaluated every frame,
+        // as the flight software does: it depends on the covariance it feeds, and coarser
+        // steps under-grow it (0.1 s steps: gyro scale factors 6-12 % low behind a blind
+        // tracker).
+        let frame_steps = !star_heard && options.second_order_attitude;
+        let gnss_due =
+            frames_elapsed % gnss_frames == 0 && !in_outage(&scenario.gnss.outages, elapsed_s);
         let last_frame = frames_elapsed >= frame_count;
         let segment_ends = last_frame
             || truth
@@ -536,9 +746,15 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                 .segments
                 .get(current.segment_index)
                 .is_some_and(|segment| current.time_s >= segment.end_time_s() - 0.5 * period_s);
-        if !(step.frames.len() >= step_frames || star_due || gnss_due || segment_ends) {
+        if !(step.frames.len() >= step_frames
+            || frame_steps
+            || star_due
+            || gnss_due
+            || segment_ends)
+        {
             continue;
         }
+        let mut measured_rate = None;
         if let Some((point, interval_s, time_s)) = step.point(&frame, gravity_for_gradient) {
             let model = discretise(
                 &system_matrix(&point),
@@ -559,41 +775,16 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                     time_s,
                     error,
                 })?;
+            measured_rate = Some((point.measured_rate_rad_s, interval_s));
         }
         step.frames.clear();
         if star_due {
-            let attitude: Quaternion<f64> = current.attitude_q_ib;
-            let predicted = attitude * mounting * installation_estimate;
-            let star = measurement::star_sensor(
-                &attitude,
-                &mounting,
-                &installation_estimate,
-                &predicted,
-                star_noise_rad,
-            )
-            .and_then(|linear| filter.update(&linear, f64::INFINITY))
-            .map_err(|error| DesignError::Filter {
-                operation: "star update",
-                time_s: current.time_s,
-                error,
-            })?;
-            star_updates += u64::from(star.accepted);
+            star_updates += u64::from(aiding.star_update(&mut filter, &current)?);
+        } else if let Some((rate, interval_s)) = measured_rate {
+            aiding.grow_second_order_attitude(&mut filter, &rate, interval_s, current.time_s)?;
         }
         if gnss_due {
-            let gnss = measurement::gnss_position(
-                &current.attitude_q_ib,
-                &current.position_m,
-                &Vector3::zeros(),
-                &current.position_m,
-                gnss_noise_m,
-            )
-            .and_then(|linear| filter.update(&linear, f64::INFINITY))
-            .map_err(|error| DesignError::Filter {
-                operation: "GNSS update",
-                time_s: current.time_s,
-                error,
-            })?;
-            gnss_updates += u64::from(gnss.accepted);
+            gnss_updates += u64::from(aiding.gnss_update(&mut filter, &current)?);
         }
         if segment_ends {
             snapshots.push(SegmentSnapshot {

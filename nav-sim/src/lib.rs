@@ -22,6 +22,8 @@
 //!   scenario's schedule (`nav-sim observability`).
 //! * [`benefit`]: what the calibration buys: navigation error through an aiding outage after
 //!   the calibration flight, with and without the calibration states (`nav-sim benefit`).
+//! * [`manoeuvre_design`]: a manoeuvre schedule searched with the covariance analysis under a
+//!   vehicle's limits, written as a scenario (`nav-sim design`).
 //!
 //! Conventions are nav-core's (see its crate docs): Hamilton scalar-first quaternions, `q_ib`
 //! maps body vectors into the launch-inertial frame, `dq_ib/dt = ½ q_ib ⊗ ω_ib^b`, SI units.
@@ -33,6 +35,7 @@ pub mod covariance_design;
 pub mod faults;
 pub mod flight;
 pub mod log_replay;
+pub mod manoeuvre_design;
 pub mod monte_carlo;
 pub mod observability_report;
 pub mod output;

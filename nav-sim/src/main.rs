@@ -116,6 +116,9 @@ enum Command {
     /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
     /// manoeuvre schedule.
     Observability(nav_sim::observability_report::ObservabilityArgs),
+    /// Search a manoeuvre schedule with the covariance analysis under a vehicle's limits
+    /// (default: the upper stage's), print its predicted accuracy and write it as a scenario.
+    Design(nav_sim::manoeuvre_design::DesignArgs),
     /// Target benchmark: replay the scenario's first SECONDS on the Cortex-M7 firmware under
     /// QEMU and on the host, compare every output bit for bit, and print the per-frame cost
     /// (min / median / worst by frame type), the stack high-water mark and the image's flash
@@ -459,6 +462,10 @@ fn benefit(arguments: &nav_sim::benefit::BenefitArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+fn design(arguments: &nav_sim::manoeuvre_design::DesignArgs) -> Result<(), Failure> {
+    arguments.run().map_err(Failure::from)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command.unwrap_or(Command::Calibrate {
@@ -499,6 +506,7 @@ fn main() -> ExitCode {
         }
         Command::Faults { scenario } => faults(scenario.as_deref()),
         Command::Observability(arguments) => arguments.run().map_err(Failure::from),
+        Command::Design(arguments) => design(&arguments),
         Command::TargetBench {
             scenario,
             elf,

@@ -470,15 +470,12 @@ impl SensorSimulator {
     /// magnitude (the frame's mean, `|Δθ| / T`) exceeds `star_sensor.max_rate_deg_per_s`,
     /// nor for `reacquisition_s` after it falls back below.
     fn star_tracking(&mut self, truth: &TruthFrame) -> bool {
-        if self.star_max_rate_rad_s <= 0.0 {
-            return true;
-        }
-        let rate_rad_s = truth.delta_angle_rad.norm() / truth.interval_s;
-        if rate_rad_s > self.star_max_rate_rad_s {
-            self.star_blind_until_s = truth.time_s + self.star_reacquisition_s;
-            return false;
-        }
-        truth.time_s >= self.star_blind_until_s
+        star_tracker_tracks(
+            truth,
+            self.star_max_rate_rad_s,
+            self.star_reacquisition_s,
+            &mut self.star_blind_until_s,
+        )
     }
 
     /// The receiver's ECEF velocity at `truth`'s time (truth through nav-core's
@@ -498,6 +495,27 @@ impl SensorSimulator {
         let noise = normal3(&mut self.gnss_velocity_rng) * self.gnss_velocity_noise_mps;
         Ok(Some(velocity + noise))
     }
+}
+
+/// Whether a star tracker that loses its stars above `max_rate_rad_s` (0 = no limit) and
+/// needs `reacquisition_s` to find them again tracks during `truth`'s frame: not while the
+/// frame's mean body rate `|Δθ| / T` exceeds the limit, nor until `blind_until_s`, which a
+/// frame above the limit moves to its end plus the re-acquisition time.
+pub fn star_tracker_tracks(
+    truth: &TruthFrame,
+    max_rate_rad_s: f64,
+    reacquisition_s: f64,
+    blind_until_s: &mut f64,
+) -> bool {
+    if max_rate_rad_s <= 0.0 {
+        return true;
+    }
+    let rate_rad_s = truth.delta_angle_rad.norm() / truth.interval_s;
+    if rate_rad_s > max_rate_rad_s {
+        *blind_until_s = truth.time_s + reacquisition_s;
+        return false;
+    }
+    truth.time_s >= *blind_until_s
 }
 
 /// A first-order Gauss–Markov error per axis, `ε̇ = −ε/τ + w`, stationary 1σ `sigma`: drawn
