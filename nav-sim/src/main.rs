@@ -454,6 +454,10 @@ fn target_bench(
 
 fn benefit(arguments: &nav_sim::benefit::BenefitArgs) -> Result<(), Failure> {
     let scenario = load(arguments.scenario.as_deref())?;
+    // A bad --out fails now, not after the flights.
+    if let Some(directory) = arguments.out.as_deref() {
+        output::prepare_directory(directory)?;
+    }
     let options = arguments.options();
     print!(
         "{}",

@@ -1034,15 +1034,16 @@ impl DesignArgs {
             None => Scenario::from_toml_str(UPPER_STAGE_TOML)?,
         };
         let inputs: Vec<&Path> = self.scenario.iter().map(PathBuf::as_path).collect();
-        if let Some(out) = &self.out {
-            crate::output::refuse_inputs(out, &inputs)?;
-        }
+        // The output is refused or created before the search, so a bad --out fails at once.
+        let output = match &self.out {
+            Some(out) => Some((out, OutputFile::create_distinct(out, &inputs)?)),
+            None => None,
+        };
         let design = design(&scenario, &self.constraints(), self.threads)?;
         print!("{}", design.text());
-        if let Some(out) = &self.out {
+        if let Some((out, mut file)) = output {
             let header = self.header(&design);
             let written = replace_manoeuvres(&text, &design.scenario.manoeuvres, &header);
-            let mut file = OutputFile::create_distinct(out, &inputs)?;
             file.write_all(written.as_bytes())
                 .map_err(|source| ManoeuvreDesignError::Io {
                     path: out.display().to_string(),

@@ -199,7 +199,15 @@ fn a_bad_output_directory_fails_before_the_flight() {
         );
         assert_failed_saying(&output, out);
         assert!(stdout(&output).is_empty(), "{}", stdout(&output));
+        let output = nav_sim(directory.path(), &["benefit", "short.toml", "--out", out]);
+        assert_failed_saying(&output, out);
+        assert!(stdout(&output).is_empty(), "{}", stdout(&output));
     }
+    // The design search (tens of seconds) does not start when its output cannot be written.
+    let out = "short.toml/designed.toml";
+    let output = nav_sim(directory.path(), &["design", "short.toml", "--out", out]);
+    assert_failed_saying(&output, out);
+    assert!(stdout(&output).is_empty(), "{}", stdout(&output));
 }
 
 #[test]
