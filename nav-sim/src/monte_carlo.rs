@@ -76,8 +76,13 @@ pub fn fly_campaign(
         seeds,
         |seed| {
             let seeded = crate::flight::with_truth_drawn_from_prior(scenario, seed);
-            crate::flight::fly(&seeded, crate::flight::FlightOptions::default(), |_, _| {}).map(
-                |result| RunOutcome {
+            // The flight software is configured from the undispersed scenario: a dispersion
+            // changes only the truth ([`crate::dispersion::truth_scenario`]).
+            let truth = crate::dispersion::truth_scenario(&seeded, seed);
+            let config = crate::dispersion::flight_config(&seeded, &truth)?;
+            let options = crate::flight::FlightOptions::default();
+            crate::flight::fly_with(&truth, config, options, |_, _| {}, |_, _| {}).map(|result| {
+                RunOutcome {
                     seed,
                     error: -result.calibration_error,
                     covariance: result.calibration_covariance,
@@ -86,8 +91,8 @@ pub fn fly_campaign(
                     position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
                         nalgebra::Vector3::from(sample.position_error_m).norm()
                     }),
-                },
-            )
+                }
+            })
         },
         show_progress,
     )
