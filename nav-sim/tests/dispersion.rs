@@ -93,7 +93,12 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
                 expected.to_bits()
             );
         }
-        mountings.push(truth.star_sensor.mounting_rotation_vector_deg);
+        mountings.push(
+            truth
+                .star_sensor
+                .mounting_rotation_vector_deg
+                .map(f64::to_bits),
+        );
         // The flight software's configuration is the undispersed scenario's.
         let config = nav_sim::dispersion::flight_config(&seeded, &truth).unwrap();
         let nominal = fsw_config(&with_truth_drawn_from_prior(&undispersed, seed)).unwrap();
@@ -101,7 +106,10 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
             config.star.noise_rad.to_bits(),
             nominal.star.noise_rad.to_bits()
         );
-        assert_eq!(config.star.mounting_wxyz, nominal.star.mounting_wxyz);
+        assert_eq!(
+            config.star.mounting_wxyz.map(f64::to_bits),
+            nominal.star.mounting_wxyz.map(f64::to_bits)
+        );
         assert_eq!(config.process_noise, nominal.process_noise);
 
         // The initial navigation error is the σ draw plus the dispersion's offset.
