@@ -4,7 +4,7 @@
 //! refused naming its key.
 
 use nav_core::attitude;
-use nav_sim::dispersion::{truth_scenario, Dispersion, Distribution};
+use nav_sim::dispersion::{truth_scenario, Dispersion, Distribution, ENTRY_KEYS};
 use nav_sim::flight::{fly, fsw_config, replay_setup, with_truth_drawn_from_prior, FlightOptions};
 use nav_sim::monte_carlo::{fly_campaign, RunOutcome};
 use nav_sim::scenario::{ScenarioError, DEFAULT_SCENARIO_TOML};
@@ -191,4 +191,26 @@ fn a_bad_entry_is_refused_naming_its_key() {
          star_mounting_deg = {{ kind = \"uniform\", half_width = 0.01 }}\n"
     );
     assert!(Scenario::from_toml_str(&text).unwrap().dispersion.is_some());
+}
+
+#[test]
+fn the_default_scenarios_commented_example_parses_when_uncommented() {
+    let start = DEFAULT_SCENARIO_TOML.find("# [dispersion]").unwrap();
+    let (flight, example) = DEFAULT_SCENARIO_TOML.split_at(start);
+    let uncommented: String = example
+        .lines()
+        .filter_map(|line| line.strip_prefix("# "))
+        .filter(|line| {
+            *line == "[dispersion]"
+                || ENTRY_KEYS.contains(&line.split(' ').next().unwrap_or_default())
+        })
+        .map(|line| format!("{line}\n"))
+        .collect();
+    let scenario = Scenario::from_toml_str(&format!("{flight}{uncommented}")).unwrap();
+    let Some(dispersion) = scenario.dispersion else {
+        panic!("the uncommented example has a dispersion table");
+    };
+    assert_eq!(dispersion.gnss_latency_frames, Some(5));
+    assert!(dispersion.gnss_correlation_time_percent.is_some());
+    assert!(dispersion.initial_attitude_deg.is_some());
 }
