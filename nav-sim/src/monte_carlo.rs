@@ -79,10 +79,10 @@ pub fn fly_campaign(
             // The flight software is configured from the undispersed scenario: a dispersion
             // changes only the truth ([`crate::dispersion::truth_scenario`]).
             let truth = crate::dispersion::truth_scenario(&seeded, seed);
-            let config = crate::dispersion::flight_config(&seeded, &truth)?;
-            let options = crate::flight::FlightOptions::default();
-            crate::flight::fly_with(&truth, config, options, |_, _| {}, |_, _| {}).map(|result| {
-                RunOutcome {
+            let flight_config = crate::dispersion::flight_config(&seeded, &truth)?;
+            let run_options = crate::flight::FlightOptions::default();
+            crate::flight::fly_with(&truth, flight_config, run_options, |_, _| {}, |_, _| {}).map(
+                |result| RunOutcome {
                     seed,
                     error: -result.calibration_error,
                     covariance: result.calibration_covariance,
@@ -91,8 +91,8 @@ pub fn fly_campaign(
                     position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
                         nalgebra::Vector3::from(sample.position_error_m).norm()
                     }),
-                }
-            })
+                },
+            )
         },
         show_progress,
     )
