@@ -223,9 +223,10 @@ pub fn truth_scenario(scenario: &Scenario, seed: u64) -> Scenario {
     truth
 }
 
-/// The initial navigation error the run with `seed` adds to the one drawn from the filter's
-/// initial 1σ: (attitude rotation vector rad, position m, velocity m/s), zero without a
-/// `[dispersion]` table.
+/// The initial navigation error a flight of `scenario` adds to the one drawn from the filter's
+/// initial 1σ, drawn with the scenario's seed (a campaign run's seed,
+/// [`crate::flight::with_truth_drawn_from_prior`]): (attitude rotation vector rad, position m,
+/// velocity m/s), zero without a `[dispersion]` table.
 pub fn initial_error_offsets(scenario: &Scenario) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     let Some(dispersion) = &scenario.dispersion else {
         return (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
