@@ -349,9 +349,13 @@ fn initial_navigation(scenario: &Scenario, truth_start: &truth::TruthState) -> N
             normal * scale
         })
     };
-    let attitude_error = draw(sigma.attitude_rad);
-    let position_error = draw(sigma.position_m);
-    let velocity_error = draw(sigma.velocity_mps);
+    // A `[dispersion]` table's initial-state entries add to the error the σ describes, so the
+    // filter starts with an error its initial covariance does not expect.
+    let (attitude_offset, position_offset, velocity_offset) =
+        crate::dispersion::initial_error_offsets(scenario);
+    let attitude_error = draw(sigma.attitude_rad) + attitude_offset;
+    let position_error = draw(sigma.position_m) + position_offset;
+    let velocity_error = draw(sigma.velocity_mps) + velocity_offset;
     NavigationState {
         attitude: attitude::product(
             &truth_start.attitude_q_ib,

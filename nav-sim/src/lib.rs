@@ -13,6 +13,9 @@
 //! * [`log_replay`]: a recorded sensor log replayed through the flight software.
 //! * [`faults`]: the fault-injection campaign (`nav-sim faults`).
 //! * [`monte_carlo`]: parallel runs over seeds, RMS error, mean 1σ and the NEES test.
+//! * [`dispersion`]: the scenario's `[dispersion]` table, truth-side quantities (initial
+//!   navigation error, noise levels, star mounting, GNSS correlated error and latency) drawn
+//!   afresh for every Monte Carlo run from its seed.
 //! * [`campaign`]: Monte Carlo campaigns in shards (JSON Lines per run), merged into one
 //!   report with percentiles and the runs outside 3σ (`nav-sim monte-carlo --shard`, `merge`).
 //! * [`output`]: output files written atomically, refused when they are an input.
@@ -32,6 +35,7 @@
 pub mod benefit;
 pub mod campaign;
 pub mod covariance_design;
+pub mod dispersion;
 pub mod faults;
 pub mod flight;
 pub mod log_replay;

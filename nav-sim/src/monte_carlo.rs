@@ -76,7 +76,12 @@ pub fn fly_campaign(
         seeds,
         |seed| {
             let seeded = crate::flight::with_truth_drawn_from_prior(scenario, seed);
-            crate::flight::fly(&seeded, crate::flight::FlightOptions::default(), |_, _| {}).map(
+            // The flight software is configured from the undispersed scenario: a dispersion
+            // changes only the truth ([`crate::dispersion::truth_scenario`]).
+            let truth = crate::dispersion::truth_scenario(&seeded, seed);
+            let flight_config = crate::dispersion::flight_config(&seeded, &truth)?;
+            let run_options = crate::flight::FlightOptions::default();
+            crate::flight::fly_with(&truth, flight_config, run_options, |_, _| {}, |_, _| {}).map(
                 |result| RunOutcome {
                     seed,
                     error: -result.calibration_error,

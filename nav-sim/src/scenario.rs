@@ -134,7 +134,11 @@ pub enum ScenarioError {
 }
 
 /// A complete simulation scenario (the TOML file's top level).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+///
+/// Its `Debug` rendering leaves out an absent `[dispersion]` table, so a scenario without
+/// one renders (and hashes, [`crate::campaign::scenario_hash`]) as it did before the table
+/// existed.
+#[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Run control: seed, start time, truth integration.
@@ -160,6 +164,32 @@ pub struct Scenario {
     pub manoeuvres: Vec<ManoeuvreSegment>,
     /// Filter settings (placeholders the filter reads).
     pub filter: FilterSettings,
+    /// Truth-side quantities drawn afresh for every Monte Carlo run; absent = none
+    /// ([`crate::dispersion`]).
+    #[serde(default)]
+    pub dispersion: Option<crate::dispersion::Dispersion>,
+}
+
+impl std::fmt::Debug for Scenario {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut debug = formatter.debug_struct("Scenario");
+        debug
+            .field("simulation", &self.simulation)
+            .field("launch_site", &self.launch_site)
+            .field("initial_orbit", &self.initial_orbit)
+            .field("initial_attitude", &self.initial_attitude)
+            .field("imu", &self.imu)
+            .field("gyro", &self.gyro)
+            .field("accelerometer", &self.accelerometer)
+            .field("star_sensor", &self.star_sensor)
+            .field("gnss", &self.gnss)
+            .field("manoeuvres", &self.manoeuvres)
+            .field("filter", &self.filter);
+        if let Some(dispersion) = &self.dispersion {
+            debug.field("dispersion", dispersion);
+        }
+        debug.finish()
+    }
 }
 
 /// Run control.
@@ -651,6 +681,59 @@ impl Checker<'_> {
     }
 }
 
+impl Checker<'_> {
+    /// Every `[dispersion]` entry: a finite, non-negative width, and the latency within the
+    /// flight software's limit together with `gnss.latency_s`.
+    fn dispersion(
+        &self,
+        dispersion: &crate::dispersion::Dispersion,
+        scenario: &Scenario,
+    ) -> Result<(), ScenarioError> {
+        let entries = [
+            ("initial_attitude_deg", dispersion.initial_attitude_deg),
+            ("initial_position_m", dispersion.initial_position_m),
+            ("initial_velocity_mps", dispersion.initial_velocity_mps),
+            ("gyro_noise_percent", dispersion.gyro_noise_percent),
+            (
+                "accelerometer_noise_percent",
+                dispersion.accelerometer_noise_percent,
+            ),
+            ("star_noise_percent", dispersion.star_noise_percent),
+            ("gnss_noise_percent", dispersion.gnss_noise_percent),
+            ("star_mounting_deg", dispersion.star_mounting_deg),
+            (
+                "gnss_correlated_sigma_percent",
+                dispersion.gnss_correlated_sigma_percent,
+            ),
+            (
+                "gnss_correlation_time_percent",
+                dispersion.gnss_correlation_time_percent,
+            ),
+        ];
+        for (name, distribution) in entries {
+            let Some(distribution) = distribution else {
+                continue;
+            };
+            let field = match distribution {
+                crate::dispersion::Distribution::Normal { .. } => "sigma",
+                crate::dispersion::Distribution::Uniform { .. } => "half_width",
+            };
+            self.non_negative(&format!("dispersion.{name}.{field}"), distribution.width())?;
+        }
+        if let Some(frames) = dispersion.gnss_latency_frames {
+            let period_s = scenario.imu.frame_period_s();
+            let latency_s = scenario.gnss.latency_s + f64::from(frames) * period_s;
+            if let Some(requirement) = gnss_latency_violation(latency_s, period_s) {
+                return Err(self.fail(
+                    "dispersion.gnss_latency_frames",
+                    &format!("= {frames} frames: gnss.latency_s plus them {requirement}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Why a flight is at most [`MAX_DURATION_S`] long (the error message's wording).
 const DURATION_REASON: &str = "one day of flight: an upper stage's orbital phase lasts \
                                minutes to hours, and run time and recorded history grow with it";
@@ -992,6 +1075,9 @@ impl Scenario {
         }
         if let Some(noise_m) = filter.gnss_noise_m {
             check.sigma("filter.gnss_noise_m", noise_m, false)?;
+        }
+        if let Some(dispersion) = &self.dispersion {
+            check.dispersion(dispersion, self)?;
         }
         Ok(())
     }
