@@ -710,43 +710,42 @@ impl<const N: usize> MonteCarloSummary<N> {
                 points: series(&|point| Some(point.nees_upper_bound)),
             },
         ];
-        let star_color = plotters::style::BLUE;
-        let gnss_color = plotters::style::RGBColor(0, 150, 0);
-        // Each band in a lighter shade of its sensor's colour.
-        let star_band = plotters::style::RGBColor(130, 170, 255);
-        let gnss_band = plotters::style::RGBColor(130, 210, 130);
-        let nis_curves = vec![
-            Curve {
-                label: "star sensor NIS".to_string(),
-                color: star_color,
-                points: series(&|point| point.star_nis.as_ref().map(|test| test.average)),
-            },
-            Curve {
-                label: "star sensor 95% interval".to_string(),
-                color: star_band,
-                points: series(&|point| point.star_nis.as_ref().map(|test| test.lower_bound)),
-            },
-            Curve {
-                label: String::new(),
-                color: star_band,
-                points: series(&|point| point.star_nis.as_ref().map(|test| test.upper_bound)),
-            },
-            Curve {
-                label: "GNSS NIS".to_string(),
-                color: gnss_color,
-                points: series(&|point| point.gnss_nis.as_ref().map(|test| test.average)),
-            },
-            Curve {
-                label: "GNSS 95% interval".to_string(),
-                color: gnss_band,
-                points: series(&|point| point.gnss_nis.as_ref().map(|test| test.lower_bound)),
-            },
-            Curve {
-                label: String::new(),
-                color: gnss_band,
-                points: series(&|point| point.gnss_nis.as_ref().map(|test| test.upper_bound)),
-            },
-        ];
+        // Each sensor's average, and its band in a lighter shade of the same colour.
+        let sensor_curves =
+            |sensor: &str,
+             color: plotters::style::RGBColor,
+             band: plotters::style::RGBColor,
+             test: &dyn Fn(&OverTimeStatistics) -> Option<&NisTest>| {
+                vec![
+                    Curve {
+                        label: format!("{sensor} NIS"),
+                        color,
+                        points: series(&|point| test(point).map(|test| test.average)),
+                    },
+                    Curve {
+                        label: format!("{sensor} 95% interval"),
+                        color: band,
+                        points: series(&|point| test(point).map(|test| test.lower_bound)),
+                    },
+                    Curve {
+                        label: String::new(),
+                        color: band,
+                        points: series(&|point| test(point).map(|test| test.upper_bound)),
+                    },
+                ]
+            };
+        let mut nis_curves = sensor_curves(
+            "star sensor",
+            plotters::style::BLUE,
+            plotters::style::RGBColor(130, 170, 255),
+            &|point| point.star_nis.as_ref(),
+        );
+        nis_curves.extend(sensor_curves(
+            "GNSS",
+            plotters::style::RGBColor(0, 150, 0),
+            plotters::style::RGBColor(130, 210, 130),
+            &|point| point.gnss_nis.as_ref(),
+        ));
         let panels = [
             Panel {
                 caption: format!("average NEES of {} states over time", self.nees.states),
