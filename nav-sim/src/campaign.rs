@@ -374,6 +374,7 @@ impl RunRecord {
                 gnss_nis: nis("gnss_nis", &parsed.gnss_nis)?,
                 position_error_m: from_hex(&parsed.position_error_m)
                     .map_err(|message| format!("position_error_m: {message}"))?,
+                over_time: Vec::new(),
             },
         })
     }
@@ -966,6 +967,7 @@ mod tests {
                 },
                 gnss_nis: NisSum::default(),
                 position_error_m: std::f64::consts::PI,
+                over_time: Vec::new(),
             },
         }
     }

@@ -152,6 +152,13 @@ pub struct FlightSample {
     pub velocity_sigma_mps: [f64; 3],
     /// Attitude 1σ as an angle (rad).
     pub attitude_sigma_rad: [f64; 3],
+    /// NEES of the 15 calibration states with the filter's full covariance at this instant
+    /// ([`calibration_nees`]; `None` if the covariance is not positive definite).
+    pub calibration_nees: Option<f64>,
+    /// NIS of the star-sensor measurements the gate tested since the previous sample.
+    pub star_nis: NisSum,
+    /// NIS of the GNSS fixes the gate tested since the previous sample.
+    pub gnss_nis: NisSum,
 }
 
 /// What a flight produced.
@@ -253,12 +260,30 @@ impl FlightResult {
     /// Normalised estimation error squared of the calibration states, `eᵀ P⁻¹ e`
     /// (`None` if `P` is not positive definite).
     pub fn calibration_nees(&self) -> Option<f64> {
-        let cholesky = self.calibration_covariance.cholesky()?;
-        Some(
-            self.calibration_error
-                .dot(&cholesky.solve(&self.calibration_error)),
-        )
+        calibration_nees(&self.calibration_error, &self.calibration_covariance)
     }
+}
+
+/// Normalised estimation error squared `eᵀ P⁻¹ e` of calibration error `error` with
+/// covariance `covariance` (`None` if `P` is not positive definite).
+pub fn calibration_nees(
+    error: &SVector<f64, CALIBRATION_STATE_COUNT>,
+    covariance: &SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>,
+) -> Option<f64> {
+    let cholesky = covariance.cholesky()?;
+    Some(error.dot(&cholesky.solve(error)))
+}
+
+/// The filter's covariance of the 15 calibration states.
+fn calibration_covariance(
+    computer: &NavigationComputer,
+) -> SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT> {
+    let first = CALIBRATION_BLOCKS.first().map_or(9, |b| b.index);
+    computer
+        .filter()
+        .covariance()
+        .fixed_view::<CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>(first, first)
+        .into_owned()
 }
 
 /// How to record a flight.
@@ -460,10 +485,12 @@ fn calibration_state_error(
     SVector::from_iterator(blocks.iter().flat_map(|b| b.iter().copied()))
 }
 
+/// The sample of `frame`; `star_nis` and `gnss_nis` are the NIS sums since the previous one.
 fn record(
     computer: &NavigationComputer,
     frame: &TruthFrame,
     errors: &SensorErrorTruth,
+    (star_nis, gnss_nis): (NisSum, NisSum),
 ) -> FlightSample {
     let (estimate, sigma) = table_values(computer.calibration_table());
     let navigation = computer.navigation();
@@ -486,6 +513,12 @@ fn record(
         position_sigma_m: array3(&position_sigma),
         velocity_sigma_mps: array3(&velocity_sigma),
         attitude_sigma_rad: array3(&attitude_sigma),
+        calibration_nees: calibration_nees(
+            &calibration_state_error(&computer.calibration_estimate(), errors),
+            &calibration_covariance(computer),
+        ),
+        star_nis,
+        gnss_nis,
     }
 }
 
@@ -564,6 +597,8 @@ pub fn fly_observed(
     let mut last = None;
     let mut star_nis = NisSum::default();
     let mut gnss_nis = NisSum::default();
+    // NIS since the previous sample, for the consistency over time.
+    let mut interval_nis = (NisSum::default(), NisSum::default());
     // The flight plan tells the phase only to a policy that reads it.
     let uses_phase = computer.config().calibration.policy.uses_phase();
     while let Some(frame) = simulation.step(&mut events)? {
@@ -585,22 +620,38 @@ pub fn fly_observed(
         );
         let telemetry = ports.run(&mut computer);
         let health = computer.health();
-        match telemetry.fusion {
-            FrameFusion::StarAccepted => star_nis.add(telemetry.last_star_nis),
-            FrameFusion::GnssAccepted => gnss_nis.add(telemetry.last_gnss_nis),
+        let tested = match telemetry.fusion {
+            FrameFusion::StarAccepted => Some((true, telemetry.last_star_nis)),
+            FrameFusion::GnssAccepted => Some((false, telemetry.last_gnss_nis)),
             FrameFusion::StarRejected if health.star_gate_rejections > gate_rejections_before.0 => {
-                star_nis.add(telemetry.last_star_nis);
+                Some((true, telemetry.last_star_nis))
             }
             FrameFusion::GnssRejected if health.gnss_gate_rejections > gate_rejections_before.1 => {
-                gnss_nis.add(telemetry.last_gnss_nis);
+                Some((false, telemetry.last_gnss_nis))
             }
-            _ => {}
+            _ => None,
+        };
+        match tested {
+            Some((true, nis)) => {
+                star_nis.add(nis);
+                interval_nis.0.add(nis);
+            }
+            Some((false, nis)) => {
+                gnss_nis.add(nis);
+                interval_nis.1.add(nis);
+            }
+            None => {}
         }
         observe(frame.frame_index, &computer);
         frames += 1;
         let errors = simulation.error_truth();
         if frame.time_s >= next_record_s - 1e-9 {
-            samples.push(record(&computer, &frame, &errors));
+            samples.push(record(
+                &computer,
+                &frame,
+                &errors,
+                std::mem::take(&mut interval_nis),
+            ));
             next_record_s += options.record_interval_s;
         }
         if frames % 500 == 0 {
@@ -609,24 +660,19 @@ pub fn fly_observed(
         last = Some((frame, errors));
     }
     if let Some((frame, errors)) = last {
-        let final_sample = record(&computer, &frame, &errors);
+        let final_sample = record(&computer, &frame, &errors, interval_nis);
         if samples.last().map(|s| s.time_s) != Some(final_sample.time_s) {
             samples.push(final_sample);
         }
     }
     progress(frames, total_frames);
     let errors = simulation.error_truth();
-    let first = CALIBRATION_BLOCKS.first().map_or(9, |b| b.index);
     Ok(FlightResult {
         samples,
         table: *computer.calibration_table(),
         health: *computer.health(),
         calibration_error: calibration_state_error(&computer.calibration_estimate(), &errors),
-        calibration_covariance: computer
-            .filter()
-            .covariance()
-            .fixed_view::<CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT>(first, first)
-            .into_owned(),
+        calibration_covariance: calibration_covariance(&computer),
         frames,
         dropped_measurements: dropped,
         star_nis,

@@ -59,8 +59,9 @@ enum Command {
         /// Fly run K alone and print its JSON line (as in a shard file).
         #[arg(long, value_name = "K", conflicts_with_all = ["shard", "out", "json", "check"])]
         run: Option<u64>,
-        /// Write the NEES / RMS plot into this directory (with --shard: the shard file
-        /// OUT/shard-K-of-M.jsonl).
+        /// Write the NEES / RMS plot OUT/monte_carlo.png and the NEES and NIS over time with
+        /// their 95 % intervals OUT/nees_over_time.png into this directory (with --shard: the
+        /// shard file OUT/shard-K-of-M.jsonl).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states", ...}`.
@@ -340,10 +341,15 @@ fn monte_carlo(arguments: MonteCarloArgs<'_>) -> Result<(), Failure> {
     let plot = arguments
         .out
         .map(|directory| directory.join("monte_carlo.png"));
-    if let (Some(directory), Some(plot)) = (arguments.out, &plot) {
+    let over_time_plot = arguments
+        .out
+        .map(|directory| directory.join("nees_over_time.png"));
+    if let (Some(directory), Some(plot), Some(over_time_plot)) =
+        (arguments.out, &plot, &over_time_plot)
+    {
         prepare_outputs(
             directory,
-            std::slice::from_ref(plot),
+            &[plot.clone(), over_time_plot.clone()],
             &inputs(scenario_path),
         )?;
     }
@@ -354,6 +360,12 @@ fn monte_carlo(arguments: MonteCarloArgs<'_>) -> Result<(), Failure> {
     print_campaign(&report, arguments.json)?;
     if let Some(plot) = &plot {
         report.summary.plot(plot)?;
+        if !arguments.json {
+            println!("wrote {}", plot.display());
+        }
+    }
+    if let Some(plot) = &over_time_plot {
+        report.summary.plot_over_time(plot)?;
         if !arguments.json {
             println!("wrote {}", plot.display());
         }

@@ -59,6 +59,52 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub gnss_nis: crate::flight::NisSum,
     /// Norm of the final navigation position error (m; NaN if the flight recorded no sample).
     pub position_error_m: f64,
+    /// The run's consistency over time ([`over_time`]; empty when not recorded).
+    pub over_time: Vec<OverTimeSample>,
+}
+
+/// One instant of a run's consistency over time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OverTimeSample {
+    /// Navigation time (s).
+    pub time_s: f64,
+    /// NEES of the calibration states at this instant (`None` if the covariance is not
+    /// positive definite).
+    pub nees: Option<f64>,
+    /// NIS of the star sensor's tested updates since the previous instant.
+    pub star_nis: crate::flight::NisSum,
+    /// NIS of the GNSS fixes' tested updates since the previous instant.
+    pub gnss_nis: crate::flight::NisSum,
+}
+
+/// At most this many instants (and the last) of a run enter its consistency over time, so a
+/// campaign's memory stays small whatever the recording interval.
+pub const OVER_TIME_POINTS: usize = 100;
+
+/// A flight's consistency over time: every `k`-th recorded sample from the first, and the
+/// last, with `k` the smallest stride that keeps at most [`OVER_TIME_POINTS`] (+ 1) instants;
+/// each instant carries the NIS of all samples since the previous instant, so the interval
+/// sums add up to the flight's totals.
+pub fn over_time(samples: &[crate::flight::FlightSample]) -> Vec<OverTimeSample> {
+    let stride = samples.len().div_ceil(OVER_TIME_POINTS).max(1);
+    let mut points = Vec::with_capacity(OVER_TIME_POINTS + 1);
+    let mut star_nis = crate::flight::NisSum::default();
+    let mut gnss_nis = crate::flight::NisSum::default();
+    for (index, sample) in samples.iter().enumerate() {
+        star_nis.sum += sample.star_nis.sum;
+        star_nis.updates += sample.star_nis.updates;
+        gnss_nis.sum += sample.gnss_nis.sum;
+        gnss_nis.updates += sample.gnss_nis.updates;
+        if index % stride == 0 || index + 1 == samples.len() {
+            points.push(OverTimeSample {
+                time_s: sample.time_s,
+                nees: sample.calibration_nees,
+                star_nis: std::mem::take(&mut star_nis),
+                gnss_nis: std::mem::take(&mut gnss_nis),
+            });
+        }
+    }
+    points
 }
 
 /// Flies `scenario` once per seed in parallel, each run's sensor-error truth drawn from the
@@ -91,6 +137,7 @@ pub fn fly_campaign(
                     position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
                         nalgebra::Vector3::from(sample.position_error_m).norm()
                     }),
+                    over_time: over_time(&result.samples),
                 },
             )
         },
@@ -172,6 +219,72 @@ pub struct MonteCarloSummary<const N: usize = CALIBRATION_STATES> {
     pub star_nis: Option<NisTest>,
     /// The GNSS receiver's NIS test (3 components), when the runs recorded NIS.
     pub gnss_nis: Option<NisTest>,
+    /// The consistency at each instant the runs recorded ([`OverTimeSample`]); empty when
+    /// the runs carry no time series.
+    pub over_time: Vec<OverTimeStatistics>,
+}
+
+/// The campaign's consistency at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OverTimeStatistics {
+    /// Navigation time (s).
+    pub time_s: f64,
+    /// Average NEES over the runs (NaN if a run's covariance is not positive definite).
+    pub nees_average: f64,
+    /// Lower bound of the 95 % interval of the average NEES ([`nees_bounds`]).
+    pub nees_lower_bound: f64,
+    /// Upper bound of the 95 % interval of the average NEES.
+    pub nees_upper_bound: f64,
+    /// The star sensor's NIS test over the interval ending here (`None` without updates).
+    pub star_nis: Option<NisTest>,
+    /// The GNSS receiver's NIS test over the interval ending here (`None` without updates).
+    pub gnss_nis: Option<NisTest>,
+}
+
+impl OverTimeStatistics {
+    /// Whether the average NEES lies inside its 95 % interval.
+    pub fn nees_consistent(&self) -> bool {
+        self.nees_lower_bound <= self.nees_average && self.nees_average <= self.nees_upper_bound
+    }
+}
+
+/// The consistency over time of `outcomes`: one entry per instant that every run recorded,
+/// at the first run's times (the runs of one scenario share their sample times).
+///
+/// # Errors
+/// [`MonteCarloError::NoRuns`] or [`MonteCarloError::ChiSquared`] from the NEES interval.
+fn summarise_over_time<const N: usize, E: std::error::Error>(
+    outcomes: &[RunOutcome<N>],
+) -> Result<Vec<OverTimeStatistics>, MonteCarloError<E>> {
+    let (nees_lower_bound, nees_upper_bound) = nees_bounds(outcomes.len(), N)?;
+    let instants = outcomes
+        .iter()
+        .map(|outcome| outcome.over_time.len())
+        .min()
+        .unwrap_or(0);
+    let runs_f64 = outcomes.len() as f64;
+    Ok((0..instants)
+        .map(|instant| {
+            let points: Vec<&OverTimeSample> = outcomes
+                .iter()
+                .filter_map(|outcome| outcome.over_time.get(instant))
+                .collect();
+            let nees_average = points
+                .iter()
+                .map(|point| point.nees.unwrap_or(f64::NAN))
+                .sum::<f64>()
+                / runs_f64;
+            let nis = |sums: Vec<crate::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
+            OverTimeStatistics {
+                time_s: points.first().map_or(f64::NAN, |point| point.time_s),
+                nees_average,
+                nees_lower_bound,
+                nees_upper_bound,
+                star_nis: nis(points.iter().map(|point| point.star_nis).collect()),
+                gnss_nis: nis(points.iter().map(|point| point.gnss_nis).collect()),
+            }
+        })
+        .collect())
 }
 
 /// The two-sided 95% interval of the average NEES of `runs` runs of `states` states.
@@ -351,6 +464,7 @@ pub fn summarise<const N: usize, E: std::error::Error>(
         runs: outcomes.len(),
         star_nis: nis(outcomes.iter().map(|outcome| outcome.star_nis).collect()),
         gnss_nis: nis(outcomes.iter().map(|outcome| outcome.gnss_nis).collect()),
+        over_time: summarise_over_time(outcomes)?,
         states,
         nees: NeesTest {
             per_run,
@@ -558,6 +672,106 @@ impl<const N: usize> MonteCarloSummary<N> {
             &panels,
         )
     }
+
+    /// The consistency over time: the average NEES over the runs at each recorded instant
+    /// with its 95 % interval (top), and the average NIS of the star sensor and of the GNSS
+    /// over the interval ending at each instant with their 95 % intervals (bottom; 3 for a
+    /// consistent filter). Instants without a defined value are left out.
+    ///
+    /// # Errors
+    /// [`ReportError::Empty`] if the runs carry no time series, or [`ReportError`] from the
+    /// plotting.
+    pub fn plot_over_time(&self, path: &Path) -> Result<(), ReportError> {
+        if self.over_time.is_empty() {
+            return Err(ReportError::Empty);
+        }
+        let series = |value: &dyn Fn(&OverTimeStatistics) -> Option<f64>| -> Vec<(f64, f64)> {
+            self.over_time
+                .iter()
+                .filter_map(|point| Some((point.time_s, value(point)?)))
+                .filter(|(time_s, value)| time_s.is_finite() && value.is_finite())
+                .collect()
+        };
+        let highest = |curves: &[Curve], floor: f64| {
+            curves
+                .iter()
+                .flat_map(|curve| curve.points.iter().map(|(_, value)| *value))
+                .fold(floor, f64::max)
+        };
+        let nees_curves = vec![
+            Curve {
+                label: format!("average NEES over {} runs", self.runs),
+                color: plotters::style::BLUE,
+                points: series(&|point| Some(point.nees_average)),
+            },
+            Curve {
+                label: "95% interval".to_string(),
+                color: plotters::style::RED,
+                points: series(&|point| Some(point.nees_lower_bound)),
+            },
+            Curve {
+                label: String::new(),
+                color: plotters::style::RED,
+                points: series(&|point| Some(point.nees_upper_bound)),
+            },
+        ];
+        // Each sensor's average, and its band in a lighter shade of the same colour.
+        let sensor_curves =
+            |sensor: &str,
+             color: plotters::style::RGBColor,
+             band: plotters::style::RGBColor,
+             test: &dyn Fn(&OverTimeStatistics) -> Option<&NisTest>| {
+                vec![
+                    Curve {
+                        label: format!("{sensor} NIS"),
+                        color,
+                        points: series(&|point| test(point).map(|test| test.average)),
+                    },
+                    Curve {
+                        label: format!("{sensor} 95% interval"),
+                        color: band,
+                        points: series(&|point| test(point).map(|test| test.lower_bound)),
+                    },
+                    Curve {
+                        label: String::new(),
+                        color: band,
+                        points: series(&|point| test(point).map(|test| test.upper_bound)),
+                    },
+                ]
+            };
+        let mut nis_curves = sensor_curves(
+            "star sensor",
+            plotters::style::BLUE,
+            plotters::style::RGBColor(130, 170, 255),
+            &|point| point.star_nis.as_ref(),
+        );
+        nis_curves.extend(sensor_curves(
+            "GNSS",
+            plotters::style::RGBColor(0, 150, 0),
+            plotters::style::RGBColor(130, 210, 130),
+            &|point| point.gnss_nis.as_ref(),
+        ));
+        let panels = [
+            Panel {
+                caption: format!("average NEES of {} states over time", self.nees.states),
+                y_label: "NEES".to_string(),
+                y_range: (0.0, 1.1 * highest(&nees_curves, 0.0)),
+                curves: nees_curves,
+            },
+            Panel {
+                caption: "average NIS per sensor over each interval (3 components)".to_string(),
+                y_label: "NIS".to_string(),
+                y_range: (0.0, 1.1 * highest(&nis_curves, 6.0)),
+                curves: nis_curves,
+            },
+        ];
+        report::draw_panels(
+            path,
+            "Monte Carlo consistency over time",
+            "time (s)",
+            &panels,
+        )
+    }
 }
 
 #[cfg(test)]
@@ -607,6 +821,7 @@ mod tests {
                     star_nis: crate::flight::NisSum::default(),
                     gnss_nis: crate::flight::NisSum::default(),
                     position_error_m: 0.0,
+                    over_time: Vec::new(),
                 }
             })
             .collect()
