@@ -57,6 +57,7 @@ fn without_a_dispersion_table_a_campaign_flies_the_undispersed_bits() {
             position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
                 nalgebra::Vector3::from(sample.position_error_m).norm()
             }),
+            over_time: nav_sim::monte_carlo::over_time(&result.samples),
         };
         assert_eq!(bits(outcome), bits(&expected), "seed {seed}");
     }
