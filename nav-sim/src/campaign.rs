@@ -250,6 +250,17 @@ struct NisLine {
     updates: u64,
 }
 
+/// One instant of a run's consistency over time on a line (`monte_carlo::OverTimeSample`):
+/// time and NEES as bits (`null`: no NEES), the NIS since the previous instant.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OverTimeLine {
+    time_s: String,
+    nees: Option<String>,
+    star_nis: NisLine,
+    gnss_nis: NisLine,
+}
+
 /// A run on a line. `nees` and `max_error_over_sigma` are for people and tools reading the
 /// file (decimal); the merge recomputes them from the bits.
 #[derive(Debug, Serialize, Deserialize)]
@@ -268,6 +279,9 @@ struct RunLine {
     star_nis: NisLine,
     gnss_nis: NisLine,
     position_error_m: String,
+    /// The run's consistency over time (absent in files that do not carry it).
+    #[serde(default)]
+    over_time: Vec<OverTimeLine>,
 }
 
 /// The first line of a shard file.
@@ -334,6 +348,16 @@ impl RunRecord {
             star_nis: nis(&outcome.star_nis),
             gnss_nis: nis(&outcome.gnss_nis),
             position_error_m: hex(outcome.position_error_m),
+            over_time: outcome
+                .over_time
+                .iter()
+                .map(|sample| OverTimeLine {
+                    time_s: hex(sample.time_s),
+                    nees: sample.nees.map(hex),
+                    star_nis: nis(&sample.star_nis),
+                    gnss_nis: nis(&sample.gnss_nis),
+                })
+                .collect(),
         })
     }
 
@@ -374,7 +398,24 @@ impl RunRecord {
                 gnss_nis: nis("gnss_nis", &parsed.gnss_nis)?,
                 position_error_m: from_hex(&parsed.position_error_m)
                     .map_err(|message| format!("position_error_m: {message}"))?,
-                over_time: Vec::new(),
+                over_time: parsed
+                    .over_time
+                    .iter()
+                    .map(|sample| {
+                        Ok(monte_carlo::OverTimeSample {
+                            time_s: from_hex(&sample.time_s)
+                                .map_err(|message| format!("over_time.time_s: {message}"))?,
+                            nees: sample
+                                .nees
+                                .as_deref()
+                                .map(from_hex)
+                                .transpose()
+                                .map_err(|message| format!("over_time.nees: {message}"))?,
+                            star_nis: nis("over_time.star_nis", &sample.star_nis)?,
+                            gnss_nis: nis("over_time.gnss_nis", &sample.gnss_nis)?,
+                        })
+                    })
+                    .collect::<Result<Vec<_>, String>>()?,
             },
         })
     }
@@ -967,7 +1008,15 @@ mod tests {
                 },
                 gnss_nis: NisSum::default(),
                 position_error_m: std::f64::consts::PI,
-                over_time: Vec::new(),
+                over_time: vec![monte_carlo::OverTimeSample {
+                    time_s: 600.25,
+                    nees: Some(14.0 + 1.0 / 3.0),
+                    star_nis: NisSum {
+                        sum: 2.0 / 3.0,
+                        updates: 2,
+                    },
+                    gnss_nis: NisSum::default(),
+                }],
             },
         }
     }
@@ -1009,6 +1058,14 @@ mod tests {
                 outcome.seed,
                 outcome.star_nis.updates,
             ]);
+            for sample in &outcome.over_time {
+                bits.extend([
+                    sample.time_s.to_bits(),
+                    sample.nees.map_or(0, f64::to_bits),
+                    sample.star_nis.sum.to_bits(),
+                    sample.star_nis.updates,
+                ]);
+            }
             bits
         };
         assert_eq!(bits(&parsed), bits(&original));

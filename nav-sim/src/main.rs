@@ -77,6 +77,10 @@ enum Command {
         /// Shard files, or directories holding them (their shard-*-of-*.jsonl files).
         #[arg(required = true)]
         paths: Vec<PathBuf>,
+        /// Write the campaign's plots into this directory (as `monte-carlo --out`:
+        /// `monte_carlo.png`, `nees_over_time.png`).
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Print the report as one JSON object (as `monte-carlo --json`).
         #[arg(long)]
         json: bool,
@@ -338,18 +342,10 @@ fn monte_carlo(arguments: MonteCarloArgs<'_>) -> Result<(), Failure> {
         println!("wrote {runs} runs to {}", path.display());
         return Ok(());
     }
-    let plot = arguments
-        .out
-        .map(|directory| directory.join("monte_carlo.png"));
-    let over_time_plot = arguments
-        .out
-        .map(|directory| directory.join("nees_over_time.png"));
-    if let (Some(directory), Some(plot), Some(over_time_plot)) =
-        (arguments.out, &plot, &over_time_plot)
-    {
+    if let Some(directory) = arguments.out {
         prepare_outputs(
             directory,
-            &[plot.clone(), over_time_plot.clone()],
+            &campaign_plots(directory),
             &inputs(scenario_path),
         )?;
     }
@@ -358,19 +354,33 @@ fn monte_carlo(arguments: MonteCarloArgs<'_>) -> Result<(), Failure> {
     let label = scenario_path.map(|path| path.display().to_string());
     let report = campaign::CampaignReport::new(&records, label.as_deref())?;
     print_campaign(&report, arguments.json)?;
-    if let Some(plot) = &plot {
-        report.summary.plot(plot)?;
-        if !arguments.json {
-            println!("wrote {}", plot.display());
-        }
-    }
-    if let Some(plot) = &over_time_plot {
-        report.summary.plot_over_time(plot)?;
-        if !arguments.json {
-            println!("wrote {}", plot.display());
-        }
+    if let Some(directory) = arguments.out {
+        write_campaign_plots(&report, directory, arguments.json)?;
     }
     check_campaign(&report, arguments.check, "monte-carlo")
+}
+
+/// The plots `monte-carlo --out DIR` and `merge --out DIR` write: the NEES / RMS per run and
+/// the consistency over time.
+fn campaign_plots(directory: &Path) -> [PathBuf; 2] {
+    [
+        directory.join("monte_carlo.png"),
+        directory.join("nees_over_time.png"),
+    ]
+}
+
+fn write_campaign_plots(
+    report: &nav_sim::campaign::CampaignReport,
+    directory: &Path,
+    json: bool,
+) -> Result<(), Failure> {
+    let [per_run, over_time] = campaign_plots(directory);
+    report.summary.plot(&per_run)?;
+    report.summary.plot_over_time(&over_time)?;
+    if !json {
+        println!("wrote {} and {}", per_run.display(), over_time.display());
+    }
+    Ok(())
 }
 
 fn print_campaign(report: &nav_sim::campaign::CampaignReport, json: bool) -> Result<(), Failure> {
@@ -393,11 +403,18 @@ fn check_campaign(
     }
 }
 
-fn merge(paths: &[PathBuf], json: bool, check: bool) -> Result<(), Failure> {
+fn merge(paths: &[PathBuf], out: Option<&Path>, json: bool, check: bool) -> Result<(), Failure> {
+    if let Some(directory) = out {
+        let inputs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
+        prepare_outputs(directory, &campaign_plots(directory), &inputs)?;
+    }
     let merged = nav_sim::campaign::merge(paths)?;
     let report =
         nav_sim::campaign::CampaignReport::new(&merged.records, merged.scenario.as_deref())?;
     print_campaign(&report, json)?;
+    if let Some(directory) = out {
+        write_campaign_plots(&report, directory, json)?;
+    }
     check_campaign(&report, check, "merge")
 }
 
@@ -513,7 +530,12 @@ fn main() -> ExitCode {
             json,
             check,
         }),
-        Command::Merge { paths, json, check } => merge(&paths, json, check),
+        Command::Merge {
+            paths,
+            out,
+            json,
+            check,
+        } => merge(&paths, out.as_deref(), json, check),
         Command::Log { scenario, out } => write_log(scenario.as_deref(), &out),
         Command::Replay { log, scenario, out } => replay(&log, scenario.as_deref(), &out),
         Command::Scenario => {

@@ -105,6 +105,34 @@ fn three_shards_merged_give_the_unsharded_campaign_and_a_run_alone_its_line() {
     );
     assert!(report["outliers"].is_array());
 
+    // The shard lines carry each run's consistency over time: the merge draws the same plots
+    // as the one-process campaign, bit for bit.
+    succeeded(
+        nav_sim(directory, &["merge", "shards", "--out", "merged-plots"])
+            .output()
+            .unwrap(),
+    );
+    succeeded(
+        nav_sim(
+            directory,
+            &[
+                "monte-carlo",
+                "short.toml",
+                "--runs",
+                RUNS,
+                "--out",
+                "whole-plots",
+            ],
+        )
+        .output()
+        .unwrap(),
+    );
+    for plot in ["monte_carlo.png", "nees_over_time.png"] {
+        let merged = std::fs::read(directory.join("merged-plots").join(plot)).unwrap();
+        let whole = std::fs::read(directory.join("whole-plots").join(plot)).unwrap();
+        assert!(!merged.is_empty() && merged == whole, "{plot}");
+    }
+
     // Run 4 belongs to shard 1 (4 mod 3); flown alone it gives its line bit for bit.
     let shard_file = std::fs::read_to_string(directory.join("shards/shard-1-of-3.jsonl")).unwrap();
     let line = shard_file
