@@ -94,6 +94,12 @@ impl FramePorts {
         }
     }
 
+    /// Star measurements and GNSS fixes the frame's ports hold.
+    pub fn measurements(&self) -> u32 {
+        let held = self.star.0.len().saturating_add(self.gnss.0.len());
+        u32::try_from(held).unwrap_or(u32::MAX)
+    }
+
     /// Runs the frame on `computer`.
     pub fn run(&mut self, computer: &mut NavigationComputer) -> FrameTelemetry {
         computer.run_frame(&mut self.imu, &mut self.star, &mut self.gnss)
@@ -354,9 +360,7 @@ impl FrameAssembler {
         self.ended = true;
         if !self.imu_seen {
             let pending = core::mem::take(&mut self.pending);
-            let measurements = pending.star.0.len().saturating_add(pending.gnss.0.len());
-            let measurements = u32::try_from(measurements).unwrap_or(u32::MAX);
-            let dropped = pending.dropped.saturating_add(measurements);
+            let dropped = pending.dropped.saturating_add(pending.measurements());
             self.counts.measurements_dropped =
                 self.counts.measurements_dropped.saturating_add(dropped);
         }
@@ -365,8 +369,7 @@ impl FrameAssembler {
     /// The next complete frame, if any.
     pub fn next_frame(&mut self) -> Option<FramePorts> {
         let has_content = self.pending.imu.0.is_some()
-            || !self.pending.star.0.is_empty()
-            || !self.pending.gnss.0.is_empty()
+            || self.pending.measurements() > 0
             || self.pending.dropped > 0;
         let complete = self.ahead.is_some() || (self.ended && has_content);
         if !complete {
@@ -472,9 +475,9 @@ impl FrameAssembler {
         if frame.imu.0.is_none() {
             c.frames_without_imu = c.frames_without_imu.saturating_add(1);
         }
-        let delivered = frame.star.0.len().saturating_add(frame.gnss.0.len());
-        let delivered = u32::try_from(delivered).unwrap_or(u32::MAX);
-        c.measurements_delivered = c.measurements_delivered.saturating_add(delivered);
+        c.measurements_delivered = c
+            .measurements_delivered
+            .saturating_add(frame.measurements());
         c.measurements_dropped = c.measurements_dropped.saturating_add(frame.dropped);
     }
 }

@@ -63,6 +63,24 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub over_time: Vec<OverTimeSample>,
 }
 
+impl RunOutcome {
+    /// The outcome of the flight of seed `seed`: its final calibration error and covariance,
+    /// NIS sums, final position error and consistency over time.
+    pub fn of_flight(seed: u64, result: &crate::flight::FlightResult) -> Self {
+        Self {
+            seed,
+            error: -result.calibration_error,
+            covariance: result.calibration_covariance,
+            star_nis: result.star_nis,
+            gnss_nis: result.gnss_nis,
+            position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
+                nalgebra::Vector3::from(sample.position_error_m).norm()
+            }),
+            over_time: over_time(&result.samples),
+        }
+    }
+}
+
 /// One instant of a run's consistency over time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OverTimeSample {
@@ -127,19 +145,8 @@ pub fn fly_campaign(
             let truth = crate::dispersion::truth_scenario(&seeded, seed);
             let flight_config = crate::dispersion::flight_config(&seeded, &truth)?;
             let run_options = crate::flight::FlightOptions::default();
-            crate::flight::fly_with(&truth, flight_config, run_options, |_, _| {}, |_, _| {}).map(
-                |result| RunOutcome {
-                    seed,
-                    error: -result.calibration_error,
-                    covariance: result.calibration_covariance,
-                    star_nis: result.star_nis,
-                    gnss_nis: result.gnss_nis,
-                    position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
-                        nalgebra::Vector3::from(sample.position_error_m).norm()
-                    }),
-                    over_time: over_time(&result.samples),
-                },
-            )
+            crate::flight::fly_with(&truth, flight_config, run_options, |_, _| {}, |_, _| {})
+                .map(|result| RunOutcome::of_flight(seed, &result))
         },
         show_progress,
     )

@@ -351,6 +351,43 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
     }
 }
 
+/// The records of the first `frames` frames of `scenario`'s sensor-event stream (fewer if the
+/// scenario ends first), in delivery order.
+///
+/// # Errors
+/// [`SimulationError`] from the simulation.
+pub fn simulated_records(
+    scenario: &crate::Scenario,
+    frames: u64,
+) -> Result<Vec<LogRecord>, SimulationError> {
+    let mut simulation = Simulation::new(scenario)?;
+    let mut events = Vec::new();
+    for _ in 0..frames {
+        if simulation.step(&mut events)?.is_none() {
+            break;
+        }
+    }
+    Ok(events.iter().map(record_of).collect())
+}
+
+/// `record` with its arrival time and time tag moved by `by_s`: a log whose clock is offset
+/// or jumps.
+pub fn shifted(record: &LogRecord, by_s: f64) -> LogRecord {
+    let mut record = *record;
+    match &mut record {
+        LogRecord::Imu(imu) => imu.time_s += by_s,
+        LogRecord::Star(star) => {
+            star.arrival_time_s += by_s;
+            star.time_tag_s += by_s;
+        }
+        LogRecord::Gnss(gnss) => {
+            gnss.arrival_time_s += by_s;
+            gnss.time_tag_s += by_s;
+        }
+    }
+    record
+}
+
 /// The simulator event of a log record, or `None` for a star record whose arrival differs
 /// from its time tag (the simulator has no star latency).
 pub fn event_of(record: &LogRecord) -> Option<SensorEvent> {

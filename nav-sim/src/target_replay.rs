@@ -52,11 +52,7 @@ pub fn write_input<W: Write>(
     max_frames: u64,
     mut writer: W,
 ) -> Result<u64, ReplayError> {
-    let setup = replay_setup(scenario)?;
-    for word in setup.to_words() {
-        writer.write_all(&word.to_le_bytes())?;
-    }
-    writer.write_all(&log_record::encode_header())?;
+    write_input_header(scenario, &mut writer)?;
     let mut simulation = Simulation::new(scenario)?;
     let mut events = Vec::new();
     let mut frames = 0;
@@ -71,6 +67,29 @@ pub fn write_input<W: Write>(
     }
     writer.flush()?;
     Ok(frames)
+}
+
+/// The start of a replay input: the setup words of `scenario`, then the binary log header.
+fn write_input_header<W: Write>(scenario: &Scenario, writer: &mut W) -> Result<(), ReplayError> {
+    for word in replay_setup(scenario)?.to_words() {
+        writer.write_all(&word.to_le_bytes())?;
+    }
+    writer.write_all(&log_record::encode_header())?;
+    Ok(())
+}
+
+/// The replay input of `records` (a recorded or edited log) with the flight software set up
+/// by `scenario`: what [`run_on_host`] and the firmware read.
+///
+/// # Errors
+/// [`ReplayError`] if the setup cannot be built or a record cannot be encoded.
+pub fn records_input(scenario: &Scenario, records: &[LogRecord]) -> Result<Vec<u8>, ReplayError> {
+    let mut input = Vec::new();
+    write_input_header(scenario, &mut input)?;
+    for record in records {
+        input.extend_from_slice(&record.encode().map_err(ReplayError::Log)?);
+    }
+    Ok(input)
 }
 
 fn words_of(bytes: &[u8]) -> Vec<u64> {
@@ -375,16 +394,7 @@ pub fn replay_records_on_target(
 ) -> Result<TargetReplayReport, ReplayError> {
     std::fs::create_dir_all(directory)?;
     let input_path = directory.join("replay-in.bin");
-    let mut writer = std::io::BufWriter::new(std::fs::File::create(&input_path)?);
-    for word in replay_setup(scenario)?.to_words() {
-        writer.write_all(&word.to_le_bytes())?;
-    }
-    writer.write_all(&log_record::encode_header())?;
-    for record in records {
-        writer.write_all(&record.encode().map_err(ReplayError::Log)?)?;
-    }
-    writer.flush()?;
-    drop(writer);
+    std::fs::write(&input_path, records_input(scenario, records)?)?;
     let period_s = scenario.imu.frame_period_s();
     run_and_compare(&input_path, period_s, elf, runner, directory)
 }

@@ -48,17 +48,7 @@ fn without_a_dispersion_table_a_campaign_flies_the_undispersed_bits() {
         let seeded = with_truth_drawn_from_prior(&scenario, seed);
         assert_eq!(truth_scenario(&seeded, seed), seeded);
         let result = fly(&seeded, FlightOptions::default(), |_, _| {}).unwrap();
-        let expected = RunOutcome {
-            seed,
-            error: -result.calibration_error,
-            covariance: result.calibration_covariance,
-            star_nis: result.star_nis,
-            gnss_nis: result.gnss_nis,
-            position_error_m: result.samples.last().map_or(f64::NAN, |sample| {
-                nalgebra::Vector3::from(sample.position_error_m).norm()
-            }),
-            over_time: nav_sim::monte_carlo::over_time(&result.samples),
-        };
+        let expected = RunOutcome::of_flight(seed, &result);
         assert_eq!(bits(outcome), bits(&expected), "seed {seed}");
     }
 }

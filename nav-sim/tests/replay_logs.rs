@@ -12,7 +12,7 @@ use nav_fsw::scheduler::NavigationComputer;
 use nav_fsw::telemetry::FrameFusion;
 use nav_sim::log_replay::{self, ReplaySummary};
 use nav_sim::sensor_log::{self, SensorLogWriter};
-use nav_sim::{Scenario, Simulation};
+use nav_sim::Scenario;
 use proptest::prelude::*;
 
 /// The short test flight with a 10 Hz star sensor and 10 Hz GNSS (many measurements to
@@ -26,13 +26,10 @@ fn scenario() -> Scenario {
 
 /// The first `seconds` of `scenario`'s sensor log.
 fn records(scenario: &Scenario, seconds: f64) -> Vec<LogRecord> {
-    let mut simulation = Simulation::new(scenario).unwrap();
-    let mut events = Vec::new();
-    let frames = (seconds / scenario.imu.frame_period_s()).round() as usize;
-    for _ in 0..frames {
-        simulation.step(&mut events).unwrap().unwrap();
-    }
-    events.iter().map(sensor_log::record_of).collect()
+    let frames = (seconds / scenario.imu.frame_period_s()).round() as u64;
+    let records = sensor_log::simulated_records(scenario, frames).unwrap();
+    assert!(records.iter().filter(|r| is_imu(r)).count() as u64 == frames);
+    records
 }
 
 fn csv(records: &[LogRecord]) -> Vec<u8> {
@@ -58,22 +55,6 @@ fn last_value(output: &str, column: &str) -> f64 {
     let index = header.iter().position(|name| *name == column).unwrap();
     let last: Vec<&str> = lines.last().unwrap().split(',').collect();
     last[index].parse().unwrap()
-}
-
-fn shifted(record: &LogRecord, by_s: f64) -> LogRecord {
-    let mut record = *record;
-    match &mut record {
-        LogRecord::Imu(imu) => imu.time_s += by_s,
-        LogRecord::Star(star) => {
-            star.arrival_time_s += by_s;
-            star.time_tag_s += by_s;
-        }
-        LogRecord::Gnss(gnss) => {
-            gnss.arrival_time_s += by_s;
-            gnss.time_tag_s += by_s;
-        }
-    }
-    record
 }
 
 fn is_imu(record: &LogRecord) -> bool {
@@ -128,7 +109,7 @@ fn a_log_on_another_time_base_is_refused_naming_both_times() {
     let scenario = scenario();
     let later: Vec<LogRecord> = records(&scenario, 1.0)
         .iter()
-        .map(|r| shifted(r, 0.5))
+        .map(|r| sensor_log::shifted(r, 0.5))
         .collect();
     let error = replay(&later, &scenario).unwrap_err();
     assert!(
@@ -249,7 +230,7 @@ fn apply(log: &mut Vec<LogRecord>, edit: Edit, period_s: f64) {
         Edit::Jump(position, frames) => {
             let from = at(position, log.len());
             for record in &mut log[from..] {
-                *record = shifted(record, f64::from(frames) * period_s);
+                *record = sensor_log::shifted(record, f64::from(frames) * period_s);
             }
         }
     }

@@ -116,12 +116,7 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
         std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
     );
     let scenario = Scenario::default_scenario().unwrap();
-    let mut simulation = nav_sim::Simulation::new(&scenario).unwrap();
-    let mut events = Vec::new();
-    for _ in 0..10_000 {
-        simulation.step(&mut events).unwrap().unwrap();
-    }
-    let mut log: Vec<LogRecord> = events.iter().map(nav_sim::sensor_log::record_of).collect();
+    let mut log = nav_sim::sensor_log::simulated_records(&scenario, 10_000).unwrap();
     let imu_index = |log: &[LogRecord], sequence: u64| {
         log.iter()
             .position(|r| matches!(r, LogRecord::Imu(imu) if imu.sequence == sequence))
@@ -149,17 +144,7 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
     log.splice(fix + 1..fix + 1, copies);
     let jump = imu_index(&log, 6_000);
     for record in &mut log[jump..] {
-        match record {
-            LogRecord::Imu(imu) => imu.time_s += 0.04,
-            LogRecord::Star(star) => {
-                star.arrival_time_s += 0.04;
-                star.time_tag_s += 0.04;
-            }
-            LogRecord::Gnss(gnss) => {
-                gnss.arrival_time_s += 0.04;
-                gnss.time_tag_s += 0.04;
-            }
-        }
+        *record = nav_sim::sensor_log::shifted(record, 0.04);
     }
     let report = replay_records_on_target(
         &scenario,
@@ -199,20 +184,13 @@ fn the_firmware_refuses_a_log_on_another_time_base_or_rate_or_without_imu() {
         std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
     );
     let records = |scenario: &Scenario| -> Vec<LogRecord> {
-        let mut simulation = nav_sim::Simulation::new(scenario).unwrap();
-        let mut events = Vec::new();
-        for _ in 0..200 {
-            simulation.step(&mut events).unwrap().unwrap();
-        }
-        events.iter().map(nav_sim::sensor_log::record_of).collect()
+        nav_sim::sensor_log::simulated_records(scenario, 200).unwrap()
     };
     let scenario = Scenario::default_scenario().unwrap();
-    let mut shifted = records(&scenario);
-    for record in &mut shifted {
-        if let LogRecord::Imu(imu) = record {
-            imu.time_s += 0.5;
-        }
-    }
+    let shifted: Vec<LogRecord> = records(&scenario)
+        .iter()
+        .map(|record| nav_sim::sensor_log::shifted(record, 0.5))
+        .collect();
     let mut slow = scenario.clone();
     slow.imu.rate_hz = 100.0;
     let without_imu: Vec<LogRecord> = records(&scenario)
@@ -233,14 +211,7 @@ fn the_firmware_refuses_a_log_on_another_time_base_or_rate_or_without_imu() {
         );
         let error = outcome.expect_err(case).to_string();
         assert!(error.contains("firmware replay failed"), "{case}: {error}");
-        let mut input = Vec::new();
-        for word in nav_sim::flight::replay_setup(&scenario).unwrap().to_words() {
-            input.extend_from_slice(&word.to_le_bytes());
-        }
-        input.extend_from_slice(&nav_fsw::log_record::encode_header());
-        for record in &log {
-            input.extend_from_slice(&record.encode().unwrap());
-        }
+        let input = nav_sim::target_replay::records_input(&scenario, &log).unwrap();
         let host = nav_sim::target_replay::run_on_host(&input);
         assert!(
             host.as_ref().is_err() || host.as_ref().is_ok_and(|words| words.is_empty()),
