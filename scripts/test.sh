@@ -49,6 +49,10 @@ step "clippy (firmware workspace, $TARGET)"
 step "API docs of the flight crates (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p nav-core -p nav-fsw
 
+step "an integrator's crate outside the workspace, with README's dependency lines ($TARGET and host)"
+(cd examples/integrator && cargo fmt --check)
+bash scripts/integrator-check.sh
+
 step "host tests"
 cargo test --workspace
 
