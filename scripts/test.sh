@@ -52,6 +52,8 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p nav-core -p nav-fsw
 step "an integrator's crate outside the workspace, with README's dependency lines ($TARGET and host)"
 (cd examples/integrator && cargo fmt --check)
 bash scripts/integrator-check.sh
+step "the flight crates package for a registry (cargo package, verified)"
+cargo package -p nav-core -p nav-fsw --allow-dirty
 
 step "host tests"
 cargo test --workspace
