@@ -65,6 +65,11 @@ impl<R: Read + ReadReady> RecordReader<R> {
         self.counters
     }
 
+    /// The byte stream read from.
+    pub fn device(&self) -> &R {
+        &self.device
+    }
+
     /// The next complete record, reading at most [`MAX_BYTES_PER_POLL`] bytes that the device
     /// has ready; `None` when no complete record is available now.
     pub fn next_record(&mut self) -> Option<LogRecord> {
