@@ -10,7 +10,10 @@ set -euo pipefail
 elf="$1"
 shift || true
 : "${QEMU_TIMEOUT_S:=600}"
+# QEMU_SERIAL: the serial chardevs, UART0 first (default: none); e.g. the UART replay's
+# "-serial pipe:DIR/ground -serial pipe:DIR/imu ...".
+read -r -a serial_args <<< "${QEMU_SERIAL:--serial none}"
 timeout "$QEMU_TIMEOUT_S" qemu-system-arm \
-  -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none -serial none \
+  -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none "${serial_args[@]}" \
   -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
   -kernel "$elf" "$@" | defmt-print -e "$elf"

@@ -50,6 +50,7 @@ pub mod sensors;
 pub mod simulation;
 pub mod target_replay;
 pub mod truth;
+pub mod uart_replay;
 
 pub use scenario::{Scenario, ScenarioError};
 pub use sensors::SensorEvent;

@@ -92,7 +92,7 @@ pub fn records_input(scenario: &Scenario, records: &[LogRecord]) -> Result<Vec<u
     Ok(input)
 }
 
-fn words_of(bytes: &[u8]) -> Vec<u64> {
+pub(crate) fn words_of(bytes: &[u8]) -> Vec<u64> {
     bytes
         .chunks_exact(8)
         .map(|chunk| {
@@ -120,12 +120,24 @@ pub fn run_on_host(input: &[u8]) -> Result<Vec<u64>, ReplayError> {
     let log = input.get(SETUP_WORDS * 8..).unwrap_or(&[]);
     let records: Vec<LogRecord> =
         sensor_log::read_binary(log).map_err(|error| ReplayError::Input(error.to_string()))?;
+    run_records_on_host(&setup, records)
+}
+
+/// Runs `records` (delivery order) through the flight software set up by `setup`, record by
+/// record and frame by frame in the firmware's order, so the assembler's counts match too;
+/// returns the output words (cost words 0).
+///
+/// # Errors
+/// [`ReplayError::Input`] for a refused configuration or record.
+pub fn run_records_on_host(
+    setup: &ReplaySetup,
+    records: impl IntoIterator<Item = LogRecord>,
+) -> Result<Vec<u64>, ReplayError> {
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| ReplayError::Input(format!("configuration: {error:?}")))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())
         .map_err(|error| ReplayError::Input(format!("frame grid: {error}")))?;
     let mut output = Vec::new();
-    // Record by record, frame by frame, in the firmware's order, so the counts match too.
     let mut run_ready = |assembler: &mut FrameAssembler, output: &mut Vec<u64>| {
         while let Some(mut ports) = assembler.next_frame() {
             let telemetry = ports.run(&mut computer);
@@ -133,9 +145,9 @@ pub fn run_on_host(input: &[u8]) -> Result<Vec<u64>, ReplayError> {
             output.push(0);
         }
     };
-    for (index, record) in records.iter().enumerate() {
+    for (index, record) in records.into_iter().enumerate() {
         assembler
-            .push(record)
+            .push(&record)
             .map_err(|error| ReplayError::Input(format!("record {index}: {error}")))?;
         run_ready(&mut assembler, &mut output);
     }

@@ -4,12 +4,15 @@
 //!   else is ever printed on that channel, so `defmt-print` decodes the whole stream);
 //! * semihosting exit codes, and a HardFault handler that exits QEMU with failure;
 //! * the instruction-count harness ([`cost`]), based on SysTick under `-icount shift=0`;
+//! * the 500 Hz SysTick frame ([`frame_clock`]) and the serial lines ([`cmsdk_uart`]);
 //! * the stack high-water mark ([`stack`]) from cortex-m-rt's stack painting;
 //! * the short scheduler scenario the cost checks and the profiler share ([`scenario`]).
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod cmsdk_uart;
 pub mod cost;
+pub mod frame_clock;
 pub mod host_file;
 pub mod logger;
 pub mod scenario;

@@ -18,38 +18,22 @@
 #![no_std]
 #![no_main]
 
-use core::sync::atomic::{AtomicU32, Ordering};
-
-use cortex_m::peripheral::syst::SystClkSource;
-use cortex_m::peripheral::SYST;
-use cortex_m_rt::{entry, exception};
+use cortex_m_rt::entry;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
 use nav_fsw::replay::{
     output_words, FrameAssembler, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
 };
 use nav_fsw::scheduler::NavigationComputer;
-use nav_qemu::cost::INSTRUCTIONS_PER_TICK;
+use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
 use nav_qemu::host_file::{read_full, HostFile};
 use nav_qemu::{exit_failure, exit_success};
 
-/// SysTick ticks per 2 ms frame at the MPS2 system clock of 25 MHz.
-const FRAME_TICKS: u32 = 50_000;
-/// Frame budget in instructions (2 ms at one instruction per virtual nanosecond).
-const FRAME_BUDGET_INSTRUCTIONS: u32 = 2_000_000;
 /// Records read from the host per semihosting call.
 const RECORDS_PER_READ: usize = 64;
 /// Frames buffered per semihosting write.
 const FRAMES_PER_WRITE: usize = 16;
 /// Words per output frame (record + cost).
 const FRAME_WORDS: usize = OUTPUT_WORDS + 1;
-
-/// Frame interrupts since start.
-static FRAME_TICKS_ELAPSED: AtomicU32 = AtomicU32::new(0);
-
-#[exception]
-fn SysTick() {
-    FRAME_TICKS_ELAPSED.fetch_add(1, Ordering::Release);
-}
 
 /// The log, streamed record by record.
 struct LogStream {
@@ -81,16 +65,6 @@ impl LogStream {
             }
         }
     }
-}
-
-/// Starts the 500 Hz frame interrupt.
-fn start_frame_timer(mut systick: SYST) -> SYST {
-    systick.set_clock_source(SystClkSource::Core);
-    systick.set_reload(FRAME_TICKS - 1);
-    systick.clear_current();
-    systick.enable_interrupt();
-    systick.enable_counter();
-    systick
 }
 
 fn read_setup(file: &mut HostFile) -> Option<ReplaySetup> {
@@ -166,8 +140,7 @@ fn main() -> ! {
     nav_qemu::stack::repaint_below_current_stack_pointer();
     let mut frames = 0_u32;
     let mut log_ended = false;
-    let _systick = start_frame_timer(peripherals.SYST);
-    let mut frames_started = 0_u32;
+    let mut clock = FrameClock::start(peripherals.SYST);
     loop {
         // Assemble the next frame from the log (outside the measured frame); every ready
         // frame is taken before the next record is pushed.
@@ -192,31 +165,8 @@ fn main() -> ! {
         let Some(mut ports) = next else {
             break;
         };
-        // Wait for the frame interrupt.
-        while FRAME_TICKS_ELAPSED.load(Ordering::Acquire) <= frames_started {
-            cortex_m::asm::wfi();
-        }
-        frames_started = FRAME_TICKS_ELAPSED.load(Ordering::Acquire);
-        let start_current = SYST::get_current();
-        let telemetry = ports.run(computer);
-        let end_current = SYST::get_current();
-        let ticks_passed = FRAME_TICKS_ELAPSED.load(Ordering::Acquire) - frames_started;
-        // SysTick counts down to 0 (where it interrupts; read right after, it still shows 0)
-        // and reloads FRAME_TICKS − 1 on the next tick: ticks into the period = (N − c) mod N.
-        let into_period = |current: u32| (FRAME_TICKS - current) % FRAME_TICKS;
-        let (start_position, end_position) = (into_period(start_current), into_period(end_current));
-        let mut elapsed_ticks = ticks_passed * FRAME_TICKS + end_position;
-        if elapsed_ticks < start_position {
-            // Wrapped between the last read and the interrupt being taken.
-            elapsed_ticks += FRAME_TICKS;
-        }
-        let elapsed_ticks = elapsed_ticks - start_position;
-        let cost = elapsed_ticks.saturating_mul(INSTRUCTIONS_PER_TICK as u32);
+        let (telemetry, cost) = clock.run_frame(|| ports.run(computer));
         computer.report_frame_cost(cost);
-        if ticks_passed > 0 {
-            // The frame ran into the next one: skip the interrupts it overlapped.
-            frames_started += ticks_passed;
-        }
         let record = output_words(&telemetry, computer, &assembler.counts());
         let base = out_frames * FRAME_WORDS;
         if let Some(slot) = out_words.get_mut(base..base + FRAME_WORDS) {
