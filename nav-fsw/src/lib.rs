@@ -72,6 +72,7 @@ pub mod measurement_buffer;
 pub mod ports;
 pub mod replay;
 pub mod scheduler;
+pub mod spi_imu;
 pub mod stream_merge;
 pub mod stream_ports;
 pub mod telemetry;
