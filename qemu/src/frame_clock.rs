@@ -45,6 +45,7 @@ impl FrameClock {
 
     /// Waits for the next frame interrupt, runs `frame` and returns its result and its cost
     /// (instructions). A frame that runs into the next one skips the interrupts it overlapped.
+    #[inline(always)]
     pub fn run_frame<T>(&mut self, frame: impl FnOnce() -> T) -> (T, u32) {
         while FRAME_TICKS_ELAPSED.load(Ordering::Acquire) <= self.frames_started {
             cortex_m::asm::wfi();
