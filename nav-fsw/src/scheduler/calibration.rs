@@ -1,0 +1,109 @@
+//! Calibration glue: closed-loop feedback of the error state, the calibration blocks' estimates
+//! and the calibration manager's evaluation.
+
+use super::*;
+
+impl NavigationComputer {
+    /// Closed-loop feedback of the error state into the navigation solution, the history and
+    /// the sensor corrections, then the filter reset (module docs).
+    pub(super) fn feed_back(&mut self) {
+        // The correction is applied to copies of the (small) navigation solution and
+        // calibration first; the filter (4.8 kB) is reset in place only once it succeeded.
+        let error = *self.filter.state();
+        let mut navigation = self.navigation;
+        let mut calibration = self.calibration;
+        let applied = apply_error_state(
+            &error,
+            &mut navigation.attitude,
+            &mut navigation.position_m,
+            &mut navigation.velocity_mps,
+            &mut calibration,
+        );
+        if applied.is_err() {
+            // A correction nav-core cannot apply (|ϑ| ≥ 1 or non-finite): keep everything
+            // as it was and re-initialise the filter (documented recovery).
+            self.recover_filter();
+            return;
+        }
+        match self.arithmetic {
+            FilterArithmetic::Structured => self.filter.reset(),
+            FilterArithmetic::DenseReference => dense_reset(&mut self.filter),
+        };
+        let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
+        let position_correction = block_of(&error, POSITION);
+        let velocity_correction = block_of(&error, VELOCITY);
+        if let Ok(correction) = attitude_correction {
+            // Snapshots are corrected when read ([`Self::corrected`]); a correction older
+            // than every snapshot is no longer needed, so the ring never loses one that is.
+            if self.corrections.is_full() {
+                self.corrections.pop_front();
+            }
+            let _ = self.corrections.push_back(Correction {
+                frame: self.frame,
+                attitude: correction,
+                position_m: position_correction,
+                velocity_mps: velocity_correction,
+            });
+        }
+        self.navigation = navigation;
+        self.calibration = calibration;
+    }
+
+    /// Current estimate and variance of one calibration block in table units (the
+    /// installation error as a rotation vector: twice the quaternion vector part, so four
+    /// times its variance).
+    pub(super) fn block_estimate(
+        block: StateBlock,
+        estimate: &CalibrationEstimate,
+        variances: &ErrorState,
+    ) -> ([f64; 3], [f64; 3]) {
+        let variance = block_of(variances, block);
+        let c = estimate;
+        match block {
+            b if b == STAR_INSTALLATION => {
+                let [w, x, y, z] = c.star_installation_wxyz;
+                let vector = attitude::log_rotation_vector(&Quaternion::new(w, x, y, z));
+                (array3(&vector), array3(&(variance * 4.0)))
+            }
+            b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&variance)),
+            b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&variance)),
+            b if b == GYRO_SCALE_FACTOR => (c.gyro_scale_factor, array3(&variance)),
+            _ => (c.accel_scale_factor, array3(&variance)),
+        }
+    }
+
+    pub(super) fn evaluate_calibration(&mut self) {
+        let mut values = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        let mut variances = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
+        // Once per frame (not per block): the estimate and the variance of every state.
+        let estimate = self.calibration_estimate();
+        let state_variances = self.filter.covariance().diagonal();
+        for ((value, variance), block) in values
+            .iter_mut()
+            .zip(variances.iter_mut())
+            .zip(CALIBRATION_BLOCKS.iter())
+        {
+            (*value, *variance) = Self::block_estimate(*block, &estimate, &state_variances);
+        }
+        self.manager
+            .evaluate(self.navigation.time_s, &values, &variances);
+    }
+
+    /// The sensor-error estimate: in closed loop the fed-back corrections; in open loop the
+    /// filter's current error state applied to them.
+    pub fn calibration_estimate(&self) -> CalibrationEstimate {
+        let mut calibration = self.calibration;
+        if self.filter.mode() == FilterMode::OpenLoop {
+            let mut scratch = self.navigation;
+            // Errors only for a non-finite or degenerate x; the fed-back value stands then.
+            let _ = apply_error_state(
+                self.filter.state(),
+                &mut scratch.attitude,
+                &mut scratch.position_m,
+                &mut scratch.velocity_mps,
+                &mut calibration,
+            );
+        }
+        calibration
+    }
+}

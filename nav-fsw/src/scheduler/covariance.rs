@@ -1,0 +1,167 @@
+//! Covariance propagation at the interval's mean motion, the second-order attitude growth,
+//! variance protection and the documented filter recovery.
+
+use super::*;
+
+/// Rates and forces summed over the covariance-propagation interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct PropagationSums {
+    pub(super) frames: u32,
+    pub(super) corrected_rate: Vector3<f64>,
+    pub(super) measured_rate: Vector3<f64>,
+    pub(super) corrected_force: Vector3<f64>,
+    pub(super) measured_force: Vector3<f64>,
+}
+
+impl PropagationSums {
+    pub(super) const EMPTY: PropagationSums = PropagationSums {
+        frames: 0,
+        corrected_rate: Vector3::new(0.0, 0.0, 0.0),
+        measured_rate: Vector3::new(0.0, 0.0, 0.0),
+        corrected_force: Vector3::new(0.0, 0.0, 0.0),
+        measured_force: Vector3::new(0.0, 0.0, 0.0),
+    };
+
+    pub(super) fn add(&mut self, step: &StepOutput) {
+        self.frames = self.frames.saturating_add(1);
+        self.corrected_rate += step.corrected_rate_rad_s;
+        self.measured_rate += step.measured_rate_rad_s;
+        self.corrected_force += step.corrected_specific_force_mps2;
+        self.measured_force += step.measured_specific_force_mps2;
+    }
+}
+
+impl NavigationComputer {
+    pub(super) fn propagate_covariance(&mut self) {
+        let sums = self.sums;
+        self.sums = PropagationSums::EMPTY;
+        let frames = f64::from(sums.frames.max(1));
+        let interval_s = frames * self.config.imu.period_s;
+        let point = LinearisationPoint {
+            corrected_rate_rad_s: sums.corrected_rate / frames,
+            corrected_specific_force_mps2: sums.corrected_force / frames,
+            measured_rate_rad_s: sums.measured_rate / frames,
+            measured_specific_force_mps2: sums.measured_force / frames,
+            body_to_inertial: attitude::rotation_matrix(&self.navigation.attitude),
+            gravity_gradient_per_s2: self
+                .config
+                .strapdown
+                .gravity
+                .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
+        };
+        self.last_point = Some(point);
+        self.manager.observe_motion(
+            &point.corrected_rate_rad_s,
+            &point.corrected_specific_force_mps2,
+        );
+        // Block-structured discretisation and F P Fᵀ + Qd (nav-core `structured`); frozen
+        // blocks get no process noise.
+        let frozen = self.manager.frozen_blocks();
+        let order = self.config.filter.discretisation_order;
+        let result = match self.arithmetic {
+            FilterArithmetic::Structured => {
+                match self
+                    .model
+                    .rebuild(&point, &self.config.process_noise, interval_s, order)
+                {
+                    Ok(()) => {
+                        self.model.remove_process_noise(&frozen);
+                        self.filter.predict_structured(&self.model)
+                    }
+                    Err(error) => Err(error),
+                }
+            }
+            FilterArithmetic::DenseReference => dense_predict(
+                &mut self.filter,
+                &point,
+                &self.config.process_noise,
+                interval_s,
+                order,
+                &frozen,
+            ),
+        };
+        match result {
+            Ok(()) => {
+                self.second_order_pending_s += interval_s;
+                self.protect_covariance();
+            }
+            Err(_) => self.recover_filter(),
+        }
+    }
+
+    /// The attitude covariance grows for the kinematics' second-order term `½ ϑ × δω`
+    /// (`covariance.second_order_attitude`, nav-core `unmodelled`): in the direction of the
+    /// term's covariance, by its 1σ accumulated since the last accepted star-sensor update,
+    /// coherently while the gyro rate error stays correlated with the previous step's.
+    /// It runs in frames that fuse no measurement, which have time to spare (aiding comes at
+    /// 10 Hz, the IMU at 500 Hz), over the propagation time since it last ran, at the last
+    /// propagation's rate.
+    pub(super) fn inflate_for_second_order_attitude(&mut self) {
+        let (Some(point), true) = (
+            self.last_point,
+            self.config.covariance.second_order_attitude.is_bounded(),
+        ) else {
+            return;
+        };
+        let (measured_rate_rad_s, interval_s) =
+            (&point.measured_rate_rad_s, self.second_order_pending_s);
+        self.second_order_pending_s = 0.0;
+        let rate_covariance =
+            bilinear_attitude_rate_covariance(self.filter.covariance(), measured_rate_rad_s);
+        let rate_variance = rate_covariance.trace();
+        if !(rate_variance.is_finite() && rate_variance > 0.0) {
+            return;
+        }
+        let correlation = rate_error_correlation(
+            self.filter.covariance(),
+            measured_rate_rad_s,
+            &self.second_order_rate_rad_s,
+        );
+        self.second_order_rate_rad_s = *measured_rate_rad_s;
+        let added = self
+            .second_order_attitude
+            .grow_correlated(libm::sqrt(rate_variance) * interval_s, correlation);
+        let direction = rate_covariance / rate_variance;
+        if self
+            .filter
+            .add_block_covariance(ATTITUDE, &(direction * added))
+            .is_err()
+        {
+            count(&mut self.health.filter_errors);
+        }
+    }
+
+    /// The attitude is measured (or the filter starts afresh): the second-order growth starts
+    /// again from zero.
+    pub(super) fn restart_second_order_attitude(&mut self) {
+        self.second_order_attitude.restart();
+        self.second_order_pending_s = 0.0;
+    }
+
+    /// Documented recovery from a filter that nav-core refuses to propagate (non-finite
+    /// result): `x = 0`, `P` re-initialised from the configured 1σ, calibration convergence
+    /// forgotten; the navigation solution and the sensor corrections fed back so far are
+    /// kept. Counted in `filter_resets`.
+    pub(super) fn recover_filter(&mut self) {
+        count(&mut self.health.filter_resets);
+        if let Ok(filter) = ErrorStateFilter::new(&self.config.filter) {
+            self.filter = filter;
+        }
+        self.restart_second_order_attitude();
+        self.manager.restart();
+    }
+
+    /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless
+    /// a bound is crossed (nav-core `protect_variances`); symmetry is kept by construction.
+    pub(super) fn protect_covariance(&mut self) {
+        if self
+            .filter
+            .protect_variances(&self.variance_floor, &self.variance_ceiling)
+        {
+            count(&mut self.health.covariance_clamps);
+            if !self.filter.covariance().iter().all(|v| v.is_finite()) {
+                self.recover_filter();
+            }
+        }
+    }
+}

@@ -1,0 +1,284 @@
+//! Fusion of one due measurement: forming it at its time of validity, referring it to now,
+//! the gated update and its conclusion (statistics, fault state, feedback).
+
+use super::*;
+
+/// Gate statistics and fault state of one aiding sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct AidingSensor {
+    pub(super) consecutive_rejections: u32,
+    pub(super) faulty: bool,
+    pub(super) last_nis: f64,
+}
+
+/// The aiding measurements, one routine each for forming them and one shared path for
+/// referral, update and fault handling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Aid {
+    Star,
+    GnssPosition,
+    GnssVelocity,
+}
+
+impl Aid {
+    /// Telemetry of an accepted or rejected measurement.
+    pub(super) const fn fusion(self, accepted: bool) -> FrameFusion {
+        match (self, accepted) {
+            (Aid::Star, true) => FrameFusion::StarAccepted,
+            (Aid::Star, false) => FrameFusion::StarRejected,
+            (Aid::GnssPosition, true) => FrameFusion::GnssAccepted,
+            (Aid::GnssPosition, false) => FrameFusion::GnssRejected,
+            (Aid::GnssVelocity, true) => FrameFusion::GnssVelocityAccepted,
+            (Aid::GnssVelocity, false) => FrameFusion::GnssVelocityRejected,
+        }
+    }
+
+    /// Whether the measurement comes from the star sensor (else the GNSS receiver, whose
+    /// position and velocity share one fault state).
+    pub(super) const fn is_star(self) -> bool {
+        matches!(self, Aid::Star)
+    }
+}
+
+impl NavigationComputer {
+    pub(super) fn installation_estimate(&self) -> Quaternion<f64> {
+        ports::quaternion(&self.calibration.star_installation_wxyz)
+    }
+
+    pub(super) fn fuse_one_due_measurement(&mut self) -> FrameFusion {
+        let Some(due) = self.next_due() else {
+            return FrameFusion::None;
+        };
+        let (aid, tag) = (due.aid(), due.time_tag_s());
+        if self.fault_state(aid).faulty {
+            count(&mut self.health.ignored_from_faulty_sensor);
+            return aid.fusion(false);
+        }
+        let Some(snapshot) = self.snapshot_at(tag) else {
+            count(&mut self.health.measurement_stale);
+            return FrameFusion::None;
+        };
+        if self.is_gnss_jump(&due, &snapshot) {
+            count(&mut self.health.gnss_jump);
+            self.note_rejection(aid);
+            return aid.fusion(false);
+        }
+        // Formed where it lies: the 672-byte measurement is never copied.
+        let mut measurement = self.form_measurement(&due, &snapshot);
+        // A late measurement is referred to the current error state (nav-core docs), in
+        // place: the 672-byte measurement is never copied (each copy is ~540 instructions
+        // on the target).
+        let latency_s = self.navigation.time_s - tag;
+        if let Ok(m) = &mut measurement {
+            if let Err(error) = self.refer_to_now(m, aid, latency_s) {
+                measurement = Err(error);
+            }
+        }
+        let report = match &measurement {
+            Ok(m) => self.update(m, aid),
+            Err(error) => Err(*error),
+        };
+        self.conclude(aid, report)
+    }
+
+    /// Whether `due` is a GNSS fix farther than `gnss.max_jump_m` from the antenna position
+    /// predicted at its time of validity (`snapshot`).
+    pub(super) fn is_gnss_jump(&self, due: &Due, snapshot: &Snapshot) -> bool {
+        let Due::GnssPosition(tag, position) = due else {
+            return false;
+        };
+        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
+        let predicted = snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
+        let fix = ports::GnssFix {
+            time_tag_s: *tag,
+            position_ecef_m: array3(position),
+            velocity_ecef_mps: None,
+        };
+        matches!(
+            check_gnss(&fix, position, &predicted, self.config.gnss.max_jump_m),
+            Err(GnssFault::Jump)
+        )
+    }
+
+    /// The linearised measurement of `due` at its time of validity (`snapshot`).
+    pub(super) fn form_measurement(
+        &self,
+        due: &Due,
+        snapshot: &Snapshot,
+    ) -> Result<LinearMeasurement, NavError> {
+        let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
+        match due {
+            Due::Star(_, measured) => star_sensor(
+                &snapshot.attitude,
+                &ports::quaternion(&self.config.star.mounting_wxyz),
+                &self.installation_estimate(),
+                measured,
+                self.config.star.noise_rad,
+            ),
+            // nav-core refuses a non-finite fix (the jump check passes NaN through).
+            Due::GnssPosition(_, position) => gnss_position(
+                &snapshot.attitude,
+                &snapshot.position_m,
+                &lever_arm,
+                position,
+                self.config.gnss.noise_m,
+            ),
+            Due::GnssVelocity(_, velocity) => {
+                // The lever-arm term's body rates: the mean of the last propagation interval.
+                let rate = self.last_point.map_or(
+                    BodyRate {
+                        corrected_rad_s: Vector3::zeros(),
+                        measured_rad_s: Vector3::zeros(),
+                    },
+                    |point| BodyRate {
+                        corrected_rad_s: point.corrected_rate_rad_s,
+                        measured_rad_s: point.measured_rate_rad_s,
+                    },
+                );
+                gnss_velocity(
+                    &snapshot.attitude,
+                    &snapshot.velocity_mps,
+                    &lever_arm,
+                    &rate,
+                    velocity,
+                    self.config.gnss.velocity_noise_mps,
+                )
+            }
+        }
+    }
+
+    /// Refers a measurement `latency_s` old to the current error state: `H (I − A Δ)` and,
+    /// for a GNSS position, the correlated error's `h_ε = exp(Δ/τ)` (nav-core `gnss_error`).
+    /// On an error the measurement is unchanged.
+    pub(super) fn refer_to_now(
+        &self,
+        measurement: &mut LinearMeasurement,
+        aid: Aid,
+        latency_s: f64,
+    ) -> Result<(), NavError> {
+        let Some(point) = self.last_point else {
+            return Ok(());
+        };
+        if latency_s <= 1e-6 * self.config.imu.period_s {
+            return Ok(());
+        }
+        match self.arithmetic {
+            FilterArithmetic::Structured => {
+                refer_to_later_time_in_place(measurement, &point, latency_s)?
+            }
+            FilterArithmetic::DenseReference => dense_referral(measurement, &point, latency_s)?,
+        }
+        if aid == Aid::GnssPosition {
+            measurement.gnss_error_coefficient = self
+                .config
+                .filter
+                .gnss_error
+                .position_coefficient(latency_s);
+        }
+        Ok(())
+    }
+
+    /// The gated update of one aiding measurement (frozen blocks held).
+    pub(super) fn update(
+        &mut self,
+        measurement: &LinearMeasurement,
+        aid: Aid,
+    ) -> Result<nav_core::filter::InnovationReport, NavError> {
+        let gate = match aid {
+            Aid::Star => self.config.star.gate_nis,
+            Aid::GnssPosition => self.config.gnss.gate_nis,
+            Aid::GnssVelocity => self.config.gnss.velocity_gate_nis,
+        };
+        let frozen = self.manager.frozen_blocks();
+        match self.arithmetic {
+            FilterArithmetic::Structured => {
+                self.filter.update_structured(measurement, gate, &frozen)
+            }
+            FilterArithmetic::DenseReference => {
+                dense_update(&mut self.filter, measurement, gate, &frozen)
+            }
+        }
+    }
+
+    /// Gate statistics, counters, fault state and closed-loop feedback after an update.
+    pub(super) fn conclude(
+        &mut self,
+        aid: Aid,
+        report: Result<nav_core::filter::InnovationReport, NavError>,
+    ) -> FrameFusion {
+        let report = match report {
+            Err(_) => {
+                count(&mut self.health.filter_errors);
+                self.note_rejection(aid);
+                return aid.fusion(false);
+            }
+            Ok(report) => report,
+        };
+        let statistics = match aid {
+            Aid::Star => &mut self.star,
+            Aid::GnssPosition => &mut self.gnss,
+            Aid::GnssVelocity => &mut self.gnss_velocity,
+        };
+        statistics.last_nis = report.normalised_innovation_squared;
+        if aid == Aid::GnssPosition {
+            self.observe_whiteness(&report);
+        }
+        if report.accepted {
+            self.fault_state(aid).consecutive_rejections = 0;
+            if aid.is_star() {
+                self.restart_second_order_attitude();
+            }
+            if self.filter.mode() == FilterMode::ClosedLoop {
+                self.feed_back();
+            }
+        } else {
+            let counter = match aid {
+                Aid::Star => &mut self.health.star_gate_rejections,
+                Aid::GnssPosition => &mut self.health.gnss_gate_rejections,
+                Aid::GnssVelocity => &mut self.health.gnss_velocity_gate_rejections,
+            };
+            count(counter);
+            self.note_rejection(aid);
+        }
+        aid.fusion(report.accepted)
+    }
+
+    /// Feeds a GNSS position innovation to the whiteness monitor (counted per episode).
+    pub(super) fn observe_whiteness(&mut self, report: &nav_core::filter::InnovationReport) {
+        let (nu, s) = (&report.innovation, &report.covariance);
+        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+        let began = self.gnss_whiteness.observe(
+            &[nu.x, nu.y, nu.z],
+            &variances,
+            self.config.gnss.whiteness_window_fixes,
+            self.config.gnss.whiteness_threshold,
+        );
+        if began {
+            count(&mut self.health.gnss_innovations_correlated);
+        }
+    }
+
+    /// The fault state of the sensor behind `aid` (GNSS position and velocity share the
+    /// receiver's).
+    pub(super) fn fault_state(&mut self, aid: Aid) -> &mut AidingSensor {
+        if aid.is_star() {
+            &mut self.star
+        } else {
+            &mut self.gnss
+        }
+    }
+
+    pub(super) fn note_rejection(&mut self, aid: Aid) {
+        let limit = self.config.timing.rejections_to_declare_faulty;
+        let (sensor, declarations) = if aid.is_star() {
+            (&mut self.star, &mut self.health.star_declared_faulty)
+        } else {
+            (&mut self.gnss, &mut self.health.gnss_declared_faulty)
+        };
+        sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
+        if !sensor.faulty && sensor.consecutive_rejections >= limit {
+            sensor.faulty = true;
+            count(declarations);
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! Measurement intake: polling the ports, checking and queueing, and choosing the one due
+//! measurement to fuse.
+
+use super::*;
+
+/// A GNSS fix in the launch-inertial frame, queued until due.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct GnssQueued {
+    pub(super) position_m: [f64; 3],
+    /// Valid when `has_velocity` (the receiver outputs velocity and velocity fusion is
+    /// configured); plain words rather than an `Option` keep the queue's copies word-aligned.
+    pub(super) velocity_mps: [f64; 3],
+    pub(super) has_velocity: bool,
+}
+
+/// Which queued measurement to fuse.
+pub(super) enum Due {
+    Star(f64, Quaternion<f64>),
+    GnssPosition(f64, Vector3<f64>),
+    GnssVelocity(f64, Vector3<f64>),
+}
+
+impl Due {
+    pub(super) const fn aid(&self) -> Aid {
+        match self {
+            Due::Star(..) => Aid::Star,
+            Due::GnssPosition(..) => Aid::GnssPosition,
+            Due::GnssVelocity(..) => Aid::GnssVelocity,
+        }
+    }
+
+    pub(super) const fn time_tag_s(&self) -> f64 {
+        match self {
+            Due::Star(tag, _) | Due::GnssPosition(tag, _) | Due::GnssVelocity(tag, _) => *tag,
+        }
+    }
+}
+
+impl NavigationComputer {
+    pub(super) fn poll_measurements<S: StarSensorPort, G: GnssPort>(
+        &mut self,
+        star: &mut S,
+        gnss: &mut G,
+    ) {
+        let now_s = self.navigation.time_s;
+        let timing = self.config.timing;
+        let (mut star_heard, mut gnss_heard) = (false, false);
+        for _ in 0..MAX_POLLS_PER_FRAME {
+            let Some(measurement) = star.poll() else {
+                break;
+            };
+            star_heard = true;
+            match check_star(
+                &measurement,
+                self.last_star.as_ref(),
+                self.config.star.unit_norm_tolerance,
+            ) {
+                Err(StarFault::NonFinite) => count(&mut self.health.star_non_finite),
+                Err(StarFault::NotUnit) => count(&mut self.health.star_not_unit),
+                Ok((quaternion, flipped)) => {
+                    if flipped {
+                        count(&mut self.health.star_sign_flip);
+                    }
+                    // Remember the sensor's own sign, so that a sensor that changes its sign
+                    // convention (e.g. keeps w ≥ 0 while the attitude turns) is counted once
+                    // per change, not on every later sample.
+                    self.last_star = Some(if flipped { -quaternion } else { quaternion });
+                    let pushed = self.star_queue.push(
+                        measurement.time_tag_s,
+                        quaternion,
+                        now_s,
+                        timing.max_latency_s,
+                        timing.future_tolerance_s,
+                    );
+                    if let Err(refusal) = pushed {
+                        self.count_refusal(refusal, true);
+                    }
+                }
+            }
+        }
+        for _ in 0..MAX_POLLS_PER_FRAME {
+            let Some(fix) = gnss.poll() else {
+                break;
+            };
+            gnss_heard = true;
+            match self.gnss_in_launch_frame(&fix) {
+                Err(_) => count(&mut self.health.gnss_non_finite),
+                Ok(queued) => {
+                    let pushed = self.gnss_queue.push(
+                        fix.time_tag_s,
+                        queued,
+                        now_s,
+                        timing.max_latency_s,
+                        timing.future_tolerance_s,
+                    );
+                    if let Err(refusal) = pushed {
+                        self.count_refusal(refusal, false);
+                    }
+                }
+            }
+        }
+        let timeout_s = timing.outage_timeout_s;
+        if self.star_outage.observe(now_s, star_heard, timeout_s) {
+            count(&mut self.health.star_outages);
+        }
+        if self.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
+            count(&mut self.health.gnss_outages);
+        }
+    }
+
+    /// A fix converted to the launch-inertial frame; its velocity only when velocity fusion
+    /// is configured (`gnss.velocity_noise_mps > 0`).
+    pub(super) fn gnss_in_launch_frame(
+        &self,
+        fix: &ports::GnssFix,
+    ) -> Result<GnssQueued, NavError> {
+        let position_ecef = ports::vector(&fix.position_ecef_m);
+        let position_m = self
+            .launch_frame
+            .ecef_to_launch_inertial(&position_ecef, fix.time_tag_s)?;
+        let velocity_mps = match fix.velocity_ecef_mps {
+            Some(velocity) if self.config.gnss.velocity_noise_mps > 0.0 => {
+                Some(self.launch_frame.ecef_velocity_to_launch_inertial(
+                    &position_ecef,
+                    &ports::vector(&velocity),
+                    fix.time_tag_s,
+                )?)
+            }
+            _ => None,
+        };
+        Ok(GnssQueued {
+            position_m: array3(&position_m),
+            velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
+            has_velocity: velocity_mps.is_some(),
+        })
+    }
+
+    pub(super) fn count_refusal(&mut self, refusal: BufferRefusal, is_star: bool) {
+        let counter = match (refusal, is_star) {
+            (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
+            (BufferRefusal::Future, _) => &mut self.health.measurement_future,
+            (BufferRefusal::Overflow, _) => &mut self.health.measurement_overflow,
+            (BufferRefusal::NonFinite, true) => &mut self.health.star_non_finite,
+            (BufferRefusal::NonFinite, false) => &mut self.health.gnss_non_finite,
+        };
+        count(counter);
+    }
+
+    pub(super) fn next_due(&mut self) -> Option<Due> {
+        if let Some((tag, position)) = self.pending_gnss_position.take() {
+            return Some(Due::GnssPosition(tag, position));
+        }
+        let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
+        let star_tag = self
+            .star_queue
+            .oldest_time_tag()
+            .filter(|t| *t <= due_before_s);
+        let gnss_tag = self
+            .gnss_queue
+            .oldest_time_tag()
+            .filter(|t| *t <= due_before_s);
+        let star_first = match (star_tag, gnss_tag) {
+            (Some(s), Some(g)) => s <= g,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => return None,
+        };
+        if star_first {
+            self.star_queue
+                .pop_due(due_before_s)
+                .map(|(tag, q)| Due::Star(tag, q))
+        } else {
+            let (tag, fix) = self.gnss_queue.pop_due(due_before_s)?;
+            let position = ports::vector(&fix.position_m);
+            if fix.has_velocity {
+                self.pending_gnss_position = Some((tag, position));
+                Some(Due::GnssVelocity(tag, ports::vector(&fix.velocity_mps)))
+            } else {
+                Some(Due::GnssPosition(tag, position))
+            }
+        }
+    }
+}

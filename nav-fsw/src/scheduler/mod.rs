@@ -1,0 +1,370 @@
+//! The 500 Hz cyclic executive: [`NavigationComputer::run_frame`] is one minor frame.
+//!
+//! Each frame, in this order (every loop bounded by a constant):
+//! 1. IMU: read one sample, check it ([`crate::input_check`]), correct it with the current
+//!    calibration (closed loop) and run one strapdown step (nav-core). A missing or rejected
+//!    sample is replaced by the last good increment (zero-order hold), counted; navigation
+//!    time always advances by one frame period.
+//! 2. History: the navigation solution of the frame goes into a ring of
+//!    [`HISTORY_CAPACITY`] frames, so a late measurement is fused against the solution at
+//!    its own time of validity (interpolated between frames).
+//! 3. Covariance: every `propagation_interval_frames` frames, the error model at the mean
+//!    rates/forces of the interval, 3rd-order `F` and `P ← F P Fᵀ + Qd` by blocks, in place
+//!    (nav-core `structured`; paper §1.3.3), then covariance protection (variance floors
+//!    and ceilings, counted; only the diagonal is read unless a bound is crossed).
+//! 4. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
+//!    queued; then **at most one** due measurement (the oldest) is fused. A second due
+//!    measurement waits for the next frame: the worst frame is therefore strapdown + one
+//!    propagation + one update (+ closed-loop reset), bounded by construction.
+//! 5. Calibration manager: table, convergence, frozen set.
+//!
+//! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
+//! measurement's time of validity and referred to the current error state with
+//! `H (I − A Δ)` (nav-core `refer_to_later_time_in_place`, by blocks of `A`).
+//!
+//! [`FilterArithmetic::DenseReference`] runs the same frame with nav-core's dense 24×24
+//! reference arithmetic (equal within round-off), for cost comparisons only.
+//!
+//! Closed loop (the default): after every accepted update the error state is fed back into
+//! the navigation solution, the history (each snapshot corrected when it is read, with the
+//! feedbacks since it was recorded) and the sensor corrections, and the filter is reset
+//! (nav-core `reset`), so `x = 0` whenever the filter predicts. Open loop (the paper): the
+//! navigation solution is never corrected; outputs apply `x` on the way out.
+
+use heapless::Deque;
+use nalgebra::{Quaternion, Vector3};
+use nav_core::attitude;
+use nav_core::discretise::{discretise, DiscreteModel};
+use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
+use nav_core::filter::{
+    apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
+    FilterMode,
+};
+use nav_core::frames::LaunchFrame;
+use nav_core::measurement::{
+    gnss_position, gnss_velocity, refer_to_later_time, star_sensor, BodyRate, LinearMeasurement,
+};
+use nav_core::state::{
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, VELOCITY,
+};
+use nav_core::strapdown::{
+    ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
+};
+use nav_core::structured::{refer_to_later_time_in_place, StructuredModel};
+use nav_core::unmodelled::{
+    bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
+};
+use nav_core::NavError;
+
+use crate::calibration_manager::{
+    CalibrationManager, CalibrationTable, EstimationPolicy, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT,
+};
+use crate::config::HeldSampleUncertainty;
+use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
+use crate::error::{ConfigField, FswError};
+use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
+use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
+use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
+use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
+use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
+
+mod arithmetic;
+mod calibration;
+mod covariance;
+mod fusion;
+mod history;
+mod intake;
+mod navigate;
+mod outputs;
+#[cfg(test)]
+mod tests;
+
+pub use arithmetic::FilterArithmetic;
+use arithmetic::{dense_predict, dense_referral, dense_reset, dense_update};
+use covariance::PropagationSums;
+use fusion::{Aid, AidingSensor};
+use history::{Correction, Snapshot};
+use intake::{Due, GnssQueued};
+
+/// Most measurements taken from one port in one frame (the rest wait in the port).
+pub const MAX_POLLS_PER_FRAME: usize = 4;
+
+/// Ground or flight-plan commands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Command {
+    /// The manoeuvre phase: drives the calibration manager under
+    /// [`EstimationPolicy::PaperSchedule`]; refused under a policy that does not read it
+    /// ([`EstimationPolicy::uses_phase`]).
+    SetPhase(ManoeuvrePhase),
+    /// Forget the fault declarations: both sensors are used again.
+    ClearSensorFaults,
+    /// Forget calibration convergence (unfreeze every block).
+    RestartCalibration,
+}
+
+/// Why a [`Command`] was refused (the computer is unchanged).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CommandError {
+    /// `SetPhase` under a policy that does not read the manoeuvre phase.
+    PhaseNotUsed(EstimationPolicy),
+}
+
+impl core::fmt::Display for CommandError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::PhaseNotUsed(policy) => write!(
+                f,
+                "SetPhase refused: the calibration policy {policy:?} does not use the manoeuvre \
+                 phase (only PaperSchedule does)"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for CommandError {}
+
+/// The flight software: strapdown, filter, input checks, fault handling and calibration.
+#[derive(Debug, Clone)]
+pub struct NavigationComputer {
+    config: FswConfig,
+    launch_frame: LaunchFrame,
+    strapdown: Strapdown,
+    navigation: NavigationState,
+    filter: ErrorStateFilter,
+    calibration: CalibrationEstimate,
+    manager: CalibrationManager,
+    imu_checker: ImuChecker,
+    last_increment: Option<ImuIncrement>,
+    frames_without_sample: u32,
+    history: Deque<Snapshot, HISTORY_CAPACITY>,
+    /// The feedbacks of the last [`HISTORY_CAPACITY`] frames (at most one per frame), applied
+    /// to a snapshot when it is read: correcting all 64 snapshots at every feedback cost
+    /// ~2,000 instructions on the target.
+    corrections: Deque<Correction, HISTORY_CAPACITY>,
+    star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
+    gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
+    /// The position of the GNSS fix whose velocity was fused last frame (one update per
+    /// frame: it is fused in the next). The velocity goes first: fused in its own frame it
+    /// needs no referral, while a position referred by one frame gains only a velocity block
+    /// in `H` (a velocity referred gains five).
+    pending_gnss_position: Option<(f64, Vector3<f64>)>,
+    /// Attitude (half-angle) and velocity 1σ accumulated over the current run of held IMU
+    /// samples.
+    held_attitude: CoherentGrowth,
+    held_velocity: CoherentGrowth,
+    /// Attitude 1σ (half-angle) of the second-order kinematics term accumulated since the
+    /// last accepted star-sensor update.
+    second_order_attitude: CoherentGrowth,
+    /// Body rate of the previous growth step: the term grows coherently only while the gyro
+    /// rate error stays the same random variable.
+    second_order_rate_rad_s: Vector3<f64>,
+    /// Propagation time (s) the second-order growth has not yet covered.
+    second_order_pending_s: f64,
+    last_star: Option<Quaternion<f64>>,
+    star: AidingSensor,
+    gnss: AidingSensor,
+    /// Gate statistics of the GNSS velocity (its fault state is the receiver's, `gnss`).
+    gnss_velocity: AidingSensor,
+    star_outage: OutageMonitor,
+    gnss_outage: OutageMonitor,
+    gnss_whiteness: WhitenessMonitor,
+    sums: PropagationSums,
+    /// Motion of the last covariance propagation (for referring late measurements).
+    last_point: Option<LinearisationPoint>,
+    /// The structured discrete model, refilled in place by every propagation (a ~2 KB
+    /// struct: building it in place avoids copies that cost thousands of instructions).
+    model: StructuredModel,
+    variance_floor: ErrorState,
+    variance_ceiling: ErrorState,
+    health: HealthCounters,
+    cost: FrameCostMonitor,
+    frame: u32,
+    arithmetic: FilterArithmetic,
+}
+
+fn array3(vector: &Vector3<f64>) -> [f64; 3] {
+    [vector.x, vector.y, vector.z]
+}
+
+impl NavigationComputer {
+    /// The flight software at start: the given navigation solution, `x = 0`, `P` from the
+    /// configured initial 1σ, no calibration (zero corrections).
+    ///
+    /// # Errors
+    /// [`FswError::InvalidConfiguration`] for a bad configuration (named field) or a
+    /// non-finite / non-unit initial navigation state.
+    pub fn new(config: FswConfig, initial: NavigationState) -> Result<Self, FswError> {
+        config.validate()?;
+        let attitude_norm = initial.attitude.norm();
+        let finite = attitude::all_finite3(&initial.position_m)
+            && attitude::all_finite3(&initial.velocity_mps)
+            && initial.time_s.is_finite();
+        if !(finite && attitude_norm.is_finite() && (attitude_norm - 1.0).abs() < 1e-9) {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::InitialNavigation,
+            ));
+        }
+        let floors = ErrorStateFilter::new(&FilterConfig {
+            initial: config.covariance.sigma_floor,
+            ..config.filter
+        })?;
+        let initial_filter = ErrorStateFilter::new(&config.filter)?;
+        let ceiling_factor = config.covariance.sigma_ceiling_factor;
+        let launch_frame = LaunchFrame::new(&config.launch_site)
+            .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))?;
+        let mut computer = Self {
+            config,
+            launch_frame,
+            strapdown: Strapdown::new(config.strapdown),
+            navigation: initial,
+            filter: initial_filter,
+            calibration: CalibrationEstimate::default(),
+            manager: CalibrationManager::new(config.calibration)?,
+            imu_checker: ImuChecker::new(config.imu)?,
+            last_increment: None,
+            frames_without_sample: 0,
+            history: Deque::new(),
+            corrections: Deque::new(),
+            star_queue: MeasurementBuffer::new(),
+            gnss_queue: MeasurementBuffer::new(),
+            pending_gnss_position: None,
+            held_attitude: CoherentGrowth::default(),
+            held_velocity: CoherentGrowth::default(),
+            second_order_attitude: CoherentGrowth::default(),
+            second_order_rate_rad_s: Vector3::zeros(),
+            second_order_pending_s: 0.0,
+            last_star: None,
+            star: AidingSensor::default(),
+            gnss: AidingSensor::default(),
+            gnss_velocity: AidingSensor::default(),
+            star_outage: OutageMonitor::default(),
+            gnss_outage: OutageMonitor::default(),
+            gnss_whiteness: WhitenessMonitor::default(),
+            sums: PropagationSums::EMPTY,
+            last_point: None,
+            model: StructuredModel::EMPTY,
+            variance_floor: floors.covariance().diagonal(),
+            variance_ceiling: initial_filter.covariance().diagonal()
+                * (ceiling_factor * ceiling_factor),
+            health: HealthCounters::default(),
+            cost: FrameCostMonitor::new(u32::MAX),
+            frame: 0,
+            arithmetic: FilterArithmetic::Structured,
+        };
+        computer.record_snapshot();
+        Ok(computer)
+    }
+
+    /// Selects the filter arithmetic (default: structured, the flight path); the dense
+    /// reference is for cost and equality comparisons.
+    pub fn set_arithmetic(&mut self, arithmetic: FilterArithmetic) {
+        self.arithmetic = arithmetic;
+    }
+
+    /// Sets the frame budget for overrun counting (unit of [`Self::report_frame_cost`]).
+    pub fn set_frame_budget(&mut self, budget: u32) {
+        self.cost.budget = budget;
+    }
+
+    /// The platform reports the cost of the frame just run (instructions or cycles).
+    pub fn report_frame_cost(&mut self, cost: u32) {
+        if self.cost.record(cost) {
+            count(&mut self.health.frame_overruns);
+        }
+    }
+
+    /// Worst frame cost reported by the platform so far.
+    pub fn worst_frame_cost(&self) -> u32 {
+        self.cost.worst
+    }
+
+    /// Executes a command.
+    ///
+    /// # Errors
+    /// [`CommandError::PhaseNotUsed`] for `SetPhase` under a policy that does not read the
+    /// phase; the computer is unchanged.
+    pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
+        match command {
+            Command::SetPhase(phase) => {
+                let policy = self.config.calibration.policy;
+                if !policy.uses_phase() {
+                    return Err(CommandError::PhaseNotUsed(policy));
+                }
+                self.manager.set_phase(phase);
+            }
+            Command::ClearSensorFaults => {
+                self.star = AidingSensor::default();
+                self.gnss = AidingSensor::default();
+                self.gnss_velocity = AidingSensor::default();
+            }
+            Command::RestartCalibration => self.manager.restart(),
+        }
+        Ok(())
+    }
+
+    /// One minor frame (module docs). Never fails: every fault is handled, counted and
+    /// reported in the returned telemetry.
+    pub fn run_frame<I, S, G>(&mut self, imu: &mut I, star: &mut S, gnss: &mut G) -> FrameTelemetry
+    where
+        I: ImuPort,
+        S: StarSensorPort,
+        G: GnssPort,
+    {
+        self.frame = self.frame.wrapping_add(1);
+        self.navigate(imu.read());
+        self.record_snapshot();
+        if self.sums.frames >= self.config.covariance.propagation_interval_frames {
+            self.propagate_covariance();
+        }
+        self.poll_measurements(star, gnss);
+        let fusion = self.fuse_one_due_measurement();
+        if fusion == FrameFusion::None {
+            self.inflate_for_second_order_attitude();
+        }
+        self.evaluate_calibration();
+        self.telemetry(fusion)
+    }
+
+    /// The filter (error state and covariance).
+    pub fn filter(&self) -> &ErrorStateFilter {
+        &self.filter
+    }
+
+    /// The calibration table.
+    pub fn calibration_table(&self) -> &CalibrationTable {
+        self.manager.table()
+    }
+
+    /// The blocks frozen now.
+    pub fn frozen_blocks(&self) -> BlockMask {
+        self.manager.frozen_blocks()
+    }
+
+    /// The health counters.
+    pub fn health(&self) -> &HealthCounters {
+        &self.health
+    }
+
+    /// Measurements received and waiting to be fused (star and GNSS queues; a GNSS fix whose
+    /// velocity is fused and whose position waits counts once): with the fusions and the
+    /// health counters, every measurement received is accounted for.
+    pub fn queued_measurements(&self) -> usize {
+        self.star_queue
+            .len()
+            .saturating_add(self.gnss_queue.len())
+            .saturating_add(usize::from(self.pending_gnss_position.is_some()))
+    }
+
+    /// The launch-inertial frame in use.
+    pub fn launch_frame(&self) -> &LaunchFrame {
+        &self.launch_frame
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &FswConfig {
+        &self.config
+    }
+}

@@ -1,0 +1,156 @@
+//! The IMU step of a frame: input check, zero-order hold, closed-loop sensor corrections and
+//! one strapdown step; the covariance grows for a held sample.
+
+use super::*;
+
+pub(super) fn sensor_corrections(calibration: &CalibrationEstimate) -> SensorCorrections {
+    SensorCorrections {
+        gyro_bias_rad_s: Vector3::from(calibration.gyro_bias_rad_s),
+        accel_bias_mps2: Vector3::from(calibration.accel_bias_mps2),
+        gyro_scale_factor: Vector3::from(calibration.gyro_scale_factor),
+        accel_scale_factor: Vector3::from(calibration.accel_scale_factor),
+    }
+}
+
+impl NavigationComputer {
+    pub(super) fn navigate(&mut self, sample: Option<ports::ImuSample>) {
+        let period_s = self.config.imu.period_s;
+        let mut saturated = false;
+        let checked = match sample {
+            None => {
+                count(&mut self.health.imu_missing);
+                self.frames_without_sample = self.frames_without_sample.saturating_add(1);
+                None
+            }
+            Some(sample) => {
+                let result = self.imu_checker.check(&sample);
+                match result {
+                    Ok(continuity) => {
+                        // Gaps already counted frame by frame are not counted twice.
+                        let unseen = continuity
+                            .missing_samples
+                            .saturating_sub(self.frames_without_sample);
+                        self.health.imu_missing = self.health.imu_missing.saturating_add(unseen);
+                        Some(sample)
+                    }
+                    Err(ImuFault::TimeJump) => {
+                        // The increments are sound; only the time tag is wrong. Navigation
+                        // time is frame-driven, so the sample is used.
+                        count(&mut self.health.imu_time_jump);
+                        Some(sample)
+                    }
+                    Err(ImuFault::NonFinite) => {
+                        count(&mut self.health.imu_non_finite);
+                        None
+                    }
+                    Err(ImuFault::Saturated) => {
+                        count(&mut self.health.imu_saturated);
+                        saturated = true;
+                        None
+                    }
+                    Err(ImuFault::Duplicate) => {
+                        count(&mut self.health.imu_duplicate);
+                        None
+                    }
+                }
+            }
+        };
+        let held = match (&checked, &sample) {
+            (Some(_), _) => None,
+            (None, Some(raw)) if saturated => Some(self.saturation_sigma(raw)),
+            (None, _) => Some(self.config.covariance.held_sample),
+        };
+        self.inflate_for_held_sample(held);
+        let increment = match checked {
+            Some(sample) => {
+                self.frames_without_sample = 0;
+                let increment = ImuIncrement {
+                    delta_angle_rad: ports::vector(&sample.delta_angle_rad),
+                    delta_velocity_mps: ports::vector(&sample.delta_velocity_mps),
+                    interval_s: period_s,
+                };
+                self.last_increment = Some(increment);
+                increment
+            }
+            None => self.last_increment.unwrap_or(ImuIncrement {
+                delta_angle_rad: Vector3::zeros(),
+                delta_velocity_mps: Vector3::zeros(),
+                interval_s: period_s,
+            }),
+        };
+        let corrections = match self.filter.mode() {
+            FilterMode::ClosedLoop => sensor_corrections(&self.calibration),
+            FilterMode::OpenLoop => SensorCorrections::default(),
+        };
+        match self.strapdown.step(
+            &mut self.navigation,
+            &increment,
+            &corrections,
+            &self.launch_frame,
+        ) {
+            Ok(step) => self.sums.add(&step),
+            Err(_) => {
+                // nav-core left the solution untouched; time still advances with the frame.
+                count(&mut self.health.strapdown_failures);
+                self.navigation.time_s += period_s;
+            }
+        }
+    }
+
+    /// A saturated sample's error, channel by channel: at least the IMU's range on a channel
+    /// at or beyond full scale (the truth is beyond it by an unknown amount), the held-sample
+    /// σ on the other.
+    pub(super) fn saturation_sigma(&self, sample: &ports::ImuSample) -> HeldSampleUncertainty {
+        let (held, limits) = (self.config.covariance.held_sample, self.config.imu);
+        let at_full_scale = |values: &[f64; 3], range: f64| {
+            values
+                .iter()
+                .any(|value| value.abs() >= range * limits.period_s)
+        };
+        let gyro = at_full_scale(&sample.delta_angle_rad, limits.max_rate_rad_s);
+        let accelerometer =
+            at_full_scale(&sample.delta_velocity_mps, limits.max_specific_force_mps2);
+        HeldSampleUncertainty {
+            rate_rad_s: if gyro {
+                held.rate_rad_s.max(limits.max_rate_rad_s)
+            } else {
+                held.rate_rad_s
+            },
+            specific_force_mps2: if accelerometer {
+                held.specific_force_mps2.max(limits.max_specific_force_mps2)
+            } else {
+                held.specific_force_mps2
+            },
+        }
+    }
+
+    /// The covariance grows for what a held IMU sample may be wrong by
+    /// ([`HeldSampleUncertainty`]), coherently (nav-core `unmodelled`): the held error is the
+    /// same all gap long, so the 1σ grows as the number of held frames. Attitude states are
+    /// half-angles, so their σ is half the angle's.
+    pub(super) fn inflate_for_held_sample(&mut self, held: Option<HeldSampleUncertainty>) {
+        let Some(sigma) = held else {
+            self.held_attitude.restart();
+            self.held_velocity.restart();
+            return;
+        };
+        count(&mut self.health.imu_held_frames);
+        let period_s = self.config.imu.period_s;
+        let added = [
+            (
+                ATTITUDE,
+                self.held_attitude.grow(0.5 * sigma.rate_rad_s * period_s),
+            ),
+            (
+                VELOCITY,
+                self.held_velocity
+                    .grow(sigma.specific_force_mps2 * period_s),
+            ),
+        ];
+        for (block, variance) in added {
+            if self.filter.add_block_variance(block, variance).is_err() {
+                count(&mut self.health.filter_errors);
+            }
+        }
+    }
+}

@@ -1,0 +1,49 @@
+//! The navigation solution and the frame telemetry on the way out.
+
+use super::*;
+
+impl NavigationComputer {
+    /// The best navigation solution (open loop: `x` applied on the way out).
+    pub fn navigation(&self) -> NavigationState {
+        let mut navigation = self.navigation;
+        if self.filter.mode() == FilterMode::OpenLoop {
+            let mut calibration = self.calibration;
+            let mut corrected = navigation;
+            if apply_error_state(
+                self.filter.state(),
+                &mut corrected.attitude,
+                &mut corrected.position_m,
+                &mut corrected.velocity_mps,
+                &mut calibration,
+            )
+            .is_ok()
+            {
+                navigation = corrected;
+            }
+        }
+        navigation
+    }
+
+    pub(super) fn telemetry(&self, fusion: FrameFusion) -> FrameTelemetry {
+        let navigation = self.navigation();
+        let q = navigation.attitude;
+        FrameTelemetry {
+            frame: self.frame,
+            time_s: navigation.time_s,
+            attitude_wxyz: [q.w, q.i, q.j, q.k],
+            position_m: array3(&navigation.position_m),
+            velocity_mps: array3(&navigation.velocity_mps),
+            fusion,
+            last_star_nis: self.star.last_nis,
+            last_gnss_nis: self.gnss.last_nis,
+            last_gnss_velocity_nis: self.gnss_velocity.last_nis,
+            star_faulty: self.star.faulty,
+            gnss_faulty: self.gnss.faulty,
+            converged_blocks: self.manager.table().converged_count(),
+            frozen_blocks: self.manager.frozen_blocks().bits(),
+            health: self.health,
+            last_frame_cost: self.cost.last,
+            worst_frame_cost: self.cost.worst,
+        }
+    }
+}

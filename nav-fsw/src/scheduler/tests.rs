@@ -1,0 +1,166 @@
+use super::*;
+use nav_core::frames::LaunchSite;
+
+fn computer() -> NavigationComputer {
+    let site = LaunchSite {
+        latitude_rad: 0.715,
+        longitude_rad: 1.750,
+        height_m: 1000.0,
+        azimuth_rad: 3.316,
+        epoch_s: 0.0,
+    };
+    let initial = NavigationState {
+        attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
+        position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+        velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+        time_s: 600.0,
+    };
+    NavigationComputer::new(FswConfig::paper_defaults(site), initial).unwrap()
+}
+
+/// A snapshot read back equals the eager correction of the history: every correction
+/// fed back in its frame or later, in feedback order (rotations that do not commute),
+/// none from before it, across the frame counter's wrap.
+#[test]
+fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
+    let mut computer = computer();
+    let recorded = u32::MAX - 1;
+    let snapshot = Snapshot {
+        frame: recorded,
+        time_s: 1.0,
+        attitude: attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 0.3)),
+        position_m: Vector3::new(10.0, 20.0, 30.0),
+        velocity_mps: Vector3::new(1.0, 2.0, 3.0),
+    };
+    let rotation = |x: f64, y: f64| attitude::exp_rotation_vector(&Vector3::new(x, y, 0.0));
+    let corrections = [
+        // (frame, attitude, position): before the snapshot, in its frame, after the wrap.
+        (
+            recorded.wrapping_sub(1),
+            rotation(0.5, 0.0),
+            Vector3::new(100.0, 0.0, 0.0),
+        ),
+        (recorded, rotation(0.1, 0.0), Vector3::new(1.0, 0.0, 0.0)),
+        (
+            recorded.wrapping_add(3),
+            rotation(0.0, 0.2),
+            Vector3::new(0.0, 2.0, 0.0),
+        ),
+    ];
+    for (frame, attitude, position_m) in corrections {
+        computer
+            .corrections
+            .push_back(Correction {
+                frame,
+                attitude,
+                velocity_mps: position_m * 0.5,
+                position_m,
+            })
+            .unwrap();
+    }
+    computer.frame = recorded.wrapping_add(4);
+    let corrected = computer.corrected(&snapshot);
+    let mut eager = snapshot;
+    for (_, attitude, position_m) in &corrections[1..] {
+        eager.attitude = attitude::product(&eager.attitude, attitude);
+        eager.position_m += position_m;
+        eager.velocity_mps += position_m * 0.5;
+    }
+    assert_eq!(
+        corrected.attitude.coords.map(f64::to_bits),
+        eager.attitude.coords.map(f64::to_bits)
+    );
+    assert_eq!(
+        corrected.position_m.map(f64::to_bits),
+        eager.position_m.map(f64::to_bits)
+    );
+    // The order matters: the opposite order gives a different attitude.
+    let reversed = attitude::product(
+        &attitude::product(&snapshot.attitude, &corrections[2].1),
+        &corrections[1].1,
+    );
+    assert!((reversed.coords - corrected.attitude.coords).norm() > 1e-3);
+}
+
+/// The documented recovery: a covariance nav-core refuses to propagate (its products
+/// overflow) re-initialises the filter from the configured 1σ, once, counted; the
+/// navigation solution is kept.
+#[test]
+fn a_filter_that_cannot_be_propagated_is_reinitialised_once() {
+    use crate::replay::FramePorts;
+    let mut computer = computer();
+    let fresh = *computer.filter.covariance();
+    let huge = nav_core::discretise::CovarianceMatrix::from_element(f64::MAX);
+    computer.filter.set_covariance(&huge).unwrap();
+    let before = computer.navigation();
+    let mut ports = FramePorts::default();
+    ports.imu.0 = Some(crate::ports::ImuSample {
+        sequence: 1,
+        time_s: 600.002,
+        delta_angle_rad: [0.0; 3],
+        delta_velocity_mps: [0.0; 3],
+    });
+    ports.run(&mut computer);
+    assert_eq!(computer.health().filter_resets, 1);
+    assert_eq!(
+        computer.filter.covariance().map(f64::to_bits),
+        fresh.map(f64::to_bits)
+    );
+    assert!((computer.navigation().position_m - before.position_m).norm() < 100.0);
+}
+
+fn one_frame(computer: &mut NavigationComputer, sequence: u32) {
+    let mut ports = crate::replay::FramePorts::default();
+    ports.imu.0 = Some(crate::ports::ImuSample {
+        sequence,
+        time_s: 600.0 + 0.002 * f64::from(sequence),
+        delta_angle_rad: [0.0; 3],
+        delta_velocity_mps: [0.0; 3],
+    });
+    ports.run(computer);
+}
+
+/// A strapdown step nav-core refuses (the solution at the Earth's centre, where gravity
+/// is not finite) is counted and leaves the solution as it was, except that navigation
+/// time still advances by one frame.
+#[test]
+fn a_refused_strapdown_step_still_advances_time_by_one_frame() {
+    let mut computer = computer();
+    computer.navigation.position_m = *computer.launch_frame.earth_centre_launch_m();
+    computer.navigation.velocity_mps = Vector3::zeros();
+    let before = computer.navigation;
+    one_frame(&mut computer, 1);
+    assert_eq!(computer.health().strapdown_failures, 1);
+    let period = computer.config.imu.period_s;
+    assert_eq!(
+        computer.navigation.time_s.to_bits(),
+        (before.time_s + period).to_bits()
+    );
+    assert_eq!(
+        computer.navigation.position_m.map(f64::to_bits),
+        before.position_m.map(f64::to_bits)
+    );
+}
+
+/// Under the paper's schedule, a coast freezes every calibration block but the biases,
+/// and the computer reports exactly the set its telemetry carries.
+#[test]
+fn the_frozen_set_is_the_policy_s_for_the_phase() {
+    use crate::calibration_manager::{EstimationPolicy, ManoeuvrePhase};
+    use nav_core::state::{ACCEL_BIAS, GYRO_BIAS, GYRO_SCALE_FACTOR, STAR_INSTALLATION};
+    let mut config = computer().config;
+    config.calibration.policy = EstimationPolicy::PaperSchedule;
+    let initial = computer().navigation;
+    let mut computer = NavigationComputer::new(config, initial).unwrap();
+    computer
+        .command(Command::SetPhase(ManoeuvrePhase::Coast))
+        .unwrap();
+    one_frame(&mut computer, 1);
+    let frozen = computer.frozen_blocks();
+    assert!(!frozen.contains(GYRO_BIAS) && !frozen.contains(ACCEL_BIAS));
+    assert!(frozen.contains(GYRO_SCALE_FACTOR) && frozen.contains(STAR_INSTALLATION));
+    assert_eq!(
+        frozen.bits(),
+        computer.telemetry(FrameFusion::None).frozen_blocks
+    );
+}
