@@ -44,7 +44,7 @@
 //! # Ok::<(), nav_fsw::FswError>(())
 //! ```
 #![cfg_attr(not(test), no_std)]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![cfg_attr(
     not(test),
     deny(

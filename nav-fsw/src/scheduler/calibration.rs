@@ -63,7 +63,10 @@ impl NavigationComputer {
             b if b == STAR_INSTALLATION => {
                 let [w, x, y, z] = c.star_installation_wxyz;
                 let vector = attitude::log_rotation_vector(&Quaternion::new(w, x, y, z));
-                (array3(&vector), array3(&(variance * 4.0)))
+                (
+                    array3(&vector),
+                    array3(&(variance * ANGLE_VARIANCE_PER_HALF_ANGLE_VARIANCE)),
+                )
             }
             b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&variance)),
             b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&variance)),

@@ -3,43 +3,6 @@
 
 use super::*;
 
-/// Gate statistics and fault state of one aiding sensor.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(super) struct AidingSensor {
-    pub(super) consecutive_rejections: u32,
-    pub(super) faulty: bool,
-    pub(super) last_nis: f64,
-}
-
-/// The aiding measurements, one routine each for forming them and one shared path for
-/// referral, update and fault handling.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Aid {
-    Star,
-    GnssPosition,
-    GnssVelocity,
-}
-
-impl Aid {
-    /// Telemetry of an accepted or rejected measurement.
-    pub(super) const fn fusion(self, accepted: bool) -> FrameFusion {
-        match (self, accepted) {
-            (Aid::Star, true) => FrameFusion::StarAccepted,
-            (Aid::Star, false) => FrameFusion::StarRejected,
-            (Aid::GnssPosition, true) => FrameFusion::GnssAccepted,
-            (Aid::GnssPosition, false) => FrameFusion::GnssRejected,
-            (Aid::GnssVelocity, true) => FrameFusion::GnssVelocityAccepted,
-            (Aid::GnssVelocity, false) => FrameFusion::GnssVelocityRejected,
-        }
-    }
-
-    /// Whether the measurement comes from the star sensor (else the GNSS receiver, whose
-    /// position and velocity share one fault state).
-    pub(super) const fn is_star(self) -> bool {
-        matches!(self, Aid::Star)
-    }
-}
-
 impl NavigationComputer {
     pub(super) fn installation_estimate(&self) -> Quaternion<f64> {
         ports::quaternion(&self.calibration.star_installation_wxyz)
@@ -50,7 +13,7 @@ impl NavigationComputer {
             return FrameFusion::None;
         };
         let (aid, tag) = (due.aid(), due.time_tag_s());
-        if self.fault_state(aid).faulty {
+        if self.fault_state(aid.sensor()).faulty {
             count(&mut self.health.ignored_from_faulty_sensor);
             return aid.fusion(false);
         }
@@ -159,7 +122,7 @@ impl NavigationComputer {
         let Some(point) = self.last_point else {
             return Ok(());
         };
-        if latency_s <= 1e-6 * self.config.imu.period_s {
+        if latency_s <= SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s {
             return Ok(());
         }
         match self.arithmetic {
@@ -184,11 +147,7 @@ impl NavigationComputer {
         measurement: &LinearMeasurement,
         aid: Aid,
     ) -> Result<nav_core::filter::InnovationReport, NavError> {
-        let gate = match aid {
-            Aid::Star => self.config.star.gate_nis,
-            Aid::GnssPosition => self.config.gnss.gate_nis,
-            Aid::GnssVelocity => self.config.gnss.velocity_gate_nis,
-        };
+        let gate = self.gate_nis(aid);
         let frozen = self.manager.frozen_blocks();
         match self.arithmetic {
             FilterArithmetic::Structured => {
@@ -214,30 +173,20 @@ impl NavigationComputer {
             }
             Ok(report) => report,
         };
-        let statistics = match aid {
-            Aid::Star => &mut self.star,
-            Aid::GnssPosition => &mut self.gnss,
-            Aid::GnssVelocity => &mut self.gnss_velocity,
-        };
-        statistics.last_nis = report.normalised_innovation_squared;
+        self.statistics(aid).last_nis = report.normalised_innovation_squared;
         if aid == Aid::GnssPosition {
             self.observe_whiteness(&report);
         }
         if report.accepted {
-            self.fault_state(aid).consecutive_rejections = 0;
-            if aid.is_star() {
+            self.fault_state(aid.sensor()).consecutive_rejections = 0;
+            if aid.measures_attitude() {
                 self.restart_second_order_attitude();
             }
             if self.filter.mode() == FilterMode::ClosedLoop {
                 self.feed_back();
             }
         } else {
-            let counter = match aid {
-                Aid::Star => &mut self.health.star_gate_rejections,
-                Aid::GnssPosition => &mut self.health.gnss_gate_rejections,
-                Aid::GnssVelocity => &mut self.health.gnss_velocity_gate_rejections,
-            };
-            count(counter);
+            count(self.gate_rejections(aid));
             self.note_rejection(aid);
         }
         aid.fusion(report.accepted)
@@ -255,30 +204,6 @@ impl NavigationComputer {
         );
         if began {
             count(&mut self.health.gnss_innovations_correlated);
-        }
-    }
-
-    /// The fault state of the sensor behind `aid` (GNSS position and velocity share the
-    /// receiver's).
-    pub(super) fn fault_state(&mut self, aid: Aid) -> &mut AidingSensor {
-        if aid.is_star() {
-            &mut self.star
-        } else {
-            &mut self.gnss
-        }
-    }
-
-    pub(super) fn note_rejection(&mut self, aid: Aid) {
-        let limit = self.config.timing.rejections_to_declare_faulty;
-        let (sensor, declarations) = if aid.is_star() {
-            (&mut self.star, &mut self.health.star_declared_faulty)
-        } else {
-            (&mut self.gnss, &mut self.health.gnss_declared_faulty)
-        };
-        sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
-        if !sensor.faulty && sensor.consecutive_rejections >= limit {
-            sensor.faulty = true;
-            count(declarations);
         }
     }
 }

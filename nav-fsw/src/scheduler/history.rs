@@ -87,7 +87,7 @@ impl NavigationComputer {
     /// newest frame, where most measurements fall (the frame times increase, so the match
     /// or the bracketing pair is the one a search from the oldest would find).
     pub(super) fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
-        let tolerance = 1e-6 * self.config.imu.period_s;
+        let tolerance = SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s;
         let mut later: Option<&Snapshot> = None;
         for snapshot in self.history.iter().rev() {
             if (snapshot.time_s - time_s).abs() <= tolerance {

@@ -73,7 +73,7 @@ impl NavigationComputer {
                         timing.future_tolerance_s,
                     );
                     if let Err(refusal) = pushed {
-                        self.count_refusal(refusal, true);
+                        self.count_refusal(refusal, Sensor::Star);
                     }
                 }
             }
@@ -94,7 +94,7 @@ impl NavigationComputer {
                         timing.future_tolerance_s,
                     );
                     if let Err(refusal) = pushed {
-                        self.count_refusal(refusal, false);
+                        self.count_refusal(refusal, Sensor::Gnss);
                     }
                 }
             }
@@ -133,17 +133,6 @@ impl NavigationComputer {
             velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
             has_velocity: velocity_mps.is_some(),
         })
-    }
-
-    pub(super) fn count_refusal(&mut self, refusal: BufferRefusal, is_star: bool) {
-        let counter = match (refusal, is_star) {
-            (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
-            (BufferRefusal::Future, _) => &mut self.health.measurement_future,
-            (BufferRefusal::Overflow, _) => &mut self.health.measurement_overflow,
-            (BufferRefusal::NonFinite, true) => &mut self.health.star_non_finite,
-            (BufferRefusal::NonFinite, false) => &mut self.health.gnss_non_finite,
-        };
-        count(counter);
     }
 
     pub(super) fn next_due(&mut self) -> Option<Due> {

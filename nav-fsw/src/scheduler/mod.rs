@@ -69,6 +69,7 @@ use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
 use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
 
+mod aid;
 mod arithmetic;
 mod calibration;
 mod covariance;
@@ -77,15 +78,28 @@ mod history;
 mod intake;
 mod navigate;
 mod outputs;
+mod start;
 #[cfg(test)]
 mod tests;
 
+use aid::{Aid, AidingSensor, Sensor};
 pub use arithmetic::FilterArithmetic;
 use arithmetic::{dense_predict, dense_referral, dense_reset, dense_update};
 use covariance::PropagationSums;
-use fusion::{Aid, AidingSensor};
 use history::{Correction, Snapshot};
 use intake::{Due, GnssQueued};
+
+/// Two times closer than this fraction of the IMU period are the same instant: the round-off
+/// of frame times accumulated over a flight stays far below it, and the nearest distinct
+/// time (the next frame) is a million times farther.
+const SAME_INSTANT_FRACTION_OF_PERIOD: f64 = 1e-6;
+
+/// The attitude and star-installation error states are half-angles (the vector part of a
+/// small rotation's quaternion, nav-core `state`): a rotation angle's 1σ is twice the
+/// state's.
+const HALF_ANGLE_PER_ANGLE: f64 = 0.5;
+/// A rotation angle's variance per variance of its half-angle state.
+const ANGLE_VARIANCE_PER_HALF_ANGLE_VARIANCE: f64 = 4.0;
 
 /// Most measurements taken from one port in one frame (the rest wait in the port).
 pub const MAX_POLLS_PER_FRAME: usize = 4;
@@ -190,74 +204,6 @@ fn array3(vector: &Vector3<f64>) -> [f64; 3] {
 }
 
 impl NavigationComputer {
-    /// The flight software at start: the given navigation solution, `x = 0`, `P` from the
-    /// configured initial 1σ, no calibration (zero corrections).
-    ///
-    /// # Errors
-    /// [`FswError::InvalidConfiguration`] for a bad configuration (named field) or a
-    /// non-finite / non-unit initial navigation state.
-    pub fn new(config: FswConfig, initial: NavigationState) -> Result<Self, FswError> {
-        config.validate()?;
-        let attitude_norm = initial.attitude.norm();
-        let finite = attitude::all_finite3(&initial.position_m)
-            && attitude::all_finite3(&initial.velocity_mps)
-            && initial.time_s.is_finite();
-        if !(finite && attitude_norm.is_finite() && (attitude_norm - 1.0).abs() < 1e-9) {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::InitialNavigation,
-            ));
-        }
-        let floors = ErrorStateFilter::new(&FilterConfig {
-            initial: config.covariance.sigma_floor,
-            ..config.filter
-        })?;
-        let initial_filter = ErrorStateFilter::new(&config.filter)?;
-        let ceiling_factor = config.covariance.sigma_ceiling_factor;
-        let launch_frame = LaunchFrame::new(&config.launch_site)
-            .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))?;
-        let mut computer = Self {
-            config,
-            launch_frame,
-            strapdown: Strapdown::new(config.strapdown),
-            navigation: initial,
-            filter: initial_filter,
-            calibration: CalibrationEstimate::default(),
-            manager: CalibrationManager::new(config.calibration)?,
-            imu_checker: ImuChecker::new(config.imu)?,
-            last_increment: None,
-            frames_without_sample: 0,
-            history: Deque::new(),
-            corrections: Deque::new(),
-            star_queue: MeasurementBuffer::new(),
-            gnss_queue: MeasurementBuffer::new(),
-            pending_gnss_position: None,
-            held_attitude: CoherentGrowth::default(),
-            held_velocity: CoherentGrowth::default(),
-            second_order_attitude: CoherentGrowth::default(),
-            second_order_rate_rad_s: Vector3::zeros(),
-            second_order_pending_s: 0.0,
-            last_star: None,
-            star: AidingSensor::default(),
-            gnss: AidingSensor::default(),
-            gnss_velocity: AidingSensor::default(),
-            star_outage: OutageMonitor::default(),
-            gnss_outage: OutageMonitor::default(),
-            gnss_whiteness: WhitenessMonitor::default(),
-            sums: PropagationSums::EMPTY,
-            last_point: None,
-            model: StructuredModel::EMPTY,
-            variance_floor: floors.covariance().diagonal(),
-            variance_ceiling: initial_filter.covariance().diagonal()
-                * (ceiling_factor * ceiling_factor),
-            health: HealthCounters::default(),
-            cost: FrameCostMonitor::new(u32::MAX),
-            frame: 0,
-            arithmetic: FilterArithmetic::Structured,
-        };
-        computer.record_snapshot();
-        Ok(computer)
-    }
-
     /// Selects the filter arithmetic (default: structured, the flight path); the dense
     /// reference is for cost and equality comparisons.
     pub fn set_arithmetic(&mut self, arithmetic: FilterArithmetic) {

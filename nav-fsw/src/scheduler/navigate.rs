@@ -13,56 +13,14 @@ pub(super) fn sensor_corrections(calibration: &CalibrationEstimate) -> SensorCor
 }
 
 impl NavigationComputer {
+    /// One strapdown step with the frame's IMU sample, or with the last good increment held
+    /// when the sample is missing or refused (the covariance grows for the held error).
     pub(super) fn navigate(&mut self, sample: Option<ports::ImuSample>) {
         let period_s = self.config.imu.period_s;
-        let mut saturated = false;
-        let checked = match sample {
-            None => {
-                count(&mut self.health.imu_missing);
-                self.frames_without_sample = self.frames_without_sample.saturating_add(1);
-                None
-            }
-            Some(sample) => {
-                let result = self.imu_checker.check(&sample);
-                match result {
-                    Ok(continuity) => {
-                        // Gaps already counted frame by frame are not counted twice.
-                        let unseen = continuity
-                            .missing_samples
-                            .saturating_sub(self.frames_without_sample);
-                        self.health.imu_missing = self.health.imu_missing.saturating_add(unseen);
-                        Some(sample)
-                    }
-                    Err(ImuFault::TimeJump) => {
-                        // The increments are sound; only the time tag is wrong. Navigation
-                        // time is frame-driven, so the sample is used.
-                        count(&mut self.health.imu_time_jump);
-                        Some(sample)
-                    }
-                    Err(ImuFault::NonFinite) => {
-                        count(&mut self.health.imu_non_finite);
-                        None
-                    }
-                    Err(ImuFault::Saturated) => {
-                        count(&mut self.health.imu_saturated);
-                        saturated = true;
-                        None
-                    }
-                    Err(ImuFault::Duplicate) => {
-                        count(&mut self.health.imu_duplicate);
-                        None
-                    }
-                }
-            }
-        };
-        let held = match (&checked, &sample) {
-            (Some(_), _) => None,
-            (None, Some(raw)) if saturated => Some(self.saturation_sigma(raw)),
-            (None, _) => Some(self.config.covariance.held_sample),
-        };
-        self.inflate_for_held_sample(held);
+        let checked = self.check_sample(sample);
+        self.inflate_for_held_sample(checked.err());
         let increment = match checked {
-            Some(sample) => {
+            Ok(sample) => {
                 self.frames_without_sample = 0;
                 let increment = ImuIncrement {
                     delta_angle_rad: ports::vector(&sample.delta_angle_rad),
@@ -72,7 +30,7 @@ impl NavigationComputer {
                 self.last_increment = Some(increment);
                 increment
             }
-            None => self.last_increment.unwrap_or(ImuIncrement {
+            Err(_) => self.last_increment.unwrap_or(ImuIncrement {
                 delta_angle_rad: Vector3::zeros(),
                 delta_velocity_mps: Vector3::zeros(),
                 interval_s: period_s,
@@ -93,6 +51,48 @@ impl NavigationComputer {
                 // nav-core left the solution untouched; time still advances with the frame.
                 count(&mut self.health.strapdown_failures);
                 self.navigation.time_s += period_s;
+            }
+        }
+    }
+
+    /// The frame's sample after its input check (counted by fault): `Ok` to use it, `Err`
+    /// with what the held increment may be wrong by when it is missing or refused.
+    fn check_sample(
+        &mut self,
+        sample: Option<ports::ImuSample>,
+    ) -> Result<ports::ImuSample, HeldSampleUncertainty> {
+        let held = self.config.covariance.held_sample;
+        let Some(sample) = sample else {
+            count(&mut self.health.imu_missing);
+            self.frames_without_sample = self.frames_without_sample.saturating_add(1);
+            return Err(held);
+        };
+        match self.imu_checker.check(&sample) {
+            Ok(continuity) => {
+                // Gaps already counted frame by frame are not counted twice.
+                let unseen = continuity
+                    .missing_samples
+                    .saturating_sub(self.frames_without_sample);
+                self.health.imu_missing = self.health.imu_missing.saturating_add(unseen);
+                Ok(sample)
+            }
+            Err(ImuFault::TimeJump) => {
+                // The increments are sound; only the time tag is wrong. Navigation time is
+                // frame-driven, so the sample is used.
+                count(&mut self.health.imu_time_jump);
+                Ok(sample)
+            }
+            Err(ImuFault::NonFinite) => {
+                count(&mut self.health.imu_non_finite);
+                Err(held)
+            }
+            Err(ImuFault::Saturated) => {
+                count(&mut self.health.imu_saturated);
+                Err(self.saturation_sigma(&sample))
+            }
+            Err(ImuFault::Duplicate) => {
+                count(&mut self.health.imu_duplicate);
+                Err(held)
             }
         }
     }
@@ -139,7 +139,8 @@ impl NavigationComputer {
         let added = [
             (
                 ATTITUDE,
-                self.held_attitude.grow(0.5 * sigma.rate_rad_s * period_s),
+                self.held_attitude
+                    .grow(HALF_ANGLE_PER_ANGLE * sigma.rate_rad_s * period_s),
             ),
             (
                 VELOCITY,

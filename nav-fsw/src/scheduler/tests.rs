@@ -1,21 +1,27 @@
 use super::*;
 use nav_core::frames::LaunchSite;
 
-fn computer() -> NavigationComputer {
-    let site = LaunchSite {
+fn site() -> LaunchSite {
+    LaunchSite {
         latitude_rad: 0.715,
         longitude_rad: 1.750,
         height_m: 1000.0,
         azimuth_rad: 3.316,
         epoch_s: 0.0,
-    };
-    let initial = NavigationState {
+    }
+}
+
+fn initial_state() -> NavigationState {
+    NavigationState {
         attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
         position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
         velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
         time_s: 600.0,
-    };
-    NavigationComputer::new(FswConfig::paper_defaults(site), initial).unwrap()
+    }
+}
+
+fn computer() -> NavigationComputer {
+    NavigationComputer::new(FswConfig::paper_defaults(site()), initial_state()).unwrap()
 }
 
 /// A snapshot read back equals the eager correction of the history: every correction
@@ -163,4 +169,43 @@ fn the_frozen_set_is_the_policy_s_for_the_phase() {
         frozen.bits(),
         computer.telemetry(FrameFusion::None).frozen_blocks
     );
+}
+
+/// A slot that held another computer (other site, other state, frames run) becomes exactly
+/// the computer `new` builds: a field left out of the in-place writes would keep the old
+/// value and show in the debug form.
+#[test]
+fn init_in_place_writes_every_field() {
+    let mut config = FswConfig::paper_defaults(LaunchSite {
+        latitude_rad: -0.3,
+        height_m: 20.0,
+        ..site()
+    });
+    config.covariance.sigma_ceiling_factor *= 2.0;
+    config.filter.initial.position_m *= 3.0;
+    let mut other = NavigationComputer::new(config, initial_state()).unwrap();
+    other.set_arithmetic(FilterArithmetic::DenseReference);
+    other.set_frame_budget(7);
+    for sequence in 1..=70 {
+        one_frame(&mut other, sequence);
+    }
+    other.report_frame_cost(11);
+    let mut slot = core::mem::MaybeUninit::new(other);
+    let expected = computer();
+    let built =
+        NavigationComputer::init_in_place(&mut slot, *expected.config(), initial_state()).unwrap();
+    assert_eq!(format!("{built:?}"), format!("{expected:?}"));
+}
+
+/// A refused configuration is refused in place as by value, with the same error.
+#[test]
+fn init_in_place_refuses_as_new_does() {
+    let mut slot = core::mem::MaybeUninit::uninit();
+    let mut config = *computer().config();
+    config.imu.period_s = f64::NAN;
+    let refused = NavigationComputer::init_in_place(&mut slot, config, initial_state());
+    let expected = NavigationComputer::new(config, initial_state());
+    let (refused, expected) = (refused.err(), expected.err());
+    assert!(refused.is_some());
+    assert_eq!(refused, expected);
 }

@@ -40,6 +40,8 @@ fn main() -> ! {
 /// manager, telemetry and the replay output record) over a few frames with a star
 /// measurement and a GNSS fix, inputs through `black_box`: all of it must be panic-free.
 fn scheduler_frames() {
+    use core::mem::MaybeUninit;
+
     use nalgebra::{Quaternion, Vector3};
     use nav_core::frames::LaunchSite;
     use nav_core::strapdown::NavigationState;
@@ -61,7 +63,15 @@ fn scheduler_frames() {
         velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
         time_s: 600.0,
     });
-    let Ok(mut computer) = NavigationComputer::new(FswConfig::paper_defaults(site), initial) else {
+    // In place in a static slot, as a flight image keeps it.
+    let Some(slot) =
+        cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())
+    else {
+        return;
+    };
+    let Ok(computer) =
+        NavigationComputer::init_in_place(slot, FswConfig::paper_defaults(site), initial)
+    else {
         defmt::error!("flight scheduler: configuration refused");
         return;
     };
@@ -87,10 +97,10 @@ fn scheduler_frames() {
                 velocity_ecef_mps: None,
             }));
         }
-        let telemetry = ports.run(&mut computer);
+        let telemetry = ports.run(computer);
         let words = black_box(output_words(
             &telemetry,
-            &computer,
+            computer,
             &AssemblyCounts {
                 measurements_dropped: ports.dropped,
                 ..AssemblyCounts::default()

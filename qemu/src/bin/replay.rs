@@ -18,6 +18,8 @@
 #![no_std]
 #![no_main]
 
+use core::mem::MaybeUninit;
+
 use cortex_m_rt::entry;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
 use nav_fsw::replay::{
@@ -228,15 +230,15 @@ fn main() -> ! {
     }
 }
 
-/// Builds the flight software into its static slot. Not inlined: the value is built in this
-/// function's frame, which is gone before the frame loop starts.
-#[inline(never)]
+/// Builds the flight software in place in its static slot: the stack holds only the
+/// construction's small parts, never the ~20 kB computer.
 fn start_flight_software(setup: &ReplaySetup) -> Option<&'static mut NavigationComputer> {
-    let Ok(computer) = NavigationComputer::new(setup.config(), setup.initial) else {
+    let slot = cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())?;
+    let started = NavigationComputer::init_in_place(slot, setup.config(), setup.initial);
+    if started.is_err() {
         defmt::error!("replay: configuration refused");
-        return None;
-    };
-    cortex_m::singleton!(: NavigationComputer = computer)
+    }
+    started.ok()
 }
 
 /// Worst frame cost reported so far (instructions).

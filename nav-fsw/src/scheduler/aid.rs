@@ -1,0 +1,124 @@
+//! The aiding measurements and the sensors behind them: every setting, statistic and counter
+//! that depends on the measurement is chosen here, by [`Aid`] or [`Sensor`], so fusion runs
+//! one path for all of them.
+
+use super::*;
+
+/// The aiding sensors, each with one fault state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Sensor {
+    /// The star sensor (attitude).
+    Star,
+    /// The GNSS receiver: its position and velocity share one fault state, since a receiver
+    /// fault spoils both.
+    Gnss,
+}
+
+/// The aiding measurements, one routine each for forming them and one shared path for
+/// referral, update and fault handling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Aid {
+    Star,
+    GnssPosition,
+    GnssVelocity,
+}
+
+impl Aid {
+    /// Telemetry of an accepted or rejected measurement.
+    pub(super) const fn fusion(self, accepted: bool) -> FrameFusion {
+        match (self, accepted) {
+            (Aid::Star, true) => FrameFusion::StarAccepted,
+            (Aid::Star, false) => FrameFusion::StarRejected,
+            (Aid::GnssPosition, true) => FrameFusion::GnssAccepted,
+            (Aid::GnssPosition, false) => FrameFusion::GnssRejected,
+            (Aid::GnssVelocity, true) => FrameFusion::GnssVelocityAccepted,
+            (Aid::GnssVelocity, false) => FrameFusion::GnssVelocityRejected,
+        }
+    }
+
+    /// The sensor the measurement comes from.
+    pub(super) const fn sensor(self) -> Sensor {
+        match self {
+            Aid::Star => Sensor::Star,
+            Aid::GnssPosition | Aid::GnssVelocity => Sensor::Gnss,
+        }
+    }
+
+    /// Whether the measurement observes the attitude directly: an accepted one bounds the
+    /// attitude error, so the second-order attitude growth starts again.
+    pub(super) const fn measures_attitude(self) -> bool {
+        matches!(self, Aid::Star)
+    }
+}
+
+/// Gate statistics and fault state of one aiding sensor.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct AidingSensor {
+    pub(super) consecutive_rejections: u32,
+    pub(super) faulty: bool,
+    pub(super) last_nis: f64,
+}
+
+impl NavigationComputer {
+    /// The χ² gate (normalised innovation squared) of `aid`.
+    pub(super) fn gate_nis(&self, aid: Aid) -> f64 {
+        match aid {
+            Aid::Star => self.config.star.gate_nis,
+            Aid::GnssPosition => self.config.gnss.gate_nis,
+            Aid::GnssVelocity => self.config.gnss.velocity_gate_nis,
+        }
+    }
+
+    /// The gate statistics of `aid` (the GNSS velocity keeps its own NIS).
+    pub(super) fn statistics(&mut self, aid: Aid) -> &mut AidingSensor {
+        match aid {
+            Aid::Star => &mut self.star,
+            Aid::GnssPosition => &mut self.gnss,
+            Aid::GnssVelocity => &mut self.gnss_velocity,
+        }
+    }
+
+    /// The gate-rejection counter of `aid`.
+    pub(super) fn gate_rejections(&mut self, aid: Aid) -> &mut u32 {
+        match aid {
+            Aid::Star => &mut self.health.star_gate_rejections,
+            Aid::GnssPosition => &mut self.health.gnss_gate_rejections,
+            Aid::GnssVelocity => &mut self.health.gnss_velocity_gate_rejections,
+        }
+    }
+
+    /// The fault state of `sensor`.
+    pub(super) fn fault_state(&mut self, sensor: Sensor) -> &mut AidingSensor {
+        match sensor {
+            Sensor::Star => &mut self.star,
+            Sensor::Gnss => &mut self.gnss,
+        }
+    }
+
+    /// One more rejection of `aid`'s sensor; after `timing.rejections_to_declare_faulty` in a
+    /// row the sensor is declared faulty (counted once per declaration).
+    pub(super) fn note_rejection(&mut self, aid: Aid) {
+        let limit = self.config.timing.rejections_to_declare_faulty;
+        let (sensor, declarations) = match aid.sensor() {
+            Sensor::Star => (&mut self.star, &mut self.health.star_declared_faulty),
+            Sensor::Gnss => (&mut self.gnss, &mut self.health.gnss_declared_faulty),
+        };
+        sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
+        if !sensor.faulty && sensor.consecutive_rejections >= limit {
+            sensor.faulty = true;
+            count(declarations);
+        }
+    }
+
+    /// Counts a measurement the queue of `sensor` refused.
+    pub(super) fn count_refusal(&mut self, refusal: BufferRefusal, sensor: Sensor) {
+        let counter = match (refusal, sensor) {
+            (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
+            (BufferRefusal::Future, _) => &mut self.health.measurement_future,
+            (BufferRefusal::Overflow, _) => &mut self.health.measurement_overflow,
+            (BufferRefusal::NonFinite, Sensor::Star) => &mut self.health.star_non_finite,
+            (BufferRefusal::NonFinite, Sensor::Gnss) => &mut self.health.gnss_non_finite,
+        };
+        count(counter);
+    }
+}

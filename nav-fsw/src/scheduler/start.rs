@@ -1,0 +1,196 @@
+//! Construction of the computer: in place into a caller's slot
+//! ([`NavigationComputer::init_in_place`]), so a flight image can keep the ~20 kB computer in
+//! a `static` and start up on a small stack, or by value ([`NavigationComputer::new`]), the
+//! same path followed by a move.
+//!
+//! The crate's only `unsafe` code is here: writing the fields of a `MaybeUninit` slot one by
+//! one needs raw pointers. Building the whole value first and moving it into the slot needs
+//! no `unsafe` but reserves several copies of it on the stack (tens of kilobytes on the
+//! target).
+#![allow(unsafe_code)]
+
+use core::mem::MaybeUninit;
+use core::ptr::addr_of_mut;
+
+use super::*;
+
+/// Largest distance of the initial attitude quaternion's norm from 1 that is accepted:
+/// round-off of a normalised quaternion stays far below it, a wrong convention or a
+/// non-normalised input far above.
+const UNIT_NORM_TOLERANCE: f64 = 1e-9;
+
+/// Every check of the configuration and the initial state that needs no member built, and
+/// the variance bounds of the covariance protection: the floors' and ceilings' diagonals.
+fn checked_bounds(
+    config: &FswConfig,
+    initial: &NavigationState,
+) -> Result<(ErrorState, ErrorState), FswError> {
+    config.validate()?;
+    let attitude_norm = initial.attitude.norm();
+    let finite = attitude::all_finite3(&initial.position_m)
+        && attitude::all_finite3(&initial.velocity_mps)
+        && initial.time_s.is_finite();
+    let unit = (attitude_norm - 1.0).abs() < UNIT_NORM_TOLERANCE;
+    if !(finite && attitude_norm.is_finite() && unit) {
+        return Err(FswError::InvalidConfiguration(
+            ConfigField::InitialNavigation,
+        ));
+    }
+    let variance_floor = initial_variances(&FilterConfig {
+        initial: config.covariance.sigma_floor,
+        ..config.filter
+    })?;
+    let ceiling_factor = config.covariance.sigma_ceiling_factor;
+    let variance_ceiling = initial_variances(&config.filter)? * (ceiling_factor * ceiling_factor);
+    Ok((variance_floor, variance_ceiling))
+}
+
+/// The diagonal of the initial `P` of a filter configured with `config`. Not inlined: the
+/// filter built for it (4.8 kB) lives in this function's frame only.
+#[inline(never)]
+fn initial_variances(config: &FilterConfig) -> Result<ErrorState, NavError> {
+    Ok(ErrorStateFilter::new(config)?.covariance().diagonal())
+}
+
+/// Builds the filter into its member of the slot. Not inlined: the filter is built by value
+/// (nav-core), and that 6 kB temporary lives in this function's frame only.
+#[inline(never)]
+fn build_filter(
+    slot: &mut MaybeUninit<ErrorStateFilter>,
+    config: &FilterConfig,
+) -> Result<(), NavError> {
+    // Copied from where nav-core built it: moving it out of the `Result` first would add a
+    // second 6 kB copy to the frame.
+    let built = ErrorStateFilter::new(config);
+    let filter = built.as_ref().map_err(|error| *error)?;
+    slot.write(*filter);
+    Ok(())
+}
+
+impl NavigationComputer {
+    /// The flight software at start, by value (see [`Self::init_in_place`] for a `static`).
+    ///
+    /// # Errors
+    /// As [`Self::init_in_place`].
+    pub fn new(config: FswConfig, initial: NavigationState) -> Result<Self, FswError> {
+        let mut slot = MaybeUninit::uninit();
+        Self::init_in_place(&mut slot, config, initial)?;
+        // SAFETY: `init_in_place` returned `Ok`, so it wrote every field of `slot`.
+        Ok(unsafe { slot.assume_init() })
+    }
+
+    /// The flight software at start, built in `slot`: the given navigation solution, `x = 0`,
+    /// `P` from the configured initial 1σ, no calibration (zero corrections). The large
+    /// members (filter, history, queues, model) are written into the slot field by field, so
+    /// start-up needs only a few kilobytes of stack whatever the computer's size; a flight
+    /// image passes a slot in a `static`.
+    ///
+    /// # Errors
+    /// [`FswError::InvalidConfiguration`] for a bad configuration (named field) or a
+    /// non-finite / non-unit initial navigation state. On an error the slot is still
+    /// uninitialised (some members may have been written; nothing reads them).
+    ///
+    /// # Examples
+    /// A computer in a `static` slot, run for one frame (a `Mutex` on the host; a flight
+    /// image takes its slot from `cortex_m::singleton!`, see `qemu/src/bin/replay.rs`):
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use nav_fsw::nalgebra::{Quaternion, Vector3};
+    /// use nav_fsw::nav_core::frames::LaunchSite;
+    /// use nav_fsw::nav_core::strapdown::NavigationState;
+    /// use nav_fsw::{FrameGnss, FrameImu, FrameStar, FswConfig, ImuSample, NavigationComputer};
+    ///
+    /// static SLOT: std::sync::Mutex<MaybeUninit<NavigationComputer>> =
+    ///     std::sync::Mutex::new(MaybeUninit::uninit());
+    /// let site = LaunchSite {
+    ///     latitude_rad: 40.958_f64.to_radians(),
+    ///     longitude_rad: 100.291_f64.to_radians(),
+    ///     height_m: 1000.0,
+    ///     azimuth_rad: 190.0_f64.to_radians(),
+    ///     epoch_s: 0.0,
+    /// };
+    /// let initial = NavigationState {
+    ///     attitude: Quaternion::identity(),
+    ///     position_m: Vector3::new(0.0, 500e3, 0.0),
+    ///     velocity_mps: Vector3::new(7600.0, 0.0, 0.0),
+    ///     time_s: 600.0,
+    /// };
+    /// let mut slot = SLOT.lock().unwrap();
+    /// let computer =
+    ///     NavigationComputer::init_in_place(&mut slot, FswConfig::paper_defaults(site), initial)?;
+    /// let mut imu = FrameImu(Some(ImuSample {
+    ///     sequence: 1,
+    ///     time_s: 600.002,
+    ///     delta_angle_rad: [0.0; 3],
+    ///     delta_velocity_mps: [0.0; 3],
+    /// }));
+    /// let telemetry =
+    ///     computer.run_frame(&mut imu, &mut FrameStar::default(), &mut FrameGnss::default());
+    /// assert_eq!(telemetry.frame, 1);
+    /// assert!((telemetry.time_s - 600.002).abs() < 1e-9);
+    /// # Ok::<(), nav_fsw::FswError>(())
+    /// ```
+    pub fn init_in_place(
+        slot: &mut MaybeUninit<Self>,
+        config: FswConfig,
+        initial: NavigationState,
+    ) -> Result<&mut Self, FswError> {
+        let (variance_floor, variance_ceiling) = checked_bounds(&config, &initial)?;
+        let computer = slot.as_mut_ptr();
+        // SAFETY: `computer` comes from a `&mut MaybeUninit<Self>`, so it is aligned, valid
+        // for writes of `Self` and not aliased. Each field is written once through
+        // `addr_of_mut!` and `write`, which create no reference to uninitialised memory and
+        // drop nothing; the filter is written through a `&mut MaybeUninit` of its field,
+        // which has no validity requirement. The members that can be refused are built first, so a refusal
+        // returns before the reference below is made; the writes name every field of `Self`
+        // (the test `init_in_place_writes_every_field` fails for one left out), so the slot
+        // is initialised when it is made.
+        unsafe {
+            let filter = addr_of_mut!((*computer).filter).cast::<MaybeUninit<ErrorStateFilter>>();
+            build_filter(&mut *filter, &config.filter)?;
+            let launch_frame = LaunchFrame::new(&config.launch_site)
+                .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))?;
+            addr_of_mut!((*computer).launch_frame).write(launch_frame);
+            let manager = CalibrationManager::new(config.calibration)?;
+            addr_of_mut!((*computer).manager).write(manager);
+            let imu_checker = ImuChecker::new(config.imu)?;
+            addr_of_mut!((*computer).imu_checker).write(imu_checker);
+            addr_of_mut!((*computer).config).write(config);
+            addr_of_mut!((*computer).strapdown).write(Strapdown::new(config.strapdown));
+            addr_of_mut!((*computer).navigation).write(initial);
+            addr_of_mut!((*computer).calibration).write(CalibrationEstimate::default());
+            addr_of_mut!((*computer).last_increment).write(None);
+            addr_of_mut!((*computer).frames_without_sample).write(0);
+            addr_of_mut!((*computer).history).write(Deque::new());
+            addr_of_mut!((*computer).corrections).write(Deque::new());
+            addr_of_mut!((*computer).star_queue).write(MeasurementBuffer::new());
+            addr_of_mut!((*computer).gnss_queue).write(MeasurementBuffer::new());
+            addr_of_mut!((*computer).pending_gnss_position).write(None);
+            addr_of_mut!((*computer).held_attitude).write(CoherentGrowth::default());
+            addr_of_mut!((*computer).held_velocity).write(CoherentGrowth::default());
+            addr_of_mut!((*computer).second_order_attitude).write(CoherentGrowth::default());
+            addr_of_mut!((*computer).second_order_rate_rad_s).write(Vector3::zeros());
+            addr_of_mut!((*computer).second_order_pending_s).write(0.0);
+            addr_of_mut!((*computer).last_star).write(None);
+            addr_of_mut!((*computer).star).write(AidingSensor::default());
+            addr_of_mut!((*computer).gnss).write(AidingSensor::default());
+            addr_of_mut!((*computer).gnss_velocity).write(AidingSensor::default());
+            addr_of_mut!((*computer).star_outage).write(OutageMonitor::default());
+            addr_of_mut!((*computer).gnss_outage).write(OutageMonitor::default());
+            addr_of_mut!((*computer).gnss_whiteness).write(WhitenessMonitor::default());
+            addr_of_mut!((*computer).sums).write(PropagationSums::EMPTY);
+            addr_of_mut!((*computer).last_point).write(None);
+            addr_of_mut!((*computer).model).write(StructuredModel::EMPTY);
+            addr_of_mut!((*computer).variance_floor).write(variance_floor);
+            addr_of_mut!((*computer).variance_ceiling).write(variance_ceiling);
+            addr_of_mut!((*computer).health).write(HealthCounters::default());
+            addr_of_mut!((*computer).cost).write(FrameCostMonitor::new(u32::MAX));
+            addr_of_mut!((*computer).frame).write(0);
+            addr_of_mut!((*computer).arithmetic).write(FilterArithmetic::Structured);
+        }
+        // SAFETY: every field was written above.
+        let computer = unsafe { slot.assume_init_mut() };
+        computer.record_snapshot();
+        Ok(computer)
+    }
+}
