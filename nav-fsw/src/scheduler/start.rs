@@ -19,51 +19,61 @@ use super::*;
 /// non-normalised input far above.
 const UNIT_NORM_TOLERANCE: f64 = 1e-9;
 
-/// Every check of the configuration and the initial state that needs no member built, and
-/// the variance bounds of the covariance protection: the floors' and ceilings' diagonals.
-fn checked_bounds(
-    config: &FswConfig,
-    initial: &NavigationState,
-) -> Result<(ErrorState, ErrorState), FswError> {
+/// The checks of the configuration and the initial state that need no member built. Not
+/// inlined, like the builders below, so the construction's own frame stays small.
+#[inline(never)]
+fn check(config: &FswConfig, initial: &NavigationState) -> Result<(), FswError> {
     config.validate()?;
     let attitude_norm = initial.attitude.norm();
     let finite = attitude::all_finite3(&initial.position_m)
         && attitude::all_finite3(&initial.velocity_mps)
         && initial.time_s.is_finite();
     let unit = (attitude_norm - 1.0).abs() < UNIT_NORM_TOLERANCE;
-    if !(finite && attitude_norm.is_finite() && unit) {
-        return Err(FswError::InvalidConfiguration(
+    if finite && attitude_norm.is_finite() && unit {
+        Ok(())
+    } else {
+        Err(FswError::InvalidConfiguration(
             ConfigField::InitialNavigation,
-        ));
+        ))
     }
-    let variance_floor = initial_variances(&FilterConfig {
+}
+
+/// Writes the variance bounds of the covariance protection: the diagonals of the initial `P`
+/// of the floors' and of the configured 1σ, the latter scaled by the ceiling factor squared.
+#[inline(never)]
+fn write_variance_bounds(
+    floor: &mut MaybeUninit<ErrorState>,
+    ceiling: &mut MaybeUninit<ErrorState>,
+    config: &FswConfig,
+) -> Result<(), NavError> {
+    floor.write(initial_variances(&FilterConfig {
         initial: config.covariance.sigma_floor,
         ..config.filter
-    })?;
+    })?);
     let ceiling_factor = config.covariance.sigma_ceiling_factor;
-    let variance_ceiling = initial_variances(&config.filter)? * (ceiling_factor * ceiling_factor);
-    Ok((variance_floor, variance_ceiling))
+    ceiling.write(initial_variances(&config.filter)? * (ceiling_factor * ceiling_factor));
+    Ok(())
 }
 
 /// The diagonal of the initial `P` of a filter configured with `config`. Not inlined: the
-/// filter built for it (4.8 kB) lives in this function's frame only.
+/// filter built for it (6 kB) lives in this function's frame only.
 #[inline(never)]
 fn initial_variances(config: &FilterConfig) -> Result<ErrorState, NavError> {
     Ok(ErrorStateFilter::new(config)?.covariance().diagonal())
 }
 
-/// Builds the filter into its member of the slot. Not inlined: the filter is built by value
-/// (nav-core), and that 6 kB temporary lives in this function's frame only.
+/// Builds one member into its field of the slot. Not inlined: the member's temporaries (the
+/// filter's are 6 kB) live in this function's frame only, one member at a time. The member
+/// is copied from where its constructor built it: moving it out of the `Result` first would
+/// add a second copy to the frame.
 #[inline(never)]
-fn build_filter(
-    slot: &mut MaybeUninit<ErrorStateFilter>,
-    config: &FilterConfig,
-) -> Result<(), NavError> {
-    // Copied from where nav-core built it: moving it out of the `Result` first would add a
-    // second 6 kB copy to the frame.
-    let built = ErrorStateFilter::new(config);
-    let filter = built.as_ref().map_err(|error| *error)?;
-    slot.write(*filter);
+fn build_into<T: Copy, E: Copy>(
+    field: &mut MaybeUninit<T>,
+    build: impl FnOnce() -> Result<T, E>,
+) -> Result<(), E> {
+    let built = build();
+    let member = built.as_ref().map_err(|error| *error)?;
+    field.write(*member);
     Ok(())
 }
 
@@ -130,31 +140,40 @@ impl NavigationComputer {
     /// assert!((telemetry.time_s - 600.002).abs() < 1e-9);
     /// # Ok::<(), nav_fsw::FswError>(())
     /// ```
+    #[inline(never)]
     pub fn init_in_place(
         slot: &mut MaybeUninit<Self>,
         config: FswConfig,
         initial: NavigationState,
     ) -> Result<&mut Self, FswError> {
-        let (variance_floor, variance_ceiling) = checked_bounds(&config, &initial)?;
+        check(&config, &initial)?;
         let computer = slot.as_mut_ptr();
         // SAFETY: `computer` comes from a `&mut MaybeUninit<Self>`, so it is aligned, valid
-        // for writes of `Self` and not aliased. Each field is written once through
-        // `addr_of_mut!` and `write`, which create no reference to uninitialised memory and
-        // drop nothing; the filter is written through a `&mut MaybeUninit` of its field,
-        // which has no validity requirement. The members that can be refused are built first, so a refusal
-        // returns before the reference below is made; the writes name every field of `Self`
-        // (the test `init_in_place_writes_every_field` fails for one left out), so the slot
-        // is initialised when it is made.
+        // for writes of `Self` and not aliased. Each field is written once, through
+        // `addr_of_mut!` and `write` (which create no reference to uninitialised memory and
+        // drop nothing) or through a `&mut MaybeUninit` of the field (which has no validity
+        // requirement). A refusal returns before the reference below is made; the writes
+        // name every field of `Self` (the test `init_in_place_writes_every_field` fails for
+        // one left out), so the slot is initialised when it is made.
         unsafe {
-            let filter = addr_of_mut!((*computer).filter).cast::<MaybeUninit<ErrorStateFilter>>();
-            build_filter(&mut *filter, &config.filter)?;
-            let launch_frame = LaunchFrame::new(&config.launch_site)
-                .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))?;
-            addr_of_mut!((*computer).launch_frame).write(launch_frame);
-            let manager = CalibrationManager::new(config.calibration)?;
-            addr_of_mut!((*computer).manager).write(manager);
-            let imu_checker = ImuChecker::new(config.imu)?;
-            addr_of_mut!((*computer).imu_checker).write(imu_checker);
+            write_variance_bounds(
+                &mut *addr_of_mut!((*computer).variance_floor).cast(),
+                &mut *addr_of_mut!((*computer).variance_ceiling).cast(),
+                &config,
+            )?;
+            build_into(&mut *addr_of_mut!((*computer).filter).cast(), || {
+                ErrorStateFilter::new(&config.filter)
+            })?;
+            build_into(&mut *addr_of_mut!((*computer).launch_frame).cast(), || {
+                LaunchFrame::new(&config.launch_site)
+                    .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))
+            })?;
+            build_into(&mut *addr_of_mut!((*computer).manager).cast(), || {
+                CalibrationManager::new(config.calibration)
+            })?;
+            build_into(&mut *addr_of_mut!((*computer).imu_checker).cast(), || {
+                ImuChecker::new(config.imu)
+            })?;
             addr_of_mut!((*computer).config).write(config);
             addr_of_mut!((*computer).strapdown).write(Strapdown::new(config.strapdown));
             addr_of_mut!((*computer).navigation).write(initial);
@@ -181,8 +200,6 @@ impl NavigationComputer {
             addr_of_mut!((*computer).sums).write(PropagationSums::EMPTY);
             addr_of_mut!((*computer).last_point).write(None);
             addr_of_mut!((*computer).model).write(StructuredModel::EMPTY);
-            addr_of_mut!((*computer).variance_floor).write(variance_floor);
-            addr_of_mut!((*computer).variance_ceiling).write(variance_ceiling);
             addr_of_mut!((*computer).health).write(HealthCounters::default());
             addr_of_mut!((*computer).cost).write(FrameCostMonitor::new(u32::MAX));
             addr_of_mut!((*computer).frame).write(0);

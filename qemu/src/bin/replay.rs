@@ -20,10 +20,11 @@
 
 use core::mem::MaybeUninit;
 
+use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
 use nav_fsw::replay::{
-    output_words, FrameAssembler, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
+    output_words, FrameAssembler, FrameGrid, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
 };
 use nav_fsw::scheduler::NavigationComputer;
 use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
@@ -69,6 +70,9 @@ impl LogStream {
     }
 }
 
+/// Reads and decodes the setup. Not inlined: its byte and word buffers (736 bytes) live in
+/// this function's frame only, not while the computer is built.
+#[inline(never)]
 fn read_setup(file: &mut HostFile) -> Option<ReplaySetup> {
     let mut bytes = [0_u8; SETUP_WORDS * 8];
     if read_full(file, &mut bytes) != bytes.len() {
@@ -91,28 +95,68 @@ fn main() -> ! {
     };
     // A stack overflow faults on the MPU guard instead of overwriting the statics.
     nav_qemu::stack::install_guard(&mut peripherals.MPU);
-    let Ok(mut input) = HostFile::open_read("replay-in.bin\0") else {
-        defmt::error!("replay: cannot open replay-in.bin");
+    let Some(started) = start() else {
         exit_failure()
     };
-    let Ok(mut output) = HostFile::create("replay-out.bin\0") else {
+    // Start-up (reading the setup, configuration checks, building the computer) is done:
+    // measure its stack peak, then repaint so the final figure is the replay loop's.
+    let start_up_stack = nav_qemu::stack::usage();
+    nav_qemu::stack::repaint_below_current_stack_pointer();
+    replay(started, peripherals.SYST, start_up_stack)
+}
+
+/// What start-up hands to the replay loop.
+struct Started {
+    computer: &'static mut NavigationComputer,
+    grid: FrameGrid,
+    input: HostFile,
+    output: HostFile,
+}
+
+/// Opens the files, reads the setup and the log header and builds the flight software. Not
+/// inlined: the setup lives in this function's frame only, not in the replay loop's.
+#[inline(never)]
+fn start() -> Option<Started> {
+    let Ok(mut input) = HostFile::open_read("replay-in.bin\0") else {
+        defmt::error!("replay: cannot open replay-in.bin");
+        return None;
+    };
+    let Ok(output) = HostFile::create("replay-out.bin\0") else {
         defmt::error!("replay: cannot create replay-out.bin");
-        exit_failure()
+        return None;
     };
     let Some(setup) = read_setup(&mut input) else {
         defmt::error!("replay: bad setup");
-        exit_failure()
+        return None;
     };
     let mut header = [0_u8; HEADER_SIZE];
     if read_full(&mut input, &mut header) != HEADER_SIZE || decode_header(&header).is_err() {
         defmt::error!("replay: bad log header");
-        exit_failure()
+        return None;
     }
     // The flight software's state and the I/O buffers are statics (as in an avionics image),
     // so static RAM holds the state and the stack measures only the call depth.
-    let Some(computer) = start_flight_software(&setup) else {
-        exit_failure()
-    };
+    let computer = start_flight_software(&setup)?;
+    Some(Started {
+        computer,
+        grid: setup.frame_grid(),
+        input,
+        output,
+    })
+}
+
+/// Replays the log through the computer frame by frame, writes the outputs and the stack
+/// figures and exits. Its own frame (the frame assembler, the output record) is separate from
+/// the start-up's, so start-up's stack peak is the computer's construction, not the loop's
+/// buffers.
+#[inline(never)]
+fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::StackUsage) -> ! {
+    let Started {
+        computer,
+        grid,
+        input,
+        mut output,
+    } = started;
     computer.set_frame_budget(FRAME_BUDGET_INSTRUCTIONS);
     let Some(log) = cortex_m::singleton!(: LogStream = LogStream {
         file: input,
@@ -122,7 +166,7 @@ fn main() -> ! {
     }) else {
         exit_failure()
     };
-    let Ok(mut assembler) = FrameAssembler::new(setup.frame_grid()) else {
+    let Ok(mut assembler) = FrameAssembler::new(grid) else {
         defmt::error!("replay: bad frame grid");
         exit_failure()
     };
@@ -136,13 +180,9 @@ fn main() -> ! {
     ) else {
         exit_failure()
     };
-    // Start-up (configuration checks, building the filter) is done: measure its stack peak,
-    // then repaint so the final figure is the cyclic flight path's.
-    let start_up_stack = nav_qemu::stack::usage();
-    nav_qemu::stack::repaint_below_current_stack_pointer();
     let mut frames = 0_u32;
     let mut log_ended = false;
-    let mut clock = FrameClock::start(peripherals.SYST);
+    let mut clock = FrameClock::start(systick);
     loop {
         // Assemble the next frame from the log (outside the measured frame); every ready
         // frame is taken before the next record is pushed.
