@@ -9,8 +9,8 @@
 //!
 //! # Examples
 //! A computer configured with the paper's defaults for a launch site, run for one 2 ms frame
-//! with the ready-made per-frame ports (a flight image keeps the computer in a `static`; see
-//! `qemu/src/bin/replay.rs`):
+//! with the ready-made per-frame ports (a flight image keeps the computer in a `static`, built
+//! there by [`NavigationComputer::init_in_place`]; see `qemu/src/bin/replay.rs`):
 //! ```
 //! use nav_fsw::nalgebra::{Quaternion, Vector3};
 //! use nav_fsw::nav_core::frames::LaunchSite;

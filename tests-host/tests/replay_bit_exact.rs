@@ -11,7 +11,7 @@
 
 use std::path::PathBuf;
 
-use nav_sim::target_replay::{replay_on_target, STACK_BUDGET_BYTES};
+use nav_sim::target_replay::{replay_on_target, STACK_BUDGET_BYTES, START_UP_STACK_BUDGET_BYTES};
 use nav_sim::Scenario;
 
 #[test]
@@ -46,6 +46,11 @@ fn default_scenario_replays_bit_for_bit_on_host_and_target() {
         report.stack.high_water_bytes <= STACK_BUDGET_BYTES,
         "stack high-water mark {} bytes above the budget of {STACK_BUDGET_BYTES}",
         report.stack.high_water_bytes
+    );
+    assert!(
+        report.stack.start_up_bytes <= START_UP_STACK_BUDGET_BYTES,
+        "start-up stack {} bytes above the budget of {START_UP_STACK_BUDGET_BYTES}",
+        report.stack.start_up_bytes
     );
     // The measurement is real: the flight path uses a stack, and the paint was found.
     assert!(report.stack.high_water_bytes > 1024);

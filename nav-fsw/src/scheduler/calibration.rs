@@ -33,12 +33,8 @@ impl NavigationComputer {
         let position_correction = block_of(&error, POSITION);
         let velocity_correction = block_of(&error, VELOCITY);
         if let Ok(correction) = attitude_correction {
-            // Snapshots are corrected when read ([`Self::corrected`]); a correction older
-            // than every snapshot is no longer needed, so the ring never loses one that is.
-            if self.corrections.is_full() {
-                self.corrections.pop_front();
-            }
-            let _ = self.corrections.push_back(Correction {
+            // Snapshots are corrected when read ([`History::corrected`]).
+            self.history.record_correction(Correction {
                 frame: self.frame,
                 attitude: correction,
                 position_m: position_correction,

@@ -5,7 +5,7 @@ use super::*;
 
 /// Navigation solution of one frame, kept for delayed fusion, as it was when recorded: the
 /// closed-loop corrections fed back since then are applied when it is read
-/// ([`NavigationComputer::corrected`]).
+/// ([`History::corrected`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Snapshot {
     /// Frame counter when recorded.
@@ -37,30 +37,58 @@ pub(super) fn interpolate_attitude(
     attitude::product(q0, &attitude::exp_rotation_vector(&(relative * s)))
 }
 
-impl NavigationComputer {
-    pub(super) fn record_snapshot(&mut self) {
-        if self.history.is_full() {
-            self.history.pop_front();
+/// The navigation solutions of the last [`HISTORY_CAPACITY`] frames and the closed-loop
+/// feedbacks of the same frames (at most one per frame). A feedback is applied to a snapshot
+/// when the snapshot is read: correcting all 64 snapshots at every feedback costs about 2,000
+/// instructions on the target.
+#[derive(Debug, Clone)]
+pub(super) struct History {
+    snapshots: Deque<Snapshot, HISTORY_CAPACITY>,
+    corrections: Deque<Correction, HISTORY_CAPACITY>,
+}
+
+impl History {
+    /// No snapshot and no correction.
+    pub(super) const fn new() -> Self {
+        Self {
+            snapshots: Deque::new(),
+            corrections: Deque::new(),
+        }
+    }
+
+    /// Records the navigation solution of frame `frame`, in place of the oldest when full.
+    pub(super) fn record(&mut self, frame: u32, navigation: &NavigationState) {
+        if self.snapshots.is_full() {
+            self.snapshots.pop_front();
         }
         // Cannot fail after the pop above; a refusal would only lose the oldest entry.
-        let _ = self.history.push_back(Snapshot {
-            frame: self.frame,
-            time_s: self.navigation.time_s,
-            attitude: self.navigation.attitude,
-            position_m: self.navigation.position_m,
-            velocity_mps: self.navigation.velocity_mps,
+        let _ = self.snapshots.push_back(Snapshot {
+            frame,
+            time_s: navigation.time_s,
+            attitude: navigation.attitude,
+            position_m: navigation.position_m,
+            velocity_mps: navigation.velocity_mps,
         });
     }
 
+    /// Keeps a feedback for the snapshots recorded up to its frame. One older than every
+    /// snapshot is no longer needed, so dropping the oldest when full never loses one that is.
+    pub(super) fn record_correction(&mut self, correction: Correction) {
+        if self.corrections.is_full() {
+            self.corrections.pop_front();
+        }
+        let _ = self.corrections.push_back(correction);
+    }
+
     /// `snapshot` with every correction fed back since it was recorded (in its frame or
-    /// later), in feedback order: the same arithmetic as correcting the whole history at
-    /// each feedback. Frame counters are compared by age (wrapping). The corrections are in
-    /// feedback order, so those to apply are the newest ones: counted from the back, then
-    /// applied oldest first (a measurement of the current frame needs none).
-    pub(super) fn corrected(&self, snapshot: &Snapshot) -> Snapshot {
-        let snapshot_age = self.frame.wrapping_sub(snapshot.frame);
-        let applies =
-            |correction: &Correction| self.frame.wrapping_sub(correction.frame) <= snapshot_age;
+    /// later, `now` being the current frame), in feedback order: the same arithmetic as
+    /// correcting the whole history at each feedback. Frame counters are compared by age
+    /// (wrapping). The corrections are in feedback order, so those to apply are the newest
+    /// ones: counted from the back, then applied oldest first (a measurement of the current
+    /// frame needs none).
+    pub(super) fn corrected(&self, now: u32, snapshot: &Snapshot) -> Snapshot {
+        let snapshot_age = now.wrapping_sub(snapshot.frame);
+        let applies = |correction: &Correction| now.wrapping_sub(correction.frame) <= snapshot_age;
         let newer = self
             .corrections
             .iter()
@@ -82,27 +110,33 @@ impl NavigationComputer {
         corrected
     }
 
-    /// The navigation solution at `time_s`, interpolated between the two bracketing frames
-    /// of the history (both corrected first); `None` outside the history. Searched from the
-    /// newest frame, where most measurements fall (the frame times increase, so the match
-    /// or the bracketing pair is the one a search from the oldest would find).
-    pub(super) fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
-        let tolerance = SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s;
+    /// The navigation solution at `time_s` (`now` being the current frame), interpolated
+    /// between the two bracketing frames (both corrected first); a frame within
+    /// `tolerance_s` of `time_s` is taken as it is, and a time up to `future_tolerance_s`
+    /// after the newest frame takes the newest; `None` outside the history. Searched from the
+    /// newest frame, where most measurements fall (the frame times increase, so the match or
+    /// the bracketing pair is the one a search from the oldest would find).
+    pub(super) fn at(
+        &self,
+        now: u32,
+        time_s: f64,
+        tolerance_s: f64,
+        future_tolerance_s: f64,
+    ) -> Option<Snapshot> {
         let mut later: Option<&Snapshot> = None;
-        for snapshot in self.history.iter().rev() {
-            if (snapshot.time_s - time_s).abs() <= tolerance {
-                return Some(self.corrected(snapshot));
+        for snapshot in self.snapshots.iter().rev() {
+            if (snapshot.time_s - time_s).abs() <= tolerance_s {
+                return Some(self.corrected(now, snapshot));
             }
             if snapshot.time_s < time_s {
                 let Some(after) = later else {
                     // A tag a little after the newest frame (within the future tolerance,
                     // e.g. clock rounding) uses the newest frame.
                     let future_s = time_s - snapshot.time_s;
-                    return (future_s <= self.config.timing.future_tolerance_s)
-                        .then(|| self.corrected(snapshot));
+                    return (future_s <= future_tolerance_s).then(|| self.corrected(now, snapshot));
                 };
                 // `after` is later than `time_s`: it was neither a match nor earlier.
-                let (before, after) = (self.corrected(snapshot), self.corrected(after));
+                let (before, after) = (self.corrected(now, snapshot), self.corrected(now, after));
                 let s = (time_s - before.time_s) / (after.time_s - before.time_s);
                 return Some(Snapshot {
                     frame: after.frame,
@@ -116,5 +150,23 @@ impl NavigationComputer {
             later = Some(snapshot);
         }
         None
+    }
+}
+
+impl NavigationComputer {
+    /// Records the current navigation solution in the history.
+    pub(super) fn record_snapshot(&mut self) {
+        self.history.record(self.frame, &self.navigation);
+    }
+
+    /// The navigation solution at `time_s` from the history ([`History::at`]): frames closer
+    /// than [`SAME_INSTANT_FRACTION_OF_PERIOD`] of the IMU period are the same instant.
+    pub(super) fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
+        self.history.at(
+            self.frame,
+            time_s,
+            SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s,
+            self.config.timing.future_tolerance_s,
+        )
     }
 }

@@ -86,7 +86,7 @@ use aid::{Aid, AidingSensor, Sensor};
 pub use arithmetic::FilterArithmetic;
 use arithmetic::{dense_predict, dense_referral, dense_reset, dense_update};
 use covariance::PropagationSums;
-use history::{Correction, Snapshot};
+use history::{Correction, History, Snapshot};
 use intake::{Due, GnssQueued};
 
 /// Two times closer than this fraction of the IMU period are the same instant: the round-off
@@ -153,11 +153,7 @@ pub struct NavigationComputer {
     imu_checker: ImuChecker,
     last_increment: Option<ImuIncrement>,
     frames_without_sample: u32,
-    history: Deque<Snapshot, HISTORY_CAPACITY>,
-    /// The feedbacks of the last [`HISTORY_CAPACITY`] frames (at most one per frame), applied
-    /// to a snapshot when it is read: correcting all 64 snapshots at every feedback cost
-    /// ~2,000 instructions on the target.
-    corrections: Deque<Correction, HISTORY_CAPACITY>,
+    history: History,
     star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
     gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
     /// The position of the GNSS fix whose velocity was fused last frame (one update per

@@ -180,8 +180,7 @@ impl NavigationComputer {
             addr_of_mut!((*computer).calibration).write(CalibrationEstimate::default());
             addr_of_mut!((*computer).last_increment).write(None);
             addr_of_mut!((*computer).frames_without_sample).write(0);
-            addr_of_mut!((*computer).history).write(Deque::new());
-            addr_of_mut!((*computer).corrections).write(Deque::new());
+            addr_of_mut!((*computer).history).write(History::new());
             addr_of_mut!((*computer).star_queue).write(MeasurementBuffer::new());
             addr_of_mut!((*computer).gnss_queue).write(MeasurementBuffer::new());
             addr_of_mut!((*computer).pending_gnss_position).write(None);

@@ -54,18 +54,15 @@ fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
         ),
     ];
     for (frame, attitude, position_m) in corrections {
-        computer
-            .corrections
-            .push_back(Correction {
-                frame,
-                attitude,
-                velocity_mps: position_m * 0.5,
-                position_m,
-            })
-            .unwrap();
+        computer.history.record_correction(Correction {
+            frame,
+            attitude,
+            velocity_mps: position_m * 0.5,
+            position_m,
+        });
     }
     computer.frame = recorded.wrapping_add(4);
-    let corrected = computer.corrected(&snapshot);
+    let corrected = computer.history.corrected(computer.frame, &snapshot);
     let mut eager = snapshot;
     for (_, attitude, position_m) in &corrections[1..] {
         eager.attitude = attitude::product(&eager.attitude, attitude);
