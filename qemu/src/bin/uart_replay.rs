@@ -21,6 +21,7 @@
 #![no_main]
 
 use core::convert::Infallible;
+use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
@@ -210,15 +211,15 @@ fn counter_words(counters: &StreamCounters) -> [u64; 4] {
     ]
 }
 
-/// Builds the flight software into its static slot (not inlined: the value is built in this
-/// function's frame, gone before the frame loop starts).
-#[inline(never)]
+/// Builds the flight software in place in its static slot: the stack holds only the
+/// construction's small parts, never the computer.
 fn start_flight_software(setup: &ReplaySetup) -> Option<&'static mut NavigationComputer> {
-    let Ok(computer) = NavigationComputer::new(setup.config(), setup.initial) else {
+    let slot = cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())?;
+    let started = NavigationComputer::init_in_place(slot, setup.config(), setup.initial);
+    if started.is_err() {
         defmt::error!("uart replay: configuration refused");
-        return None;
-    };
-    cortex_m::singleton!(: NavigationComputer = computer)
+    }
+    started.ok()
 }
 
 #[panic_handler]
