@@ -31,6 +31,7 @@
 //! (nav-core `reset`), so `x = 0` whenever the filter predicts. Open loop (the paper): the
 //! navigation solution is never corrected; outputs apply `x` on the way out.
 
+// The scheduler's files share these imports through `use super::*`.
 use heapless::Deque;
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;

@@ -1,5 +1,5 @@
 //! Construction of the computer: in place into a caller's slot
-//! ([`NavigationComputer::init_in_place`]), so a flight image can keep the ~20 kB computer in
+//! ([`NavigationComputer::init_in_place`]), so a flight image can keep the 25 kB computer in
 //! a `static` and start up on a small stack, or by value ([`NavigationComputer::new`]), the
 //! same path followed by a move.
 //!

@@ -271,7 +271,7 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
 }
 
 /// Builds the flight software in place in its static slot: the stack holds only the
-/// construction's small parts, never the ~20 kB computer.
+/// construction's small parts, never the 25 kB computer.
 fn start_flight_software(setup: &ReplaySetup) -> Option<&'static mut NavigationComputer> {
     let slot = cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())?;
     let started = NavigationComputer::init_in_place(slot, setup.config(), setup.initial);
