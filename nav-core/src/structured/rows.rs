@@ -15,7 +15,7 @@
 
 use core::borrow::Borrow;
 
-use super::{StructuredModel, A, BA, BG, P, SA, SG, V};
+use super::{StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
 use crate::block::{Block, Row};
 use crate::discretise::CovarianceMatrix;
 use crate::state::STATE_DIMENSION;
@@ -192,19 +192,19 @@ fn attitude_row_of_f(model: &StructuredModel, i: usize) -> [f64; 6] {
 /// accelerometer rows), in the block kernel's term order.
 #[inline(never)]
 pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &mut ProjectedRows) {
-    let [g0, g1, g2] = folded_rows(p, BG, SG, model.measured_rate_rad_s);
-    let [a0, a1, a2] = folded_rows(p, BA, SA, model.measured_specific_force_mps2);
-    let (t0, t1, t2) = (row(p, A), row(p, A + 1), row(p, A + 2));
+    let [g0, g1, g2] = folded_rows(p, BIAS_G, SCALE_G, model.measured_rate_rad_s);
+    let [a0, a1, a2] = folded_rows(p, BIAS_A, SCALE_A, model.measured_specific_force_mps2);
+    let (t0, t1, t2) = (row(p, ATT), row(p, ATT + 1), row(p, ATT + 2));
     let dynamic_rows = [
         t0,
         t1,
         t2,
-        row(p, P),
-        row(p, P + 1),
-        row(p, P + 2),
-        row(p, V),
-        row(p, V + 1),
-        row(p, V + 2),
+        row(p, POS),
+        row(p, POS + 1),
+        row(p, POS + 2),
+        row(p, VEL),
+        row(p, VEL + 1),
+        row(p, VEL + 2),
         &g0,
         &g1,
         &g2,
@@ -234,9 +234,9 @@ pub(super) fn column_block(u: &ProjectedRows, column: usize) -> [Block; 3] {
             .unwrap_or([f64::NAN; 3])
     };
     [
-        [part(A), part(A + 1), part(A + 2)],
-        [part(P), part(P + 1), part(P + 2)],
-        [part(V), part(V + 1), part(V + 2)],
+        [part(ATT), part(ATT + 1), part(ATT + 2)],
+        [part(POS), part(POS + 1), part(POS + 2)],
+        [part(VEL), part(VEL + 1), part(VEL + 2)],
     ]
 }
 
