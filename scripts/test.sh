@@ -89,15 +89,24 @@ fi
 "$llvm_bin/llvm-size" "$checks_elf"
 
 step "panic-free flight build"
-(cd qemu && cargo build --release --bin flight --features panic-never)
+(cd qemu && cargo build --release --bin flight --no-default-features --features panic-never)
 echo "flight build links with no panic path"
-step "no recursion and no indirect call in the flight binary's call graph"
+step "the flight binary holds no dense reference, ground analysis or self-test code"
 flight_elf="$(cd "$(dirname "${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/flight")" && pwd)/flight"
+"$llvm_bin/llvm-nm" --demangle "$flight_elf" > target/flight.nm
+# The modules and functions each feature adds (nav-core `dense-reference`, `ground-analysis`,
+# `selftest`; nav-fsw `dense-reference`, `ground-analysis`).
+if grep -E 'nav_core::(selftest|observability|discretise::discretise|arithmetic::dense)|reset_dense|update_with_frozen_blocks|update_bordered_dense|measurement::refer_to_later_time::|MotionObservabilityTable::compute|ErrorStateFilter::predict::' target/flight.nm; then
+  echo "FAIL: the flight build compiles reference or ground-analysis code (symbols above)" >&2
+  exit 1
+fi
+echo "none of their symbols in the flight ELF ($(wc -l < target/flight.nm) symbols)"
+step "no recursion and no indirect call in the flight binary's call graph"
 "$llvm_bin/llvm-objdump" -d --no-show-raw-insn --mcpu=cortex-m7 "$flight_elf" > target/flight.dis
 NAV_FLIGHT_ELF="$flight_elf" NAV_FLIGHT_DISASSEMBLY="$root/target/flight.dis" \
   cargo test -p tests-host --test call_graph -- --include-ignored --nocapture
 step "panic-free build rejects a deliberately added panic path"
-if (cd qemu && cargo build --release --bin flight --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
+if (cd qemu && cargo build --release --bin flight --no-default-features --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
   echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
   exit 1
 fi
@@ -120,7 +129,7 @@ grep -q "HardFault" target/qemu/stack-guard.log
 grep -q "STACK depth 3072 KiB" target/qemu/stack-guard.log
 echo "as expected, the overflow faulted at the guard after using the whole stack region"
 step "flight build on QEMU"
-(cd qemu && cargo run --release --bin flight --features panic-never)
+(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never)
 
 step "bit-for-bit: host build vs Cortex-M7 build"
 NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \

@@ -4,10 +4,11 @@
 //! checks cost in QEMU). Not part of `cargo test`.
 
 use criterion::{criterion_main, BatchSize, Criterion};
-use nav_core::selftest::{FilterPathFixture, Implementation};
+use nav_core::arithmetic::FilterArithmetic;
+use nav_core::selftest::FilterPathFixture;
 use nav_core::NavError;
 
-type Operation = fn(&mut FilterPathFixture, Implementation) -> Result<(), NavError>;
+type Operation = fn(&mut FilterPathFixture, FilterArithmetic) -> Result<(), NavError>;
 
 /// A fixture a few frames into the sequence (non-trivial covariance).
 fn fixture() -> FilterPathFixture {
@@ -23,8 +24,8 @@ fn compare(criterion: &mut Criterion, name: &str, prepare: Operation, operation:
     let mut group = criterion.benchmark_group(name);
     let start = fixture();
     for (label, implementation) in [
-        ("structured", Implementation::Structured),
-        ("dense", Implementation::Dense),
+        ("structured", FilterArithmetic::Structured),
+        ("dense", FilterArithmetic::DenseReference),
     ] {
         group.bench_function(label, |bencher| {
             bencher.iter_batched_ref(
@@ -41,7 +42,7 @@ fn compare(criterion: &mut Criterion, name: &str, prepare: Operation, operation:
     group.finish();
 }
 
-fn nothing(_: &mut FilterPathFixture, _: Implementation) -> Result<(), NavError> {
+fn nothing(_: &mut FilterPathFixture, _: FilterArithmetic) -> Result<(), NavError> {
     Ok(())
 }
 

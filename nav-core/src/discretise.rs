@@ -9,8 +9,12 @@
 
 use nalgebra::SMatrix;
 
+#[cfg(any(test, feature = "dense-reference"))]
 use crate::error_model::{NoiseInputMatrix, SystemMatrix, NOISE_DIMENSION};
-use crate::state::{BlockMask, STATE_DIMENSION};
+#[cfg(any(test, feature = "dense-reference"))]
+use crate::state::BlockMask;
+use crate::state::STATE_DIMENSION;
+#[cfg(any(test, feature = "dense-reference"))]
 use crate::NavError;
 
 /// Discrete process-noise covariance and transition matrices are 24×24.
@@ -20,6 +24,7 @@ pub type CovarianceMatrix = SMatrix<f64, STATE_DIMENSION, STATE_DIMENSION>;
 pub const MAX_ORDER: u8 = 4;
 
 /// Transition matrix `F` and discrete process noise `Qd` of one interval.
+#[cfg(any(test, feature = "dense-reference"))]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DiscreteModel {
     /// State transition matrix `F_{k,k−1}`.
@@ -30,6 +35,7 @@ pub struct DiscreteModel {
     pub interval_s: f64,
 }
 
+#[cfg(any(test, feature = "dense-reference"))]
 impl DiscreteModel {
     /// Removes the process noise of the `frozen` blocks (their rows and columns of `Qd`), as
     /// the calibration manager's freezing requires; the dense twin of
@@ -53,6 +59,7 @@ impl DiscreteModel {
 /// [`NavError::InvalidDiscretisationOrder`] for an order outside `1..=4`,
 /// [`NavError::InvalidTimeStep`] for a non-positive or non-finite interval,
 /// [`NavError::NonFiniteInput`] if `A`, `G` or `Q` hold NaN/Inf.
+#[cfg(any(test, feature = "dense-reference"))]
 pub fn discretise(
     system: &SystemMatrix,
     noise_input: &NoiseInputMatrix,

@@ -8,7 +8,7 @@
 //! `ε ← φ ε + w_d`, `φ = exp(−Δ/τ)`, `E[w_d w_dᵀ] = σ²(1 − φ²) I` (the exact discrete form).
 //! The GNSS position residual gains `+ε`: `z = H_x x + h_ε ε + v` with `h_ε = 1`, or
 //! `h_ε = exp(Δ_late/τ)` for a fix `Δ_late` old (`ε(t_m) = ε(t)/φ(Δ_late)`, the process noise
-//! over the latency neglected as for `x`, [`crate::measurement::refer_to_later_time`]). Star
+//! over the latency neglected as for `x`, `crate::measurement::refer_to_later_time`). Star
 //! and velocity measurements have `h_ε = 0`. The receiver specifies `σ` and `τ` per ECEF
 //! axis; an isotropic error keeps its covariance `σ² I` in any axes, and the Earth turns
 //! 1.25° in 300 s, so the launch-inertial states carry the same model.
@@ -236,6 +236,7 @@ impl GnssErrorStates {
     /// `ε̂ ← φ ε̂`, `C ← φ F C`, `P_εε ← φ² P_εε + σ²(1 − φ²) I` (module docs), with
     /// `transition(c) = F c` for one 24-column. `false` (and nothing changed) if the result
     /// is not finite.
+    #[cfg(any(test, feature = "dense-reference"))]
     pub(crate) fn propagate(
         &mut self,
         interval_s: f64,
@@ -421,6 +422,7 @@ impl GnssErrorStates {
     }
 
     /// Replaces `ε̂`, `P_εε` and `C` (the dense reference update writes its result).
+    #[cfg(any(test, feature = "dense-reference"))]
     pub(crate) fn set(
         &mut self,
         estimate: &Vector3<f64>,

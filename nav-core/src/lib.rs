@@ -47,6 +47,7 @@
     )
 )]
 
+pub mod arithmetic;
 pub mod attitude;
 mod block;
 pub mod discretise;
@@ -57,7 +58,9 @@ pub mod frames;
 pub mod gnss_error;
 pub mod gravity;
 pub mod measurement;
+#[cfg(any(test, feature = "ground-analysis"))]
 pub mod observability;
+#[cfg(any(test, feature = "selftest"))]
 pub mod selftest;
 pub mod state;
 pub mod strapdown;

@@ -253,6 +253,7 @@ pub fn gnss_velocity(
 /// # Errors
 /// [`NavError::InvalidTimeStep`] for a negative or non-finite latency,
 /// [`NavError::NonFiniteInput`] for a non-finite `A`.
+#[cfg(any(test, feature = "dense-reference"))]
 pub fn refer_to_later_time(
     measurement: &LinearMeasurement,
     system: &crate::error_model::SystemMatrix,

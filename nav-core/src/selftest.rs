@@ -4,15 +4,15 @@
 
 use nalgebra::{Quaternion, SMatrix, Vector3};
 
+use crate::arithmetic::{FilterArithmetic, Propagation};
 use crate::attitude;
-use crate::discretise::discretise;
-use crate::error_model::{noise_input_matrix, system_matrix, LinearisationPoint, ProcessNoise};
+use crate::error_model::{system_matrix, LinearisationPoint, ProcessNoise};
 use crate::filter::{
     apply_error_state, CalibrationEstimate, ErrorStateFilter, FilterConfig, FilterMode,
     InitialUncertainty,
 };
 use crate::frames::{LaunchFrame, LaunchSite};
-use crate::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
+use crate::measurement::{gnss_position, star_sensor, LinearMeasurement};
 use crate::observability::{
     full_update_measurement_matrix, PaperMotionState, RankTolerance, Scaling,
     StrippedObservability, SystemForm,
@@ -68,16 +68,6 @@ pub fn reference_workload() -> [f64; REFERENCE_RESULT_COUNT] {
         attitude.k,
         attitude.norm() - 1.0,
     ]
-}
-
-/// Which implementation of the filter's matrix arithmetic a fixture step uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Implementation {
-    /// The flight path: block-sparse propagation, update and reset ([`crate::structured`]).
-    Structured,
-    /// The dense 24×24 reference.
-    Dense,
 }
 
 /// Number of f64 results of [`FilterPathFixture::results`].
@@ -224,7 +214,7 @@ impl FilterPathFixture {
     /// # Errors
     /// As [`FilterPathFixture::propagate_with`].
     pub fn propagate(&mut self) -> Result<(), NavError> {
-        self.propagate_with(Implementation::Structured)
+        self.propagate_with(FilterArithmetic::Structured)
     }
 
     /// One 2 ms covariance propagation about the last strapdown step (order 3): structured
@@ -233,40 +223,32 @@ impl FilterPathFixture {
     ///
     /// # Errors
     /// As [`StructuredModel::new`]/[`discretise`] and the predict.
-    pub fn propagate_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+    pub fn propagate_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
         let point = self.linearisation_point();
-        match implementation {
-            Implementation::Structured => {
-                self.model.rebuild(&point, &ProcessNoise::PAPER, 0.002, 3)?;
-                self.filter.predict_structured(&self.model)
-            }
-            Implementation::Dense => {
-                let model = discretise(
-                    &system_matrix(&point),
-                    &noise_input_matrix(&point),
-                    &ProcessNoise::PAPER.spectral_density_diagonal(),
-                    0.002,
-                    3,
-                )?;
-                self.filter.predict(&model)
-            }
-        }
+        let step = Propagation {
+            point: &point,
+            noise: &ProcessNoise::PAPER,
+            interval_s: 0.002,
+            order: 3,
+            frozen: &BlockMask::NONE,
+        };
+        implementation.predict(&mut self.filter, &mut self.model, &step)
     }
 
     /// Applies `measurement` with the chosen update implementation (no gate, nothing frozen).
     fn apply(
         &mut self,
         measurement: &LinearMeasurement,
-        implementation: Implementation,
+        implementation: FilterArithmetic,
     ) -> Result<(), NavError> {
-        let report = match implementation {
-            Implementation::Structured => {
-                self.filter
-                    .update_structured(measurement, f64::INFINITY, &BlockMask::NONE)
-            }
-            Implementation::Dense => self.filter.update(measurement, f64::INFINITY),
-        };
-        report.map(|_| ())
+        implementation
+            .update(
+                &mut self.filter,
+                measurement,
+                f64::INFINITY,
+                &BlockMask::NONE,
+            )
+            .map(|_| ())
     }
 
     /// A star-sensor update with a fixed small attitude offset (10″-class noise model), with
@@ -275,14 +257,14 @@ impl FilterPathFixture {
     /// # Errors
     /// As [`FilterPathFixture::star_update_with`].
     pub fn star_update(&mut self) -> Result<(), NavError> {
-        self.star_update_with(Implementation::Structured)
+        self.star_update_with(FilterArithmetic::Structured)
     }
 
     /// [`FilterPathFixture::star_update`] with the chosen implementation.
     ///
     /// # Errors
     /// As [`star_sensor`] and the update.
-    pub fn star_update_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+    pub fn star_update_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
         let mounting = attitude::exp_rotation_vector(&Vector3::new(0.0, 0.5, 0.0));
         let truth_offset = attitude::exp_rotation_vector(&Vector3::new(2e-4, -1e-4, 3e-4));
         let measured = attitude::product(
@@ -307,7 +289,7 @@ impl FilterPathFixture {
     /// # Errors
     /// As [`FilterPathFixture::gnss_update_with`].
     pub fn gnss_update(&mut self) -> Result<(), NavError> {
-        self.gnss_update_with(Implementation::Structured, 0.0)
+        self.gnss_update_with(FilterArithmetic::Structured, 0.0)
     }
 
     /// [`FilterPathFixture::gnss_update`] with the chosen implementation; a positive
@@ -319,7 +301,7 @@ impl FilterPathFixture {
     /// As [`gnss_position`], [`refer_to_later_time`] and the update.
     pub fn gnss_update_with(
         &mut self,
-        implementation: Implementation,
+        implementation: FilterArithmetic,
         latency_s: f64,
     ) -> Result<(), NavError> {
         let lever_arm = Vector3::new(0.5, 1.0, -0.2);
@@ -335,18 +317,8 @@ impl FilterPathFixture {
         )?;
         if latency_s > 0.0 {
             let point = self.linearisation_point();
-            match implementation {
-                // In place, as the flight scheduler does (no copy of the measurement).
-                Implementation::Structured => crate::structured::refer_to_later_time_in_place(
-                    &mut measurement,
-                    &point,
-                    latency_s,
-                )?,
-                Implementation::Dense => {
-                    measurement =
-                        refer_to_later_time(&measurement, &system_matrix(&point), latency_s)?;
-                }
-            }
+            // In place, as the flight scheduler does (no copy of the measurement).
+            implementation.refer_to_later_time(&mut measurement, &point, latency_s)?;
         }
         self.apply(&measurement, implementation)
     }
@@ -357,18 +329,15 @@ impl FilterPathFixture {
     /// # Errors
     /// As [`FilterPathFixture::reset_with`].
     pub fn reset(&mut self) -> Result<(), NavError> {
-        self.reset_with(Implementation::Structured)
+        self.reset_with(FilterArithmetic::Structured)
     }
 
     /// [`FilterPathFixture::reset`] with the chosen implementation of `J P Jᵀ`.
     ///
     /// # Errors
     /// As [`apply_error_state`].
-    pub fn reset_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
-        let error = match implementation {
-            Implementation::Structured => self.filter.reset(),
-            Implementation::Dense => self.filter.reset_dense(),
-        };
+    pub fn reset_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
+        let error = implementation.reset(&mut self.filter);
         apply_error_state(
             &error,
             &mut self.navigation.attitude,
@@ -384,7 +353,7 @@ impl FilterPathFixture {
     ///
     /// # Errors
     /// The first error of any step.
-    pub fn worst_frame_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+    pub fn worst_frame_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
         self.navigate()?;
         self.propagate_with(implementation)?;
         self.gnss_update_with(implementation, 0.01)?;
@@ -398,14 +367,14 @@ impl FilterPathFixture {
     /// # Errors
     /// The first error of any step.
     pub fn run_sequence(&mut self) -> Result<(), NavError> {
-        self.run_sequence_with(Implementation::Structured)
+        self.run_sequence_with(FilterArithmetic::Structured)
     }
 
     /// [`FilterPathFixture::run_sequence`] with the chosen implementation.
     ///
     /// # Errors
     /// The first error of any step.
-    pub fn run_sequence_with(&mut self, implementation: Implementation) -> Result<(), NavError> {
+    pub fn run_sequence_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
         for frame in 1..=100u32 {
             self.navigate()?;
             self.propagate_with(implementation)?;
@@ -497,6 +466,7 @@ pub fn observability_workload() -> Result<[f64; OBSERVABILITY_RESULT_COUNT], Nav
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::measurement::refer_to_later_time;
 
     #[test]
     fn filter_path_sequence_runs_and_moves_the_solution_by_the_measured_offsets() {
@@ -526,10 +496,12 @@ mod tests {
     fn structured_and_dense_sequences_agree() {
         let mut structured = FilterPathFixture::new().unwrap();
         structured
-            .run_sequence_with(Implementation::Structured)
+            .run_sequence_with(FilterArithmetic::Structured)
             .unwrap();
         let mut dense = FilterPathFixture::new().unwrap();
-        dense.run_sequence_with(Implementation::Dense).unwrap();
+        dense
+            .run_sequence_with(FilterArithmetic::DenseReference)
+            .unwrap();
         let (s, d) = (structured.results(), dense.results());
         // Attitude (unit quaternion), position (1e5-1e6 m), velocity (7.5e3 m/s), gyro bias,
         // P entries: relative to each quantity's own scale.
@@ -558,9 +530,11 @@ mod tests {
         let mut late_structured = structured;
         let mut late_dense = structured;
         late_structured
-            .worst_frame_with(Implementation::Structured)
+            .worst_frame_with(FilterArithmetic::Structured)
             .unwrap();
-        late_dense.worst_frame_with(Implementation::Dense).unwrap();
+        late_dense
+            .worst_frame_with(FilterArithmetic::DenseReference)
+            .unwrap();
         let (s, d) = (late_structured.results(), late_dense.results());
         assert!((s[4] - d[4]).abs() < 1e-9, "{} vs {}", s[4], d[4]);
         assert!((s[13] - d[13]).abs() < 1e-12 * d[13]);
@@ -659,9 +633,9 @@ mod tests {
             *fixture.filter.covariance()
         };
         let flight = run(&|f| f.propagate().unwrap());
-        let with = run(&|f| f.propagate_with(Implementation::Structured).unwrap());
+        let with = run(&|f| f.propagate_with(FilterArithmetic::Structured).unwrap());
         let part = run(&|f| f.propagate_part(2).unwrap());
-        let dense = run(&|f| f.propagate_with(Implementation::Dense).unwrap());
+        let dense = run(&|f| f.propagate_with(FilterArithmetic::DenseReference).unwrap());
         assert_eq!(flight, with);
         assert_eq!(flight, part);
         for partial in [0, 1] {
@@ -684,7 +658,7 @@ mod tests {
         flight.star_update().unwrap();
         let mut structured = base;
         structured
-            .star_update_with(Implementation::Structured)
+            .star_update_with(FilterArithmetic::Structured)
             .unwrap();
         assert_eq!(flight.filter.covariance(), structured.filter.covariance());
         // The star sees `C ϑ + ψ + v` with isotropic priors a (attitude), b (installation) and
@@ -728,7 +702,7 @@ mod tests {
         flight.gnss_update().unwrap();
         let mut structured = base;
         structured
-            .gnss_update_with(Implementation::Structured, 0.0)
+            .gnss_update_with(FilterArithmetic::Structured, 0.0)
             .unwrap();
         assert_eq!(flight.filter.state(), structured.filter.state());
         assert_eq!(flight.filter.covariance(), structured.filter.covariance());
@@ -743,7 +717,10 @@ mod tests {
             expected.filter.update(&referred, f64::INFINITY).unwrap();
             let expected_state = *expected.filter.state();
             // The referral adds a velocity column: the velocity correction differs.
-            for implementation in [Implementation::Structured, Implementation::Dense] {
+            for implementation in [
+                FilterArithmetic::Structured,
+                FilterArithmetic::DenseReference,
+            ] {
                 let mut fixture = base;
                 fixture.gnss_update_with(implementation, latency).unwrap();
                 for (k, (value, wanted)) in fixture
@@ -780,7 +757,7 @@ mod tests {
         let mut flight = base;
         flight.reset().unwrap();
         let mut structured = base;
-        structured.reset_with(Implementation::Structured).unwrap();
+        structured.reset_with(FilterArithmetic::Structured).unwrap();
         assert_eq!(
             flight.results().map(f64::to_bits),
             structured.results().map(f64::to_bits)
@@ -796,7 +773,10 @@ mod tests {
         let bias = Vector3::from(flight.calibration.gyro_bias_rad_s);
         assert!((bias - error.fixed_rows::<3>(GYRO_BIAS.index)).norm() < 1e-18);
 
-        for implementation in [Implementation::Structured, Implementation::Dense] {
+        for implementation in [
+            FilterArithmetic::Structured,
+            FilterArithmetic::DenseReference,
+        ] {
             let mut frame = FilterPathFixture::new().unwrap();
             frame.worst_frame_with(implementation).unwrap();
             let mut steps = FilterPathFixture::new().unwrap();

@@ -69,6 +69,7 @@ pub mod health;
 pub mod input_check;
 pub mod log_record;
 pub mod measurement_buffer;
+pub mod motion_observability;
 pub mod ports;
 pub mod replay;
 pub mod scheduler;

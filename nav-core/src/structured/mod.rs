@@ -1,6 +1,6 @@
 //! Structured (block-sparse) covariance propagation, measurement update and reset: the same
-//! arithmetic as the dense reference ([`crate::discretise::discretise`] with
-//! [`crate::filter::ErrorStateFilter::predict`], and the dense Joseph update), computed only
+//! arithmetic as the dense reference (`crate::discretise::discretise` with
+//! `crate::filter::ErrorStateFilter::predict`, and the dense Joseph update), computed only
 //! where the 3×3 blocks of `F`, `Γ`, `H` and the reset Jacobian are non-zero and
 //! non-identity, upper triangle only, symmetric by construction. The flight path uses these;
 //! the dense versions stay as the reference the tests compare against (relative 1e-12).
@@ -175,7 +175,7 @@ const DYNAMIC_PAIRS: [(StateBlock, StateBlock); 6] = [
 const DYNAMIC_ROWS: [StateBlock; 3] = [ATTITUDE, POSITION, VELOCITY];
 
 /// The discrete model of one interval in block form (module docs): the non-zero blocks of
-/// `F` and of `Qd`. Equal to [`crate::discretise::discretise`] of
+/// `F` and of `Qd`. Equal to `crate::discretise::discretise` of
 /// `system_matrix`/`noise_input_matrix` at the same point (proven by the tests within
 /// relative 1e-12).
 #[derive(Debug, Clone, Copy, PartialEq)]

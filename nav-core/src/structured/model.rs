@@ -213,7 +213,7 @@ impl NoiseBlocks {
 
 impl StructuredModel {
     /// Discretises the error model at `point` over `interval_s` with a series of `order`
-    /// terms (as [`crate::discretise::discretise`], module docs for the block derivation).
+    /// terms (as `crate::discretise::discretise`, module docs for the block derivation).
     ///
     /// # Errors
     /// [`NavError::InvalidDiscretisationOrder`] for an order outside `1..=4`,

@@ -7,7 +7,7 @@ use crate::error_model::LinearisationPoint;
 use crate::measurement::LinearMeasurement;
 use crate::NavError;
 
-/// [`crate::measurement::refer_to_later_time`] without forming `A`: `H' = H − (H A) Δ`
+/// `crate::measurement::refer_to_later_time` without forming `A`: `H' = H − (H A) Δ`
 /// computed from the blocks of `A` at `point` (only its attitude, position and velocity rows
 /// are non-zero, [`crate::error_model`]):
 /// `(H A)_ϑ = H_ϑ W + H_v V`, `(H A)_p = H_v N`, `(H A)_v = H_p`, `(H A)_bg = −½ H_ϑ`,

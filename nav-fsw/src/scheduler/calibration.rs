@@ -25,10 +25,7 @@ impl NavigationComputer {
             self.recover_filter();
             return;
         }
-        match self.arithmetic {
-            FilterArithmetic::Structured => self.filter.reset(),
-            FilterArithmetic::DenseReference => dense_reset(&mut self.filter),
-        };
+        self.arithmetic.reset(&mut self.filter);
         let attitude_correction = attitude::from_vector_part(&block_of(&error, ATTITUDE));
         let position_correction = block_of(&error, POSITION);
         let velocity_correction = block_of(&error, VELOCITY);

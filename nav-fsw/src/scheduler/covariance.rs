@@ -58,28 +58,16 @@ impl NavigationComputer {
         // blocks get no process noise.
         let frozen = self.manager.frozen_blocks();
         let order = self.config.filter.discretisation_order;
-        let result = match self.arithmetic {
-            FilterArithmetic::Structured => {
-                match self
-                    .model
-                    .rebuild(&point, &self.config.process_noise, interval_s, order)
-                {
-                    Ok(()) => {
-                        self.model.remove_process_noise(&frozen);
-                        self.filter.predict_structured(&self.model)
-                    }
-                    Err(error) => Err(error),
-                }
-            }
-            FilterArithmetic::DenseReference => dense_predict(
-                &mut self.filter,
-                &point,
-                &self.config.process_noise,
-                interval_s,
-                order,
-                &frozen,
-            ),
+        let step = Propagation {
+            point: &point,
+            noise: &self.config.process_noise,
+            interval_s,
+            order,
+            frozen: &frozen,
         };
+        let result = self
+            .arithmetic
+            .predict(&mut self.filter, &mut self.model, &step);
         match result {
             Ok(()) => {
                 self.second_order_pending_s += interval_s;

@@ -125,12 +125,8 @@ impl NavigationComputer {
         if latency_s <= SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s {
             return Ok(());
         }
-        match self.arithmetic {
-            FilterArithmetic::Structured => {
-                refer_to_later_time_in_place(measurement, &point, latency_s)?
-            }
-            FilterArithmetic::DenseReference => dense_referral(measurement, &point, latency_s)?,
-        }
+        self.arithmetic
+            .refer_to_later_time(measurement, &point, latency_s)?;
         if aid == Aid::GnssPosition {
             measurement.gnss_error_coefficient = self
                 .config
@@ -149,14 +145,8 @@ impl NavigationComputer {
     ) -> Result<nav_core::filter::InnovationReport, NavError> {
         let gate = self.gate_nis(aid);
         let frozen = self.manager.frozen_blocks();
-        match self.arithmetic {
-            FilterArithmetic::Structured => {
-                self.filter.update_structured(measurement, gate, &frozen)
-            }
-            FilterArithmetic::DenseReference => {
-                dense_update(&mut self.filter, measurement, gate, &frozen)
-            }
-        }
+        self.arithmetic
+            .update(&mut self.filter, measurement, gate, &frozen)
     }
 
     /// Gate statistics, counters, fault state and closed-loop feedback after an update.

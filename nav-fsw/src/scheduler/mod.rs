@@ -22,7 +22,7 @@
 //! measurement's time of validity and referred to the current error state with
 //! `H (I − A Δ)` (nav-core `refer_to_later_time_in_place`, by blocks of `A`).
 //!
-//! [`FilterArithmetic::DenseReference`] runs the same frame with nav-core's dense 24×24
+//! `FilterArithmetic::DenseReference` runs the same frame with nav-core's dense 24×24
 //! reference arithmetic (equal within round-off), for cost comparisons only.
 //!
 //! Closed loop (the default): after every accepted update the error state is fed back into
@@ -34,16 +34,16 @@
 // The scheduler's files share these imports through `use super::*`.
 use heapless::Deque;
 use nalgebra::{Quaternion, Vector3};
+use nav_core::arithmetic::Propagation;
 use nav_core::attitude;
-use nav_core::discretise::{discretise, DiscreteModel};
-use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint};
+use nav_core::error_model::LinearisationPoint;
 use nav_core::filter::{
     apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
     FilterMode,
 };
 use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{
-    gnss_position, gnss_velocity, refer_to_later_time, star_sensor, BodyRate, LinearMeasurement,
+    gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
 use nav_core::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
@@ -52,7 +52,7 @@ use nav_core::state::{
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
-use nav_core::structured::{refer_to_later_time_in_place, StructuredModel};
+use nav_core::structured::StructuredModel;
 use nav_core::unmodelled::{
     bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
 };
@@ -71,7 +71,6 @@ use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
 use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
 
 mod aid;
-mod arithmetic;
 mod calibration;
 mod covariance;
 mod fusion;
@@ -84,11 +83,12 @@ mod start;
 mod tests;
 
 use aid::{Aid, AidingSensor, Sensor};
-pub use arithmetic::FilterArithmetic;
-use arithmetic::{dense_predict, dense_referral, dense_reset, dense_update};
 use covariance::PropagationSums;
 use history::{Correction, History, Snapshot};
 use intake::{Due, GnssQueued};
+/// Which implementation of the filter's matrix arithmetic the scheduler uses (nav-core's
+/// one dispatch; the dense reference only with the `dense-reference` feature).
+pub use nav_core::arithmetic::FilterArithmetic;
 
 /// Two times closer than this fraction of the IMU period are the same instant: the round-off
 /// of frame times accumulated over a flight stays far below it, and the nearest distinct

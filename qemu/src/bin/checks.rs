@@ -10,7 +10,7 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use nav_core::selftest::Implementation;
+use nav_core::arithmetic::FilterArithmetic;
 use nav_qemu::cost::{known_length_loop, InstructionCounter};
 use nav_qemu::{exit_failure, exit_success};
 
@@ -136,7 +136,7 @@ fn compare<F>(counter: &mut InstructionCounter, name: &str, operation: F) -> boo
 where
     F: Fn(
         &mut nav_core::selftest::FilterPathFixture,
-        Implementation,
+        FilterArithmetic,
     ) -> Result<(), nav_core::NavError>,
 {
     compare_after(counter, name, |_, _| Ok(()), operation)
@@ -152,11 +152,11 @@ fn compare_after<G, F>(
 where
     G: Fn(
         &mut nav_core::selftest::FilterPathFixture,
-        Implementation,
+        FilterArithmetic,
     ) -> Result<(), nav_core::NavError>,
     F: Fn(
         &mut nav_core::selftest::FilterPathFixture,
-        Implementation,
+        FilterArithmetic,
     ) -> Result<(), nav_core::NavError>,
 {
     let Ok(mut fixture) = nav_core::selftest::FilterPathFixture::new() else {
@@ -173,9 +173,12 @@ where
         }
     }
     let mut costs = [0_u64; 2];
-    for (implementation, cost) in [Implementation::Structured, Implementation::Dense]
-        .into_iter()
-        .zip(costs.iter_mut())
+    for (implementation, cost) in [
+        FilterArithmetic::Structured,
+        FilterArithmetic::DenseReference,
+    ]
+    .into_iter()
+    .zip(costs.iter_mut())
     {
         let mut copy = fixture;
         if prepare(&mut copy, implementation).is_err() {
