@@ -37,30 +37,71 @@ use crate::state::{
 
 /// Number of continuous white-noise inputs in `W`.
 pub const NOISE_DIMENSION: usize = 12;
+/// A 3-wide block of the noise vector `W` (three columns of `G`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NoiseBlock {
+    index: usize,
+    name: &'static str,
+}
+
+impl NoiseBlock {
+    /// Index of the block's first component in `W`.
+    pub const fn index(self) -> usize {
+        self.index
+    }
+
+    /// Short name (for tables).
+    pub const fn name(self) -> &'static str {
+        self.name
+    }
+}
+
 /// Noise input block: gyro white rate noise `ηg`.
-pub const NOISE_GYRO: StateBlock = StateBlock {
+pub const NOISE_GYRO: NoiseBlock = NoiseBlock {
     index: 0,
-    dimension: 3,
     name: "gyro_noise",
 };
 /// Noise input block: accelerometer white noise `ηa`.
-pub const NOISE_ACCEL: StateBlock = StateBlock {
+pub const NOISE_ACCEL: NoiseBlock = NoiseBlock {
     index: 3,
-    dimension: 3,
     name: "accel_noise",
 };
 /// Noise input block: gyro-bias random-walk driving noise.
-pub const NOISE_GYRO_BIAS_WALK: StateBlock = StateBlock {
+pub const NOISE_GYRO_BIAS_WALK: NoiseBlock = NoiseBlock {
     index: 6,
-    dimension: 3,
     name: "gyro_bias_walk",
 };
 /// Noise input block: accelerometer-bias random-walk driving noise.
-pub const NOISE_ACCEL_BIAS_WALK: StateBlock = StateBlock {
+pub const NOISE_ACCEL_BIAS_WALK: NoiseBlock = NoiseBlock {
     index: 9,
-    dimension: 3,
     name: "accel_bias_walk",
 };
+
+/// The first row or column of a 3×3 block, for [`set_block`].
+pub(crate) trait BlockOffset: Copy {
+    /// The offset.
+    fn offset(self) -> usize;
+}
+
+impl BlockOffset for StateBlock {
+    fn offset(self) -> usize {
+        self.index()
+    }
+}
+
+impl BlockOffset for NoiseBlock {
+    fn offset(self) -> usize {
+        self.index
+    }
+}
+
+/// Rows `offset..offset + 3` of a matrix with no state layout (a measurement's rows).
+impl BlockOffset for usize {
+    fn offset(self) -> usize {
+        self
+    }
+}
 
 /// 24×24 system matrix `A`.
 pub type SystemMatrix = SMatrix<f64, STATE_DIMENSION, STATE_DIMENSION>;
@@ -87,12 +128,12 @@ pub struct LinearisationPoint {
 /// Writes `value` into the 3×3 block (`row`, `column`) of a matrix.
 pub(crate) fn set_block<const R: usize, const C: usize>(
     matrix: &mut SMatrix<f64, R, C>,
-    row: StateBlock,
-    column: StateBlock,
+    row: impl BlockOffset,
+    column: impl BlockOffset,
     value: &Matrix3<f64>,
 ) {
     matrix
-        .fixed_view_mut::<3, 3>(row.index, column.index)
+        .fixed_view_mut::<3, 3>(row.offset(), column.offset())
         .copy_from(value);
 }
 
@@ -214,7 +255,7 @@ impl ProcessNoise {
 pub(crate) mod tests {
     use super::*;
     use crate::attitude::{conjugate, from_vector_part, product, rotation_matrix};
-    use crate::state::{BLOCKS, STAR_INSTALLATION};
+    use crate::state::{StateBlock, STAR_INSTALLATION};
     use nalgebra::{Quaternion, SVector};
 
     const GM: f64 = 3.986004418e14;
@@ -261,7 +302,7 @@ pub(crate) mod tests {
 
     /// Applies an error-state vector `δx` to the estimate, giving the truth.
     pub fn perturbed(estimate: &Hypothesis, error: &SVector<f64, 24>) -> Hypothesis {
-        let block = |b: StateBlock| -> Vector3<f64> { error.fixed_rows::<3>(b.index).into() };
+        let block = |b: StateBlock| -> Vector3<f64> { error.fixed_rows::<3>(b.index()).into() };
         Hypothesis {
             attitude: product(
                 &estimate.attitude,
@@ -295,13 +336,13 @@ pub(crate) mod tests {
         };
         let mut rate_of_error = SVector::<f64, 24>::zeros();
         rate_of_error
-            .fixed_rows_mut::<3>(ATTITUDE.index)
+            .fixed_rows_mut::<3>(ATTITUDE.index())
             .copy_from(&delta_q_dot.imag());
         rate_of_error
-            .fixed_rows_mut::<3>(POSITION.index)
+            .fixed_rows_mut::<3>(POSITION.index())
             .copy_from(&(truth.velocity - estimate.velocity));
         rate_of_error
-            .fixed_rows_mut::<3>(VELOCITY.index)
+            .fixed_rows_mut::<3>(VELOCITY.index())
             .copy_from(&(velocity_rate(truth) - velocity_rate(estimate)));
         rate_of_error
     }
@@ -319,7 +360,7 @@ pub(crate) mod tests {
 
     /// Typical error magnitude per block (so every block is perturbed at a physical scale).
     pub fn block_scale(block: StateBlock) -> f64 {
-        match block.name {
+        match block.name() {
             "attitude" | "star_installation" => 1e-3,
             "position" => 100.0,
             "velocity" => 1.0,
@@ -332,7 +373,7 @@ pub(crate) mod tests {
     pub fn block_error(block: StateBlock, scale: f64) -> SVector<f64, 24> {
         let mut error = SVector::<f64, 24>::zeros();
         error
-            .fixed_rows_mut::<3>(block.index)
+            .fixed_rows_mut::<3>(block.index())
             .copy_from(&(Vector3::new(1.0, -0.6, 0.8) * scale));
         error
     }
@@ -356,7 +397,7 @@ pub(crate) mod tests {
                 linear_size = linear.amax();
             }
         }
-        let name = block.name;
+        let name = block.name();
         assert!(linear_size > 0.0, "{name}: block has no effect");
         let ratio = mismatch[0] / mismatch[1];
         println!(
@@ -378,11 +419,11 @@ pub(crate) mod tests {
     fn system_matrix_predicts_the_nonlinear_error_rate_to_second_order() {
         let estimate = estimate();
         let a = system_matrix(&linearisation(&estimate));
-        for block in BLOCKS {
+        for block in StateBlock::ALL {
             if block == STAR_INSTALLATION {
                 // No dynamics: the installation error is a constant (zero column).
                 assert_eq!(
-                    a.fixed_columns::<3>(block.index).amax().to_bits(),
+                    a.fixed_columns::<3>(block.index()).amax().to_bits(),
                     0.0f64.to_bits()
                 );
                 continue;
@@ -400,7 +441,7 @@ pub(crate) mod tests {
         let estimate = estimate();
         let mut a = system_matrix(&linearisation(&estimate));
         let flipped = -a
-            .fixed_view::<3, 3>(VELOCITY.index, ATTITUDE.index)
+            .fixed_view::<3, 3>(VELOCITY.index(), ATTITUDE.index())
             .into_owned();
         set_block(&mut a, VELOCITY, ATTITUDE, &flipped);
         let error = block_error(ATTITUDE, 1e-3);
@@ -417,11 +458,11 @@ pub(crate) mod tests {
         let a = system_matrix(&point);
         assert_eq!(
             g.fixed_columns::<3>(NOISE_GYRO.index),
-            a.fixed_columns::<3>(GYRO_BIAS.index)
+            a.fixed_columns::<3>(GYRO_BIAS.index())
         );
         assert_eq!(
             g.fixed_columns::<3>(NOISE_ACCEL.index),
-            a.fixed_columns::<3>(ACCEL_BIAS.index)
+            a.fixed_columns::<3>(ACCEL_BIAS.index())
         );
         let psd = ProcessNoise::PAPER.spectral_density_diagonal();
         assert!((psd[0] - 9.696e-7_f64.powi(2)).abs() < 1e-3 * psd[0]);

@@ -448,8 +448,8 @@ impl GnssErrorStates {
     /// identity elsewhere).
     pub(crate) fn reset(&mut self, attitude: &Block, installation: &Block) {
         for (offset, jacobian) in [
-            (crate::state::ATTITUDE.index, attitude),
-            (crate::state::STAR_INSTALLATION.index, installation),
+            (crate::state::ATTITUDE.index(), attitude),
+            (crate::state::STAR_INSTALLATION.index(), installation),
         ] {
             if let Some(rows) = self.rows_mut().get_mut(offset..offset + 3) {
                 let old: Block = [0, 1, 2].map(|i| rows.get(i).copied().unwrap_or([0.0; 3]));
@@ -475,7 +475,7 @@ mod tests {
     use crate::discretise::{discretise, CovarianceMatrix};
     use crate::error_model::{noise_input_matrix, system_matrix};
     use crate::filter::{ErrorStateFilter, FilterMode};
-    use crate::state::{BlockMask, BLOCKS};
+    use crate::state::{BlockMask, StateBlock};
     use crate::structured::tests::{
         filter_with, random_covariance, random_mask, random_measurement, random_noise,
         random_point, random_vector,
@@ -594,13 +594,13 @@ mod tests {
                 "case {case}: border {border_error:e}"
             );
             assert!(state_error <= 1e-11, "case {case}: x {state_error:e}");
-            for block in BLOCKS {
+            for block in StateBlock::ALL {
                 if frozen.contains(block) {
                     assert_eq!(
                         structured.block(block),
                         prior.block(block),
                         "{}",
-                        block.name
+                        block.name()
                     );
                 }
             }

@@ -49,17 +49,12 @@ use nalgebra::{Matrix3, Quaternion, SMatrix, Vector3};
 use crate::attitude::{all_finite3, canonical, conjugate, product, rotation_matrix, skew};
 use crate::error_model::set_block;
 use crate::state::{
-    StateBlock, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION,
-    STATE_DIMENSION, VELOCITY,
+    ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
 
 /// The three rows of a 3-component measurement (for block writes into `H`).
-const MEASUREMENT_ROWS: StateBlock = StateBlock {
-    index: 0,
-    dimension: 3,
-    name: "measurement",
-};
+const MEASUREMENT_ROWS: usize = 0;
 
 /// A 3×24 measurement Jacobian block.
 pub type MeasurementJacobian = SMatrix<f64, 3, STATE_DIMENSION>;
@@ -277,7 +272,7 @@ mod tests {
     use super::*;
     use crate::attitude::{exp_rotation_vector, from_vector_part};
     use crate::error_model::tests::{assert_second_order, estimate, perturbed};
-    use crate::state::BLOCKS;
+    use crate::state::StateBlock;
     use nalgebra::SVector;
 
     fn mounting() -> Quaternion<f64> {
@@ -291,7 +286,7 @@ mod tests {
     /// The measurement a perfect sensor would give for the truth `estimate ⊕ error`.
     fn star_truth(error: &SVector<f64, 24>) -> Quaternion<f64> {
         let truth = perturbed(&estimate(), error);
-        let psi: Vector3<f64> = error.fixed_rows::<3>(STAR_INSTALLATION.index).into();
+        let psi: Vector3<f64> = error.fixed_rows::<3>(STAR_INSTALLATION.index()).into();
         let installation = product(&installation_estimate(), &from_vector_part(&psi).unwrap());
         // Sign deliberately flipped: the residual must not care.
         -product(&product(&truth.attitude, &mounting()), &installation)
@@ -331,10 +326,13 @@ mod tests {
         )
         .unwrap();
         assert!(m.residual.amax() < 1e-15);
-        for block in BLOCKS {
+        for block in StateBlock::ALL {
             if block != ATTITUDE && block != STAR_INSTALLATION {
                 assert_eq!(
-                    m.jacobian.fixed_columns::<3>(block.index).amax().to_bits(),
+                    m.jacobian
+                        .fixed_columns::<3>(block.index())
+                        .amax()
+                        .to_bits(),
                     0.0f64.to_bits()
                 );
             }
@@ -396,7 +394,10 @@ mod tests {
         assert_eq!(m.gnss_error_coefficient.to_bits(), 0.0f64.to_bits());
         for block in [POSITION, STAR_INSTALLATION] {
             assert_eq!(
-                m.jacobian.fixed_columns::<3>(block.index).amax().to_bits(),
+                m.jacobian
+                    .fixed_columns::<3>(block.index())
+                    .amax()
+                    .to_bits(),
                 0.0f64.to_bits()
             );
         }

@@ -54,7 +54,7 @@ use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, SymmetricEigen, Vector3, S
 use crate::error_model::{system_matrix, LinearisationPoint, SystemMatrix};
 use crate::measurement::{gnss_position, star_sensor, MeasurementJacobian};
 use crate::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
     MEASUREMENT_DIMENSION, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::NavError;
@@ -132,7 +132,7 @@ impl Scaling {
         let mut state_magnitudes = StateVector::zeros();
         for (block, magnitude) in blocks {
             state_magnitudes
-                .fixed_view_mut::<3, 1>(block.index, 0)
+                .fixed_view_mut::<3, 1>(block.index(), 0)
                 .fill(*magnitude);
         }
         let mut measurement_magnitudes = MeasurementVector::zeros();
@@ -354,7 +354,10 @@ impl ObservabilityAnalysis {
     /// Whether every state of `block` passes the null-space test.
     pub fn block_observable(&self, block: StateBlock) -> [bool; 3] {
         let mut out = [false; 3];
-        for (flag, observable) in out.iter_mut().zip(self.observable.iter().skip(block.index)) {
+        for (flag, observable) in out
+            .iter_mut()
+            .zip(self.observable.iter().skip(block.index()))
+        {
             *flag = *observable;
         }
         out
@@ -388,7 +391,7 @@ impl ObservabilityAnalysis {
             .filter(|(_, sigma)| **sigma <= self.zero_threshold);
         for (column, _) in null_columns {
             let mut part = Vector3::<f64>::zeros();
-            for (value, component) in part.iter_mut().zip(column.iter().skip(block.index)) {
+            for (value, component) in part.iter_mut().zip(column.iter().skip(block.index())) {
                 *value = *component;
             }
             projection += part * part.transpose();
@@ -761,12 +764,12 @@ pub fn full_update_measurement_matrix(
     Ok(stack_measurements(&star.jacobian, &gnss.jacobian))
 }
 
-/// Per block (the eight blocks of [`BLOCKS`], in order) and per axis: whether the state passes
+/// Per block (the eight blocks of [`StateBlock::ALL`], in order) and per axis: whether the state passes
 /// the null-space test. The flight calibration manager's view of an [`ObservabilityAnalysis`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct AxisObservability {
-    /// `axes[b][k]`: state `k` (x, y, z) of block `BLOCKS[b]` is observable.
+    /// `axes[b][k]`: state `k` (x, y, z) of block `StateBlock::ALL[b]` is observable.
     pub axes: [[bool; 3]; 8],
 }
 
@@ -782,9 +785,9 @@ impl AxisObservability {
         Self { axes }
     }
 
-    /// The three flags of `block` (all `false` for a block not in [`BLOCKS`]).
+    /// The three flags of `block` (all `false` for a block not in [`StateBlock::ALL`]).
     pub fn block(&self, block: StateBlock) -> [bool; 3] {
-        BLOCKS
+        StateBlock::ALL
             .iter()
             .zip(self.axes.iter())
             .find(|(candidate, _)| **candidate == block)
@@ -933,8 +936,8 @@ mod tests {
     }
 
     fn state_name(k: usize) -> String {
-        let block = BLOCKS[k / 3];
-        format!("{}.{}", block.name, ["x", "y", "z"][k % 3])
+        let block = StateBlock::ALL[k / 3];
+        format!("{}.{}", block.name(), ["x", "y", "z"][k % 3])
     }
 
     fn unobservable(analysis: &ObservabilityAnalysis) -> Vec<String> {
@@ -1036,7 +1039,7 @@ mod tests {
                 analysis.block_observable(block),
                 [false; 3],
                 "{}",
-                block.name
+                block.name()
             );
         }
         for block in [POSITION, VELOCITY, ACCEL_BIAS] {
@@ -1044,11 +1047,11 @@ mod tests {
                 analysis.block_observable(block),
                 [true; 3],
                 "{}",
-                block.name
+                block.name()
             );
         }
         // Accelerometer scale factors: zero columns (f = 0), the null vector is e_k itself.
-        for k in ACCEL_SCALE_FACTOR.index..ACCEL_SCALE_FACTOR.index + 3 {
+        for k in ACCEL_SCALE_FACTOR.index()..ACCEL_SCALE_FACTOR.index() + 3 {
             assert!((analysis.null_space_projection[k] - 1.0).abs() < 1e-9);
         }
     }
@@ -1058,8 +1061,8 @@ mod tests {
         let analysis = continuous(&[rotation(2)]);
         assert_eq!(analysis.rank, 15, "{:?}", analysis.singular_values);
         // Constant ω: diag(ω) λ_g and b_g enter identically, the z pair is one direction.
-        let z = GYRO_SCALE_FACTOR.index + 2;
-        let bz = GYRO_BIAS.index + 2;
+        let z = GYRO_SCALE_FACTOR.index() + 2;
+        let bz = GYRO_BIAS.index() + 2;
         assert!(!analysis.observable[z]);
         assert!(!analysis.observable[bz]);
         // The null vector pairs them with weights (b_gz, λ_gz) ∝ (−ω_z, 1) in physical units.
@@ -1087,8 +1090,8 @@ mod tests {
     fn observability_coast_then_rotation_z_separates_z_gyro_scale_factor() {
         let analysis = continuous(&[coast(), rotation(2)]);
         assert_eq!(analysis.rank, 18);
-        let degree = |block: StateBlock, axis: usize| analysis.degree[block.index + axis];
-        let z = GYRO_SCALE_FACTOR.index + 2;
+        let degree = |block: StateBlock, axis: usize| analysis.degree[block.index() + axis];
+        let z = GYRO_SCALE_FACTOR.index() + 2;
         assert!(analysis.observable[z]);
         assert!(
             degree(GYRO_SCALE_FACTOR, 2) > 1e-4,
@@ -1097,8 +1100,8 @@ mod tests {
         );
         // x, y: observable only through the coast's 4e-6 rad/s rates: practically not.
         for axis in 0..2 {
-            let d = analysis.null_space_projection[GYRO_SCALE_FACTOR.index + axis];
-            let sigma = analysis.assigned_singular_value[GYRO_SCALE_FACTOR.index + axis];
+            let d = analysis.null_space_projection[GYRO_SCALE_FACTOR.index() + axis];
+            let sigma = analysis.assigned_singular_value[GYRO_SCALE_FACTOR.index() + axis];
             println!("I+II: λg axis {axis}: null projection {d:.2e}, σ {sigma:.2e}");
         }
         // With an ideal coast (ω = 0) x, y are exactly unobservable.
@@ -1122,7 +1125,7 @@ mod tests {
         );
         println!("I+III unobservable: {:?}", unobservable(&analysis));
         let alone = continuous(&[acceleration(1)]);
-        assert!(!alone.observable[ACCEL_SCALE_FACTOR.index + 1]);
+        assert!(!alone.observable[ACCEL_SCALE_FACTOR.index() + 1]);
     }
 
     #[test]
@@ -1171,7 +1174,7 @@ mod tests {
             (GYRO_SCALE_FACTOR, 1e-4),
             (ACCEL_SCALE_FACTOR, 1e-4),
         ] {
-            prior.fixed_rows_mut::<3>(block.index).fill(sigma);
+            prior.fixed_rows_mut::<3>(block.index()).fill(sigma);
         }
         let noise = Scaling::typical().measurement_magnitudes;
         let run = |segments: &[LinearisationPoint]| {
@@ -1199,12 +1202,12 @@ mod tests {
             );
         }
         for k in 0..3 {
-            assert!(coast_only[ACCEL_SCALE_FACTOR.index + k] < 1.0 + 1e-9);
+            assert!(coast_only[ACCEL_SCALE_FACTOR.index() + k] < 1.0 + 1e-9);
             // Weak: 20 s at 20 m/s² with λa = 1e-4 moves the position ≈ 0.4 m against a
             // 10 m GNSS: learned, but only a little (≈ 1.03-1.23 with this prior).
-            assert!(full[ACCEL_SCALE_FACTOR.index + k] > 1.02);
-            assert!(full[GYRO_SCALE_FACTOR.index + k] > 100.0);
-            assert!(full[STAR_INSTALLATION.index + k] > 100.0);
+            assert!(full[ACCEL_SCALE_FACTOR.index() + k] > 1.02);
+            assert!(full[GYRO_SCALE_FACTOR.index() + k] > 100.0);
+            assert!(full[STAR_INSTALLATION.index() + k] > 100.0);
         }
     }
 
@@ -1291,7 +1294,7 @@ mod tests {
             (GYRO_SCALE_FACTOR, none),
             (ACCEL_SCALE_FACTOR, none),
         ] {
-            assert_eq!(coast.block(block), expected, "I {}", block.name);
+            assert_eq!(coast.block(block), expected, "I {}", block.name());
         }
         assert_eq!(coast.observable_count(), 12);
         // II: rotation about z separates attitude x, y from the installation and makes the
@@ -1312,13 +1315,6 @@ mod tests {
         assert_eq!(acceleration.block(STAR_INSTALLATION), none);
         assert!(acceleration.fully_observable(ACCEL_BIAS));
         assert_eq!(acceleration.observable_count(), 15);
-        // A block outside the table has no flags.
-        let unknown = StateBlock {
-            index: 0,
-            dimension: 3,
-            name: "unknown",
-        };
-        assert_eq!(acceleration.block(unknown), none);
         // Bad input is a typed error.
         let mut bad = PaperMotionState::Coast.linearisation_point(&attitude_matrix);
         bad.corrected_rate_rad_s.x = f64::NAN;
@@ -1344,7 +1340,7 @@ mod tests {
         let typical = Scaling::typical();
         assert_eq!(typical, Scaling::default());
         for (block, magnitude) in Scaling::TYPICAL_STATE_MAGNITUDES {
-            for k in block.index..block.index + 3 {
+            for k in block.index()..block.index() + 3 {
                 assert_eq!(typical.state_magnitudes[k].to_bits(), magnitude.to_bits());
             }
         }
@@ -1516,11 +1512,11 @@ mod tests {
     #[test]
     fn information_ratios_in_closed_form() {
         let mut prior = StateVector::repeat(1.0);
-        prior[POSITION.index] = 10.0;
-        prior[VELOCITY.index + 1] = 2.0;
+        prior[POSITION.index()] = 10.0;
+        prior[VELOCITY.index() + 1] = 2.0;
         let mut h = MeasurementMatrix::zeros();
-        h[(3, POSITION.index)] = 1.0;
-        h[(4, VELOCITY.index + 1)] = 1.0;
+        h[(3, POSITION.index())] = 1.0;
+        h[(4, VELOCITY.index() + 1)] = 1.0;
         let noise = MeasurementVector::new(1.0, 1.0, 1.0, 5.0, 0.5, 1.0);
         let mut info = InformationAccumulator::new(&prior).unwrap();
         info.add_segment(&SystemMatrix::identity(), &h, &noise, 4)
@@ -1528,10 +1524,10 @@ mod tests {
         let ratios = info.variance_ratios().unwrap();
         let expected_position = 1.0 + 4.0 * 100.0 / 25.0;
         let expected_velocity = 1.0 + 4.0 * 4.0 / 0.25;
-        assert!((ratios[POSITION.index] - expected_position).abs() < 1e-12);
-        assert!((ratios[VELOCITY.index + 1] - expected_velocity).abs() < 1e-12);
+        assert!((ratios[POSITION.index()] - expected_position).abs() < 1e-12);
+        assert!((ratios[VELOCITY.index() + 1] - expected_velocity).abs() < 1e-12);
         for k in 0..STATE_DIMENSION {
-            if k != POSITION.index && k != VELOCITY.index + 1 {
+            if k != POSITION.index() && k != VELOCITY.index() + 1 {
                 assert!((ratios[k] - 1.0).abs() < 1e-15, "{k}: {}", ratios[k]);
             }
         }

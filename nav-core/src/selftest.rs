@@ -663,7 +663,7 @@ mod tests {
         assert_eq!(flight.filter.covariance(), structured.filter.covariance());
         // The star sees `C ϑ + ψ + v` with isotropic priors a (attitude), b (installation) and
         // noise r = (10″/2)²: the scalar update a' = a (b + r) / (a + b + r) per axis.
-        let installation = crate::state::STAR_INSTALLATION.index;
+        let installation = crate::state::STAR_INSTALLATION.index();
         let b = base.filter.covariance()[(installation, installation)];
         let r = (0.5 * 10.0 / 206_264.806_247_096_36_f64).powi(2);
         let expected = prior * (b + r) / (prior + b + r);
@@ -751,7 +751,7 @@ mod tests {
         base.gnss_update().unwrap();
         let error = *base.filter.state();
         assert!(
-            error.fixed_rows::<3>(POSITION.index).norm() > 5.0,
+            error.fixed_rows::<3>(POSITION.index()).norm() > 5.0,
             "{error:?}"
         );
         let mut flight = base;
@@ -765,13 +765,13 @@ mod tests {
         assert_eq!(*flight.filter.state(), crate::filter::ErrorState::zeros());
         let moved = flight.navigation.position_m - base.navigation.position_m;
         assert!(
-            (moved - error.fixed_rows::<3>(POSITION.index)).norm() < 1e-9,
+            (moved - error.fixed_rows::<3>(POSITION.index())).norm() < 1e-9,
             "{moved:?}"
         );
         let velocity = flight.navigation.velocity_mps - base.navigation.velocity_mps;
-        assert!((velocity - error.fixed_rows::<3>(VELOCITY.index)).norm() < 1e-12);
+        assert!((velocity - error.fixed_rows::<3>(VELOCITY.index())).norm() < 1e-12);
         let bias = Vector3::from(flight.calibration.gyro_bias_rad_s);
-        assert!((bias - error.fixed_rows::<3>(GYRO_BIAS.index)).norm() < 1e-18);
+        assert!((bias - error.fixed_rows::<3>(GYRO_BIAS.index())).norm() < 1e-18);
 
         for implementation in [
             FilterArithmetic::Structured,

@@ -141,9 +141,9 @@ pub fn bilinear_attitude_rate_covariance(
     covariance: &CovarianceMatrix,
     measured_rate_rad_s: &Vector3<f64>,
 ) -> Matrix3<f64> {
-    const A: usize = ATTITUDE.index;
-    const B: usize = GYRO_BIAS.index;
-    const L: usize = GYRO_SCALE_FACTOR.index;
+    const A: usize = ATTITUDE.index();
+    const B: usize = GYRO_BIAS.index();
+    const L: usize = GYRO_SCALE_FACTOR.index();
     const N: usize = STATE_DIMENSION;
     let rate = from_vector(measured_rate_rad_s);
     let bias_scale = read::<B, L, N, N>(covariance);
@@ -211,7 +211,7 @@ pub fn rate_error_correlation(
     let inner = |a: &Vector3<f64>, b: &Vector3<f64>| {
         let mut sum = 0.0;
         for (k, (wa, wb)) in a.iter().zip(b.iter()).enumerate() {
-            let (bias, scale) = (GYRO_BIAS.index + k, GYRO_SCALE_FACTOR.index + k);
+            let (bias, scale) = (GYRO_BIAS.index() + k, GYRO_SCALE_FACTOR.index() + k);
             sum += entry(covariance, bias, bias)
                 + (wa + wb) * entry(covariance, bias, scale)
                 + wa * wb * entry(covariance, scale, scale);
@@ -253,9 +253,9 @@ mod tests {
     fn correlated_covariance(rng: &mut Lcg) -> CovarianceMatrix {
         let mut g = SMatrix::<f64, STATE_DIMENSION, STATE_DIMENSION>::zeros();
         let scales = [
-            (ATTITUDE.index, 1e-3),
-            (GYRO_BIAS.index, 1e-6),
-            (GYRO_SCALE_FACTOR.index, 1e-4),
+            (ATTITUDE.index(), 1e-3),
+            (GYRO_BIAS.index(), 1e-6),
+            (GYRO_SCALE_FACTOR.index(), 1e-4),
         ];
         for (index, scale) in scales {
             for i in index..index + 3 {
@@ -291,9 +291,9 @@ mod tests {
             for _ in 0..samples {
                 let white = SMatrix::<f64, STATE_DIMENSION, 1>::from_fn(|_, _| rng.gaussian());
                 let x = root * white;
-                let theta = x.fixed_rows::<3>(ATTITUDE.index).into_owned();
-                let bias = x.fixed_rows::<3>(GYRO_BIAS.index).into_owned();
-                let scale = x.fixed_rows::<3>(GYRO_SCALE_FACTOR.index).into_owned();
+                let theta = x.fixed_rows::<3>(ATTITUDE.index()).into_owned();
+                let bias = x.fixed_rows::<3>(GYRO_BIAS.index()).into_owned();
+                let scale = x.fixed_rows::<3>(GYRO_SCALE_FACTOR.index()).into_owned();
                 let rate_error = -(bias + rate.component_mul(&scale));
                 let term = 0.5 * theta.cross(&rate_error);
                 sampled += term * term.transpose();

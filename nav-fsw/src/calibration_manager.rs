@@ -18,8 +18,8 @@
 
 use nalgebra::Vector3;
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, CALIBRATION_BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, STAR_INSTALLATION,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    STAR_INSTALLATION,
 };
 
 use crate::error::{ConfigField, FswError};
@@ -119,7 +119,7 @@ impl CalibrationThresholds {
         accel_scale_factor: 2e-6,
     };
 
-    /// The values in [`CALIBRATION_BLOCKS`] order.
+    /// The values in [`StateBlock::CALIBRATION`] order.
     pub fn values(&self) -> [f64; CALIBRATION_BLOCK_COUNT] {
         [
             self.gyro_bias_rad_s,
@@ -249,7 +249,7 @@ impl CalibrationEntry {
     }
 }
 
-/// The calibration table: one entry per block in [`CALIBRATION_BLOCKS`] order.
+/// The calibration table: one entry per block in [`StateBlock::CALIBRATION`] order.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CalibrationTable {
@@ -266,7 +266,7 @@ pub struct CalibrationTable {
 }
 
 impl CalibrationTable {
-    /// The entries with their blocks, in [`CALIBRATION_BLOCKS`] order.
+    /// The entries with their blocks, in [`StateBlock::CALIBRATION`] order.
     pub fn entries(&self) -> [(StateBlock, &CalibrationEntry); CALIBRATION_BLOCK_COUNT] {
         [
             (GYRO_BIAS, &self.gyro_bias),
@@ -367,7 +367,7 @@ impl CalibrationManager {
             self.config.motion_force_threshold_mps2,
         );
         let estimable = self.config.motion_observability.estimable(self.motion);
-        for block in CALIBRATION_BLOCKS {
+        for block in StateBlock::CALIBRATION {
             if estimable.contains(block) {
                 self.revealed.insert(block);
             }
@@ -428,7 +428,7 @@ impl CalibrationManager {
     }
 
     /// Updates the table with the filter's current estimates and variances (per block in
-    /// [`CALIBRATION_BLOCKS`] order, units as in [`CalibrationEntry`]) at navigation time
+    /// [`StateBlock::CALIBRATION`] order, units as in [`CalibrationEntry`]) at navigation time
     /// `now_s`, declares convergence and decides the frozen set. A block's 1σ is below its
     /// threshold `t` when every variance is below `t²`.
     pub fn evaluate(
@@ -440,7 +440,7 @@ impl CalibrationManager {
         let thresholds = self.config.convergence_sigma.values();
         let config = self.config;
         let mut estimated = [true; CALIBRATION_BLOCK_COUNT];
-        for (flag, block) in estimated.iter_mut().zip(CALIBRATION_BLOCKS.iter()) {
+        for (flag, block) in estimated.iter_mut().zip(StateBlock::CALIBRATION.iter()) {
             *flag = self.estimates(*block);
         }
         let rows = self
@@ -484,7 +484,7 @@ impl CalibrationManager {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nav_core::state::{ATTITUDE, POSITION, VELOCITY};
+    use nav_core::state::{StateBlock, ATTITUDE, POSITION, VELOCITY};
 
     fn uniform(value: f64) -> [[f64; 3]; CALIBRATION_BLOCK_COUNT] {
         [[value; 3]; CALIBRATION_BLOCK_COUNT]
@@ -707,7 +707,7 @@ mod tests {
                 motion_observability: MotionObservabilityTable::from_entries(entries),
                 ..CalibrationManagerConfig::default()
             };
-            assert!(CalibrationManager::new(config).is_err(), "{}", block.name);
+            assert!(CalibrationManager::new(config).is_err(), "{}", block.name());
         }
 
         let mut manager = CalibrationManager::new(CalibrationManagerConfig::default()).unwrap();

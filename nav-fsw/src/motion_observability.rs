@@ -12,7 +12,7 @@ use nav_core::observability::{
     constant_motion, full_update_measurement_matrix, motion_observability_analysis, RankTolerance,
 };
 #[cfg(any(test, feature = "ground-analysis"))]
-use nav_core::state::CALIBRATION_BLOCKS;
+use nav_core::state::StateBlock;
 use nav_core::state::{
     BlockMask, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,
     STAR_INSTALLATION, VELOCITY,
@@ -180,7 +180,7 @@ impl MotionObservabilityTable {
             let (rate, force) = MotionSignature::from_bits(bits).representative_motion();
             let point = constant_motion(&rate, &force, &Matrix3::identity());
             let analysis = motion_observability_analysis(&point, &h, &RankTolerance::DEFAULT)?;
-            for block in CALIBRATION_BLOCKS {
+            for block in StateBlock::CALIBRATION {
                 if analysis.observable_directions(block, &Self::ESTIMABLE)? > 0 {
                     mask.insert(block);
                 }

@@ -266,7 +266,7 @@ impl DesignReport {
         for row in &self.rows {
             text.push_str(&format!(
                 "{:<22} {:>4}   {:>13.3e}   {:>10.2e}   {:>8.3}   {}\n",
-                row.target.block.name,
+                row.target.block.name(),
                 ["x", "y", "z"].get(row.axis).copied().unwrap_or("?"),
                 row.sigma,
                 row.target.target,
@@ -281,7 +281,7 @@ impl DesignReport {
     pub fn history(&self) -> String {
         let mut text = String::from("segment end (s)  label                       ");
         for target in CALIBRATION_TARGETS {
-            text.push_str(&format!(" {:>17}", target.block.name));
+            text.push_str(&format!(" {:>17}", target.block.name()));
         }
         text.push('\n');
         for snapshot in &self.snapshots {
@@ -649,8 +649,11 @@ fn calibration_sigmas(filter: &ErrorStateFilter) -> [f64; 15] {
     let mut values = [0.0; 15];
     for (slots, target) in values.chunks_mut(3).zip(CALIBRATION_TARGETS) {
         for (axis, slot) in slots.iter_mut().enumerate() {
-            *slot =
-                sigma.get(target.block.index + axis).copied().unwrap_or(0.0) * target.state_to_unit;
+            *slot = sigma
+                .get(target.block.index() + axis)
+                .copied()
+                .unwrap_or(0.0)
+                * target.state_to_unit;
         }
     }
     values
@@ -806,7 +809,7 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                 target: *target,
                 axis,
                 sigma: final_sigma
-                    .get(target.block.index + axis)
+                    .get(target.block.index() + axis)
                     .copied()
                     .unwrap_or(0.0)
                     * target.state_to_unit,
@@ -847,7 +850,7 @@ mod tests {
             assert!(
                 row.ratio() <= 0.5,
                 "{} axis {}: sigma {:.3e} > target/2 ({:.3e})",
-                row.target.block.name,
+                row.target.block.name(),
                 row.axis,
                 row.sigma,
                 row.target.target

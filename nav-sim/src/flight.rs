@@ -6,7 +6,7 @@
 use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
 use nav_core::attitude;
 use nav_core::filter::CalibrationEstimate;
-use nav_core::state::CALIBRATION_BLOCKS;
+use nav_core::state::StateBlock;
 use nav_core::strapdown::NavigationState;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
 use nav_fsw::config::FswConfig;
@@ -124,7 +124,7 @@ pub fn configuration_error(scenario: &Scenario, error: FswError) -> FlightError 
     FlightError::Configuration { error, message }
 }
 
-/// Values of the five calibration blocks, per axis, in [`CALIBRATION_BLOCKS`] order (gyro
+/// Values of the five calibration blocks, per axis, in [`StateBlock::CALIBRATION`] order (gyro
 /// bias rad/s, accelerometer bias m/s², installation rotation vector rad, gyro and
 /// accelerometer scale factors).
 pub type CalibrationValues = [[f64; 3]; CALIBRATION_BLOCK_COUNT];
@@ -278,7 +278,7 @@ pub fn calibration_nees(
 fn calibration_covariance(
     computer: &NavigationComputer,
 ) -> SMatrix<f64, CALIBRATION_STATE_COUNT, CALIBRATION_STATE_COUNT> {
-    let first = CALIBRATION_BLOCKS.first().map_or(9, |b| b.index);
+    let first = StateBlock::CALIBRATION.first().map_or(9, |b| b.index());
     computer
         .filter()
         .covariance()

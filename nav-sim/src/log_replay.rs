@@ -72,8 +72,8 @@ pub fn output_columns(computer: &NavigationComputer) -> Vec<String> {
         columns.extend(AXES.map(|a| format!("{name}_sigma_{a}_{unit}")));
     }
     for (block, _) in computer.calibration_table().entries() {
-        columns.extend(AXES.map(|a| format!("{}_{a}", block.name)));
-        columns.extend(AXES.map(|a| format!("{}_sigma_{a}", block.name)));
+        columns.extend(AXES.map(|a| format!("{}_{a}", block.name())));
+        columns.extend(AXES.map(|a| format!("{}_sigma_{a}", block.name())));
     }
     columns.extend(computer.health().named().map(|(name, _)| name.to_owned()));
     columns.extend(
@@ -102,11 +102,11 @@ fn output_row(
     let mut put = |numbers: &[f64]| values.extend(numbers.iter().map(f64::to_string));
     put(&telemetry.attitude_wxyz);
     // The attitude states are half-angles: the rotation's 1σ is twice theirs.
-    put(&block_sigma(ATTITUDE.index, 2.0));
+    put(&block_sigma(ATTITUDE.index(), 2.0));
     put(&telemetry.position_m);
-    put(&block_sigma(POSITION.index, 1.0));
+    put(&block_sigma(POSITION.index(), 1.0));
     put(&telemetry.velocity_mps);
-    put(&block_sigma(VELOCITY.index, 1.0));
+    put(&block_sigma(VELOCITY.index(), 1.0));
     for (_, entry) in computer.calibration_table().entries() {
         put(&entry.value);
         put(&entry.sigma());

@@ -13,7 +13,7 @@
 //! `mean √Pᵢ,jj`; for a consistent filter their ratio is near 1.
 //!
 //! The calibration states are nav-core's five calibration blocks (`nav_core::state::
-//! CALIBRATION_BLOCKS`), 5 × 3 = [`CALIBRATION_STATES`] = 15 states; the functions are generic
+//! StateBlock::CALIBRATION`), 5 × 3 = [`CALIBRATION_STATES`] = 15 states; the functions are generic
 //! in the dimension `n` so any sub-state can be tested.
 
 use std::path::Path;
@@ -27,10 +27,10 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 use crate::report::{self, Axis, Curve, Panel, Parameter, ReportError};
 
 /// Number of calibration states: gyro bias, accelerometer bias, star installation, gyro and
-/// accelerometer scale factors, three axes each (nav-core's `CALIBRATION_BLOCKS`).
+/// accelerometer scale factors, three axes each (nav-core's `StateBlock::CALIBRATION`).
 pub const CALIBRATION_STATES: usize = 15;
 
-const _: () = assert!(CALIBRATION_STATES == 3 * nav_core::state::CALIBRATION_BLOCKS.len());
+const _: () = assert!(CALIBRATION_STATES == 3 * nav_core::state::StateBlock::CALIBRATION.len());
 
 /// The (parameter, axis) of each calibration state, in nav-core's state order.
 pub fn calibration_labels() -> [(Parameter, Axis); CALIBRATION_STATES] {

@@ -28,7 +28,7 @@ use nav_core::observability::{
     constant_motion, full_update_measurement_matrix, ObservabilityAnalysis, PaperMotionState,
     RankTolerance, Scaling, StrippedObservability, SystemForm,
 };
-use nav_core::state::{BLOCKS, STATE_DIMENSION};
+use nav_core::state::{StateBlock, STATE_DIMENSION};
 use nav_core::NavError;
 use serde::Serialize;
 
@@ -36,7 +36,7 @@ use crate::scenario::{Scenario, ScenarioError};
 
 /// The paper's Table 1, "singular values in different motion states", transcribed from the
 /// PDF text extraction (Section 2.3 of the paper): one row per error state in the
-/// order of eq. (15) (= nav-core's `BLOCKS`), columns I, II, III.
+/// order of eq. (15) (= nav-core's `StateBlock::ALL`), columns I, II, III.
 ///
 /// The extraction is garbled in places:
 /// * states 1 and 2 in state II read `8.7×10^{19}` and `9.3×10¹⁹`: the exponent's sign, or a
@@ -322,7 +322,9 @@ struct Analyser {
 
 /// Name of state `k`, `block.axis`.
 fn state_name(k: usize) -> String {
-    let block = BLOCKS.get(k / 3).map_or("state", |block| block.name);
+    let block = StateBlock::ALL
+        .get(k / 3)
+        .map_or("state", |block| block.name());
     let axis = ["x", "y", "z"].get(k % 3).copied().unwrap_or("?");
     format!("{block}.{axis}")
 }
@@ -501,7 +503,7 @@ pub fn build_report(
             state_magnitudes: Scaling::TYPICAL_STATE_MAGNITUDES
                 .iter()
                 .map(|(block, magnitude)| BlockMagnitude {
-                    block: block.name.to_string(),
+                    block: block.name().to_string(),
                     magnitude: *magnitude,
                 })
                 .collect(),

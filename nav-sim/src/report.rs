@@ -48,29 +48,40 @@ pub enum Parameter {
 }
 
 impl Parameter {
-    /// Every block, in the state's order.
-    pub const ALL: [Parameter; 8] = [
-        Self::Attitude,
-        Self::Position,
-        Self::Velocity,
-        Self::GyroBias,
-        Self::AccelerometerBias,
-        Self::StarInstallation,
-        Self::GyroScaleFactor,
-        Self::AccelerometerScaleFactor,
-    ];
+    /// Every block, in the state's order ([`StateBlock::ALL`]).
+    pub const ALL: [Parameter; 8] = Self::of_blocks(StateBlock::ALL);
 
-    /// The calibration blocks (those with a paper accuracy), in the state's order.
-    pub const CALIBRATION: [Parameter; 5] = [
-        Self::GyroBias,
-        Self::AccelerometerBias,
-        Self::StarInstallation,
-        Self::GyroScaleFactor,
-        Self::AccelerometerScaleFactor,
-    ];
+    /// The calibration blocks (those with a paper accuracy), in the state's order
+    /// ([`StateBlock::CALIBRATION`]).
+    pub const CALIBRATION: [Parameter; 5] = Self::of_blocks(StateBlock::CALIBRATION);
 
-    /// The navigation blocks.
-    pub const NAVIGATION: [Parameter; 3] = [Self::Attitude, Self::Position, Self::Velocity];
+    /// The navigation blocks ([`StateBlock::NAVIGATION`]).
+    pub const NAVIGATION: [Parameter; 3] = Self::of_blocks(StateBlock::NAVIGATION);
+
+    /// The parameter of nav-core's state block.
+    pub const fn of(block: StateBlock) -> Self {
+        match block {
+            StateBlock::Attitude => Self::Attitude,
+            StateBlock::Position => Self::Position,
+            StateBlock::Velocity => Self::Velocity,
+            StateBlock::GyroBias => Self::GyroBias,
+            StateBlock::AccelBias => Self::AccelerometerBias,
+            StateBlock::StarInstallation => Self::StarInstallation,
+            StateBlock::GyroScaleFactor => Self::GyroScaleFactor,
+            StateBlock::AccelScaleFactor => Self::AccelerometerScaleFactor,
+        }
+    }
+
+    /// [`Parameter::of`] for each block of a list.
+    const fn of_blocks<const N: usize>(blocks: [StateBlock; N]) -> [Parameter; N] {
+        let mut parameters = [Self::Attitude; N];
+        let mut k = 0;
+        while k < N {
+            parameters[k] = Self::of(blocks[k]);
+            k += 1;
+        }
+        parameters
+    }
 
     /// nav-core's state block.
     pub fn state_block(self) -> StateBlock {
@@ -88,12 +99,12 @@ impl Parameter {
 
     /// Name in tables, JSON and file names (nav-core's block name).
     pub fn name(self) -> &'static str {
-        self.state_block().name
+        self.state_block().name()
     }
 
     /// Position in [`Parameter::ALL`] (and in a [`TimeHistorySample`]).
     pub fn index(self) -> usize {
-        self.state_block().index / 3
+        self.state_block().position()
     }
 
     /// Factor from the filter's state to the reported value: 2 for the star installation

@@ -36,7 +36,7 @@ fn assert_agrees(report: &DesignReport, flown: &[f64]) {
         worst = worst.max(difference.abs());
         println!(
             "{:<22} {:>4}   {:>9.3e}  {:>9.3e}   {:+7.2} %",
-            row.target.block.name,
+            row.target.block.name(),
             ["x", "y", "z"][row.axis],
             row.sigma,
             flown_sigma,
@@ -48,7 +48,7 @@ fn assert_agrees(report: &DesignReport, flown: &[f64]) {
         assert!(
             (row.sigma / flown_sigma - 1.0).abs() <= AGREEMENT,
             "{} axis {}: predicted {:.3e}, flown {:.3e}",
-            row.target.block.name,
+            row.target.block.name(),
             row.axis,
             row.sigma,
             flown_sigma

@@ -199,7 +199,11 @@ impl ErrorStateFilter {
         }
         self.covariance = symmetrised(&(jacobian * self.covariance * jacobian.transpose()));
         let block_of_jacobian = |block: StateBlock| {
-            block::from_matrix(&jacobian.fixed_view::<3, 3>(block.index, block.index).into())
+            block::from_matrix(
+                &jacobian
+                    .fixed_view::<3, 3>(block.index(), block.index())
+                    .into(),
+            )
         };
         self.gnss_error.reset(
             &block_of_jacobian(ATTITUDE),

@@ -23,8 +23,8 @@ use crate::error_model::set_block;
 use crate::gnss_error::{GnssErrorModel, GnssErrorStates};
 use crate::measurement::LinearMeasurement;
 use crate::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, BLOCKS, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
+    BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 use crate::structured::{self, StructuredModel};
 use crate::NavError;
@@ -169,12 +169,13 @@ pub struct ErrorStateFilter {
     gnss_error: GnssErrorStates,
 }
 
-/// The three states of `block` (NaN for an index outside the state, which the state layout
-/// never produces: no panic path).
+/// The three states of `block`. Read with checked indices, so no panic path is compiled; the
+/// closed state layout ([`StateBlock`]) keeps every index inside the state, so the NaN
+/// fallback is never returned.
 pub fn block_of(state: &ErrorState, block: StateBlock) -> Vector3<f64> {
     let component = |offset: usize| {
         block
-            .index
+            .index()
             .checked_add(offset)
             .and_then(|index| state.get(index))
             .copied()
@@ -331,7 +332,7 @@ impl ErrorStateFilter {
         if !(variance.is_finite() && variance >= 0.0) {
             return Err(NavError::NonFiniteInput);
         }
-        for index in block.index..block.index.saturating_add(block.dimension) {
+        for index in block.index()..block.index().saturating_add(block.dimension()) {
             if let Some(entry) = self
                 .covariance
                 .data
@@ -389,8 +390,8 @@ impl ErrorStateFilter {
                     .covariance
                     .data
                     .0
-                    .get_mut(block.index.saturating_add(column))
-                    .and_then(|entries| entries.get_mut(block.index.saturating_add(row)))
+                    .get_mut(block.index().saturating_add(column))
+                    .and_then(|entries| entries.get_mut(block.index().saturating_add(row)))
                 {
                     *entry += value;
                 }
@@ -679,7 +680,7 @@ impl ErrorStateFilter {
 
     /// Indices of the blocks, for reports (re-export of the state layout).
     pub fn blocks() -> &'static [StateBlock; 8] {
-        &BLOCKS
+        &StateBlock::ALL
     }
 }
 

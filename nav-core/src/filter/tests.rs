@@ -25,7 +25,7 @@ fn config(mode: FilterMode) -> FilterConfig {
 fn position_measurement(residual: Vector3<f64>, sigma: f64) -> LinearMeasurement {
     let mut jacobian = MeasurementJacobian::zeros();
     jacobian
-        .fixed_view_mut::<3, 3>(0, POSITION.index)
+        .fixed_view_mut::<3, 3>(0, POSITION.index())
         .fill_with_identity();
     LinearMeasurement {
         residual,
@@ -47,16 +47,16 @@ fn scalar_update_matches_the_closed_form_posterior() {
     assert!(report.accepted);
     // prior σ² = 1e4, R = 1e2: posterior mean z·σ²/(σ²+R), variance σ²R/(σ²+R).
     let gain = 1e4 / (1e4 + 1e2);
-    assert!((filter.state()[POSITION.index] - 30.0 * gain).abs() < 1e-12);
+    assert!((filter.state()[POSITION.index()] - 30.0 * gain).abs() < 1e-12);
     assert!(
-        (filter.covariance()[(POSITION.index, POSITION.index)] - 1e4 * 1e2 / (1e4 + 1e2)).abs()
+        (filter.covariance()[(POSITION.index(), POSITION.index())] - 1e4 * 1e2 / (1e4 + 1e2)).abs()
             < 1e-9
     );
     let expected_nis = (30.0f64.powi(2) + 10.0f64.powi(2) + 5.0f64.powi(2)) / (1e4 + 1e2);
     assert!((report.normalised_innovation_squared - expected_nis).abs() < 1e-12);
     // Unobserved blocks keep their prior.
     assert_eq!(
-        filter.covariance()[(VELOCITY.index, VELOCITY.index)].to_bits(),
+        filter.covariance()[(VELOCITY.index(), VELOCITY.index())].to_bits(),
         1.0f64.to_bits()
     );
     assert_eq!(filter.covariance(), &filter.covariance().transpose());
@@ -137,7 +137,7 @@ fn closed_loop_reset_zeroes_the_state_and_applies_the_reset_jacobian() {
     let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
     let mut jacobian = MeasurementJacobian::zeros();
     jacobian
-        .fixed_view_mut::<3, 3>(0, ATTITUDE.index)
+        .fixed_view_mut::<3, 3>(0, ATTITUDE.index())
         .fill_with_identity();
     let measurement = LinearMeasurement {
         residual: Vector3::new(2e-3, -1e-3, 3e-3),
@@ -149,7 +149,7 @@ fn closed_loop_reset_zeroes_the_state_and_applies_the_reset_jacobian() {
     let covariance_before = *filter.covariance();
     let error = filter.reset();
     assert_eq!(filter.state(), &ErrorState::zeros());
-    let theta = error.fixed_rows::<3>(ATTITUDE.index).into_owned();
+    let theta = error.fixed_rows::<3>(ATTITUDE.index()).into_owned();
     let g = Matrix3::identity() - skew(&theta);
     let expected = g * covariance_before.fixed_view::<3, 3>(0, 0) * g.transpose();
     assert!((filter.covariance().fixed_view::<3, 3>(0, 0) - expected).amax() < 1e-20);
@@ -182,8 +182,8 @@ fn a_frozen_block_keeps_its_estimate_and_the_covariance_stays_exact() {
     let mut covariance = *filter.covariance();
     let cross = 0.5 * libm::sqrt(1e4 * 1e-8);
     for axis in 0..3 {
-        covariance[(POSITION.index + axis, ACCEL_SCALE_FACTOR.index + axis)] = cross;
-        covariance[(ACCEL_SCALE_FACTOR.index + axis, POSITION.index + axis)] = cross;
+        covariance[(POSITION.index() + axis, ACCEL_SCALE_FACTOR.index() + axis)] = cross;
+        covariance[(ACCEL_SCALE_FACTOR.index() + axis, POSITION.index() + axis)] = cross;
     }
     filter.set_covariance(&covariance).unwrap();
     let prior = *filter.covariance();
@@ -201,13 +201,14 @@ fn a_frozen_block_keeps_its_estimate_and_the_covariance_stays_exact() {
     let h = measurement.jacobian;
     let s = h * prior * h.transpose() + measurement.noise_covariance;
     let mut gain = prior * h.transpose() * s.try_inverse().unwrap();
-    gain.fixed_rows_mut::<3>(ACCEL_SCALE_FACTOR.index).fill(0.0);
+    gain.fixed_rows_mut::<3>(ACCEL_SCALE_FACTOR.index())
+        .fill(0.0);
     let i_kh = CovarianceMatrix::identity() - gain * h;
     let expected =
         i_kh * prior * i_kh.transpose() + gain * measurement.noise_covariance * gain.transpose();
     assert!((filter.covariance() - expected).amax() < 1e-9 * expected.amax());
     // Freezing costs information: the frozen block keeps its prior variance.
-    let variance = filter.covariance()[(ACCEL_SCALE_FACTOR.index, ACCEL_SCALE_FACTOR.index)];
+    let variance = filter.covariance()[(ACCEL_SCALE_FACTOR.index(), ACCEL_SCALE_FACTOR.index())];
     assert!((variance - 1e-8).abs() < 1e-20);
 }
 
@@ -240,7 +241,9 @@ fn reset_jacobian_matches_the_nonlinear_reset() {
     let g = Matrix3::identity() - skew(&estimated);
     for block in [ATTITUDE, STAR_INSTALLATION] {
         let mut state = ErrorState::zeros();
-        state.fixed_rows_mut::<3>(block.index).copy_from(&estimated);
+        state
+            .fixed_rows_mut::<3>(block.index())
+            .copy_from(&estimated);
         for e_scale in [1e-4, 0.5e-4] {
             let e = Vector3::new(0.7, 1.0, -0.4) * e_scale;
             let true_error = attitude::from_vector_part(&(estimated + e)).unwrap();
@@ -279,15 +282,15 @@ fn reset_jacobian_matches_the_nonlinear_reset() {
             let bound = 3.0 * (estimated.norm_squared() * e.norm() + e.norm_squared());
             println!(
                 "{} reset, |e| = {:.1e}: mismatch with I − [ϑ̂×] {with_jacobian:.3e}, with I {with_identity:.3e}",
-                block.name,
+                block.name(),
                 e.norm()
             );
             assert!(
                 with_jacobian < bound,
                 "{}: {with_jacobian:e} vs {bound:e}",
-                block.name
+                block.name()
             );
-            assert!(with_jacobian < 0.01 * with_identity, "{}", block.name);
+            assert!(with_jacobian < 0.01 * with_identity, "{}", block.name());
         }
     }
 }
@@ -368,10 +371,10 @@ fn open_loop_prediction_propagates_the_state() {
         process_noise: CovarianceMatrix::zeros(),
         interval_s: 0.1,
     };
-    let before = filter.state()[POSITION.index];
+    let before = filter.state()[POSITION.index()];
     filter.predict(&model).unwrap();
     assert_eq!(
-        filter.state()[POSITION.index].to_bits(),
+        filter.state()[POSITION.index()].to_bits(),
         (2.0 * before).to_bits()
     );
 }
@@ -517,7 +520,7 @@ fn open_loop_structured_prediction_propagates_the_state() {
     dense.predict(&dense_model).unwrap();
     let difference = (structured.state() - dense.state()).norm();
     assert!(difference <= 1e-12 * dense.state().norm(), "{difference:e}");
-    assert!(structured.state()[VELOCITY.index].abs() > 0.0);
+    assert!(structured.state()[VELOCITY.index()].abs() > 0.0);
 }
 
 /// A finite innovation whose NIS overflows is an error, not a report with an infinite

@@ -100,14 +100,14 @@ const INVERSE_FACTORIALS: [f64; 7] = [
 
 // Block offsets (first state index of each block) as constants, for const generic arguments.
 // Named by block, never by a single letter: `P` is the covariance throughout.
-const ATT: usize = ATTITUDE.index;
-const POS: usize = POSITION.index;
-const VEL: usize = VELOCITY.index;
-const BIAS_G: usize = GYRO_BIAS.index;
-const BIAS_A: usize = ACCEL_BIAS.index;
-const INSTALL: usize = STAR_INSTALLATION.index;
-const SCALE_G: usize = GYRO_SCALE_FACTOR.index;
-const SCALE_A: usize = ACCEL_SCALE_FACTOR.index;
+const ATT: usize = ATTITUDE.index();
+const POS: usize = POSITION.index();
+const VEL: usize = VELOCITY.index();
+const BIAS_G: usize = GYRO_BIAS.index();
+const BIAS_A: usize = ACCEL_BIAS.index();
+const INSTALL: usize = STAR_INSTALLATION.index();
+const SCALE_G: usize = GYRO_SCALE_FACTOR.index();
+const SCALE_A: usize = ACCEL_SCALE_FACTOR.index();
 
 /// The seven 3×3 blocks over (ϑ, δp, δv) that a power of `MΔ` (and so `Φ`, `Ψ`, `Χ`) can
 /// have non-zero (module docs table); ϑp and ϑv are always zero.

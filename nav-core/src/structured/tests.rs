@@ -11,7 +11,6 @@ use crate::error_model::{noise_input_matrix, system_matrix};
 use crate::error_model::{LinearisationPoint, ProcessNoise};
 use crate::filter::{ErrorState, ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
 use crate::measurement::{gnss_position, refer_to_later_time, star_sensor, LinearMeasurement};
-use crate::state::BLOCKS;
 use crate::state::{
     BlockMask, StateBlock, GYRO_BIAS, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
@@ -24,7 +23,7 @@ fn block<const R: usize, const C: usize>(
     column: StateBlock,
 ) -> Matrix3<f64> {
     matrix
-        .fixed_view::<3, 3>(row.index, column.index)
+        .fixed_view::<3, 3>(row.index(), column.index())
         .into_owned()
 }
 
@@ -122,7 +121,7 @@ pub(crate) fn random_noise(rng: &mut ChaCha8Rng, with_bias_walk: bool) -> Proces
 
 pub(crate) fn random_mask(rng: &mut ChaCha8Rng) -> BlockMask {
     let mut mask = BlockMask::NONE;
-    for block in BLOCKS {
+    for block in StateBlock::ALL {
         if rng.random_bool(0.3) {
             mask.insert(block);
         }
@@ -183,8 +182,8 @@ fn structured_model_blocks_equal_the_dense_series_for_every_order() {
             let model = StructuredModel::new(&point, &noise, interval_s, order).unwrap();
             let f = model.transition_matrix();
             let q = model.process_noise_matrix();
-            for row in BLOCKS {
-                for column in BLOCKS {
+            for row in StateBlock::ALL {
+                for column in StateBlock::ALL {
                     for (structured, reference, name) in [
                         (&f, &dense.transition, "F"),
                         (&q, &dense.process_noise, "Qd"),
@@ -195,8 +194,8 @@ fn structured_model_blocks_equal_the_dense_series_for_every_order() {
                         assert!(
                             (s - r).amax() <= bound,
                             "order {order} case {case} {name}[{}, {}]: {:e} vs {:e}",
-                            row.name,
-                            column.name,
+                            row.name(),
+                            column.name(),
                             (s - r).amax(),
                             r.amax()
                         );
@@ -307,8 +306,8 @@ fn the_row_kernel_equals_the_block_kernel_bit_for_bit() {
     let noise = random_noise(&mut rng, true);
     let model = StructuredModel::new(&random_point(&mut rng), &noise, 0.02, 3).unwrap();
     for (row, column) in [
-        (GYRO_BIAS.index, STAR_INSTALLATION.index),
-        (VELOCITY.index, VELOCITY.index),
+        (GYRO_BIAS.index(), STAR_INSTALLATION.index()),
+        (VELOCITY.index(), VELOCITY.index()),
     ] {
         let mut p = random_covariance(&mut rng);
         p[(row, column)] = f64::INFINITY;
@@ -435,13 +434,13 @@ fn structured_update_equals_the_dense_joseph_update() {
         );
         assert!(state_error <= 1e-12, "case {case}: x {state_error:e}");
         // Frozen blocks: the estimate does not move (bit for bit), as in the dense update.
-        for block in BLOCKS {
+        for block in StateBlock::ALL {
             if frozen.contains(block) {
                 assert_eq!(
                     structured.block(block),
                     prior.block(block),
                     "{}",
-                    block.name
+                    block.name()
                 );
             }
         }
@@ -498,10 +497,10 @@ fn referring_by_blocks_equals_the_dense_reference() {
         assert_eq!(
             structured
                 .jacobian
-                .fixed_columns::<3>(STAR_INSTALLATION.index),
+                .fixed_columns::<3>(STAR_INSTALLATION.index()),
             measurement
                 .jacobian
-                .fixed_columns::<3>(STAR_INSTALLATION.index)
+                .fixed_columns::<3>(STAR_INSTALLATION.index())
         );
     }
     // A measurement already referred once (its `H` has velocity, bias and scale-factor
@@ -577,7 +576,7 @@ fn fourth_order_terms_match_the_dense_series_under_a_strong_gradient() {
 /// dynamic and calibration blocks' noise removed, and after a rebuild that drops the walks.
 #[test]
 fn the_process_noise_added_equals_the_dense_qd() {
-    use crate::state::{ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, VELOCITY};
+    use crate::state::{StateBlock, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, VELOCITY};
     let mut rng = ChaCha8Rng::seed_from_u64(21);
     let mask = |blocks: &[StateBlock]| {
         let mut mask = BlockMask::NONE;

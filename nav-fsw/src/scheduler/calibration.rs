@@ -53,7 +53,7 @@ impl NavigationComputer {
         let variance = block_of(variances, block);
         let c = estimate;
         match block {
-            b if b == STAR_INSTALLATION => {
+            StateBlock::StarInstallation => {
                 let [w, x, y, z] = c.star_installation_wxyz;
                 let vector = attitude::log_rotation_vector(&Quaternion::new(w, x, y, z));
                 (
@@ -61,10 +61,14 @@ impl NavigationComputer {
                     array3(&(variance * ANGLE_VARIANCE_PER_HALF_ANGLE_VARIANCE)),
                 )
             }
-            b if b == GYRO_BIAS => (c.gyro_bias_rad_s, array3(&variance)),
-            b if b == ACCEL_BIAS => (c.accel_bias_mps2, array3(&variance)),
-            b if b == GYRO_SCALE_FACTOR => (c.gyro_scale_factor, array3(&variance)),
-            _ => (c.accel_scale_factor, array3(&variance)),
+            StateBlock::GyroBias => (c.gyro_bias_rad_s, array3(&variance)),
+            StateBlock::AccelBias => (c.accel_bias_mps2, array3(&variance)),
+            StateBlock::GyroScaleFactor => (c.gyro_scale_factor, array3(&variance)),
+            StateBlock::AccelScaleFactor => (c.accel_scale_factor, array3(&variance)),
+            // Navigation blocks have no calibration estimate (the table holds none).
+            StateBlock::Attitude | StateBlock::Position | StateBlock::Velocity => {
+                ([0.0; 3], array3(&variance))
+            }
         }
     }
 
@@ -77,7 +81,7 @@ impl NavigationComputer {
         for ((value, variance), block) in values
             .iter_mut()
             .zip(variances.iter_mut())
-            .zip(CALIBRATION_BLOCKS.iter())
+            .zip(StateBlock::CALIBRATION.iter())
         {
             (*value, *variance) = Self::block_estimate(*block, &estimate, &state_variances);
         }

@@ -45,10 +45,7 @@ use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
-use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, CALIBRATION_BLOCKS, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    POSITION, STAR_INSTALLATION, VELOCITY,
-};
+use nav_core::state::{BlockMask, StateBlock, ATTITUDE, POSITION, VELOCITY};
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
