@@ -48,13 +48,17 @@ pub fn rotate(q: &Quaternion<f64>, v: &Vector3<f64>) -> Vector3<f64> {
     rotation_matrix(q) * v
 }
 
+/// Below this angle (rad) [`exp_rotation_vector`] uses its Taylor series: the truncation
+/// error there is below 1e-22, while `sin(|φ|/2)/|φ|` loses relative precision as `|φ| → 0`.
+pub const SERIES_ANGLE_RAD: f64 = 1.0e-4;
+
 /// Exact exponential of a rotation vector `φ` (rad): the unit quaternion
-/// `[cos(|φ|/2), sin(|φ|/2) φ/|φ|]`. For `|φ| < 1e-4` rad the Taylor series
+/// `[cos(|φ|/2), sin(|φ|/2) φ/|φ|]`. For `|φ| <` [`SERIES_ANGLE_RAD`] the Taylor series
 /// `[1 − |φ|²/8 + |φ|⁴/384, φ/2 (1 − |φ|²/24 + |φ|⁴/1920)]` is used (truncation < 1e-22).
 pub fn exp_rotation_vector(phi: &Vector3<f64>) -> Quaternion<f64> {
     let angle_squared = phi.dot(phi);
     let angle = libm::sqrt(angle_squared);
-    if angle < 1.0e-4 {
+    if angle < SERIES_ANGLE_RAD {
         let scalar = 1.0 - angle_squared / 8.0 + angle_squared * angle_squared / 384.0;
         let vector_gain =
             0.5 * (1.0 - angle_squared / 24.0 + angle_squared * angle_squared / 1920.0);

@@ -24,6 +24,9 @@ use crate::strapdown::{
 use crate::structured::StructuredModel;
 use crate::NavError;
 
+/// The fixture's IMU interval (s): the flight software's 500 Hz frame.
+pub const STEP_S: f64 = 0.002;
+
 /// Number of f64 results produced by [`reference_workload`].
 pub const REFERENCE_RESULT_COUNT: usize = 8;
 
@@ -45,7 +48,7 @@ pub fn reference_workload() -> [f64; REFERENCE_RESULT_COUNT] {
     let square = matrix * matrix;
 
     let mut attitude = Quaternion::new(1.0, 0.0, 0.0, 0.0);
-    let step_s = 0.002;
+    let step_s = STEP_S;
     let coning_rate_rad_s = 2.0 * core::f64::consts::PI * 5.0;
     let cone_half_angle_rad = 0.02;
     let mut time_s = 0.0;
@@ -155,7 +158,7 @@ impl FilterPathFixture {
         let phase = 0.01 * f64::from(self.step);
         let rate = Vector3::new(0.1 * libm::sin(phase), 0.05, 1.7 * libm::cos(phase));
         let force = Vector3::new(0.5, 20.0 + libm::sin(3.0 * phase), -0.3);
-        let increment = ImuIncrement::from_rates(&rate, &force, 0.002);
+        let increment = ImuIncrement::from_rates(&rate, &force, STEP_S);
         let c = &self.calibration;
         let corrections = SensorCorrections {
             gyro_bias_rad_s: Vector3::from(c.gyro_bias_rad_s),
@@ -201,7 +204,8 @@ impl FilterPathFixture {
         if part == 0 {
             return Ok(());
         }
-        self.model.rebuild(&point, &ProcessNoise::PAPER, 0.002, 3)?;
+        self.model
+            .rebuild(&point, &ProcessNoise::PAPER, STEP_S, 3)?;
         if part == 1 {
             return Ok(());
         }
@@ -228,7 +232,7 @@ impl FilterPathFixture {
         let step = Propagation {
             point: &point,
             noise: &ProcessNoise::PAPER,
-            interval_s: 0.002,
+            interval_s: STEP_S,
             order: 3,
             frozen: &BlockMask::NONE,
         };

@@ -181,19 +181,8 @@ impl Strapdown {
         corrections: &SensorCorrections,
         frame: &LaunchFrame,
     ) -> Result<StepOutput, NavError> {
+        check_step_inputs(nav, raw, corrections)?;
         let interval = raw.interval_s;
-        if !interval.is_finite() || interval <= 0.0 {
-            return Err(NavError::InvalidTimeStep);
-        }
-        if !all_finite3(&raw.delta_angle_rad)
-            || !all_finite3(&raw.delta_velocity_mps)
-            || !corrections.is_finite()
-        {
-            return Err(NavError::NonFiniteInput);
-        }
-        if !nav.is_finite() {
-            return Err(NavError::NonFiniteState);
-        }
 
         // 1. Sensor corrections.
         let delta_angle = raw.delta_angle_rad
@@ -207,19 +196,9 @@ impl Strapdown {
                 .component_mul(&raw.delta_velocity_mps)
             - corrections.accel_bias_mps2 * interval;
 
-        // 2. Coning.
-        let mut rotation_vector = delta_angle;
-        if self.config.coning_compensation {
-            rotation_vector += self.previous_delta_angle_rad.cross(&delta_angle) / 12.0;
-        }
-
-        // 3. Rotation compensation and sculling.
-        let mut delta_velocity_body = delta_velocity + 0.5 * delta_angle.cross(&delta_velocity);
-        if self.config.sculling_compensation {
-            delta_velocity_body += (self.previous_delta_angle_rad.cross(&delta_velocity)
-                + self.previous_delta_velocity_mps.cross(&delta_angle))
-                / 12.0;
-        }
+        // 2. Coning; 3. rotation compensation and sculling.
+        let (rotation_vector, delta_velocity_body) =
+            self.compensated(&delta_angle, &delta_velocity);
 
         // 4. Velocity with gravity at the predicted midpoint.
         let c_ib: Matrix3<f64> = rotation_matrix(&nav.attitude);
@@ -268,6 +247,52 @@ impl Strapdown {
         self.previous_delta_angle_rad = delta_angle;
         self.previous_delta_velocity_mps = delta_velocity;
         Ok(output)
+    }
+
+    /// Steps 2 and 3 of [`Strapdown::step`] (module docs): the rotation vector with the
+    /// coning term and the body velocity increment with the rotation and sculling terms,
+    /// from the corrected increments and the previous ones.
+    #[inline(always)]
+    fn compensated(
+        &self,
+        delta_angle: &Vector3<f64>,
+        delta_velocity: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let mut rotation_vector = *delta_angle;
+        if self.config.coning_compensation {
+            rotation_vector += self.previous_delta_angle_rad.cross(delta_angle) / 12.0;
+        }
+        let mut delta_velocity_body = delta_velocity + 0.5 * delta_angle.cross(delta_velocity);
+        if self.config.sculling_compensation {
+            delta_velocity_body += (self.previous_delta_angle_rad.cross(delta_velocity)
+                + self.previous_delta_velocity_mps.cross(delta_angle))
+                / 12.0;
+        }
+        (rotation_vector, delta_velocity_body)
+    }
+}
+
+/// The input checks of [`Strapdown::step`], in its documented order of errors.
+#[inline(always)]
+fn check_step_inputs(
+    nav: &NavigationState,
+    raw: &ImuIncrement,
+    corrections: &SensorCorrections,
+) -> Result<(), NavError> {
+    let interval = raw.interval_s;
+    if !interval.is_finite() || interval <= 0.0 {
+        return Err(NavError::InvalidTimeStep);
+    }
+    if !all_finite3(&raw.delta_angle_rad)
+        || !all_finite3(&raw.delta_velocity_mps)
+        || !corrections.is_finite()
+    {
+        return Err(NavError::NonFiniteInput);
+    }
+    if nav.is_finite() {
+        Ok(())
+    } else {
+        Err(NavError::NonFiniteState)
     }
 }
 

@@ -127,14 +127,14 @@ impl CoherentGrowth {
 /// // Attitude error 1σ 1e-3 on x only, gyro scale factor 1σ 1e-4 on y only, turning at
 /// // 2 rad/s about y: b = ½ ϑx λy ωy along z, 1σ ½ · 1e-3 · 1e-4 · 2 = 1e-7 rad/s.
 /// let mut p = CovarianceMatrix::zeros();
-/// p[(ATTITUDE.index, ATTITUDE.index)] = 1e-6;
-/// p[(GYRO_SCALE_FACTOR.index + 1, GYRO_SCALE_FACTOR.index + 1)] = 1e-8;
+/// p[(ATTITUDE.index(), ATTITUDE.index())] = 1e-6;
+/// p[(GYRO_SCALE_FACTOR.index() + 1, GYRO_SCALE_FACTOR.index() + 1)] = 1e-8;
 /// let b = bilinear_attitude_rate_covariance(&p, &Vector3::new(0.0, 2.0, 0.0));
 /// assert!((b[(2, 2)].sqrt() - 1e-7).abs() < 1e-20);
 /// assert_eq!(b[(0, 0)] + b[(1, 1)], 0.0);
 /// // The same scale-factor error turning about x, the attitude error's own axis: no term.
-/// p[(GYRO_SCALE_FACTOR.index + 1, GYRO_SCALE_FACTOR.index + 1)] = 0.0;
-/// p[(GYRO_SCALE_FACTOR.index, GYRO_SCALE_FACTOR.index)] = 1e-8;
+/// p[(GYRO_SCALE_FACTOR.index() + 1, GYRO_SCALE_FACTOR.index() + 1)] = 0.0;
+/// p[(GYRO_SCALE_FACTOR.index(), GYRO_SCALE_FACTOR.index())] = 1e-8;
 /// assert_eq!(bilinear_attitude_rate_covariance(&p, &Vector3::new(2.0, 0.0, 0.0)).trace(), 0.0);
 /// ```
 pub fn bilinear_attitude_rate_covariance(
@@ -197,7 +197,7 @@ pub fn bilinear_attitude_rate_covariance(
 /// use nav_core::unmodelled::rate_error_correlation;
 /// let mut p = CovarianceMatrix::zeros();
 /// for k in 0..3 {
-///     p[(GYRO_SCALE_FACTOR.index + k, GYRO_SCALE_FACTOR.index + k)] = 1e-8;
+///     p[(GYRO_SCALE_FACTOR.index() + k, GYRO_SCALE_FACTOR.index() + k)] = 1e-8;
 /// }
 /// let (about_x, about_y) = (Vector3::new(1.7, 0.0, 0.0), Vector3::new(0.0, 1.7, 0.0));
 /// assert_eq!(rate_error_correlation(&p, &about_x, &(about_x * 0.5)), 1.0);

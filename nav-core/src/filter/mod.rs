@@ -326,7 +326,7 @@ impl ErrorStateFilter {
     ///     initial, gnss_error: GnssErrorModel::WHITE };
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// filter.add_block_variance(VELOCITY, 0.03).unwrap();
-    /// assert!((filter.covariance()[(VELOCITY.index, VELOCITY.index)] - 0.04).abs() < 1e-15);
+    /// assert!((filter.covariance()[(VELOCITY.index(), VELOCITY.index())] - 0.04).abs() < 1e-15);
     /// ```
     pub fn add_block_variance(&mut self, block: StateBlock, variance: f64) -> Result<(), NavError> {
         if !(variance.is_finite() && variance >= 0.0) {
