@@ -552,13 +552,6 @@ mod tests {
 
     /// Bits of [`BlockMask`] for the calibration blocks: 3 gyro bias, 4 accel bias,
     /// 5 installation, 6 gyro scale factor, 7 accel scale factor.
-    fn mask(blocks: &[StateBlock]) -> u8 {
-        let mut mask = BlockMask::NONE;
-        for block in blocks {
-            mask.insert(*block);
-        }
-        mask.bits()
-    }
 
     #[test]
     fn the_motion_observability_policy_freezes_what_the_motion_cannot_see() {

@@ -199,11 +199,12 @@ impl MotionObservabilityTable {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use nav_core::state::StateBlock;
 
-    fn mask(blocks: &[StateBlock]) -> u8 {
+    /// The bits of the set of `blocks`.
+    pub(crate) fn mask(blocks: &[StateBlock]) -> u8 {
         let mut mask = BlockMask::NONE;
         for block in blocks {
             mask.insert(*block);
