@@ -484,7 +484,8 @@ impl CalibrationManager {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nav_core::state::{StateBlock, ATTITUDE, POSITION, VELOCITY};
+    use crate::motion_observability::tests::mask;
+    use nav_core::state::{ATTITUDE, POSITION, VELOCITY};
 
     fn uniform(value: f64) -> [[f64; 3]; CALIBRATION_BLOCK_COUNT] {
         [[value; 3]; CALIBRATION_BLOCK_COUNT]
