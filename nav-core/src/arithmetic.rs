@@ -48,6 +48,7 @@ impl FilterArithmetic {
     /// # Errors
     /// As [`StructuredModel::rebuild`] and [`ErrorStateFilter::predict_structured`]; the
     /// filter is unchanged on an error.
+    #[inline(always)]
     pub fn predict(
         self,
         filter: &mut ErrorStateFilter,
@@ -73,6 +74,7 @@ impl FilterArithmetic {
     ///
     /// # Errors
     /// As [`refer_to_later_time_in_place`].
+    #[inline(always)]
     pub fn refer_to_later_time(
         self,
         measurement: &mut LinearMeasurement,
@@ -90,6 +92,7 @@ impl FilterArithmetic {
     ///
     /// # Errors
     /// As [`ErrorStateFilter::update_structured`]; the filter is unchanged on any error.
+    #[inline(always)]
     pub fn update(
         self,
         filter: &mut ErrorStateFilter,
@@ -105,6 +108,7 @@ impl FilterArithmetic {
     }
 
     /// The closed-loop reset; returns the error state to feed back.
+    #[inline(always)]
     pub fn reset(self, filter: &mut ErrorStateFilter) -> ErrorState {
         match self {
             Self::Structured => filter.reset(),
