@@ -747,7 +747,7 @@ mod tests {
     /// rates overflowing alone (a subnormal interval; scale-factor corrections make the
     /// corrected and raw increments differ). All are refused and leave `nav` unchanged.
     #[test]
-    fn each_overflowing_result_is_refused() {
+    fn an_overflowing_position_or_time_is_refused() {
         let f = frame();
         let none = SensorCorrections::default();
         let no_j2 = config(true, false);
@@ -781,6 +781,11 @@ mod tests {
             Err(NavError::NonFiniteState)
         );
         assert_eq!(late, before);
+    }
+
+    #[test]
+    fn an_overflowing_output_rate_is_refused() {
+        let f = frame();
         // Output rates over a subnormal interval of 1e-310 s.
         let tiny = 1.0e-310;
         let x = Vector3::x();
