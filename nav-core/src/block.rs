@@ -291,7 +291,8 @@ pub(crate) fn read<const R: usize, const C: usize, const ROWS: usize, const COLU
     [0, 1, 2].map(|i| [0, 1, 2].map(|j| entry(matrix, R + i, C + j)))
 }
 
-/// Writes `value` into rows `R..R+3`, columns `C..C+3` of a 24×24 matrix.
+/// Writes `value` into rows `R..R+3`, columns `C..C+3` of a 24×24 matrix (the dense `F`).
+#[cfg(any(test, feature = "dense-reference"))]
 #[inline(always)]
 pub(crate) fn write<const R: usize, const C: usize>(matrix: &mut CovarianceMatrix, value: &Block) {
     for (i, row) in value.iter().enumerate() {
