@@ -120,7 +120,7 @@ impl CalibrationThresholds {
     };
 
     /// The values in [`StateBlock::CALIBRATION`] order.
-    pub fn values(&self) -> [f64; CALIBRATION_BLOCK_COUNT] {
+    pub const fn values(&self) -> [f64; CALIBRATION_BLOCK_COUNT] {
         [
             self.gyro_bias_rad_s,
             self.accel_bias_mps2,

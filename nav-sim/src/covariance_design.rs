@@ -56,10 +56,7 @@ use nav_core::filter::{
 use nav_core::frames::{LaunchFrame, WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
 use nav_core::gravity::GravityModel;
 use nav_core::measurement;
-use nav_core::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
-    STAR_INSTALLATION,
-};
+use nav_core::state::{StateBlock, ATTITUDE};
 use nav_core::unmodelled::{
     bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
 };
@@ -152,39 +149,39 @@ pub struct CalibrationTarget {
 /// The paper's figures, defined once in nav-fsw.
 const PAPER: CalibrationThresholds = CalibrationThresholds::PAPER_ACCURACY;
 
-/// The paper's reported accuracies after convergence (Section 3, `docs/model.md`).
-pub const CALIBRATION_TARGETS: [CalibrationTarget; 5] = [
-    CalibrationTarget {
-        block: GYRO_BIAS,
-        target: PAPER.gyro_bias_rad_s,
+/// The paper's reported accuracies after convergence (Section 3, `docs/model.md`), one per
+/// calibration block in [`StateBlock::CALIBRATION`] order.
+pub const CALIBRATION_TARGETS: [CalibrationTarget; 5] = calibration_targets();
+
+/// [`CALIBRATION_TARGETS`] from the state layout's calibration blocks and the paper's figures
+/// (both in the same order).
+const fn calibration_targets() -> [CalibrationTarget; 5] {
+    let values = PAPER.values();
+    let mut targets = [CalibrationTarget {
+        block: StateBlock::GyroBias,
+        target: 0.0,
         state_to_unit: 1.0,
-        unit: "rad/s",
-    },
-    CalibrationTarget {
-        block: ACCEL_BIAS,
-        target: PAPER.accel_bias_mps2,
-        state_to_unit: 1.0,
-        unit: "m/s^2",
-    },
-    CalibrationTarget {
-        block: STAR_INSTALLATION,
-        target: PAPER.star_installation_rad,
-        state_to_unit: 2.0,
-        unit: "rad (angle)",
-    },
-    CalibrationTarget {
-        block: GYRO_SCALE_FACTOR,
-        target: PAPER.gyro_scale_factor,
-        state_to_unit: 1.0,
-        unit: "-",
-    },
-    CalibrationTarget {
-        block: ACCEL_SCALE_FACTOR,
-        target: PAPER.accel_scale_factor,
-        state_to_unit: 1.0,
-        unit: "-",
-    },
-];
+        unit: "",
+    }; 5];
+    let mut k = 0;
+    while k < targets.len() {
+        let block = StateBlock::CALIBRATION[k];
+        let (state_to_unit, unit) = match block {
+            StateBlock::StarInstallation => (2.0, "rad (angle)"),
+            StateBlock::GyroBias => (1.0, "rad/s"),
+            StateBlock::AccelBias => (1.0, "m/s^2"),
+            _ => (1.0, "-"),
+        };
+        targets[k] = CalibrationTarget {
+            block,
+            target: values[k],
+            state_to_unit,
+            unit,
+        };
+        k += 1;
+    }
+    targets
+}
 
 /// Final 1σ of one calibration state against its target.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -830,6 +827,7 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nav_core::state::ACCEL_SCALE_FACTOR;
 
     /// The second shipped scenario: the default schedule with different true sensor errors.
     const MADE_UP_ERRORS_TOML: &str = include_str!("../scenarios/made_up_errors.toml");
