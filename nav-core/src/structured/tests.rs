@@ -434,16 +434,7 @@ fn structured_update_equals_the_dense_joseph_update() {
         );
         assert!(state_error <= 1e-12, "case {case}: x {state_error:e}");
         // Frozen blocks: the estimate does not move (bit for bit), as in the dense update.
-        for block in StateBlock::ALL {
-            if frozen.contains(block) {
-                assert_eq!(
-                    structured.block(block),
-                    prior.block(block),
-                    "{}",
-                    block.name()
-                );
-            }
-        }
+        assert_frozen_blocks_unmoved(&structured, &prior, &frozen);
     }
     println!(
         "structured vs dense update: P {worst_covariance:.2e} (prior correlation units; \
@@ -698,5 +689,18 @@ fn structured_reset_equals_the_dense_reset() {
         assert_eq!(p, &p.transpose());
         let difference = relative_difference(p, dense.covariance());
         assert!(difference <= 1e-12, "case {case}: {difference:e}");
+    }
+}
+
+/// The estimate of every `frozen` block of `filter` is bit for bit that of `prior`.
+pub(crate) fn assert_frozen_blocks_unmoved(
+    filter: &ErrorStateFilter,
+    prior: &ErrorStateFilter,
+    frozen: &BlockMask,
+) {
+    for block in StateBlock::ALL {
+        if frozen.contains(block) {
+            assert_eq!(filter.block(block), prior.block(block), "{}", block.name());
+        }
     }
 }
