@@ -8,8 +8,15 @@
 //! * **ECEF-at-epoch inertial axes** `I`: the ECEF axes frozen at `t₀` (origin at the Earth
 //!   centre). A point fixed in ECEF moves in `I` by the Earth rotation `ω_e (t − t₀)` about `z`.
 //!
-//! So `p_i = C (R_z(ω_e (t − t₀)) r_e − r_site)`, where `C = C_le` is the launch-from-ECEF
-//! rotation at the site and `R_z(θ)` the active rotation by `θ` about `z`.
+//! So `p_i = C (R_k(ω_e (t − t₀)) r_e − r_site)`, where `C = C_le` is the launch-from-ECEF
+//! rotation at the site and `R_k(θ)` the active rotation by `θ` about the Earth rotation axis
+//! `k` (the celestial intermediate pole in ECEF, [`LaunchSite::earth_axis_ecef`]; `[0, 0, 1]`
+//! when polar motion is neglected). Times are navigation times, seconds since the launch
+//! epoch `t₀` (so `t₀ = 0`). With `W` the polar-motion matrix and `E(t)` the Earth rotation
+//! angle, ITRF ← GCRF is `W R₃(E(t)) Q(t)` (IERS Conventions 2010, eq. 5.1); with the
+//! precession–nutation `Q` constant over a flight, ITRF(t₀) ← ITRF(t) is
+//! `W R₃(E(t₀) − E(t)) Wᵀ`, the active rotation by `E(t) − E(t₀) = ω_e (t − t₀)` about
+//! `k = W ẑ` (`docs/frames-and-time.md` bounds what these approximations cost).
 //! Geodetic-to-ECEF follows NIMA TR8350.2 (WGS-84), eq. 4-14; the east/north/up basis is the
 //! standard one (e.g. Groves, *Principles of GNSS, Inertial, and Multisensor Integrated
 //! Navigation Systems*, 2nd ed., eq. 2.99).
@@ -37,7 +44,15 @@ pub const WGS84_EARTH_RATE_RAD_S: f64 = 7.292_115e-5;
 /// Accepted launch-site height range (m above the ellipsoid).
 pub const SITE_HEIGHT_RANGE_M: (f64, f64) = (-1.0e3, 1.0e4);
 
-/// Launch site and epoch that define the launch and launch-inertial frames.
+/// Largest accepted angle between the configured Earth rotation axis and the ECEF `z` axis
+/// (rad): polar motion stays below 1″ ≈ 4.8e-6 rad; 1e-4 rad leaves room and refuses a
+/// wrong axis.
+pub const MAX_EARTH_AXIS_TILT_RAD: f64 = 1.0e-4;
+
+/// Accepted deviation of the Earth rotation axis from unit length (dimensionless).
+pub const EARTH_AXIS_UNIT_TOLERANCE: f64 = 1.0e-9;
+
+/// Launch site and Earth rotation axis that define the launch and launch-inertial frames.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LaunchSite {
@@ -49,9 +64,15 @@ pub struct LaunchSite {
     pub height_m: f64,
     /// Launch azimuth `A` (rad), from north toward east, in `[−2π, 2π]`.
     pub azimuth_rad: f64,
-    /// Launch epoch `t₀` on the GNSS time scale (s); any finite value.
-    pub epoch_s: f64,
+    /// Unit Earth rotation axis (the celestial intermediate pole) in ECEF (ITRF) axes,
+    /// computed on the ground from the day's polar motion `(x_p, y_p)`: `W [0, 0, 1]ᵀ ≈
+    /// [x_p, −y_p, 1]` (IERS Conventions 2010, eq. 5.3); `[0, 0, 1]` neglects polar motion.
+    /// Unit within [`EARTH_AXIS_UNIT_TOLERANCE`], within [`MAX_EARTH_AXIS_TILT_RAD`] of `z`.
+    pub earth_axis_ecef: [f64; 3],
 }
+
+/// The Earth rotation axis when polar motion is neglected: the ECEF `z` axis.
+pub const ECEF_Z_AXIS: [f64; 3] = [0.0, 0.0, 1.0];
 
 impl LaunchSite {
     /// Checks every field against its documented range.
@@ -64,7 +85,7 @@ impl LaunchSite {
             && self.longitude_rad.is_finite()
             && self.height_m.is_finite()
             && self.azimuth_rad.is_finite()
-            && self.epoch_s.is_finite()
+            && self.earth_axis_is_valid()
             && self.latitude_rad.abs() <= core::f64::consts::FRAC_PI_2
             && self.longitude_rad.abs() <= two_pi
             && self.azimuth_rad.abs() <= two_pi
@@ -75,6 +96,18 @@ impl LaunchSite {
         } else {
             Err(NavError::InvalidConfiguration)
         }
+    }
+
+    /// Whether [`Self::earth_axis_ecef`] is finite, unit and near `z` (its `x`, `y` are the
+    /// sines of the tilt's components, so `√(x² + y²)` bounds the tilt).
+    fn earth_axis_is_valid(&self) -> bool {
+        let [x, y, z] = self.earth_axis_ecef;
+        let norm = libm::sqrt(x * x + y * y + z * z);
+        x.is_finite()
+            && y.is_finite()
+            && z > 0.0
+            && (norm - 1.0).abs() <= EARTH_AXIS_UNIT_TOLERANCE
+            && libm::sqrt(x * x + y * y) <= MAX_EARTH_AXIS_TILT_RAD
     }
 }
 
@@ -92,19 +125,16 @@ pub fn geodetic_to_ecef(latitude_rad: f64, longitude_rad: f64, height_m: f64) ->
     )
 }
 
-/// `ω_e ẑ × r` (m/s): the velocity of a point fixed in ECEF at `r` (m), in ECEF axes.
-fn earth_rotation_velocity(position_ecef_m: &Vector3<f64>) -> Vector3<f64> {
-    Vector3::new(
-        -WGS84_EARTH_RATE_RAD_S * position_ecef_m.y,
-        WGS84_EARTH_RATE_RAD_S * position_ecef_m.x,
-        0.0,
-    )
+/// `ω_e k × r` (m/s): the velocity of a point fixed in ECEF at `r` (m), in ECEF axes.
+fn earth_rotation_velocity(axis: &Vector3<f64>, position_ecef_m: &Vector3<f64>) -> Vector3<f64> {
+    axis.cross(position_ecef_m) * WGS84_EARTH_RATE_RAD_S
 }
 
-/// Active rotation by `angle_rad` about `z`: `R_z(θ) = [[c, −s, 0], [s, c, 0], [0, 0, 1]]`.
-fn rotation_z(angle_rad: f64) -> Matrix3<f64> {
+/// Active rotation by `angle_rad` about the unit axis `k` (Rodrigues' formula):
+/// `R_k(θ) = cosθ I + sinθ [k]× + (1 − cosθ) k kᵀ`.
+fn rotation_about(axis: &Vector3<f64>, angle_rad: f64) -> Matrix3<f64> {
     let (s, c) = (libm::sin(angle_rad), libm::cos(angle_rad));
-    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+    Matrix3::identity() * c + axis.cross_matrix() * s + (axis * axis.transpose()) * (1.0 - c)
 }
 
 /// Precomputed launch-frame geometry for one [`LaunchSite`].
@@ -117,7 +147,9 @@ pub struct LaunchFrame {
     site_ecef_m: Vector3<f64>,
     /// Earth centre in launch(-inertial) axes, `−C r_site` (m).
     earth_centre_launch_m: Vector3<f64>,
-    /// Unit Earth rotation axis in launch(-inertial) axes, `C [0, 0, 1]ᵀ`.
+    /// Unit Earth rotation axis in ECEF axes, `k`.
+    earth_axis_ecef: Vector3<f64>,
+    /// Unit Earth rotation axis in launch(-inertial) axes, `C k`.
     earth_axis_launch: Vector3<f64>,
 }
 
@@ -142,12 +174,15 @@ impl LaunchFrame {
         let launch_from_ecef =
             Matrix3::from_rows(&[x_axis.transpose(), y_axis.transpose(), z_axis.transpose()]);
         let site_ecef_m = geodetic_to_ecef(site.latitude_rad, site.longitude_rad, site.height_m);
+        let [kx, ky, kz] = site.earth_axis_ecef;
+        let earth_axis_ecef = Vector3::new(kx, ky, kz);
         Ok(Self {
             site: *site,
             launch_from_ecef,
             site_ecef_m,
             earth_centre_launch_m: -(launch_from_ecef * site_ecef_m),
-            earth_axis_launch: launch_from_ecef * Vector3::z(),
+            earth_axis_ecef,
+            earth_axis_launch: launch_from_ecef * earth_axis_ecef,
         })
     }
 
@@ -171,7 +206,7 @@ impl LaunchFrame {
         &self.earth_centre_launch_m
     }
 
-    /// ECEF position (m) at GNSS time `gnss_time_s` (s) to launch-inertial position (m):
+    /// ECEF position (m) at navigation time `time_s` (s since the launch epoch) to launch-inertial position (m):
     /// `p_i = C (R_z(ω_e (t − t₀)) r_e − r_site)`.
     ///
     /// # Errors
@@ -179,21 +214,21 @@ impl LaunchFrame {
     pub fn ecef_to_launch_inertial(
         &self,
         position_ecef_m: &Vector3<f64>,
-        gnss_time_s: f64,
+        time_s: f64,
     ) -> Result<Vector3<f64>, NavError> {
-        if !all_finite3(position_ecef_m) || !gnss_time_s.is_finite() {
+        if !all_finite3(position_ecef_m) || !time_s.is_finite() {
             return Err(NavError::NonFiniteInput);
         }
-        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
-        let inertial = rotation_z(angle) * position_ecef_m;
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        let inertial = rotation_about(&self.earth_axis_ecef, angle) * position_ecef_m;
         Ok(self.launch_from_ecef * (inertial - self.site_ecef_m))
     }
 
     /// ECEF velocity (m/s, relative to the rotating Earth, at ECEF position `position_ecef_m`)
-    /// at GNSS time `gnss_time_s` (s) to launch-inertial velocity (m/s): the time derivative
+    /// at navigation time `time_s` (s since the launch epoch) to launch-inertial velocity (m/s): the time derivative
     /// of [`Self::ecef_to_launch_inertial`],
-    /// `v_i = C R_z(θ) (v_e + ω_e ẑ × r_e)`, `θ = ω_e (t − t₀)` (`d/dt R_z(θ) r = R_z(θ)
-    /// (ω_e ẑ × r)` since `R_z` commutes with its own generator).
+    /// `v_i = C R_k(θ) (v_e + ω_e k × r_e)`, `θ = ω_e t` (`d/dt R_k(θ) r = R_k(θ)
+    /// (ω_e k × r)` since `R_k` commutes with its own generator).
     ///
     /// # Errors
     /// [`NavError::NonFiniteInput`] for a non-finite position, velocity or time.
@@ -203,7 +238,7 @@ impl LaunchFrame {
     /// use nav_core::frames::{LaunchFrame, LaunchSite};
     /// use nalgebra::Vector3;
     /// let site = LaunchSite { latitude_rad: 0.0, longitude_rad: 0.0, height_m: 0.0,
-    ///     azimuth_rad: 0.0, epoch_s: 0.0 };
+    ///     azimuth_rad: 0.0, earth_axis_ecef: [0.0, 0.0, 1.0] };
     /// let frame = LaunchFrame::new(&site).unwrap();
     /// // The site at rest on the equator moves eastward at ω_e a ≈ 465 m/s inertially.
     /// let v = frame
@@ -215,22 +250,20 @@ impl LaunchFrame {
         &self,
         position_ecef_m: &Vector3<f64>,
         velocity_ecef_mps: &Vector3<f64>,
-        gnss_time_s: f64,
+        time_s: f64,
     ) -> Result<Vector3<f64>, NavError> {
-        if !(all_finite3(position_ecef_m)
-            && all_finite3(velocity_ecef_mps)
-            && gnss_time_s.is_finite())
-        {
+        if !(all_finite3(position_ecef_m) && all_finite3(velocity_ecef_mps) && time_s.is_finite()) {
             return Err(NavError::NonFiniteInput);
         }
-        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
-        let inertial = velocity_ecef_mps + earth_rotation_velocity(position_ecef_m);
-        Ok(self.launch_from_ecef * (rotation_z(angle) * inertial))
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        let inertial =
+            velocity_ecef_mps + earth_rotation_velocity(&self.earth_axis_ecef, position_ecef_m);
+        Ok(self.launch_from_ecef * (rotation_about(&self.earth_axis_ecef, angle) * inertial))
     }
 
     /// Inverse of [`Self::ecef_velocity_to_launch_inertial`]: launch-inertial velocity (m/s)
     /// at launch-inertial position `position_launch_m` (m) to ECEF velocity (m/s),
-    /// `v_e = R_z(−θ) Cᵀ v_i − ω_e ẑ × r_e`.
+    /// `v_e = R_k(−θ) Cᵀ v_i − ω_e k × r_e`.
     ///
     /// # Errors
     /// [`NavError::NonFiniteInput`] for a non-finite position, velocity or time.
@@ -238,34 +271,35 @@ impl LaunchFrame {
         &self,
         position_launch_m: &Vector3<f64>,
         velocity_launch_mps: &Vector3<f64>,
-        gnss_time_s: f64,
+        time_s: f64,
     ) -> Result<Vector3<f64>, NavError> {
         if !all_finite3(velocity_launch_mps) {
             return Err(NavError::NonFiniteInput);
         }
-        let position_ecef = self.launch_inertial_to_ecef(position_launch_m, gnss_time_s)?;
-        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
-        let inertial =
-            rotation_z(-angle) * (self.launch_from_ecef.transpose() * velocity_launch_mps);
-        Ok(inertial - earth_rotation_velocity(&position_ecef))
+        let position_ecef = self.launch_inertial_to_ecef(position_launch_m, time_s)?;
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        let inertial = rotation_about(&self.earth_axis_ecef, -angle)
+            * (self.launch_from_ecef.transpose() * velocity_launch_mps);
+        Ok(inertial - earth_rotation_velocity(&self.earth_axis_ecef, &position_ecef))
     }
 
     /// Inverse of [`Self::ecef_to_launch_inertial`]: launch-inertial position (m) to ECEF
-    /// position (m) at GNSS time `gnss_time_s` (s),
-    /// `r_e = R_z(−ω_e (t − t₀)) (r_site + Cᵀ p_i)`.
+    /// position (m) at navigation time `time_s` (s since the launch epoch),
+    /// `r_e = R_k(−ω_e t) (r_site + Cᵀ p_i)`.
     ///
     /// # Errors
     /// [`NavError::NonFiniteInput`] for a non-finite position or time.
     pub fn launch_inertial_to_ecef(
         &self,
         position_launch_m: &Vector3<f64>,
-        gnss_time_s: f64,
+        time_s: f64,
     ) -> Result<Vector3<f64>, NavError> {
-        if !all_finite3(position_launch_m) || !gnss_time_s.is_finite() {
+        if !all_finite3(position_launch_m) || !time_s.is_finite() {
             return Err(NavError::NonFiniteInput);
         }
-        let angle = WGS84_EARTH_RATE_RAD_S * (gnss_time_s - self.site.epoch_s);
-        Ok(rotation_z(-angle) * self.earth_centred_inertial_position(position_launch_m))
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        Ok(rotation_about(&self.earth_axis_ecef, -angle)
+            * self.earth_centred_inertial_position(position_launch_m))
     }
 
     /// Geocentric position (m) in the ECEF-at-epoch inertial axes of a launch-inertial
@@ -284,7 +318,7 @@ impl LaunchFrame {
         position_launch_m - self.earth_centre_launch_m
     }
 
-    /// Unit Earth rotation axis in launch-inertial axes, `C [0, 0, 1]ᵀ` (dimensionless).
+    /// Unit Earth rotation axis in launch-inertial axes, `C k` (dimensionless).
     pub fn earth_axis_launch(&self) -> Vector3<f64> {
         self.earth_axis_launch
     }
@@ -294,14 +328,14 @@ impl LaunchFrame {
 pub(crate) mod tests {
     use super::*;
 
-    /// The test launch site (Wenchang, azimuth 90°, epoch 0).
+    /// The test launch site (Wenchang, azimuth 90°, polar motion neglected).
     pub(crate) fn wenchang() -> LaunchSite {
         LaunchSite {
             latitude_rad: 19.6_f64.to_radians(),
             longitude_rad: 110.9_f64.to_radians(),
             height_m: 0.0,
             azimuth_rad: 90.0_f64.to_radians(),
-            epoch_s: 0.0,
+            earth_axis_ecef: ECEF_Z_AXIS,
         }
     }
 
@@ -425,7 +459,13 @@ pub(crate) mod tests {
     #[test]
     fn site_rotates_about_the_earth_axis_at_earth_rate() {
         let mut site = wenchang();
-        site.epoch_s = 1.0e6; // a non-zero epoch: only t − t₀ matters
+        // A pole 0.3″ and 0.4″ off z (a typical polar motion): the rotation is about it.
+        let (x_pole, y_pole) = (0.3 / 206_264.806, 0.4 / 206_264.806);
+        site.earth_axis_ecef = [
+            x_pole,
+            -y_pole,
+            libm::sqrt(1.0 - x_pole * x_pole - y_pole * y_pole),
+        ];
         let frame = LaunchFrame::new(&site).unwrap();
         let k = frame.earth_axis_launch();
         let g0 = -*frame.earth_centre_launch_m();
@@ -438,7 +478,7 @@ pub(crate) mod tests {
                 + k * (k.dot(&g0) * (1.0 - theta.cos()));
             let expected = rotated - g0;
             let p = frame
-                .ecef_to_launch_inertial(frame.site_ecef_m(), site.epoch_s + elapsed)
+                .ecef_to_launch_inertial(frame.site_ecef_m(), elapsed)
                 .unwrap();
             worst_position = worst_position.max((p - expected).norm());
             let g = p + g0;
@@ -457,7 +497,7 @@ pub(crate) mod tests {
         assert!(worst_angle < 1e-13);
         // 21,541 s is ≈ 90°: the site is then ≈ √2 · (distance from the axis) from the origin.
         let quarter = frame
-            .ecef_to_launch_inertial(frame.site_ecef_m(), site.epoch_s + 21_541.0)
+            .ecef_to_launch_inertial(frame.site_ecef_m(), 21_541.0)
             .unwrap();
         assert!((quarter.norm() / g0_perp.norm() - 2.0_f64.sqrt()).abs() < 1e-3);
     }
@@ -518,17 +558,16 @@ pub(crate) mod tests {
         }
     }
 
-    /// With a non-zero epoch: the launch-inertial origin (the site at `t₀`) seen in ECEF at
-    /// `t₀ + Δ` is the site's geodetic point moved west by `ω_e Δ` in longitude (the Earth
-    /// turned under it), and ECEF → launch-inertial → ECEF is the identity.
+    /// The launch-inertial origin (the site at `t₀`) seen in ECEF at `t₀ + Δ` is the site's
+    /// geodetic point moved west by `ω_e Δ` in longitude (the Earth turned under it), and
+    /// ECEF → launch-inertial → ECEF is the identity.
     #[test]
-    fn launch_inertial_to_ecef_with_a_non_zero_epoch() {
-        let mut site = wenchang();
-        site.epoch_s = 5.0e5;
+    fn launch_inertial_to_ecef_after_the_epoch() {
+        let site = wenchang();
         let frame = LaunchFrame::new(&site).unwrap();
         for elapsed in [0.0, 1.0, 3_600.0, 40_000.0] {
             let origin = frame
-                .launch_inertial_to_ecef(&Vector3::zeros(), site.epoch_s + elapsed)
+                .launch_inertial_to_ecef(&Vector3::zeros(), elapsed)
                 .unwrap();
             let expected = geodetic_to_ecef(
                 site.latitude_rad,
@@ -537,12 +576,8 @@ pub(crate) mod tests {
             );
             assert!((origin - expected).norm() < 1e-6, "{elapsed}: {origin:?}");
             let r = Vector3::new(-2.3e6, 5.9e6, 2.2e6);
-            let p = frame
-                .ecef_to_launch_inertial(&r, site.epoch_s + elapsed)
-                .unwrap();
-            let back = frame
-                .launch_inertial_to_ecef(&p, site.epoch_s + elapsed)
-                .unwrap();
+            let p = frame.ecef_to_launch_inertial(&r, elapsed).unwrap();
+            let back = frame.launch_inertial_to_ecef(&p, elapsed).unwrap();
             assert!((back - r).norm() < 1e-6, "{elapsed}: {back:?}");
         }
     }
@@ -555,6 +590,21 @@ pub(crate) mod tests {
         site = wenchang();
         site.height_m = f64::NAN;
         assert_eq!(site.validate(), Err(NavError::InvalidConfiguration));
+        // The Earth axis: not unit, tilted beyond the bound, pointing south, not finite.
+        for axis in [
+            [0.0, 0.0, 1.0 + 1e-8],
+            [2e-4, 0.0, libm::sqrt(1.0 - 4e-8)],
+            [0.0, 0.0, -1.0],
+            [f64::NAN, 0.0, 1.0],
+        ] {
+            site = wenchang();
+            site.earth_axis_ecef = axis;
+            assert_eq!(
+                site.validate(),
+                Err(NavError::InvalidConfiguration),
+                "{axis:?}"
+            );
+        }
         let frame = LaunchFrame::new(&wenchang()).unwrap();
         assert_eq!(
             frame.ecef_to_launch_inertial(&Vector3::zeros(), f64::INFINITY),

@@ -121,7 +121,7 @@ impl FilterPathFixture {
             longitude_rad: 1.936,
             height_m: 20.0,
             azimuth_rad: 1.571,
-            epoch_s: 0.0,
+            earth_axis_ecef: [0.0, 0.0, 1.0],
         })?;
         let zero = Vector3::zeros();
         Ok(Self {

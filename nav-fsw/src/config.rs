@@ -10,6 +10,7 @@ use nav_core::strapdown::StrapdownConfig;
 use crate::calibration_manager::CalibrationManagerConfig;
 use crate::error::{ConfigField, FswError};
 use crate::input_check::ImuLimits;
+use crate::sensor_frames::SensorFrames;
 
 /// Arc-seconds to radians.
 pub const ARCSEC_TO_RAD: f64 = core::f64::consts::PI / (180.0 * 3600.0);
@@ -196,8 +197,10 @@ pub struct HeldSampleUncertainty {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FswConfig {
-    /// Launch site and epoch, defining the launch-inertial navigation frame.
+    /// Launch site and Earth rotation axis, defining the launch-inertial navigation frame.
     pub launch_site: LaunchSite,
+    /// The star tracker's and GNSS receiver's frames and time scales (ground constants).
+    pub sensor_frames: SensorFrames,
     /// Strapdown options (coning, sculling, gravity model).
     pub strapdown: StrapdownConfig,
     /// The 24-state filter: mode, discretisation order (paper: 3), initial 1σ.
@@ -222,9 +225,10 @@ impl FswConfig {
     /// The paper's values where it gives them (Section 3: 500 Hz, 10″ star sensor, 10 m
     /// GNSS, 3rd-order discretisation, its noise densities) and documented choices
     /// elsewhere, for a launch site given by the mission.
-    pub fn paper_defaults(launch_site: LaunchSite) -> Self {
+    pub fn paper_defaults(launch_site: LaunchSite, sensor_frames: SensorFrames) -> Self {
         Self {
             launch_site,
+            sensor_frames,
             strapdown: StrapdownConfig::default(),
             filter: FilterConfig {
                 mode: FilterMode::ClosedLoop,
@@ -302,6 +306,7 @@ impl FswConfig {
         if self.launch_site.validate().is_err() {
             return invalid(ConfigField::LaunchSite);
         }
+        self.sensor_frames.validate()?;
         self.validate_squared_sigmas()?;
         if self.filter.gnss_error.validate().is_err() {
             return invalid(ConfigField::GnssCorrelatedError);
@@ -456,13 +461,13 @@ mod tests {
             longitude_rad: 1.750,
             height_m: 1000.0,
             azimuth_rad: 3.316,
-            epoch_s: 0.0,
+            earth_axis_ecef: [0.0, 0.0, 1.0],
         }
     }
 
     #[test]
     fn defaults_are_valid_and_each_bad_value_names_its_field() {
-        let good = FswConfig::paper_defaults(site());
+        let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         assert_eq!(good.validate(), Ok(()));
         type Corruption = (fn(&mut FswConfig), ConfigField);
         let cases: [Corruption; 8] = [
@@ -501,7 +506,7 @@ mod tests {
     }
 
     fn refused(corrupt: impl Fn(&mut FswConfig)) -> Option<ConfigField> {
-        let mut config = FswConfig::paper_defaults(site());
+        let mut config = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         corrupt(&mut config);
         match config.validate() {
             Err(FswError::InvalidConfiguration(field)) => Some(field),
@@ -513,7 +518,9 @@ mod tests {
     fn the_unit_conversions_and_the_default_star_noise_have_their_values() {
         // 1″ = π / 648,000 rad; the paper's star sensor is 10″ (1σ).
         assert!((ARCSEC_TO_RAD - 4.848_136_811_095_36e-6).abs() < 1e-20);
-        let noise = FswConfig::paper_defaults(site()).star.noise_rad;
+        let noise = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED)
+            .star
+            .noise_rad;
         assert!((noise - 4.848_136_811_095_36e-5).abs() < 1e-19);
     }
 
@@ -555,7 +562,9 @@ mod tests {
             Some(F::StarNormTolerance)
         );
         // The latency may span the whole history, (64 − 1) frames, and no more.
-        let period = FswConfig::paper_defaults(site()).imu.period_s;
+        let period = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED)
+            .imu
+            .period_s;
         assert_eq!(refused(|c| c.timing.max_latency_s = 63.0 * period), None);
         assert_eq!(
             refused(|c| c.timing.max_latency_s = 63.0 * period * (1.0 + 1e-12)),

@@ -23,6 +23,8 @@ pub enum ConfigField {
     MaxLatency,
     /// `launch_site` (latitude, longitude, azimuth, height or epoch)
     LaunchSite,
+    /// `sensor_frames` (GCRF → launch-inertial rotation, launch epoch in GPS time)
+    SensorFrames,
     /// `filter.initial` or `filter.discretisation_order`
     FilterInitialUncertainty,
     /// `process_noise`
@@ -85,6 +87,7 @@ impl ConfigField {
             ConfigField::GnssMaxJump => "gnss.max_jump_m",
             ConfigField::MaxLatency => "timing.max_latency_s",
             ConfigField::LaunchSite => "launch_site",
+            ConfigField::SensorFrames => "sensor_frames",
             ConfigField::FilterInitialUncertainty => "filter.initial",
             ConfigField::ProcessNoise => "process_noise",
             ConfigField::StarMounting => "star.mounting_wxyz",
@@ -131,7 +134,12 @@ impl ConfigField {
             }
             ConfigField::LaunchSite => {
                 "must be finite, latitude within +-90 deg, longitude and azimuth within \
-                 +-360 deg, height within [-1000, 10000] m"
+                 +-360 deg, height within [-1000, 10000] m, Earth axis a unit vector within \
+                 1e-4 rad of ECEF z"
+            }
+            ConfigField::SensorFrames => {
+                "must have a unit GCRF-to-launch-inertial quaternion (norm within 1e-9 of 1) and \
+                 a launch epoch with GPS week <= 9999 and seconds of week in [0, 604800)"
             }
             ConfigField::FilterInitialUncertainty => {
                 "must have every 1-sigma in [1e-150, 1e150] (its square inside the normal f64 \

@@ -264,7 +264,7 @@ pub fn check_gnss(
     predicted_position_m: &Vector3<f64>,
     max_jump_m: f64,
 ) -> Result<(), GnssFault> {
-    if !(fix.time_tag_s.is_finite() && attitude::all_finite3(fix_position_m)) {
+    if !(fix.gps_seconds_of_week.is_finite() && attitude::all_finite3(fix_position_m)) {
         return Err(GnssFault::NonFinite);
     }
     if (fix_position_m - predicted_position_m).norm() > max_jump_m {
@@ -369,7 +369,8 @@ mod tests {
     #[test]
     fn gnss_jump_is_rejected() {
         let fix = GnssFix {
-            time_tag_s: 10.0,
+            gps_week: 2_000,
+            gps_seconds_of_week: 10.0,
             position_ecef_m: [0.0; 3],
             velocity_ecef_mps: None,
         };
@@ -446,7 +447,8 @@ mod tests {
         // GNSS: a jump of exactly the limit is accepted (3-4-5 triangle), and a fix equal to a
         // far-away prediction is no jump at all.
         let fix = GnssFix {
-            time_tag_s: 1.0,
+            gps_week: 2_000,
+            gps_seconds_of_week: 1.0,
             position_ecef_m: [0.0; 3],
             velocity_ecef_mps: None,
         };

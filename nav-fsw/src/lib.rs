@@ -22,7 +22,7 @@
 //!     longitude_rad: 100.291_f64.to_radians(),
 //!     height_m: 1000.0,
 //!     azimuth_rad: 190.0_f64.to_radians(),
-//!     epoch_s: 0.0,
+//!     earth_axis_ecef: [0.0, 0.0, 1.0],
 //! };
 //! let initial = NavigationState {
 //!     attitude: Quaternion::identity(),
@@ -30,7 +30,7 @@
 //!     velocity_mps: Vector3::new(7600.0, 0.0, 0.0),
 //!     time_s: 600.0,
 //! };
-//! let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site), initial)?;
+//! let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED), initial)?;
 //! let mut imu = FrameImu(Some(ImuSample {
 //!     sequence: 1,
 //!     time_s: 600.002,
@@ -73,6 +73,7 @@ pub mod motion_observability;
 pub mod ports;
 pub mod replay;
 pub mod scheduler;
+pub mod sensor_frames;
 pub mod spi_imu;
 pub mod stream_merge;
 pub mod stream_ports;

@@ -11,7 +11,7 @@
 //! | header bytes | content |
 //! |---|---|
 //! | 0..8 | magic [`MAGIC`] = `b"NAVLOG\0\0"` |
-//! | 8..12 | format version, u32 LE = [`FORMAT_VERSION`] (1) |
+//! | 8..12 | format version, u32 LE = [`FORMAT_VERSION`] (2) |
 //! | 12..16 | record size in bytes, u32 LE = 80 |
 //!
 //! ## Record layout
@@ -22,17 +22,20 @@
 //! | offset | IMU (tag 1) | star (tag 2) | GNSS (tag 3) | GNSS with velocity (tag 4) |
 //! |---|---|---|---|---|
 //! | 8 | sequence (u64) | arrival time (s) | arrival time (s) | arrival time (s) |
-//! | 16 | time tag = arrival (s) | time tag (s) | time tag (s) | time tag (s) |
-//! | 24 | interval (s) | q w | ECEF x (m) | ECEF x (m) |
-//! | 32 | Δθ x (rad) | q x | ECEF y (m) | ECEF y (m) |
-//! | 40 | Δθ y (rad) | q y | ECEF z (m) | ECEF z (m) |
-//! | 48 | Δθ z (rad) | q z | 0 | ECEF v x (m/s) |
+//! | 16 | time tag = arrival (s) | time tag (s) | GPS seconds of week (s) | GPS seconds of week (s) |
+//! | 24 | interval (s) | `q_gs` w | ECEF x (m) | ECEF x (m) |
+//! | 32 | Δθ x (rad) | `q_gs` x | ECEF y (m) | ECEF y (m) |
+//! | 40 | Δθ y (rad) | `q_gs` y | ECEF z (m) | ECEF z (m) |
+//! | 48 | Δθ z (rad) | `q_gs` z | 0 | ECEF v x (m/s) |
 //! | 56 | Δv x (m/s) | 0 | 0 | ECEF v y (m/s) |
 //! | 64 | Δv y (m/s) | 0 | 0 | ECEF v z (m/s) |
-//! | 72 | Δv z (m/s) | 0 | 0 | 0 |
+//! | 72 | Δv z (m/s) | 0 | GPS week (u64, ≤ u32::MAX) | GPS week (u64, ≤ u32::MAX) |
 //!
-//! A position-only receiver's fixes are tag 3, so logs written before tag 4 existed read
-//! unchanged.
+//! Times other than the GNSS tags are navigation time (s since the launch epoch); the star
+//! attitude is sensor → GCRF, the GNSS fix ECEF (ITRF) tagged in GPS time, as the ports take
+//! them ([`crate::ports`]). A position-only receiver's fixes are tag 3. Version 1 logs (star
+//! relative to launch-inertial, GNSS tagged in navigation time) are refused with
+//! [`LogRecordError::UnsupportedVersion`].
 //!
 //! Decoding accepts only this canonical form (known tag, zero reserved and unused bytes, finite
 //! floats), so `encode(decode(bytes)) == bytes` for every accepted record.
@@ -46,7 +49,7 @@ pub const HEADER_SIZE: usize = 16;
 /// The file's first eight bytes.
 pub const MAGIC: [u8; 8] = *b"NAVLOG\0\0";
 /// The layout version this module reads and writes.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Tag byte of an IMU record.
 pub const TAG_IMU: u8 = 1;
@@ -87,7 +90,7 @@ pub struct StarRecord {
     pub arrival_time_s: f64,
     /// Time of validity (s).
     pub time_tag_s: f64,
-    /// Measured `q_is`, `[w, x, y, z]` (Hamilton, scalar first).
+    /// Measured `q_gs` (sensor → GCRF), `[w, x, y, z]` (Hamilton, scalar first).
     pub attitude_wxyz: [f64; 4],
 }
 
@@ -95,10 +98,12 @@ pub struct StarRecord {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GnssRecord {
-    /// When the fix reaches the flight code (s).
+    /// When the fix reaches the flight code (s, navigation time).
     pub arrival_time_s: f64,
-    /// Time of validity (s).
-    pub time_tag_s: f64,
+    /// Time of validity: GPS week (full count).
+    pub gps_week: u32,
+    /// Time of validity: GPS seconds of week (s).
+    pub gps_seconds_of_week: f64,
     /// Measured position in ECEF, WGS-84 (m).
     pub position_ecef_m: [f64; 3],
     /// Measured velocity relative to the rotating Earth, ECEF axes (m/s), if the receiver
@@ -132,7 +137,7 @@ pub enum RecordField {
     DeltaVelocity,
     /// Star/GNSS `arrival_time_s`.
     ArrivalTime,
-    /// Star/GNSS `time_tag_s`.
+    /// Star `time_tag_s`, GNSS `gps_seconds_of_week`.
     TimeTag,
     /// Star `attitude_wxyz`.
     Attitude,
@@ -167,6 +172,8 @@ pub enum LogRecordError {
         /// Byte offset within the record.
         offset: usize,
     },
+    /// A GNSS record's GPS week word does not fit a `u32`.
+    GpsWeek(u64),
     /// A float is NaN or infinite.
     NonFinite {
         /// The field.
@@ -180,12 +187,19 @@ impl core::fmt::Display for LogRecordError {
     fn fmt(&self, formatter: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Self::BadMagic => write!(formatter, "not a replay log (bad magic)"),
+            Self::UnsupportedVersion(1) => write!(
+                formatter,
+                "format version 1 (expected {FORMAT_VERSION}): its star attitudes are relative \
+                 to the launch-inertial frame and its GNSS fixes tagged in navigation time; \
+                 regenerate the log (star sensor to GCRF, GNSS in GPS time)"
+            ),
             Self::UnsupportedVersion(version) => {
                 write!(
                     formatter,
                     "format version {version} (expected {FORMAT_VERSION})"
                 )
             }
+            Self::GpsWeek(week) => write!(formatter, "GPS week {week} does not fit 32 bits"),
             Self::RecordSizeMismatch(size) => {
                 write!(formatter, "record size {size} (expected {RECORD_SIZE})")
             }
@@ -279,12 +293,13 @@ impl LogRecord {
         }
     }
 
-    /// The time of validity (s): the IMU time tag, the measurement's time tag.
-    pub fn time_tag_s(&self) -> f64 {
+    /// The time of validity in navigation time (s): the IMU time tag, the star time tag;
+    /// `None` for a GNSS fix, tagged in GPS time.
+    pub fn time_tag_s(&self) -> Option<f64> {
         match self {
-            Self::Imu(imu) => imu.time_s,
-            Self::Star(star) => star.time_tag_s,
-            Self::Gnss(gnss) => gnss.time_tag_s,
+            Self::Imu(imu) => Some(imu.time_s),
+            Self::Star(star) => Some(star.time_tag_s),
+            Self::Gnss(_) => None,
         }
     }
 
@@ -342,14 +357,14 @@ impl LogRecord {
                 });
                 [
                     float(gnss.arrival_time_s, RecordField::ArrivalTime),
-                    float(gnss.time_tag_s, RecordField::TimeTag),
+                    float(gnss.gps_seconds_of_week, RecordField::TimeTag),
                     float(x, RecordField::Position),
                     float(y, RecordField::Position),
                     float(z, RecordField::Position),
                     vx,
                     vy,
                     vz,
-                    zero,
+                    (u64::from(gnss.gps_week), None),
                 ]
             }
         }
@@ -412,10 +427,11 @@ impl LogRecord {
                 })
             }
         };
-        let unused_from = |first: usize| -> Result<(), LogRecordError> {
+        let unused = |first: usize, end: usize| -> Result<(), LogRecordError> {
             match words
                 .iter()
                 .enumerate()
+                .take(end)
                 .skip(first)
                 .find(|(_, word)| **word != 0)
             {
@@ -458,13 +474,13 @@ impl LogRecord {
                         float(5, RecordField::Attitude)?,
                     ],
                 };
-                unused_from(6)?;
+                unused(6, WORDS)?;
                 Ok(Self::Star(star))
             }
             TAG_GNSS | TAG_GNSS_VELOCITY => {
                 // Field by field in word order, so an error names the first bad word.
                 let arrival_time_s = float(0, RecordField::ArrivalTime)?;
-                let time_tag_s = float(1, RecordField::TimeTag)?;
+                let gps_seconds_of_week = float(1, RecordField::TimeTag)?;
                 let position_ecef_m = [
                     float(2, RecordField::Position)?,
                     float(3, RecordField::Position)?,
@@ -479,13 +495,18 @@ impl LogRecord {
                 } else {
                     None
                 };
+                if tag == TAG_GNSS {
+                    unused(5, 8)?;
+                }
+                let week = words.get(8).copied().unwrap_or(0);
+                let gps_week = u32::try_from(week).map_err(|_| LogRecordError::GpsWeek(week))?;
                 let gnss = GnssRecord {
                     arrival_time_s,
-                    time_tag_s,
+                    gps_week,
+                    gps_seconds_of_week,
                     position_ecef_m,
                     velocity_ecef_mps,
                 };
-                unused_from(if tag == TAG_GNSS_VELOCITY { 8 } else { 5 })?;
                 Ok(Self::Gnss(gnss))
             }
             unknown => Err(LogRecordError::UnknownTag(unknown)),
@@ -538,7 +559,8 @@ impl GnssRecord {
     /// The GNSS port's fix.
     pub fn to_gnss_fix(&self) -> GnssFix {
         GnssFix {
-            time_tag_s: self.time_tag_s,
+            gps_week: self.gps_week,
+            gps_seconds_of_week: self.gps_seconds_of_week,
             position_ecef_m: self.position_ecef_m,
             velocity_ecef_mps: self.velocity_ecef_mps,
         }
@@ -566,12 +588,16 @@ mod tests {
         });
         let gnss = LogRecord::Gnss(GnssRecord {
             arrival_time_s: 30.5,
-            time_tag_s: 30.375,
+            gps_week: 2300,
+            gps_seconds_of_week: 30.375,
             position_ecef_m: [0.0; 3],
             velocity_ecef_mps: None,
         });
         let times = [imu, star, gnss].map(|r| (r.arrival_time_s(), r.time_tag_s()));
-        assert_eq!(times, [(12.5, 12.5), (20.25, 20.125), (30.5, 30.375)]);
+        assert_eq!(
+            times,
+            [(12.5, Some(12.5)), (20.25, Some(20.125)), (30.5, None)]
+        );
     }
 
     #[test]
@@ -631,16 +657,22 @@ mod tests {
         );
         let velocity = proptest::option::of(proptest::array::uniform3(finite()));
         let gnss = (
-            finite(),
+            (finite(), any::<u32>()),
             finite(),
             proptest::array::uniform3(finite()),
             velocity,
         )
             .prop_map(
-                |(arrival_time_s, time_tag_s, position_ecef_m, velocity_ecef_mps)| {
+                |(
+                    (arrival_time_s, gps_week),
+                    gps_seconds_of_week,
+                    position_ecef_m,
+                    velocity_ecef_mps,
+                )| {
                     LogRecord::Gnss(GnssRecord {
                         arrival_time_s,
-                        time_tag_s,
+                        gps_week,
+                        gps_seconds_of_week,
                         position_ecef_m,
                         velocity_ecef_mps,
                     })
@@ -686,21 +718,28 @@ mod tests {
             for (index, word) in words.iter().enumerate() {
                 bytes[offset_of(index)..offset_of(index) + WORD].copy_from_slice(&word.to_le_bytes());
             }
-            // Words carrying floats, and the first unused word, per tag (module-doc table).
-            let (float_words, first_unused) = match tag {
-                TAG_IMU => (1..9, 9),
-                TAG_STAR => (0..6, 6),
-                TAG_GNSS_VELOCITY => (0..8, 8),
-                _ => (0..5, 5),
+            // Words carrying floats, and the unused words, per tag (module-doc table); GNSS
+            // records carry the GPS week in the last word.
+            let (float_words, unused) = match tag {
+                TAG_IMU => (1..9, 9..WORDS),
+                TAG_STAR => (0..6, 6..WORDS),
+                TAG_GNSS_VELOCITY => (0..8, 8..8),
+                _ => (0..5, 5..8),
             };
             let first_non_finite = float_words
                 .clone()
                 .find(|index| !f64::from_bits(words[*index]).is_finite());
-            let first_padding = (first_unused..WORDS).find(|index| words[*index] != 0);
+            let first_padding = unused.clone().find(|index| words[*index] != 0);
+            let gnss = tag == TAG_GNSS || tag == TAG_GNSS_VELOCITY;
+            let wide_week = gnss && u32::try_from(words[8]).is_err();
             match LogRecord::decode(&bytes) {
                 Ok(record) => {
-                    prop_assert!(first_non_finite.is_none() && first_padding.is_none());
+                    prop_assert!(first_non_finite.is_none() && first_padding.is_none() && !wide_week);
                     prop_assert_eq!(record.encode().unwrap(), bytes);
+                }
+                Err(LogRecordError::GpsWeek(week)) => {
+                    prop_assert!(first_non_finite.is_none() && first_padding.is_none());
+                    prop_assert_eq!(week, words[8]);
                 }
                 Err(LogRecordError::NonFinite { offset, .. }) => {
                     prop_assert_eq!(Some(offset), first_non_finite.map(offset_of));
@@ -720,7 +759,8 @@ mod tests {
     fn known_layout() {
         let record = LogRecord::Gnss(GnssRecord {
             arrival_time_s: 1.5,
-            time_tag_s: 1.0,
+            gps_week: 2_391,
+            gps_seconds_of_week: 1.0,
             position_ecef_m: [-2.0, 0.25, 6.4e6],
             velocity_ecef_mps: None,
         });
@@ -730,12 +770,21 @@ mod tests {
         assert_eq!(bytes[16..24], 1.0_f64.to_le_bytes());
         assert_eq!(bytes[24..32], (-2.0_f64).to_le_bytes());
         assert_eq!(bytes[40..48], 6.4e6_f64.to_le_bytes());
-        assert!(bytes[48..].iter().all(|byte| *byte == 0));
+        assert!(bytes[48..72].iter().all(|byte| *byte == 0));
+        assert_eq!(bytes[72..80], 2_391_u64.to_le_bytes());
+        assert_eq!(LogRecord::decode(&bytes), Ok(record));
+        let mut wide = bytes;
+        wide[76] = 1;
+        assert_eq!(
+            LogRecord::decode(&wide),
+            Err(LogRecordError::GpsWeek((1 << 32) + 2_391))
+        );
 
         // With the receiver's velocity: tag 4, velocity in the words at 48, 56, 64.
         let with_velocity = LogRecord::Gnss(GnssRecord {
             arrival_time_s: 1.5,
-            time_tag_s: 1.0,
+            gps_week: 2_391,
+            gps_seconds_of_week: 1.0,
             position_ecef_m: [-2.0, 0.25, 6.4e6],
             velocity_ecef_mps: Some([7.5e3, -0.5, 3.0]),
         });
@@ -743,7 +792,7 @@ mod tests {
         assert_eq!(bytes[0], TAG_GNSS_VELOCITY);
         assert_eq!(bytes[48..56], 7.5e3_f64.to_le_bytes());
         assert_eq!(bytes[64..72], 3.0_f64.to_le_bytes());
-        assert!(bytes[72..].iter().all(|byte| *byte == 0));
+        assert_eq!(bytes[72..80], 2_391_u64.to_le_bytes());
         assert_eq!(LogRecord::decode(&bytes), Ok(with_velocity));
         let mut bad = bytes;
         bad[56..64].copy_from_slice(&f64::NAN.to_le_bytes());
@@ -866,10 +915,20 @@ mod tests {
         bad[0] = b'X';
         assert_eq!(decode_header(&bad), Err(LogRecordError::BadMagic));
         let mut bad = header;
-        bad[8] = 2;
+        bad[8] = 3;
         assert_eq!(
             decode_header(&bad),
-            Err(LogRecordError::UnsupportedVersion(2))
+            Err(LogRecordError::UnsupportedVersion(3))
+        );
+        // A version-1 log (launch-inertial star, navigation-time GNSS) is refused, saying why.
+        bad[8] = 1;
+        let error = decode_header(&bad).unwrap_err();
+        assert_eq!(error, LogRecordError::UnsupportedVersion(1));
+        let mut text = heapless::String::<256>::new();
+        core::fmt::write(&mut text, format_args!("{error}")).unwrap();
+        assert!(
+            text.contains("launch-inertial") && text.contains("GPS time"),
+            "{text}"
         );
         let mut bad = header;
         bad[12] = 81;

@@ -21,22 +21,30 @@ pub struct ImuSample {
     pub delta_velocity_mps: [f64; 3],
 }
 
-/// One star-sensor attitude: `q_is`, star-sensor frame to launch-inertial frame.
+/// One star-tracker attitude: `q_gs`, star-sensor frame to GCRF, as trackers output it
+/// (their catalogue is ICRS/J2000; the J2000 ↔ GCRF frame bias, 0.02″, is far below the
+/// tracker's noise). The flight code turns it into launch-inertial with the ground constant
+/// of [`crate::sensor_frames::SensorFrames`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StarMeasurement {
-    /// Time of validity (s, navigation time).
+    /// Time of validity (s, navigation time: the tracker is synchronised by the flight
+    /// computer, as its exposures are commanded on the flight computer's clock).
     pub time_tag_s: f64,
-    /// Measured attitude quaternion `[w, x, y, z]` (Hamilton, scalar first).
+    /// Measured attitude quaternion `q_gs` `[w, x, y, z]` (Hamilton, scalar first), sensor
+    /// frame → GCRF.
     pub attitude_wxyz: [f64; 4],
 }
 
-/// One GNSS fix: antenna position and, from receivers that output it, antenna velocity.
+/// One GNSS fix: antenna position and, from receivers that output it, antenna velocity, in
+/// ECEF (ITRF / WGS-84) axes, tagged in GPS time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GnssFix {
-    /// Time of validity (s, GNSS time).
-    pub time_tag_s: f64,
+    /// Time of validity: GPS week (full count since 1980-01-06, not modulo 1024).
+    pub gps_week: u32,
+    /// Time of validity: GPS seconds of week (s), in `[0, 604800)`.
+    pub gps_seconds_of_week: f64,
     /// Antenna position in ECEF, WGS-84 (m).
     pub position_ecef_m: [f64; 3],
     /// Antenna velocity relative to the rotating Earth, ECEF axes (m/s); `None` when the

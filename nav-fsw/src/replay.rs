@@ -28,6 +28,7 @@ use crate::error::{ConfigField, FswError};
 use crate::log_record::LogRecord;
 use crate::ports::{GnssFix, GnssPort, ImuPort, ImuSample, StarMeasurement, StarSensorPort};
 use crate::scheduler::NavigationComputer;
+use crate::sensor_frames::SensorFrames;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Most star measurements one frame can carry (more are counted as dropped).
@@ -493,7 +494,7 @@ fn record_time_s(record: &LogRecord) -> f64 {
 }
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 46;
+pub const SETUP_WORDS: usize = 54;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -503,6 +504,8 @@ pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 pub struct ReplaySetup {
     /// Launch site.
     pub launch_site: LaunchSite,
+    /// The sensors' frames and time scales (ground constants).
+    pub sensor_frames: SensorFrames,
     /// Initial navigation solution.
     pub initial: NavigationState,
     /// Filter mode.
@@ -540,7 +543,7 @@ pub struct ReplaySetup {
 impl ReplaySetup {
     /// The flight software configuration.
     pub fn config(&self) -> FswConfig {
-        let mut config = FswConfig::paper_defaults(self.launch_site);
+        let mut config = FswConfig::paper_defaults(self.launch_site, self.sensor_frames);
         config.filter.mode = self.mode;
         config.filter.discretisation_order = self.discretisation_order;
         config.filter.initial = self.initial_sigma;
@@ -573,6 +576,9 @@ impl ReplaySetup {
     /// The setup as words.
     pub fn to_words(&self) -> [u64; SETUP_WORDS] {
         let site = &self.launch_site;
+        let [kx, ky, kz] = site.earth_axis_ecef;
+        let frames = &self.sensor_frames;
+        let [gw, gx, gy, gz] = frames.gcrf_to_launch_inertial_wxyz;
         let q = &self.initial.attitude;
         let p = &self.initial.position_m;
         let v = &self.initial.velocity_mps;
@@ -588,7 +594,14 @@ impl ReplaySetup {
             site.longitude_rad,
             site.height_m,
             site.azimuth_rad,
-            site.epoch_s,
+            kx,
+            ky,
+            kz,
+            gw,
+            gx,
+            gy,
+            gz,
+            frames.launch_epoch_gps_seconds_of_week,
             q.w,
             q.i,
             q.j,
@@ -630,7 +643,12 @@ impl ReplaySetup {
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
-        let header = [SETUP_MAGIC, mode, u64::from(self.discretisation_order)];
+        let header = [
+            SETUP_MAGIC,
+            mode,
+            u64::from(self.discretisation_order),
+            u64::from(frames.launch_epoch_gps_week),
+        ];
         // `header` first: zip polls its first iterator first, so no slot is skipped.
         for (value, slot) in header.into_iter().zip(&mut slots) {
             *slot = value;
@@ -648,7 +666,7 @@ impl ReplaySetup {
     /// values themselves are checked by [`NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, floats @ ..] = words;
+        let [magic, mode, order, week, floats @ ..] = words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
         }
@@ -658,8 +676,9 @@ impl ReplaySetup {
             _ => return Err(bad),
         };
         let order = u8::try_from(*order).map_err(|_| bad)?;
+        let week = u32::try_from(*week).map_err(|_| bad)?;
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, epoch, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -667,7 +686,12 @@ impl ReplaySetup {
                 longitude_rad: lon,
                 height_m: height,
                 azimuth_rad: azimuth,
-                epoch_s: epoch,
+                earth_axis_ecef: [kx, ky, kz],
+            },
+            sensor_frames: SensorFrames {
+                gcrf_to_launch_inertial_wxyz: [gw, gx, gy, gz],
+                launch_epoch_gps_week: week,
+                launch_epoch_gps_seconds_of_week: seconds_of_week,
             },
             initial: NavigationState {
                 attitude: Quaternion::new(qw, qx, qy, qz),
@@ -927,7 +951,8 @@ mod tests {
     fn gnss(arrival_time_s: f64) -> LogRecord {
         LogRecord::Gnss(GnssRecord {
             arrival_time_s,
-            time_tag_s: arrival_time_s,
+            gps_week: 2_000,
+            gps_seconds_of_week: arrival_time_s,
             position_ecef_m: [7e6, 0.0, 0.0],
             velocity_ecef_mps: None,
         })
@@ -1076,15 +1101,23 @@ mod tests {
 
     #[test]
     fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
-        let config = FswConfig::paper_defaults(LaunchSite {
-            latitude_rad: 0.7,
-            longitude_rad: 1.7,
-            height_m: 1000.0,
-            azimuth_rad: 3.3,
-            epoch_s: 0.0,
-        });
+        let config = FswConfig::paper_defaults(
+            LaunchSite {
+                latitude_rad: 0.7,
+                longitude_rad: 1.7,
+                height_m: 1000.0,
+                azimuth_rad: 3.3,
+                earth_axis_ecef: [1e-6, -2e-6, 0.999_999_999_997_5],
+            },
+            SensorFrames {
+                gcrf_to_launch_inertial_wxyz: [0.5, -0.5, 0.5, 0.5],
+                launch_epoch_gps_week: 2_391,
+                launch_epoch_gps_seconds_of_week: 302_418.25,
+            },
+        );
         let setup = ReplaySetup {
             launch_site: config.launch_site,
+            sensor_frames: config.sensor_frames,
             initial: NavigationState {
                 attitude: Quaternion::new(0.5, 0.5, -0.5, 0.5),
                 position_m: Vector3::new(1.0, -2.0, 3.0),

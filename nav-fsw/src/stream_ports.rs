@@ -235,7 +235,8 @@ mod tests {
         let t = f64::from(k);
         LogRecord::Gnss(GnssRecord {
             arrival_time_s: t,
-            time_tag_s: t,
+            gps_week: 2_000,
+            gps_seconds_of_week: t,
             position_ecef_m: [7e6, t, -t],
             velocity_ecef_mps: None,
         })

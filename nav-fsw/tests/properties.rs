@@ -35,7 +35,7 @@ fn site() -> LaunchSite {
         longitude_rad: 1.7,
         height_m: 1000.0,
         azimuth_rad: 1.6,
-        epoch_s: 0.0,
+        earth_axis_ecef: [0.0, 0.0, 1.0],
     }
 }
 
@@ -143,7 +143,7 @@ proptest! {
         time_tag_s in any_sensor_value(100.0),
         predicted in proptest::array::uniform3(-7e6..7e6_f64),
     ) {
-        let fix = GnssFix { time_tag_s, position_ecef_m: position, velocity_ecef_mps: None };
+        let fix = GnssFix { gps_week: 2_000, gps_seconds_of_week: time_tag_s, position_ecef_m: position, velocity_ecef_mps: None };
         let position = Vector3::from(position);
         let predicted = Vector3::from(predicted);
         if check_gnss(&fix, &position, &predicted, 1000.0).is_ok() {
@@ -189,7 +189,7 @@ proptest! {
         field in 0_usize..12,
         value in any_sensor_value(10.0),
     ) {
-        let mut config = FswConfig::paper_defaults(site());
+        let mut config = FswConfig::paper_defaults(site(), nav_fsw::sensor_frames::SensorFrames::ALIGNED);
         match field {
             0 => config.imu.period_s = value,
             1 => config.imu.max_rate_rad_s = value,
@@ -228,9 +228,10 @@ fn both_filter_modes_round_trip_through_the_setup_words() {
 }
 
 fn reference_setup() -> ReplaySetup {
-    let config = FswConfig::paper_defaults(site());
+    let config = FswConfig::paper_defaults(site(), nav_fsw::sensor_frames::SensorFrames::ALIGNED);
     ReplaySetup {
         launch_site: config.launch_site,
+        sensor_frames: config.sensor_frames,
         initial: initial_state(),
         mode: config.filter.mode,
         discretisation_order: config.filter.discretisation_order,
@@ -261,7 +262,7 @@ proptest! {
         frames in proptest::collection::vec(frame_input(), 100),
     ) {
         let mut computer =
-            NavigationComputer::new(FswConfig::paper_defaults(site()), initial_state()).unwrap();
+            NavigationComputer::new(FswConfig::paper_defaults(site(), nav_fsw::sensor_frames::SensorFrames::ALIGNED), initial_state()).unwrap();
         let mut sequence = 0_u32;
         for (index, input) in frames.iter().enumerate() {
             let now_s = 0.002 * f64::from(u32::try_from(index + 1).unwrap());
@@ -276,8 +277,9 @@ proptest! {
                 let _ = ports.star.0.push_back(StarMeasurement { time_tag_s, attitude_wxyz });
             }
             if let Some((offset_s, position_ecef_m)) = input.gnss {
-                let time_tag_s = now_s + offset_s;
-                let _ = ports.gnss.0.push_back(GnssFix { time_tag_s, position_ecef_m, velocity_ecef_mps: None });
+                // Navigation time is GPS seconds of week 1000 (the aligned frames' epoch).
+                let gps_seconds_of_week = now_s + offset_s;
+                let _ = ports.gnss.0.push_back(GnssFix { gps_week: 1_000, gps_seconds_of_week, position_ecef_m, velocity_ecef_mps: None });
             }
             ports.run(&mut computer);
             let navigation = computer.navigation();

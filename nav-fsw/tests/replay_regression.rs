@@ -22,10 +22,11 @@ use nav_fsw::config::FswConfig;
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::replay::{output_words, AssemblyCounts, FramePorts};
 use nav_fsw::scheduler::{Command, FilterArithmetic, NavigationComputer};
+use nav_fsw::sensor_frames::SensorFrames;
 use nav_fsw::telemetry::FrameFusion;
 
 /// The digest of the run (see the module docs to update it).
-const EXPECTED_DIGEST: u64 = 0x4ab9_4737_6c33_4324;
+const EXPECTED_DIGEST: u64 = 0x61d8_969e_3ea2_0bef;
 
 const FRAMES: u32 = 3_000;
 const PERIOD_S: f64 = 0.002;
@@ -88,13 +89,40 @@ const LEVER_ARM_M: [f64; 3] = [0.5, 1.0, -0.2];
 /// Frame-cost budget (arbitrary units) and the cost reported for frame `n`: `n mod 1,500`.
 const COST_BUDGET: u32 = 1_400;
 
+/// The sensors' frames: GCRF turned 120° from the launch-inertial frame about (1, 1, 1), and
+/// a launch epoch 603 s before a GPS week roll, so the star and GNSS conversions are in the
+/// digest and the GNSS tags cross a week.
+const SENSOR_FRAMES: SensorFrames = SensorFrames {
+    gcrf_to_launch_inertial_wxyz: [0.5, 0.5, 0.5, 0.5],
+    launch_epoch_gps_week: 2_391,
+    launch_epoch_gps_seconds_of_week: 604_197.0,
+};
+
+/// A star-tracker measurement of `q_is`: its attitude relative to GCRF, `q_ig* ⊗ q_is`.
+fn star_in_gcrf(q_is: &Quaternion<f64>) -> [f64; 4] {
+    let [w, x, y, z] = SENSOR_FRAMES.gcrf_to_launch_inertial_wxyz;
+    let q = Quaternion::new(w, x, y, z).conjugate() * q_is;
+    [q.w, q.i, q.j, q.k]
+}
+
+/// A GNSS fix at navigation time `time_s`, tagged in GPS time.
+fn gnss_fix(time_s: f64, ecef: &Vector3<f64>) -> GnssFix {
+    let (gps_week, gps_seconds_of_week) = SENSOR_FRAMES.gps_time(time_s).unwrap();
+    GnssFix {
+        gps_week,
+        gps_seconds_of_week,
+        position_ecef_m: [ecef.x, ecef.y, ecef.z],
+        velocity_ecef_mps: None,
+    }
+}
+
 fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight {
     let site = LaunchSite {
         latitude_rad: 0.715,
         longitude_rad: 1.750,
         height_m: 1000.0,
         azimuth_rad: 3.316,
-        epoch_s: 0.0,
+        earth_axis_ecef: [0.0, 0.0, 1.0],
     };
     let initial = NavigationState {
         attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
@@ -102,7 +130,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
         velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
         time_s: 600.0,
     };
-    let mut config = FswConfig::paper_defaults(site);
+    let mut config = FswConfig::paper_defaults(site, SENSOR_FRAMES);
     config.timing.rejections_to_declare_faulty = 3;
     config.covariance.propagation_interval_frames = propagation_interval_frames;
     // The antenna is off the body origin: the GNSS prediction adds the rotated lever arm.
@@ -165,7 +193,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                 .0
                 .push_back(StarMeasurement {
                     time_tag_s: tag,
-                    attitude_wxyz: [q.w, q.i, q.j, q.k],
+                    attitude_wxyz: star_in_gcrf(&q),
                 })
                 .unwrap();
         }
@@ -198,11 +226,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
             ports
                 .gnss
                 .0
-                .push_back(GnssFix {
-                    time_tag_s: navigation.time_s + 0.5,
-                    position_ecef_m: [ecef.x, ecef.y, ecef.z],
-                    velocity_ecef_mps: None,
-                })
+                .push_back(gnss_fix(navigation.time_s + 0.5, &ecef))
                 .unwrap();
         }
         // GNSS: the solution of 5 frames ago ± 1 m, delivered 10 ms late; one fix tagged
@@ -226,15 +250,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
                     .launch_frame()
                     .launch_inertial_to_ecef(&fix, tag)
                     .unwrap();
-                ports
-                    .gnss
-                    .0
-                    .push_back(GnssFix {
-                        time_tag_s: tag,
-                        position_ecef_m: [ecef.x, ecef.y, ecef.z],
-                        velocity_ecef_mps: None,
-                    })
-                    .unwrap();
+                ports.gnss.0.push_back(gnss_fix(tag, &ecef)).unwrap();
             }
         }
         // A fix just inside the jump limit from the predicted antenna position, along the
@@ -250,11 +266,7 @@ fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight
             ports
                 .gnss
                 .0
-                .push_back(GnssFix {
-                    time_tag_s: navigation.time_s,
-                    position_ecef_m: [ecef.x, ecef.y, ecef.z],
-                    velocity_ecef_mps: None,
-                })
+                .push_back(gnss_fix(navigation.time_s, &ecef))
                 .unwrap();
         }
         if frame == CLEAR_FRAME {

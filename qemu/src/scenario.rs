@@ -37,7 +37,7 @@ impl SchedulerScenario {
             longitude_rad: 1.750,
             height_m: 1000.0,
             azimuth_rad: 3.316,
-            epoch_s: 0.0,
+            earth_axis_ecef: [0.0, 0.0, 1.0],
         };
         let initial = NavigationState {
             attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
@@ -45,8 +45,11 @@ impl SchedulerScenario {
             velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
             time_s: 600.0,
         };
-        let mut computer =
-            NavigationComputer::new(FswConfig::paper_defaults(site), initial).ok()?;
+        let mut computer = NavigationComputer::new(
+            FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED),
+            initial,
+        )
+        .ok()?;
         computer.set_arithmetic(arithmetic);
         Some(Self {
             computer,

@@ -47,13 +47,15 @@ impl NavigationComputer {
     /// Whether `due` is a GNSS fix farther than `gnss.max_jump_m` from the antenna position
     /// predicted at its time of validity (`snapshot`).
     pub(super) fn is_gnss_jump(&self, due: &Due, snapshot: &Snapshot) -> bool {
-        let Due::GnssPosition(tag, position) = due else {
+        let Due::GnssPosition(_, position) = due else {
             return false;
         };
         let lever_arm = ports::vector(&self.config.gnss.lever_arm_body_m);
         let predicted = snapshot.position_m + attitude::rotate(&snapshot.attitude, &lever_arm);
+        // The fix is already converted: only its position is checked here.
         let fix = ports::GnssFix {
-            time_tag_s: *tag,
+            gps_week: 0,
+            gps_seconds_of_week: 0.0,
             position_ecef_m: array3(position),
             velocity_ecef_mps: None,
         };

@@ -67,7 +67,9 @@ impl NavigationComputer {
                     self.last_star = Some(if flipped { -quaternion } else { quaternion });
                     let pushed = self.star_queue.push(
                         measurement.time_tag_s,
-                        quaternion,
+                        self.config
+                            .sensor_frames
+                            .star_in_launch_inertial(&quaternion),
                         now_s,
                         timing.max_latency_s,
                         timing.future_tolerance_s,
@@ -85,9 +87,9 @@ impl NavigationComputer {
             gnss_heard = true;
             match self.gnss_in_launch_frame(&fix) {
                 Err(_) => count(&mut self.health.gnss_non_finite),
-                Ok(queued) => {
+                Ok((time_tag_s, queued)) => {
                     let pushed = self.gnss_queue.push(
-                        fix.time_tag_s,
+                        time_tag_s,
                         queued,
                         now_s,
                         timing.max_latency_s,
@@ -108,31 +110,39 @@ impl NavigationComputer {
         }
     }
 
-    /// A fix converted to the launch-inertial frame; its velocity only when velocity fusion
-    /// is configured (`gnss.velocity_noise_mps > 0`).
+    /// A fix's navigation time and the fix converted to the launch-inertial frame; its
+    /// velocity only when velocity fusion is configured (`gnss.velocity_noise_mps > 0`).
     pub(super) fn gnss_in_launch_frame(
         &self,
         fix: &ports::GnssFix,
-    ) -> Result<GnssQueued, NavError> {
+    ) -> Result<(f64, GnssQueued), NavError> {
+        let time_tag_s = self
+            .config
+            .sensor_frames
+            .navigation_time_s(fix.gps_week, fix.gps_seconds_of_week)
+            .map_err(|_| NavError::NonFiniteInput)?;
         let position_ecef = ports::vector(&fix.position_ecef_m);
         let position_m = self
             .launch_frame
-            .ecef_to_launch_inertial(&position_ecef, fix.time_tag_s)?;
+            .ecef_to_launch_inertial(&position_ecef, time_tag_s)?;
         let velocity_mps = match fix.velocity_ecef_mps {
             Some(velocity) if self.config.gnss.velocity_noise_mps > 0.0 => {
                 Some(self.launch_frame.ecef_velocity_to_launch_inertial(
                     &position_ecef,
                     &ports::vector(&velocity),
-                    fix.time_tag_s,
+                    time_tag_s,
                 )?)
             }
             _ => None,
         };
-        Ok(GnssQueued {
-            position_m: array3(&position_m),
-            velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
-            has_velocity: velocity_mps.is_some(),
-        })
+        Ok((
+            time_tag_s,
+            GnssQueued {
+                position_m: array3(&position_m),
+                velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
+                has_velocity: velocity_mps.is_some(),
+            },
+        ))
     }
 
     pub(super) fn next_due(&mut self) -> Option<Due> {

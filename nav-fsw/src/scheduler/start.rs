@@ -108,6 +108,7 @@ impl NavigationComputer {
     /// use nav_fsw::nalgebra::{Quaternion, Vector3};
     /// use nav_fsw::nav_core::frames::LaunchSite;
     /// use nav_fsw::nav_core::strapdown::NavigationState;
+    /// use nav_fsw::sensor_frames::SensorFrames;
     /// use nav_fsw::{FrameGnss, FrameImu, FrameStar, FswConfig, ImuSample, NavigationComputer};
     ///
     /// static SLOT: std::sync::Mutex<MaybeUninit<NavigationComputer>> =
@@ -117,7 +118,7 @@ impl NavigationComputer {
     ///     longitude_rad: 100.291_f64.to_radians(),
     ///     height_m: 1000.0,
     ///     azimuth_rad: 190.0_f64.to_radians(),
-    ///     epoch_s: 0.0,
+    ///     earth_axis_ecef: [0.0, 0.0, 1.0],
     /// };
     /// let initial = NavigationState {
     ///     attitude: Quaternion::identity(),
@@ -127,7 +128,7 @@ impl NavigationComputer {
     /// };
     /// let mut slot = SLOT.lock().unwrap();
     /// let computer =
-    ///     NavigationComputer::init_in_place(&mut slot, FswConfig::paper_defaults(site), initial)?;
+    ///     NavigationComputer::init_in_place(&mut slot, FswConfig::paper_defaults(site, SensorFrames::ALIGNED), initial)?;
     /// let mut imu = FrameImu(Some(ImuSample {
     ///     sequence: 1,
     ///     time_s: 600.002,

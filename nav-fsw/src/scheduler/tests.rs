@@ -1,4 +1,5 @@
 use super::*;
+use crate::sensor_frames::SensorFrames;
 use nav_core::frames::LaunchSite;
 
 fn site() -> LaunchSite {
@@ -7,7 +8,7 @@ fn site() -> LaunchSite {
         longitude_rad: 1.750,
         height_m: 1000.0,
         azimuth_rad: 3.316,
-        epoch_s: 0.0,
+        earth_axis_ecef: [0.0, 0.0, 1.0],
     }
 }
 
@@ -21,7 +22,11 @@ fn initial_state() -> NavigationState {
 }
 
 fn computer() -> NavigationComputer {
-    NavigationComputer::new(FswConfig::paper_defaults(site()), initial_state()).unwrap()
+    NavigationComputer::new(
+        FswConfig::paper_defaults(site(), SensorFrames::ALIGNED),
+        initial_state(),
+    )
+    .unwrap()
 }
 
 /// A snapshot read back equals the eager correction of the history: every correction
@@ -173,11 +178,17 @@ fn the_frozen_set_is_the_policy_s_for_the_phase() {
 /// value and show in the debug form.
 #[test]
 fn init_in_place_writes_every_field() {
-    let mut config = FswConfig::paper_defaults(LaunchSite {
-        latitude_rad: -0.3,
-        height_m: 20.0,
-        ..site()
-    });
+    let mut config = FswConfig::paper_defaults(
+        LaunchSite {
+            latitude_rad: -0.3,
+            height_m: 20.0,
+            ..site()
+        },
+        SensorFrames {
+            launch_epoch_gps_week: 2_000,
+            ..SensorFrames::ALIGNED
+        },
+    );
     config.covariance.sigma_ceiling_factor *= 2.0;
     config.filter.initial.position_m *= 3.0;
     let mut other = NavigationComputer::new(config, initial_state()).unwrap();

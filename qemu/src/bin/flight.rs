@@ -41,7 +41,7 @@ fn scheduler_frames() {
         longitude_rad: 1.750,
         height_m: 1000.0,
         azimuth_rad: 3.316,
-        epoch_s: 0.0,
+        earth_axis_ecef: [0.0, 0.0, 1.0],
     });
     let initial = black_box(NavigationState {
         attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
@@ -55,9 +55,11 @@ fn scheduler_frames() {
     else {
         return;
     };
-    let Ok(computer) =
-        NavigationComputer::init_in_place(slot, FswConfig::paper_defaults(site), initial)
-    else {
+    let Ok(computer) = NavigationComputer::init_in_place(
+        slot,
+        FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED),
+        initial,
+    ) else {
         defmt::error!("flight scheduler: configuration refused");
         return;
     };
