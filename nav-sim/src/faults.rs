@@ -456,8 +456,8 @@ pub fn campaign() -> Vec<FaultClass> {
                 on_gnss(|n, ports| {
                     let Some(fix) = gnss(ports) else { return };
                     match n {
-                        0..3 => fix.time_tag_s = NON_FINITE[n as usize],
-                        3 => fix.time_tag_s = SUBNORMAL,
+                        0..3 => fix.gps_seconds_of_week = NON_FINITE[n as usize],
+                        3 => fix.gps_seconds_of_week = SUBNORMAL,
                         _ => {}
                     }
                 })
@@ -816,7 +816,7 @@ pub fn campaign() -> Vec<FaultClass> {
                     }),
                     on_gnss(|n, ports| {
                         if let (0, Some(fix)) = (n, gnss(ports)) {
-                            fix.time_tag_s -= 1.0;
+                            fix.gps_seconds_of_week -= 1.0;
                         }
                     }),
                 )
@@ -896,7 +896,7 @@ pub fn campaign() -> Vec<FaultClass> {
                         }),
                         on_gnss(|n, ports| {
                             if let (0, Some(mut fix)) = (n, ports.gnss.0.front().copied()) {
-                                fix.time_tag_s -= 0.02;
+                                fix.gps_seconds_of_week -= 0.02;
                                 let _ = ports.gnss.0.push_back(fix);
                             }
                         }),
@@ -922,7 +922,7 @@ pub fn campaign() -> Vec<FaultClass> {
                     }),
                     on_gnss(|n, ports| {
                         if let (0, Some(fix)) = (n, gnss(ports)) {
-                            fix.time_tag_s += 1.0;
+                            fix.gps_seconds_of_week += 1.0;
                         }
                     }),
                 )
@@ -1008,7 +1008,7 @@ pub fn campaign() -> Vec<FaultClass> {
                         return;
                     }
                     for fix in ports.gnss.0.iter_mut() {
-                        let error = drift.at(fix.time_tag_s);
+                        let error = drift.at(fix.gps_seconds_of_week);
                         for (value, e) in fix.position_ecef_m.iter_mut().zip(error) {
                             *value += e;
                         }
@@ -1034,7 +1034,7 @@ pub fn campaign() -> Vec<FaultClass> {
                         return;
                     }
                     for fix in ports.gnss.0.iter_mut() {
-                        let error = drift.at(fix.time_tag_s);
+                        let error = drift.at(fix.gps_seconds_of_week);
                         for (value, e) in fix.position_ecef_m.iter_mut().zip(error) {
                             *value += e;
                         }

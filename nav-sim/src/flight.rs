@@ -66,6 +66,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
         F::MaxLatency => Some("gnss.latency_s"),
         F::LaunchSite => Some("launch_site"),
+        F::SensorFrames => Some("launch_site.epoch_utc / launch_site.earth_orientation"),
         F::FilterInitialUncertainty => Some("filter.initial_sigma / filter.discretisation_order"),
         F::ProcessNoise => Some(
             "gyro.rate_noise_density_deg_per_h_per_sqrt_hz / \
@@ -324,10 +325,13 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
         y.to_radians(),
         z.to_radians(),
     ));
-    let defaults = FswConfig::paper_defaults(truth::launch_site(scenario));
+    let ground = crate::epoch::scenario_ground_constants(scenario)
+        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
+    let defaults = FswConfig::paper_defaults(truth::launch_site(scenario), ground.sensor_frames);
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     Ok(ReplaySetup {
         launch_site: truth::launch_site(scenario),
+        sensor_frames: ground.sensor_frames,
         initial: initial_navigation(scenario, &truth_start),
         mode: filter.mode,
         discretisation_order: filter.discretisation_order,

@@ -36,6 +36,7 @@ pub mod benefit;
 pub mod campaign;
 pub mod covariance_design;
 pub mod dispersion;
+pub mod epoch;
 pub mod faults;
 pub mod flight;
 pub mod log_replay;

@@ -229,8 +229,11 @@ pub struct LaunchSiteSettings {
     pub height_m: f64,
     /// Launch azimuth, clockwise from north (deg), in [−360, 360].
     pub azimuth_deg: f64,
-    /// Calendar epoch of the launch (ISO 8601, informational).
+    /// Launch epoch (ISO 8601, UTC): fixes the GCRF → launch-inertial rotation and the GPS
+    /// time of the launch ([`crate::epoch`]).
     pub epoch_utc: String,
+    /// Earth orientation parameters of the launch day (IERS Bulletin A).
+    pub earth_orientation: crate::epoch::EarthOrientation,
 }
 
 /// Keplerian elements at the scenario start, in the Earth-centred inertial frame that coincides
@@ -834,6 +837,9 @@ impl Scenario {
         )?;
         check.within("launch_site.height_m", site.height_m, -500.0, 10_000.0)?;
         check.within("launch_site.azimuth_deg", site.azimuth_deg, -360.0, 360.0)?;
+        crate::epoch::scenario_epoch(self)
+            .and_then(|epoch| epoch.gps_week_and_seconds())
+            .map_err(|error| check.fail("launch_site.epoch_utc", &error.to_string()))?;
 
         let orbit = &self.initial_orbit;
         check.positive("initial_orbit.semi_major_axis_m", orbit.semi_major_axis_m)?;
@@ -868,7 +874,10 @@ impl Scenario {
 
         check.positive("imu.rate_hz", self.imu.rate_hz)?;
         let period_s = self.imu.frame_period_s();
-        let fsw = FswConfig::paper_defaults(crate::truth::launch_site(self));
+        let fsw = FswConfig::paper_defaults(
+            crate::truth::launch_site(self),
+            nav_fsw::sensor_frames::SensorFrames::ALIGNED,
+        );
         let span_frames = nav_fsw::config::history_span_frames();
         check.at_most(
             "imu.rate_hz",

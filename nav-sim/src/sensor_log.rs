@@ -11,18 +11,21 @@
 //! | column | imu | star | gnss |
 //! |---|---|---|---|
 //! | `kind` | `imu` | `star` | `gnss` |
-//! | `arrival_time_s` | frame end | arrival | arrival (time tag + latency) |
-//! | `time_tag_s` | = arrival | time of validity | time of validity |
+//! | `arrival_time_s` | frame end | arrival | arrival (time of validity + latency) |
+//! | `time_tag_s` | = arrival | time of validity | |
 //! | `sequence` | frame counter (u64) | | |
 //! | `interval_s` | sampling interval | | |
 //! | `delta_angle_{x,y,z}_rad` | Δθ, body axes | | |
 //! | `delta_velocity_{x,y,z}_mps` | Δv, body axes | | |
-//! | `attitude_{w,x,y,z}` | | `q_is` (Hamilton, scalar first) | |
-//! | `position_ecef_{x,y,z}_m` | | | ECEF WGS-84 position |
+//! | `attitude_{w,x,y,z}` | | `q_gs`, sensor → GCRF (Hamilton, scalar first) | |
+//! | `position_ecef_{x,y,z}_m` | | | ECEF (ITRF) WGS-84 position |
 //! | `velocity_ecef_{x,y,z}_mps` | | | ECEF velocity (all three, or all three empty for a position-only receiver) |
+//! | `gps_week` | | | time of validity: GPS week (full count) |
+//! | `gps_seconds_of_week` | | | time of validity: GPS seconds of week |
 //!
-//! A log written before the velocity columns existed (18 columns, ending at
-//! `position_ecef_z_m`) reads as position-only.
+//! Times other than the GNSS tags are navigation time (s since the launch epoch). A log of the
+//! earlier layout (18 or 21 columns: star relative to launch-inertial, GNSS tagged in
+//! navigation time) is refused with [`SensorLogError::OldLayout`].
 //!
 //! Floats are written in the shortest form that parses back to the same `f64` (ryu), so a
 //! file round-trips bit for bit; NaN and infinity are refused on writing and on reading. The
@@ -38,11 +41,13 @@ use nav_fsw::log_record::{
     self, GnssRecord, ImuRecord, LogRecord, LogRecordError, StarRecord, HEADER_SIZE, RECORD_SIZE,
 };
 
+use nav_fsw::sensor_frames::SensorFrames;
+
 use crate::sensors::SensorEvent;
 use crate::simulation::{Simulation, SimulationError};
 
 /// The CSV header, in column order.
-pub const COLUMNS: [&str; 21] = [
+pub const COLUMNS: [&str; 23] = [
     "kind",
     "arrival_time_s",
     "time_tag_s",
@@ -64,10 +69,12 @@ pub const COLUMNS: [&str; 21] = [
     "velocity_ecef_x_mps",
     "velocity_ecef_y_mps",
     "velocity_ecef_z_mps",
+    "gps_week",
+    "gps_seconds_of_week",
 ];
 
-/// Columns of a log written before the velocity columns existed.
-const POSITION_ONLY_COLUMNS: usize = 18;
+/// Column counts of the earlier layouts (before the GPS-time columns; before the velocity).
+const OLD_LAYOUT_COLUMNS: [usize; 2] = [18, 21];
 
 /// Column indices into [`COLUMNS`].
 mod column {
@@ -81,6 +88,8 @@ mod column {
     pub const ATTITUDE: usize = 11;
     pub const POSITION: usize = 15;
     pub const VELOCITY: usize = 18;
+    pub const GPS_WEEK: usize = 21;
+    pub const GPS_SECONDS: usize = 22;
 }
 
 /// Float columns of an IMU row, in the order of [`float_values`].
@@ -107,7 +116,7 @@ const STAR_FLOAT_COLUMNS: [usize; 6] = [
 /// Float columns of a GNSS row.
 const GNSS_FLOAT_COLUMNS: [usize; 5] = [
     column::ARRIVAL_TIME,
-    column::TIME_TAG,
+    column::GPS_SECONDS,
     column::POSITION,
     column::POSITION + 1,
     column::POSITION + 2,
@@ -156,6 +165,7 @@ impl Kind {
     fn uses(self, column: usize) -> bool {
         column == column::KIND
             || (self == Self::Imu && column == column::SEQUENCE)
+            || (self == Self::Gnss && column == column::GPS_WEEK)
             || (self == Self::Gnss && (column::VELOCITY..column::VELOCITY + 3).contains(&column))
             || self.float_columns().contains(&column)
     }
@@ -173,7 +183,7 @@ fn float_values(record: &LogRecord) -> Vec<f64> {
             .into_iter()
             .chain(star.attitude_wxyz)
             .collect(),
-        LogRecord::Gnss(gnss) => [gnss.arrival_time_s, gnss.time_tag_s]
+        LogRecord::Gnss(gnss) => [gnss.arrival_time_s, gnss.gps_seconds_of_week]
             .into_iter()
             .chain(gnss.position_ecef_m)
             .collect(),
@@ -203,6 +213,17 @@ pub enum SensorLogError {
         expected: &'static str,
         /// What the file has there (empty if the header is short).
         found: String,
+    },
+    /// The header is an earlier layout's.
+    #[error(
+        "line 1: a log of the earlier {columns}-column layout (star attitude relative to the \
+         launch-inertial frame, GNSS tagged in navigation time); this layout has the star \
+         tracker relative to GCRF and GNSS tagged in GPS week and seconds of week \
+         (docs/replay-format.md): regenerate the log with `nav-sim record`"
+    )]
+    OldLayout {
+        /// The old file's column count.
+        columns: usize,
     },
     /// The `kind` column is not `imu`, `star` or `gnss`.
     #[error("line {line}, column `kind`: unknown kind `{value}` (expected imu, star or gnss)")]
@@ -326,25 +347,28 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
         }),
         SensorEvent::Star {
             time_tag_s,
-            attitude_q_is,
+            attitude_q_gs,
         } => LogRecord::Star(StarRecord {
             arrival_time_s: *time_tag_s,
             time_tag_s: *time_tag_s,
             attitude_wxyz: [
-                attitude_q_is.w,
-                attitude_q_is.i,
-                attitude_q_is.j,
-                attitude_q_is.k,
+                attitude_q_gs.w,
+                attitude_q_gs.i,
+                attitude_q_gs.j,
+                attitude_q_gs.k,
             ],
         }),
         SensorEvent::Gnss {
-            time_tag_s,
+            gps_week,
+            gps_seconds_of_week,
             delivery_time_s,
             position_ecef_m,
             velocity_ecef_mps,
+            ..
         } => LogRecord::Gnss(GnssRecord {
             arrival_time_s: *delivery_time_s,
-            time_tag_s: *time_tag_s,
+            gps_week: *gps_week,
+            gps_seconds_of_week: *gps_seconds_of_week,
             position_ecef_m: (*position_ecef_m).into(),
             velocity_ecef_mps: velocity_ecef_mps.map(Into::into),
         }),
@@ -382,15 +406,25 @@ pub fn shifted(record: &LogRecord, by_s: f64) -> LogRecord {
         }
         LogRecord::Gnss(gnss) => {
             gnss.arrival_time_s += by_s;
-            gnss.time_tag_s += by_s;
+            // GPS time `by_s` later: the week and seconds with the carry.
+            let at_tag = SensorFrames {
+                gcrf_to_launch_inertial_wxyz: [1.0, 0.0, 0.0, 0.0],
+                launch_epoch_gps_week: gnss.gps_week,
+                launch_epoch_gps_seconds_of_week: gnss.gps_seconds_of_week,
+            };
+            if let Some((week, seconds)) = at_tag.gps_time(by_s) {
+                gnss.gps_week = week;
+                gnss.gps_seconds_of_week = seconds;
+            }
         }
     }
     record
 }
 
-/// The simulator event of a log record, or `None` for a star record whose arrival differs
-/// from its time tag (the simulator has no star latency).
-pub fn event_of(record: &LogRecord) -> Option<SensorEvent> {
+/// The simulator event of a log record (GNSS navigation time from its GPS tag with
+/// `frames`), or `None` for a star record whose arrival differs from its time tag (the
+/// simulator has no star latency) or a GNSS tag outside the GPS ranges.
+pub fn event_of(record: &LogRecord, frames: &SensorFrames) -> Option<SensorEvent> {
     match record {
         LogRecord::Imu(imu) => Some(SensorEvent::Imu {
             frame_index: imu.sequence,
@@ -404,12 +438,16 @@ pub fn event_of(record: &LogRecord) -> Option<SensorEvent> {
             (star.arrival_time_s.to_bits() == star.time_tag_s.to_bits()).then_some(
                 SensorEvent::Star {
                     time_tag_s: star.time_tag_s,
-                    attitude_q_is: Quaternion::new(w, x, y, z),
+                    attitude_q_gs: Quaternion::new(w, x, y, z),
                 },
             )
         }
         LogRecord::Gnss(gnss) => Some(SensorEvent::Gnss {
-            time_tag_s: gnss.time_tag_s,
+            time_tag_s: frames
+                .navigation_time_s(gnss.gps_week, gnss.gps_seconds_of_week)
+                .ok()?,
+            gps_week: gnss.gps_week,
+            gps_seconds_of_week: gnss.gps_seconds_of_week,
             delivery_time_s: gnss.arrival_time_s,
             position_ecef_m: Vector3::from(gnss.position_ecef_m),
             velocity_ecef_mps: gnss.velocity_ecef_mps.map(Vector3::from),
@@ -478,6 +516,9 @@ impl<W: Write> SensorLogWriter<W> {
         kind.name().clone_into(&mut row[column::KIND]);
         if let LogRecord::Imu(imu) = record {
             row[column::SEQUENCE] = imu.sequence.to_string();
+        }
+        if let LogRecord::Gnss(gnss) = record {
+            row[column::GPS_WEEK] = gnss.gps_week.to_string();
         }
         for (&index, value) in kind.float_columns().iter().zip(float_values(record)) {
             if !value.is_finite() {
@@ -580,12 +621,18 @@ impl<R: Read> SensorLogReader<R> {
         let header = csv
             .headers()
             .map_err(|source| SensorLogError::Csv { line: 1, source })?;
-        // A position-only log of the earlier layout is its prefix.
-        let expected_columns = if header.len() == POSITION_ONLY_COLUMNS {
-            POSITION_ONLY_COLUMNS
-        } else {
-            COLUMNS.len()
-        };
+        // A log of an earlier layout has a prefix of this header.
+        let old = OLD_LAYOUT_COLUMNS.contains(&header.len())
+            && header
+                .iter()
+                .zip(COLUMNS)
+                .all(|(found, expected)| found == expected);
+        if old {
+            return Err(SensorLogError::OldLayout {
+                columns: header.len(),
+            });
+        }
+        let expected_columns = COLUMNS.len();
         let mismatch = (0..expected_columns.max(header.len())).find_map(|index| {
             let found = header.get(index).unwrap_or("");
             let expected = COLUMNS
@@ -698,8 +745,15 @@ impl<R: Read> SensorLogReader<R> {
                 })
             }
             Kind::Gnss => {
-                let [arrival_time_s, time_tag_s, x, y, z] =
+                let [arrival_time_s, gps_seconds_of_week, x, y, z] =
                     parse_floats(GNSS_FLOAT_COLUMNS, &float)?;
+                let text = required(column::GPS_WEEK)?;
+                let gps_week = text.parse().map_err(|_| SensorLogError::Invalid {
+                    line,
+                    column: COLUMNS[column::GPS_WEEK],
+                    value: text.to_string(),
+                    expected: "an unsigned 32-bit integer",
+                })?;
                 let velocity_columns = [0, 1, 2].map(|offset| column::VELOCITY + offset);
                 // All three empty: a position-only receiver; else all three are required.
                 let velocity_ecef_mps = if velocity_columns.iter().all(|i| cell(*i).is_empty()) {
@@ -709,7 +763,8 @@ impl<R: Read> SensorLogReader<R> {
                 };
                 LogRecord::Gnss(GnssRecord {
                     arrival_time_s,
-                    time_tag_s,
+                    gps_week,
+                    gps_seconds_of_week,
                     position_ecef_m: [x, y, z],
                     velocity_ecef_mps,
                 })
@@ -759,15 +814,18 @@ impl<R: Read> Iterator for SensorLogReader<R> {
 /// # Errors
 /// Any reading error, or [`SensorLogError::StarLatency`] for a star row the simulator's events
 /// cannot express.
-pub fn read_events<R: Read>(reader: R) -> Result<Vec<SensorEvent>, SensorLogError> {
+pub fn read_events<R: Read>(
+    reader: R,
+    frames: &SensorFrames,
+) -> Result<Vec<SensorEvent>, SensorLogError> {
     let mut log = SensorLogReader::new(reader)?;
     let mut events = Vec::new();
     while let Some(record) = log.next() {
         let record = record?;
-        let event = event_of(&record).ok_or_else(|| SensorLogError::StarLatency {
+        let event = event_of(&record, frames).ok_or_else(|| SensorLogError::StarLatency {
             line: log.line(),
             arrival_time_s: record.arrival_time_s(),
-            time_tag_s: record.time_tag_s(),
+            time_tag_s: record.time_tag_s().unwrap_or(f64::NAN),
         })?;
         events.push(event);
     }
@@ -898,13 +956,15 @@ mod tests {
             }),
             2 => LogRecord::Gnss(GnssRecord {
                 arrival_time_s,
-                time_tag_s: h,
+                gps_week: sequence as u32,
+                gps_seconds_of_week: h,
                 position_ecef_m: [i, a, b],
                 velocity_ecef_mps: None,
             }),
             _ => LogRecord::Gnss(GnssRecord {
                 arrival_time_s,
-                time_tag_s: h,
+                gps_week: sequence as u32,
+                gps_seconds_of_week: h,
                 position_ecef_m: [i, a, b],
                 velocity_ecef_mps: Some([c, d, e]),
             }),
@@ -973,7 +1033,10 @@ mod tests {
             log.write_event(event).unwrap();
         }
         let csv = log.finish().unwrap();
-        let read = read_events(csv.as_slice()).unwrap();
+        let frames = crate::epoch::scenario_ground_constants(&scenario)
+            .unwrap()
+            .sensor_frames;
+        let read = read_events(csv.as_slice(), &frames).unwrap();
         assert_eq!(read, events);
         let event_bits =
             |events: &[SensorEvent]| bits(&events.iter().map(record_of).collect::<Vec<_>>());
@@ -1001,7 +1064,10 @@ mod tests {
             .filter(|event| matches!(event, SensorEvent::Imu { .. }))
             .count();
         assert_eq!(u64::try_from(imu_rows).unwrap(), scenario.frame_count());
-        let read = read_events(csv.as_slice()).unwrap();
+        let frames = crate::epoch::scenario_ground_constants(&scenario)
+            .unwrap()
+            .sensor_frames;
+        let read = read_events(csv.as_slice(), &frames).unwrap();
         assert_eq!(read.len(), expected.len());
         assert!(read
             .iter()
@@ -1013,24 +1079,34 @@ mod tests {
         );
     }
 
-    /// Expected error for a log whose only data row is `row` (line 2).
+    /// `row` of the first 18 columns with the 5 columns after them empty (other rows as they
+    /// are).
+    fn padded(row: &str) -> String {
+        if row.matches(',').count() == 17 {
+            format!("{row},,,,,")
+        } else {
+            row.to_string()
+        }
+    }
+
+    /// Expected error for a log whose only data row is `row` (line 2), padded.
     fn error_of(row: &str) -> SensorLogError {
-        let text = format!("{}\n{row}\n", COLUMNS[..POSITION_ONLY_COLUMNS].join(","));
+        let text = format!("{}\n{}\n", COLUMNS.join(","), padded(row));
         read_csv(text.as_bytes()).unwrap_err()
     }
 
-    /// GNSS velocity columns: all three filled or all three empty; the earlier 18-column
-    /// layout reads as position-only; a velocity round-trips bit for bit.
+    /// GNSS velocity columns: all three filled or all three empty; the earlier 18- and
+    /// 21-column layouts are refused, saying why; a velocity round-trips bit for bit.
     #[test]
     fn gnss_velocity_columns() {
         let header = COLUMNS.join(",");
-        let row = "gnss,2,2,,,,,,,,,,,,,1,2,3,0.5,-0.25,7500";
+        let row = "gnss,2,,,,,,,,,,,,,,1,2,3,0.5,-0.25,7500,2300,2";
         let records = read_csv(format!("{header}\n{row}\n").as_bytes()).unwrap();
         let LogRecord::Gnss(gnss) = records[0] else {
             panic!("not a GNSS record")
         };
         assert_eq!(gnss.velocity_ecef_mps, Some([0.5, -0.25, 7500.0]));
-        let position_only = "gnss,2,2,,,,,,,,,,,,,1,2,3,,,";
+        let position_only = "gnss,2,,,,,,,,,,,,,,1,2,3,,,,2300,2";
         let records = read_csv(format!("{header}\n{position_only}\n").as_bytes()).unwrap();
         assert!(matches!(
             records[0],
@@ -1039,23 +1115,21 @@ mod tests {
                 ..
             })
         ));
-        let partial = "gnss,2,2,,,,,,,,,,,,,1,2,3,0.5,,7500";
+        let partial = "gnss,2,,,,,,,,,,,,,,1,2,3,0.5,,7500,2300,2";
         assert_eq!(
             read_csv(format!("{header}\n{partial}\n").as_bytes())
                 .unwrap_err()
                 .to_string(),
             "line 2, column `velocity_ecef_y_mps`: missing value (needed in `gnss` rows)"
         );
-        let legacy = COLUMNS[..POSITION_ONLY_COLUMNS].join(",");
-        let records =
-            read_csv(format!("{legacy}\ngnss,2,2,,,,,,,,,,,,,1,2,3\n").as_bytes()).unwrap();
-        assert!(matches!(
-            records[0],
-            LogRecord::Gnss(GnssRecord {
-                velocity_ecef_mps: None,
-                ..
-            })
-        ));
+        for columns in [18, 21] {
+            let legacy = COLUMNS[..columns].join(",");
+            let error =
+                read_csv(format!("{legacy}\ngnss,2,2,,,,,,,,,,,,,1,2,3\n").as_bytes()).unwrap_err();
+            assert!(matches!(error, SensorLogError::OldLayout { columns: c } if c == columns));
+            assert!(error.to_string().contains("GPS week"), "{error}");
+        }
+        let records = read_csv(format!("{header}\n{position_only}\n").as_bytes()).unwrap();
         let mut log = SensorLogWriter::new(Vec::new()).unwrap();
         log.write(&records[0]).unwrap();
         let with_velocity = LogRecord::Gnss(GnssRecord {
@@ -1077,14 +1151,8 @@ mod tests {
 
     #[test]
     fn reader_errors_name_line_and_column() {
-        let good = read_csv(
-            format!(
-                "{}\n{IMU_ROW}\n",
-                COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
-            )
-            .as_bytes(),
-        )
-        .unwrap();
+        let good =
+            read_csv(format!("{}\n{}\n", COLUMNS.join(","), padded(IMU_ROW)).as_bytes()).unwrap();
         assert_eq!(good.len(), 1);
 
         let message = |error: SensorLogError| error.to_string();
@@ -1138,7 +1206,7 @@ mod tests {
             SensorLogError::Csv { line: 2, .. }
         ));
         assert!(matches!(
-            error_of("gnss,1,1,,,,,,,,,,,,,1,2,"),
+            error_of("gnss,1,,,,,,,,,,,,,,1,2,,,,,2300,5"),
             SensorLogError::Missing {
                 line: 2,
                 column: "position_ecef_z_m",
@@ -1147,17 +1215,17 @@ mod tests {
         ));
 
         let out_of_order = format!(
-            "{}\n{IMU_ROW}\nstar,1.25,1.25,,,,,,,,,1,0,0,0,,,\n",
-            COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
+            "{}\n{}\n{}\n",
+            COLUMNS.join(","),
+            padded(IMU_ROW),
+            padded("star,1.25,1.25,,,,,,,,,1,0,0,0,,,")
         );
         assert!(matches!(
             read_csv(out_of_order.as_bytes()).unwrap_err(),
             SensorLogError::OutOfOrder { line: 3, .. }
         ));
 
-        let header = COLUMNS[..POSITION_ONLY_COLUMNS]
-            .join(",")
-            .replace("attitude_x", "attitude_i");
+        let header = COLUMNS.join(",").replace("attitude_x", "attitude_i");
         match SensorLogReader::new(header.as_bytes()).err().unwrap() {
             SensorLogError::Header {
                 position,
@@ -1178,12 +1246,13 @@ mod tests {
         ));
 
         let latency = format!(
-            "{}\nstar,1.25,1,,,,,,,,,1,0,0,0,,,\n",
-            COLUMNS[..POSITION_ONLY_COLUMNS].join(",")
+            "{}\n{}\n",
+            COLUMNS.join(","),
+            padded("star,1.25,1,,,,,,,,,1,0,0,0,,,")
         );
         assert!(read_csv(latency.as_bytes()).is_ok());
         assert!(matches!(
-            read_events(latency.as_bytes()).unwrap_err(),
+            read_events(latency.as_bytes(), &SensorFrames::ALIGNED).unwrap_err(),
             SensorLogError::StarLatency { line: 2, .. }
         ));
     }
@@ -1194,7 +1263,8 @@ mod tests {
         let gnss = |arrival_time_s: f64, x: f64| {
             LogRecord::Gnss(GnssRecord {
                 arrival_time_s,
-                time_tag_s: arrival_time_s,
+                gps_week: 2_300,
+                gps_seconds_of_week: arrival_time_s,
                 position_ecef_m: [x, 0.0, 0.0],
                 velocity_ecef_mps: None,
             })

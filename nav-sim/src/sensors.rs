@@ -42,6 +42,7 @@ use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude::{canonical, exp_rotation_vector};
 use nav_core::frames::LaunchFrame;
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
+use nav_fsw::sensor_frames::SensorFrames;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
@@ -67,15 +68,19 @@ pub enum SensorEvent {
     },
     /// Star-sensor attitude.
     Star {
-        /// Time of validity (s).
+        /// Time of validity (s, navigation time).
         time_tag_s: f64,
-        /// Measured `q_is`, sensor to launch-inertial, canonical (`w ≥ 0`).
-        attitude_q_is: Quaternion<f64>,
+        /// Measured `q_gs`, sensor to GCRF, canonical (`w ≥ 0`).
+        attitude_q_gs: Quaternion<f64>,
     },
     /// GNSS position fix.
     Gnss {
-        /// Time of validity (s, GNSS time = seconds since the launch epoch).
+        /// Time of validity (s, navigation time: the simulator's own clock).
         time_tag_s: f64,
+        /// Time of validity as the receiver tags it: GPS week.
+        gps_week: u32,
+        /// Time of validity as the receiver tags it: GPS seconds of week (s).
+        gps_seconds_of_week: f64,
         /// Time the fix is delivered, `time_tag_s + latency` (s).
         delivery_time_s: f64,
         /// Measured ECEF position (m, WGS-84).
@@ -129,14 +134,14 @@ impl SensorEvent {
         match self {
             Self::Star {
                 time_tag_s,
-                attitude_q_is,
+                attitude_q_gs,
             } => Some(StarMeasurement {
                 time_tag_s: *time_tag_s,
                 attitude_wxyz: [
-                    attitude_q_is.w,
-                    attitude_q_is.i,
-                    attitude_q_is.j,
-                    attitude_q_is.k,
+                    attitude_q_gs.w,
+                    attitude_q_gs.i,
+                    attitude_q_gs.j,
+                    attitude_q_gs.k,
                 ],
             }),
             _ => None,
@@ -147,12 +152,14 @@ impl SensorEvent {
     pub fn to_gnss_fix(&self) -> Option<GnssFix> {
         match self {
             Self::Gnss {
-                time_tag_s,
+                gps_week,
+                gps_seconds_of_week,
                 position_ecef_m,
                 velocity_ecef_mps,
                 ..
             } => Some(GnssFix {
-                time_tag_s: *time_tag_s,
+                gps_week: *gps_week,
+                gps_seconds_of_week: *gps_seconds_of_week,
                 position_ecef_m: [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
                 velocity_ecef_mps: velocity_ecef_mps.map(|v| [v.x, v.y, v.z]),
             }),
@@ -279,7 +286,12 @@ impl TriadModel {
 /// Produces the sensor events for each truth frame.
 #[derive(Debug, Clone)]
 pub struct SensorSimulator {
-    frame: LaunchFrame,
+    /// The receiver's ECEF: the full IAU 2006/2000A chain at each fix.
+    itrf: crate::epoch::ItrfFromLaunchInertial,
+    /// The ground constants: the star tracker's GCRF and the GPS time of the launch.
+    sensor_frames: SensorFrames,
+    /// `q_ig*`, launch-inertial → GCRF.
+    gcrf_from_launch_q: Quaternion<f64>,
     gyro: TriadModel,
     accelerometer: TriadModel,
     star_mounting_q_bs: Quaternion<f64>,
@@ -314,6 +326,12 @@ impl SensorSimulator {
     pub fn new(scenario: &Scenario) -> Result<Self, SensorError> {
         let frame = LaunchFrame::new(&crate::truth::launch_site(scenario))
             .map_err(|error| SensorError::LaunchSite(format!("{error:?}")))?;
+        let epoch = crate::epoch::scenario_epoch(scenario)
+            .map_err(|error| SensorError::LaunchSite(error.to_string()))?;
+        let ground = epoch
+            .ground_constants(&frame)
+            .map_err(|error| SensorError::LaunchSite(error.to_string()))?;
+        let [w, x, y, z] = ground.sensor_frames.gcrf_to_launch_inertial_wxyz;
         let seed = scenario.simulation.seed;
         let period_s = scenario.imu.frame_period_s();
         let gyro = &scenario.gyro;
@@ -321,7 +339,9 @@ impl SensorSimulator {
         let star = &scenario.star_sensor;
         let [mount_x, mount_y, mount_z] = star.mounting_rotation_vector_deg;
         Ok(Self {
-            frame,
+            itrf: crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
+            sensor_frames: ground.sensor_frames,
+            gcrf_from_launch_q: Quaternion::new(w, x, y, z).conjugate(),
             gyro: TriadModel {
                 bias: vector(gyro.bias_rad_per_s),
                 scale_factor: vector(gyro.scale_factor),
@@ -424,26 +444,42 @@ impl SensorSimulator {
             if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
                 events.push(SensorEvent::Star {
                     time_tag_s: truth.time_s,
-                    attitude_q_is: canonical(&measured.normalize()),
+                    attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
                 });
             }
         }
 
         if frames_elapsed % self.gnss_frames_per_sample == 0 {
-            let position_ecef_m = self
-                .frame
-                .launch_inertial_to_ecef(&truth.position_m, truth.time_s)
-                .map_err(|error| SensorError::FrameConversion {
+            let with_velocity = self.gnss_velocity_noise_mps > 0.0;
+            let (position_ecef_m, velocity_ecef_mps) = self.itrf.convert(
+                &truth.position_m,
+                with_velocity.then_some(&truth.velocity_mps),
+                truth.time_s,
+            );
+            if !(position_ecef_m.iter().all(|v| v.is_finite())) {
+                return Err(SensorError::FrameConversion {
                     time_s: truth.time_s,
-                    reason: format!("{error:?}"),
-                })?;
+                    reason: "non-finite ECEF position".to_string(),
+                });
+            }
             let noise = normal3(&mut self.gnss_rng) * self.gnss_noise_m
                 + self.gnss_correlated.at(truth.time_s);
-            let velocity_ecef_mps = self.gnss_velocity(truth)?;
+            let velocity_ecef_mps = velocity_ecef_mps.map(|velocity| {
+                velocity + normal3(&mut self.gnss_velocity_rng) * self.gnss_velocity_noise_mps
+            });
+            let (gps_week, gps_seconds_of_week) = self
+                .sensor_frames
+                .gps_time(truth.time_s)
+                .ok_or_else(|| SensorError::FrameConversion {
+                    time_s: truth.time_s,
+                    reason: "outside GPS weeks 0..=9999".to_string(),
+                })?;
             let elapsed_s = truth.time_s - self.start_time_s;
             if !crate::scenario::in_outage(&self.gnss_outages, elapsed_s) {
                 self.pending_gnss.push_back(SensorEvent::Gnss {
                     time_tag_s: truth.time_s,
+                    gps_week,
+                    gps_seconds_of_week,
                     delivery_time_s: truth.time_s + self.gnss_latency_s,
                     position_ecef_m: position_ecef_m + noise,
                     velocity_ecef_mps,
@@ -476,24 +512,6 @@ impl SensorSimulator {
             self.star_reacquisition_s,
             &mut self.star_blind_until_s,
         )
-    }
-
-    /// The receiver's ECEF velocity at `truth`'s time (truth through nav-core's
-    /// `launch_inertial_velocity_to_ecef`, plus white noise), or `None` for a receiver that
-    /// outputs none.
-    fn gnss_velocity(&mut self, truth: &TruthFrame) -> Result<Option<Vector3<f64>>, SensorError> {
-        if self.gnss_velocity_noise_mps <= 0.0 {
-            return Ok(None);
-        }
-        let velocity = self
-            .frame
-            .launch_inertial_velocity_to_ecef(&truth.position_m, &truth.velocity_mps, truth.time_s)
-            .map_err(|error| SensorError::FrameConversion {
-                time_s: truth.time_s,
-                reason: format!("{error:?}"),
-            })?;
-        let noise = normal3(&mut self.gnss_velocity_rng) * self.gnss_velocity_noise_mps;
-        Ok(Some(velocity + noise))
     }
 }
 
@@ -646,6 +664,16 @@ mod tests {
         let (truths, events) = run(&scenario, 10_000);
         let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
         let frame = launch_frame(&scenario).unwrap();
+        // The sensors speak GCRF (star) and ITRF (GNSS): back to launch-inertial with q_ig,
+        // and the exact ITRF of the truth from the full IAU 2006/2000A chain.
+        let epoch = crate::epoch::scenario_epoch(&scenario).unwrap();
+        let itrf = crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
+        let [w, x, y, z] = epoch
+            .ground_constants(&frame)
+            .unwrap()
+            .sensor_frames
+            .gcrf_to_launch_inertial_wxyz;
+        let q_ig = Quaternion::new(w, x, y, z);
         let one = Vector3::repeat(1.0);
         let (mut gyro, mut accel, mut star, mut gnss) = (vec![], vec![], vec![], vec![]);
         // Star and GNSS (no latency) follow the IMU event of the frame they are valid at.
@@ -674,8 +702,9 @@ mod tests {
                 }
                 SensorEvent::Star {
                     time_tag_s,
-                    attitude_q_is,
+                    attitude_q_gs,
                 } => {
+                    let attitude_q_is = q_ig * attitude_q_gs;
                     assert!((time_tag_s - current.time_s).abs() < 1e-12);
                     // δq = (q_ib q_bs q_ψ)* ⊗ q_m = exp(n): n ≈ 2 vec(δq).
                     let residual = canonical(
@@ -689,9 +718,7 @@ mod tests {
                     ..
                 } => {
                     assert!((time_tag_s - current.time_s).abs() < 1e-12);
-                    let exact = frame
-                        .launch_inertial_to_ecef(&current.position_m, *time_tag_s)
-                        .unwrap();
+                    let (exact, _) = itrf.convert(&current.position_m, None, *time_tag_s);
                     gnss.push(position_ecef_m - exact);
                 }
             }
@@ -729,6 +756,16 @@ mod tests {
         let (truths, events) = run(&scenario, 20);
         let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
         let frame = launch_frame(&scenario).unwrap();
+        // The sensors speak GCRF (star) and ITRF (GNSS): back to launch-inertial with q_ig,
+        // and the exact ITRF of the truth from the full IAU 2006/2000A chain.
+        let epoch = crate::epoch::scenario_epoch(&scenario).unwrap();
+        let itrf = crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
+        let [w, x, y, z] = epoch
+            .ground_constants(&frame)
+            .unwrap()
+            .sensor_frames
+            .gcrf_to_launch_inertial_wxyz;
+        let q_ig = Quaternion::new(w, x, y, z);
         let one = Vector3::repeat(1.0);
         let mut current = &truths[0];
         let mut checked = [0_usize; 3];
@@ -759,7 +796,8 @@ mod tests {
                     assert!((delta_angle_rad.x - expected_x).abs() < 1e-17);
                     checked[0] += 1;
                 }
-                SensorEvent::Star { attitude_q_is, .. } => {
+                SensorEvent::Star { attitude_q_gs, .. } => {
+                    let attitude_q_is = canonical(&(q_ig * attitude_q_gs));
                     let expected = canonical(&star_without_noise(&scenario, current));
                     assert!((attitude_q_is - expected).norm() < 1e-15);
                     checked[1] += 1;
@@ -769,10 +807,8 @@ mod tests {
                     position_ecef_m,
                     ..
                 } => {
-                    let back = frame
-                        .ecef_to_launch_inertial(position_ecef_m, *time_tag_s)
-                        .unwrap();
-                    assert!((back - current.position_m).norm() < 1e-8, "{back:?}");
+                    let (exact, _) = itrf.convert(&current.position_m, None, *time_tag_s);
+                    assert!((position_ecef_m - exact).norm() < 1e-8, "{exact:?}");
                     checked[2] += 1;
                 }
             }
@@ -932,7 +968,13 @@ mod tests {
         let norm: f64 = star.attitude_wxyz.iter().map(|c| c * c).sum();
         assert!((norm - 1.0).abs() < 1e-15 && star.attitude_wxyz[0] >= 0.0);
         let fix = events.iter().find_map(SensorEvent::to_gnss_fix).unwrap();
-        assert!((fix.time_tag_s - 601.0).abs() < 1e-9);
+        let frames = crate::epoch::scenario_ground_constants(&scenario)
+            .unwrap()
+            .sensor_frames;
+        let time_s = frames
+            .navigation_time_s(fix.gps_week, fix.gps_seconds_of_week)
+            .unwrap();
+        assert!((time_s - 601.0).abs() < 1e-9, "{time_s}");
         // The synthetic truth is 547 km from the launch site; its ECEF radius is ~6.4e6 m.
         let radius: f64 = fix
             .position_ecef_m

@@ -33,9 +33,9 @@ use nav_core::gravity::GravityModel;
 
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
 
-/// The launch epoch on the simulator's time scale (s). The simulator's navigation time and
-/// GNSS time are both seconds since the launch epoch, so nav-core's `LaunchSite::epoch_s` is 0
-/// (small times keep 2 ms frame boundaries exact to ~1e-13 s).
+/// The launch epoch on the simulator's time scale (s): the simulator's time is navigation
+/// time, seconds since the launch epoch (small times keep 2 ms frame boundaries exact to
+/// ~1e-13 s); the sensors' own time scales are formed at the ports ([`crate::epoch`]).
 pub const LAUNCH_EPOCH_S: f64 = 0.0;
 
 /// Why the truth simulation could not be set up or advanced.
@@ -107,8 +107,9 @@ impl GravityField for FlightGravity {
     }
 }
 
-/// nav-core's [`LaunchSite`] for the scenario's launch site, with the launch epoch at
-/// [`LAUNCH_EPOCH_S`].
+/// nav-core's [`LaunchSite`] for the scenario's launch site, rotating about the Earth axis
+/// (CIP) of the scenario's epoch ([`crate::epoch::LaunchEpoch::earth_axis_ecef`]; the ECEF `z`
+/// axis for an epoch that does not parse, which scenario validation refuses).
 pub fn launch_site(scenario: &Scenario) -> LaunchSite {
     let site = &scenario.launch_site;
     LaunchSite {
@@ -116,7 +117,10 @@ pub fn launch_site(scenario: &Scenario) -> LaunchSite {
         longitude_rad: site.longitude_deg.to_radians(),
         height_m: site.height_m,
         azimuth_rad: site.azimuth_deg.to_radians(),
-        epoch_s: LAUNCH_EPOCH_S,
+        earth_axis_ecef: crate::epoch::scenario_epoch(scenario)
+            .map_or(nav_core::frames::ECEF_Z_AXIS, |epoch| {
+                epoch.earth_axis_ecef()
+            }),
     }
 }
 

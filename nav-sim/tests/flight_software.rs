@@ -252,7 +252,7 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
             Box::new(|f, i| {
                 if in_window(f, 500) {
                     if let Some(fix) = i.gnss.0.front_mut() {
-                        fix.time_tag_s += 1.0;
+                        fix.gps_seconds_of_week += 1.0;
                     }
                 }
             }),

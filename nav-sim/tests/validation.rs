@@ -267,7 +267,7 @@ fn the_flight_softwares_refusals_name_the_scenario_key_and_the_limit() {
     assert!(message.contains("[1e-150, 1e150]"), "{message}");
 
     // A field the scenario does not set is named as the flight software's own.
-    let mut config = FswConfig::paper_defaults(config.launch_site);
+    let mut config = FswConfig::paper_defaults(config.launch_site, config.sensor_frames);
     config.covariance.sigma_ceiling_factor = 0.5;
     let error = config.validate().unwrap_err();
     assert_eq!(scenario_key(ConfigField::SigmaCeiling), None);

@@ -93,8 +93,10 @@ impl SchedulerScenario {
                     self.gnss_time_s,
                 )
                 .ok()?;
+            // The aligned sensor frames: navigation time is GPS seconds of week 1000.
             let _ = ports.gnss.0.push_back(GnssFix {
-                time_tag_s: self.gnss_time_s,
+                gps_week: 1_000,
+                gps_seconds_of_week: self.gnss_time_s,
                 position_ecef_m: [ecef.x, ecef.y, ecef.z],
                 velocity_ecef_mps: None,
             });

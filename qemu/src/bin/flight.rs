@@ -79,9 +79,11 @@ fn scheduler_frames() {
             }));
         }
         if frame == 10 {
-            // 4 ms late: the referral to the current error state runs too.
+            // 4 ms late: the referral to the current error state runs too. The aligned sensor
+            // frames: navigation time is GPS seconds of week 1000.
             let _ = ports.gnss.0.push_back(black_box(GnssFix {
-                time_tag_s: time_s - 0.004,
+                gps_week: 1_000,
+                gps_seconds_of_week: time_s - 0.004,
                 position_ecef_m: [-1.1e6, 5.0e6, 4.2e6],
                 velocity_ecef_mps: None,
             }));

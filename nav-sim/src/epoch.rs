@@ -1,0 +1,268 @@
+//! The launch epoch on the ground: time scales and Earth orientation, computed once into the
+//! flight configuration (`docs/frames-and-time.md`).
+//!
+//! * Time scales with leap seconds: [`hifitime`] (UTC → TAI, TT and GPS time; its leap-second
+//!   table is IERS Bulletin C's).
+//! * GCRF → ITRF: [`sofars`], a Rust port of IAU SOFA, `c2t06a` (IAU 2006/2000A
+//!   precession–nutation, Earth rotation angle, polar motion; IERS Conventions 2010, ch. 5,
+//!   eq. 5.1: `[ITRS] = W(t) R₃(ERA) Q(t) [GCRS]`). The celestial-pole offsets dX, dY (below
+//!   1 mas) are not applied.
+//! * The Earth orientation parameters of the launch day (UT1 − UTC, polar motion `x_p`, `y_p`)
+//!   are configuration, from IERS Bulletin A for the day.
+//!
+//! The flight code receives three constants ([`GroundConstants`]): the rotation GCRF →
+//! launch-inertial at `t₀` (`C_le · ITRF←GCRF(t₀)`), the launch epoch in GPS time, and the
+//! Earth rotation axis (the CIP) in ITRF.
+
+use hifitime::{Duration, Epoch, TimeScale};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use nav_core::frames::LaunchFrame;
+use nav_fsw::sensor_frames::SensorFrames;
+
+/// Arcseconds per radian.
+const ARCSEC_PER_RAD: f64 = 206_264.806_247_096_36;
+/// Modified Julian Date zero point as a Julian Date (days).
+const MJD_ZERO_JD: f64 = 2_400_000.5;
+/// Rate of the Earth rotation angle (rad/s): `2π · 1.00273781191135448 / 86400` (IERS
+/// Conventions 2010, eq. 5.15).
+pub const EARTH_ROTATION_ANGLE_RATE_RAD_S: f64 =
+    2.0 * std::f64::consts::PI * 1.002_737_811_911_354_5 / 86_400.0;
+
+/// The Earth orientation parameters of the launch day (IERS Bulletin A).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EarthOrientation {
+    /// UT1 − UTC (s). Ignoring it (0) rotates ITRF by `ω_e · ΔUT1`: 0.1 s is 7.3e-6 rad,
+    /// 46 m at the Earth's surface.
+    pub ut1_minus_utc_s: f64,
+    /// Polar motion `x_p` (arcsec). Ignoring it tilts ITRF by up to ~0.5″ (15 m at the surface).
+    pub polar_motion_x_arcsec: f64,
+    /// Polar motion `y_p` (arcsec).
+    pub polar_motion_y_arcsec: f64,
+}
+
+/// Why an epoch could not be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EpochError {
+    /// The UTC string does not parse.
+    #[error("launch epoch {text:?} is not an ISO 8601 UTC date-time: {reason}")]
+    Parse {
+        /// The text.
+        text: String,
+        /// hifitime's reason.
+        reason: String,
+    },
+    /// An Earth orientation parameter is out of range.
+    #[error(
+        "Earth orientation out of range: |UT1 - UTC| must be <= 0.9 s and |x_p|, |y_p| <= 2 \
+         arcsec (got {0:?})"
+    )]
+    EarthOrientation(EarthOrientation),
+    /// The epoch is outside GPS time's week range.
+    #[error("launch epoch {0} is outside GPS weeks 0..=9999")]
+    GpsWeek(String),
+}
+
+/// A launch epoch (UTC) with its Earth orientation parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaunchEpoch {
+    utc: Epoch,
+    earth: EarthOrientation,
+}
+
+/// What the flight software needs from the ground, computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundConstants {
+    /// GCRF → launch-inertial rotation and launch epoch in GPS time.
+    pub sensor_frames: SensorFrames,
+    /// The Earth rotation axis (CIP) in ITRF, unit.
+    pub earth_axis_ecef: [f64; 3],
+}
+
+impl LaunchEpoch {
+    /// Parses an ISO 8601 UTC epoch (e.g. `2024-02-26T04:00:00Z`) and checks the parameters.
+    ///
+    /// # Errors
+    /// [`EpochError::Parse`] or [`EpochError::EarthOrientation`].
+    pub fn new(utc: &str, earth: EarthOrientation) -> Result<Self, EpochError> {
+        let text = utc.trim_end_matches('Z').to_string() + " UTC";
+        let epoch = Epoch::from_gregorian_str(&text).map_err(|error| EpochError::Parse {
+            text: utc.to_string(),
+            reason: error.to_string(),
+        })?;
+        let ok = earth.ut1_minus_utc_s.abs() <= 0.9
+            && earth.polar_motion_x_arcsec.abs() <= 2.0
+            && earth.polar_motion_y_arcsec.abs() <= 2.0;
+        if !ok {
+            return Err(EpochError::EarthOrientation(earth));
+        }
+        Ok(Self {
+            utc: epoch.to_time_scale(TimeScale::UTC),
+            earth,
+        })
+    }
+
+    /// The epoch `elapsed_s` seconds (SI, continuous: GPS, TAI and TT seconds) after this one.
+    pub fn after(&self, elapsed_s: f64) -> Self {
+        Self {
+            utc: self.utc + Duration::from_seconds(elapsed_s),
+            earth: self.earth,
+        }
+    }
+
+    /// TAI − UTC at the epoch (s): the leap seconds (IERS Bulletin C).
+    pub fn tai_minus_utc_s(&self) -> f64 {
+        self.utc.leap_seconds(true).unwrap_or(0.0)
+    }
+
+    /// GPS − UTC at the epoch (s): TAI − UTC − 19 s (GPS time = TAI − 19 s, IS-GPS-200).
+    pub fn gps_minus_utc_s(&self) -> f64 {
+        self.tai_minus_utc_s() - 19.0
+    }
+
+    /// GPS week (full count) and seconds of week of the epoch.
+    ///
+    /// # Errors
+    /// [`EpochError::GpsWeek`] outside weeks 0..=9999.
+    pub fn gps_week_and_seconds(&self) -> Result<(u32, f64), EpochError> {
+        let gps = self.utc.to_time_scale(TimeScale::GPST);
+        let outside = || EpochError::GpsWeek(self.utc.to_string());
+        if gps.to_gpst_seconds() < 0.0 {
+            return Err(outside());
+        }
+        let (week, nanoseconds) = gps.to_time_of_week();
+        if week > nav_fsw::sensor_frames::MAX_GPS_WEEK {
+            return Err(outside());
+        }
+        // Below 6.1e14 ns: exact in f64, then one rounding to seconds.
+        Ok((week, nanoseconds as f64 * 1e-9))
+    }
+
+    /// TT and UT1 as Modified Julian Dates (days): the SOFA 2-part dates are `2400000.5 + mjd`.
+    fn tt_and_ut1_mjd(&self) -> (f64, f64) {
+        let tt = self.utc.to_mjd_tt_days();
+        let ut1 = self.utc.to_mjd_utc_days() + self.earth.ut1_minus_utc_s / 86_400.0;
+        (tt, ut1)
+    }
+
+    /// Polar motion (rad).
+    fn polar_motion_rad(&self) -> (f64, f64) {
+        (
+            self.earth.polar_motion_x_arcsec / ARCSEC_PER_RAD,
+            self.earth.polar_motion_y_arcsec / ARCSEC_PER_RAD,
+        )
+    }
+
+    /// ITRF ← GCRF at the epoch (SOFA `c2t06a`, IAU 2006/2000A, CIO based).
+    pub fn itrf_from_gcrf(&self) -> Matrix3<f64> {
+        let (tt, ut1) = self.tt_and_ut1_mjd();
+        let (xp, yp) = self.polar_motion_rad();
+        let m = sofars::pnp::c2t06a(MJD_ZERO_JD, tt, MJD_ZERO_JD, ut1, xp, yp);
+        Matrix3::from_fn(|row, column| m[row][column])
+    }
+
+    /// The Earth rotation axis (the CIP) in ITRF: the third column of the polar-motion matrix
+    /// `W` (SOFA `pom00` with `sp00`), ≈ `[x_p, −y_p, 1]`.
+    pub fn earth_axis_ecef(&self) -> [f64; 3] {
+        let (tt, _) = self.tt_and_ut1_mjd();
+        let (xp, yp) = self.polar_motion_rad();
+        let w = sofars::pnp::pom00(xp, yp, sofars::pnp::sp00(MJD_ZERO_JD, tt));
+        let axis = Vector3::new(w[0][2], w[1][2], w[2][2]).normalize();
+        [axis.x, axis.y, axis.z]
+    }
+
+    /// The flight constants for the launch frame `frame` (built with any Earth axis: only its
+    /// launch-from-ECEF rotation is used).
+    ///
+    /// # Errors
+    /// [`EpochError::GpsWeek`] outside the GPS week range.
+    pub fn ground_constants(&self, frame: &LaunchFrame) -> Result<GroundConstants, EpochError> {
+        let launch_from_gcrf = frame.launch_from_ecef() * self.itrf_from_gcrf();
+        let rotation = Rotation3::from_matrix(&launch_from_gcrf);
+        let q = UnitQuaternion::from_rotation_matrix(&rotation).into_inner();
+        // One sign, w ≥ 0, so equal inputs give equal configuration bits.
+        let q = if q.w < 0.0 { -q } else { q };
+        let (week, seconds) = self.gps_week_and_seconds()?;
+        Ok(GroundConstants {
+            sensor_frames: SensorFrames {
+                gcrf_to_launch_inertial_wxyz: [q.w, q.i, q.j, q.k],
+                launch_epoch_gps_week: week,
+                launch_epoch_gps_seconds_of_week: seconds,
+            },
+            earth_axis_ecef: self.earth_axis_ecef(),
+        })
+    }
+
+    /// The UTC epoch as text (hifitime's ISO form).
+    pub fn utc_text(&self) -> String {
+        self.utc.to_isoformat()
+    }
+}
+
+/// The scenario's launch epoch (`launch_site.epoch_utc`, `launch_site.earth_orientation`).
+///
+/// # Errors
+/// As [`LaunchEpoch::new`].
+pub fn scenario_epoch(scenario: &crate::Scenario) -> Result<LaunchEpoch, EpochError> {
+    let site = &scenario.launch_site;
+    LaunchEpoch::new(&site.epoch_utc, site.earth_orientation)
+}
+
+/// The scenario's ground constants (its launch frame's rotation, its epoch).
+///
+/// # Errors
+/// As [`LaunchEpoch::new`] and [`LaunchEpoch::ground_constants`]; a refused launch site as
+/// [`EpochError::Parse`] naming the site.
+pub fn scenario_ground_constants(
+    scenario: &crate::Scenario,
+) -> Result<GroundConstants, EpochError> {
+    let epoch = scenario_epoch(scenario)?;
+    let frame = crate::truth::launch_frame(scenario).map_err(|error| EpochError::Parse {
+        text: scenario.launch_site.epoch_utc.clone(),
+        reason: error.to_string(),
+    })?;
+    epoch.ground_constants(&frame)
+}
+
+/// Launch-inertial truth to ITRF with the full IAU 2006/2000A chain at every time (the
+/// simulator's GNSS receiver): `r_e = ITRF←GCRF(t) C_igᵀ (p_i − o_i)`, `o_i` the Earth centre
+/// in launch-inertial axes; `v_e = ITRF←GCRF(t) C_igᵀ v_i − ERA-rate · k × r_e` (the rate of
+/// `R₃(ERA)`; precession–nutation and polar-motion rates, below 1e-11 rad/s, are omitted).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ItrfFromLaunchInertial {
+    epoch: LaunchEpoch,
+    gcrf_from_launch: Matrix3<f64>,
+    earth_centre_launch_m: Vector3<f64>,
+    earth_axis_ecef: Vector3<f64>,
+}
+
+impl ItrfFromLaunchInertial {
+    /// The conversion for `frame` launched at `epoch`.
+    pub fn new(epoch: &LaunchEpoch, frame: &LaunchFrame) -> Self {
+        let [x, y, z] = epoch.earth_axis_ecef();
+        Self {
+            epoch: *epoch,
+            gcrf_from_launch: (frame.launch_from_ecef() * epoch.itrf_from_gcrf()).transpose(),
+            earth_centre_launch_m: *frame.earth_centre_launch_m(),
+            earth_axis_ecef: Vector3::new(x, y, z),
+        }
+    }
+
+    /// ITRF position (m) and, with a velocity, ITRF velocity relative to the rotating Earth
+    /// (m/s) of a launch-inertial position (m) and velocity (m/s) at navigation time `time_s`.
+    pub fn convert(
+        &self,
+        position_m: &Vector3<f64>,
+        velocity_mps: Option<&Vector3<f64>>,
+        time_s: f64,
+    ) -> (Vector3<f64>, Option<Vector3<f64>>) {
+        let itrf_from_gcrf = self.epoch.after(time_s).itrf_from_gcrf();
+        let geocentric = position_m - self.earth_centre_launch_m;
+        let position_ecef = itrf_from_gcrf * (self.gcrf_from_launch * geocentric);
+        let velocity_ecef = velocity_mps.map(|velocity| {
+            itrf_from_gcrf * (self.gcrf_from_launch * velocity)
+                - self.earth_axis_ecef.cross(&position_ecef) * EARTH_ROTATION_ANGLE_RATE_RAD_S
+        });
+        (position_ecef, velocity_ecef)
+    }
+}
