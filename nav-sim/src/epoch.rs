@@ -110,9 +110,11 @@ impl LaunchEpoch {
         }
     }
 
-    /// TAI − UTC at the epoch (s): the leap seconds (IERS Bulletin C).
+    /// TAI − UTC at the epoch (s): the leap seconds (IERS Bulletin C). Formed from the
+    /// epoch's TAI and UTC durations: hifitime's `leap_seconds` looks its table up by TAI, so
+    /// in the 37 s before a leap second it already answers the new count.
     pub fn tai_minus_utc_s(&self) -> f64 {
-        self.utc.leap_seconds(true).unwrap_or(0.0)
+        (self.utc.to_tai_duration() - self.utc.to_utc_duration()).to_seconds()
     }
 
     /// GPS − UTC at the epoch (s): TAI − UTC − 19 s (GPS time = TAI − 19 s, IS-GPS-200).
@@ -155,10 +157,17 @@ impl LaunchEpoch {
 
     /// ITRF ← GCRF at the epoch (SOFA `c2t06a`, IAU 2006/2000A, CIO based).
     pub fn itrf_from_gcrf(&self) -> Matrix3<f64> {
+        self.itrf_from_gcrf_after(0.0)
+    }
+
+    /// ITRF ← GCRF `elapsed_s` SI seconds after the epoch. TT and UT1 advance continuously
+    /// from their values at the epoch (UT1's rate differs from SI by ~1e-8, 4e-5 s a
+    /// flight-hour): a leap second inserted in UTC during the flight moves neither.
+    pub fn itrf_from_gcrf_after(&self, elapsed_s: f64) -> Matrix3<f64> {
         let (tt, ut1) = self.tt_and_ut1_mjd();
         let (xp, yp) = self.polar_motion_rad();
-        let m = sofars::pnp::c2t06a(MJD_ZERO_JD, tt, MJD_ZERO_JD, ut1, xp, yp);
-        Matrix3::from_fn(|row, column| m[row][column])
+        let days = elapsed_s / 86_400.0;
+        itrf_from_gcrf_mjd(tt + days, ut1 + days, xp, yp)
     }
 
     /// The Earth rotation axis (the CIP) in ITRF: the third column of the polar-motion matrix
@@ -197,6 +206,13 @@ impl LaunchEpoch {
     pub fn utc_text(&self) -> String {
         self.utc.to_isoformat()
     }
+}
+
+/// ITRF ← GCRF for TT and UT1 given as Modified Julian Dates (days) and the polar motion
+/// (rad): SOFA `c2t06a(2400000.5, tt, 2400000.5, ut1, x_p, y_p)`, row-major.
+pub fn itrf_from_gcrf_mjd(tt_mjd: f64, ut1_mjd: f64, xp_rad: f64, yp_rad: f64) -> Matrix3<f64> {
+    let m = sofars::pnp::c2t06a(MJD_ZERO_JD, tt_mjd, MJD_ZERO_JD, ut1_mjd, xp_rad, yp_rad);
+    Matrix3::from_fn(|row, column| m[row][column])
 }
 
 /// The scenario's launch epoch (`launch_site.epoch_utc`, `launch_site.earth_orientation`).
@@ -256,7 +272,7 @@ impl ItrfFromLaunchInertial {
         velocity_mps: Option<&Vector3<f64>>,
         time_s: f64,
     ) -> (Vector3<f64>, Option<Vector3<f64>>) {
-        let itrf_from_gcrf = self.epoch.after(time_s).itrf_from_gcrf();
+        let itrf_from_gcrf = self.epoch.itrf_from_gcrf_after(time_s);
         let geocentric = position_m - self.earth_centre_launch_m;
         let position_ecef = itrf_from_gcrf * (self.gcrf_from_launch * geocentric);
         let velocity_ecef = velocity_mps.map(|velocity| {
