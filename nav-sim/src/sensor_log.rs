@@ -219,7 +219,7 @@ pub enum SensorLogError {
         "line 1: a log of the earlier {columns}-column layout (star attitude relative to the \
          launch-inertial frame, GNSS tagged in navigation time); this layout has the star \
          tracker relative to GCRF and GNSS tagged in GPS week and seconds of week \
-         (docs/replay-format.md): regenerate the log with `nav-sim record`"
+         (docs/replay-format.md): regenerate the log with `nav-sim log`"
     )]
     OldLayout {
         /// The old file's column count.
@@ -1037,7 +1037,9 @@ mod tests {
             .unwrap()
             .sensor_frames;
         let read = read_events(csv.as_slice(), &frames).unwrap();
-        assert_eq!(read, events);
+        // Bit for bit in the log's own terms (a GNSS event's navigation time is re-derived from
+        // its GPS tag, exact to the rounding of the seconds of week, ~1e-11 s).
+        assert_eq!(read.len(), events.len());
         let event_bits =
             |events: &[SensorEvent]| bits(&events.iter().map(record_of).collect::<Vec<_>>());
         assert_eq!(event_bits(&read), event_bits(&events));
