@@ -239,7 +239,8 @@ mod tests {
     fn gnss(arrival_time_s: f64) -> LogRecord {
         LogRecord::Gnss(GnssRecord {
             arrival_time_s,
-            time_tag_s: arrival_time_s,
+            gps_week: 2_303,
+            gps_seconds_of_week: arrival_time_s,
             position_ecef_m: [6.4e6, 0.0, 0.0],
             velocity_ecef_mps: None,
         })

@@ -9,6 +9,7 @@
 use nav_fsw::nalgebra::{Quaternion, Vector3};
 use nav_fsw::nav_core::frames::LaunchSite;
 use nav_fsw::nav_core::strapdown::NavigationState;
+use nav_fsw::sensor_frames::SensorFrames;
 use nav_fsw::telemetry::FrameTelemetry;
 use nav_fsw::{
     FswConfig, FswError, GnssFix, GnssPort, ImuPort, ImuSample, NavigationComputer,
@@ -55,8 +56,16 @@ pub fn launch_site() -> LaunchSite {
         longitude_rad: 100.291_f64.to_radians(),
         height_m: 1000.0,
         azimuth_rad: 190.0_f64.to_radians(),
-        epoch_s: 0.0,
+        // The day's pole from the ground (docs/frames-and-time.md); here ECEF z.
+        earth_axis_ecef: [0.0, 0.0, 1.0],
     }
+}
+
+/// The ground constants of the launch epoch (GCRF → launch-inertial, launch epoch in GPS
+/// time); a flight image carries the values computed for its launch, this example the
+/// aligned ones.
+pub fn sensor_frames() -> SensorFrames {
+    SensorFrames::ALIGNED
 }
 
 /// The computer with the paper's configuration at `launch_site`, starting from `initial`.
@@ -64,7 +73,10 @@ pub fn launch_site() -> LaunchSite {
 /// # Errors
 /// The configuration's [`FswError`] when nav-fsw refuses it.
 pub fn start(initial: NavigationState) -> Result<NavigationComputer, FswError> {
-    NavigationComputer::new(FswConfig::paper_defaults(launch_site()), initial)
+    NavigationComputer::new(
+        FswConfig::paper_defaults(launch_site(), sensor_frames()),
+        initial,
+    )
 }
 
 /// One 2 ms frame with the IMU sample `sample` and no aiding measurement.
