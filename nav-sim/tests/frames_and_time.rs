@@ -26,6 +26,7 @@ fn no_earth_orientation() -> EarthOrientation {
 /// TT = UT1 = MJD 53736.0, x_p = 2.55060238e-7 rad, y_p = 1.860359247e-6 rad, all nine
 /// elements to 1e-12 as SOFA checks them.
 #[test]
+#[allow(clippy::excessive_precision)] // SOFA's values as printed, digit for digit
 fn celestial_to_terrestrial_matches_the_sofa_test_suite() {
     let expected = [
         [
@@ -75,7 +76,7 @@ fn the_ground_rotation_matches_vallados_worked_example() {
         },
     )
     .unwrap();
-    assert_eq!(epoch.tai_minus_utc_s(), 32.0);
+    assert_eq!(epoch.tai_minus_utc_s().to_bits(), 32.0_f64.to_bits());
     let gcrf_m = Vector3::new(5_102.508_959_2, 6_123.011_403_3, 6_378.136_924_7) * 1e3;
     let itrf_m = Vector3::new(-1_033.479_383_0, 7_901.295_275_4, 6_380.356_595_8) * 1e3;
     let error_m = (epoch.itrf_from_gcrf() * gcrf_m - itrf_m).norm();
@@ -130,7 +131,7 @@ fn leap_seconds_and_gps_time_across_the_end_of_2016() {
     // The default scenario's epoch, 2024-02-26 04:00:00 UTC (GPS − UTC = 18 s): Monday
     // 04:00:18 GPS time of week 2303 (1980-01-06 + 2303 weeks = 2024-02-25).
     let default = at("2024-02-26T04:00:00Z");
-    assert_eq!(default.gps_minus_utc_s(), 18.0);
+    assert_eq!(default.gps_minus_utc_s().to_bits(), 18.0_f64.to_bits());
     assert_eq!(default.gps_week_and_seconds().unwrap(), (2303, 100_818.0));
 }
 
@@ -253,4 +254,48 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
         ),
         (0, 0, 0, 0)
     );
+}
+
+/// What leaving each Earth orientation parameter out of the ground constants costs the
+/// default flight: the sensors are simulated with the day's values, the flight software is
+/// configured from a scenario with UT1 − UTC or polar motion zeroed (and, to show the scale,
+/// with UT1 − UTC wrong by 0.5 s). Prints the final attitude and position errors, the NEES of
+/// the calibration states and the gate rejections; asserts only that the day's values fly.
+/// A measurement (docs/frames-and-time.md), about 10 s a flight in release:
+/// `cargo test --release -p nav-sim --test frames_and_time -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement: four full flights"]
+fn what_leaving_out_earth_orientation_costs_the_default_flight() {
+    use nav_sim::flight::{fly_with, fsw_config, FlightOptions};
+    let scenario = Scenario::default_scenario().unwrap();
+    let cases: [(&str, fn(&mut EarthOrientation)); 4] = [
+        ("the day's values", |_| {}),
+        ("UT1 - UTC left out", |e| e.ut1_minus_utc_s = 0.0),
+        ("polar motion left out", |e| {
+            e.polar_motion_x_arcsec = 0.0;
+            e.polar_motion_y_arcsec = 0.0;
+        }),
+        ("UT1 - UTC wrong by 0.5 s", |e| e.ut1_minus_utc_s += 0.5),
+    ];
+    for (name, change) in cases {
+        let mut configured = scenario.clone();
+        change(&mut configured.launch_site.earth_orientation);
+        let config = fsw_config(&configured).unwrap();
+        let result = fly_with(&scenario, config, FlightOptions::default(), |_, _| {}, |_, _| {})
+            .unwrap();
+        let last = result.samples.last().unwrap();
+        let norm = |v: [f64; 3]| Vector3::from(v).norm();
+        println!(
+            "{name}: attitude error {:.2}\", position error {:.2} m, calibration NEES {:.1}, \
+             gate rejections star {} GNSS {}",
+            norm(last.attitude_error_rad) / ARCSEC,
+            norm(last.position_error_m),
+            result.calibration_nees().unwrap_or(f64::NAN),
+            result.health.star_gate_rejections,
+            result.health.gnss_gate_rejections
+        );
+        if name == "the day's values" {
+            assert!(result.calibration_nees().unwrap() < 25.0);
+        }
+    }
 }
