@@ -657,23 +657,29 @@ mod tests {
         }
     }
 
+    /// The sensors speak GCRF (star) and ITRF (GNSS): the exact ITRF of the truth (the full
+    /// IAU 2006/2000A chain) and `q_ig`, to bring the star back to launch-inertial.
+    fn port_frames(scenario: &Scenario) -> (crate::epoch::ItrfFromLaunchInertial, Quaternion<f64>) {
+        let frame = launch_frame(scenario).unwrap();
+        let epoch = crate::epoch::scenario_epoch(scenario).unwrap();
+        let [w, x, y, z] = epoch
+            .ground_constants(&frame)
+            .unwrap()
+            .sensor_frames
+            .gcrf_to_launch_inertial_wxyz;
+        (
+            crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
+            Quaternion::new(w, x, y, z),
+        )
+    }
+
     #[test]
     fn simulated_noise_has_the_configured_sigma() {
         let scenario = every_frame_scenario();
         let period_s = scenario.imu.frame_period_s();
         let (truths, events) = run(&scenario, 10_000);
         let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
-        let frame = launch_frame(&scenario).unwrap();
-        // The sensors speak GCRF (star) and ITRF (GNSS): back to launch-inertial with q_ig,
-        // and the exact ITRF of the truth from the full IAU 2006/2000A chain.
-        let epoch = crate::epoch::scenario_epoch(&scenario).unwrap();
-        let itrf = crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
-        let [w, x, y, z] = epoch
-            .ground_constants(&frame)
-            .unwrap()
-            .sensor_frames
-            .gcrf_to_launch_inertial_wxyz;
-        let q_ig = Quaternion::new(w, x, y, z);
+        let (itrf, q_ig) = port_frames(&scenario);
         let one = Vector3::repeat(1.0);
         let (mut gyro, mut accel, mut star, mut gnss) = (vec![], vec![], vec![], vec![]);
         // Star and GNSS (no latency) follow the IMU event of the frame they are valid at.
@@ -755,17 +761,7 @@ mod tests {
         let period_s = scenario.imu.frame_period_s();
         let (truths, events) = run(&scenario, 20);
         let errors = SensorSimulator::new(&scenario).unwrap().error_truth();
-        let frame = launch_frame(&scenario).unwrap();
-        // The sensors speak GCRF (star) and ITRF (GNSS): back to launch-inertial with q_ig,
-        // and the exact ITRF of the truth from the full IAU 2006/2000A chain.
-        let epoch = crate::epoch::scenario_epoch(&scenario).unwrap();
-        let itrf = crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
-        let [w, x, y, z] = epoch
-            .ground_constants(&frame)
-            .unwrap()
-            .sensor_frames
-            .gcrf_to_launch_inertial_wxyz;
-        let q_ig = Quaternion::new(w, x, y, z);
+        let (itrf, q_ig) = port_frames(&scenario);
         let one = Vector3::repeat(1.0);
         let mut current = &truths[0];
         let mut checked = [0_usize; 3];

@@ -245,14 +245,17 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
     let summary = log_replay::replay(csv.as_slice(), &scenario, &mut Vec::new()).unwrap();
     let health = &summary.health;
     println!("{}", summary.text());
+    // Every star update is fused too: a flight code that left out the GCRF rotation would
+    // see the attitude 100° off and gate them all.
     assert_eq!(
         (
             health.measurement_stale,
             health.measurement_future,
             health.gnss_gate_rejections,
-            health.gnss_non_finite
+            health.gnss_non_finite,
+            health.star_gate_rejections
         ),
-        (0, 0, 0, 0)
+        (0, 0, 0, 0, 0)
     );
 }
 
@@ -281,8 +284,14 @@ fn what_leaving_out_earth_orientation_costs_the_default_flight() {
         let mut configured = scenario.clone();
         change(&mut configured.launch_site.earth_orientation);
         let config = fsw_config(&configured).unwrap();
-        let result = fly_with(&scenario, config, FlightOptions::default(), |_, _| {}, |_, _| {})
-            .unwrap();
+        let result = fly_with(
+            &scenario,
+            config,
+            FlightOptions::default(),
+            |_, _| {},
+            |_, _| {},
+        )
+        .unwrap();
         let last = result.samples.last().unwrap();
         let norm = |v: [f64; 3]| Vector3::from(v).norm();
         println!(
