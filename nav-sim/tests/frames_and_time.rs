@@ -271,7 +271,8 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
 fn what_leaving_out_earth_orientation_costs_the_default_flight() {
     use nav_sim::flight::{fly_with, fsw_config, FlightOptions};
     let scenario = Scenario::default_scenario().unwrap();
-    let cases: [(&str, fn(&mut EarthOrientation)); 4] = [
+    type Change = fn(&mut EarthOrientation);
+    let cases: [(&str, Change); 4] = [
         ("the day's values", |_| {}),
         ("UT1 - UTC left out", |e| e.ut1_minus_utc_s = 0.0),
         ("polar motion left out", |e| {
