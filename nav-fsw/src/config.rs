@@ -524,6 +524,8 @@ mod tests {
         assert!((noise - 4.848_136_811_095_36e-5).abs() < 1e-19);
     }
 
+    /// One case per documented limit, as a table: longer than a function usually is, since
+    /// splitting it would scatter the table.
     #[test]
     fn every_validation_boundary_is_where_its_documentation_puts_it() {
         use ConfigField as F;

@@ -1,0 +1,250 @@
+//! Tests of the replay: assembler, setup words and output record.
+
+use super::*;
+use crate::config::FswConfig;
+use crate::log_record::{GnssRecord, ImuRecord, StarRecord};
+use crate::sensor_frames::SensorFrames;
+use nalgebra::{Quaternion, Vector3};
+use nav_core::filter::FilterMode;
+use nav_core::frames::LaunchSite;
+use nav_core::strapdown::NavigationState;
+
+const PERIOD_S: f64 = 0.002;
+const GRID: FrameGrid = FrameGrid {
+    start_time_s: 100.0,
+    period_s: PERIOD_S,
+    tolerance: 0.1,
+    max_gap_s: 1.0,
+};
+
+/// IMU sample `sequence`, ending frame `sequence + 1`.
+fn imu(sequence: u64) -> LogRecord {
+    imu_at(sequence, end_of(sequence + 1))
+}
+
+fn imu_at(sequence: u64, time_s: f64) -> LogRecord {
+    LogRecord::Imu(ImuRecord {
+        sequence,
+        time_s,
+        interval_s: PERIOD_S,
+        delta_angle_rad: [0.0; 3],
+        delta_velocity_mps: [0.0; 3],
+    })
+}
+
+fn end_of(frame: u64) -> f64 {
+    GRID.start_time_s + PERIOD_S * f64::from(u32::try_from(frame).unwrap())
+}
+
+fn star(arrival_time_s: f64) -> LogRecord {
+    LogRecord::Star(StarRecord {
+        arrival_time_s,
+        time_tag_s: arrival_time_s,
+        attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+    })
+}
+
+fn gnss(arrival_time_s: f64) -> LogRecord {
+    LogRecord::Gnss(GnssRecord {
+        arrival_time_s,
+        gps_week: 2_000,
+        gps_seconds_of_week: arrival_time_s,
+        position_ecef_m: [7e6, 0.0, 0.0],
+        velocity_ecef_mps: None,
+    })
+}
+
+type FrameSummary = (Option<u32>, usize, usize);
+
+/// The frames of `records` as (IMU sequence, star count, GNSS count), and the counts.
+fn assemble(records: &[LogRecord]) -> (Vec<FrameSummary>, AssemblyCounts) {
+    let mut assembler = FrameAssembler::new(GRID).unwrap();
+    let mut frames = Vec::new();
+    let mut take = |assembler: &mut FrameAssembler| {
+        while let Some(frame) = assembler.next_frame() {
+            let imu = frame.imu.0.map(|sample| sample.sequence);
+            frames.push((imu, frame.star.0.len(), frame.gnss.0.len()));
+        }
+    };
+    for record in records {
+        assembler.push(record).unwrap();
+        take(&mut assembler);
+    }
+    assembler.finish();
+    take(&mut assembler);
+    (frames, assembler.counts())
+}
+
+#[test]
+fn measurements_join_the_frame_they_arrive_by() {
+    let records = [
+        star(end_of(0)), // before the first IMU record: joins frame 1
+        imu(0),
+        gnss(end_of(1)),
+        star(end_of(1) + 0.000_3), // after frame 1 ended (beyond 10 % of a period)
+        imu(1),
+        gnss(end_of(2) + 1e-12), // rounding of time tag + latency
+    ];
+    let (frames, counts) = assemble(&records);
+    assert_eq!(frames, [(Some(0), 1, 1), (Some(1), 1, 1)]);
+    assert_eq!(counts.measurements_delivered, 4);
+    assert_eq!(counts.frames_without_imu, 0);
+}
+
+#[test]
+fn a_missing_imu_record_is_a_frame_without_a_sample_not_a_shift_of_time() {
+    // Samples 1 and 2 are missing; a star measurement arrives in frame 3, in the gap.
+    let records = [imu(0), star(end_of(3)), imu(3), gnss(end_of(4)), imu(4)];
+    let (frames, counts) = assemble(&records);
+    assert_eq!(
+        frames,
+        [
+            (Some(0), 0, 0),
+            (None, 0, 0),
+            (None, 1, 0),
+            (Some(3), 0, 1),
+            (Some(4), 0, 0)
+        ]
+    );
+    assert_eq!((counts.frames, counts.frames_without_imu), (5, 2));
+}
+
+#[test]
+fn duplicated_and_late_imu_records_are_dropped_and_counted() {
+    let records = [imu(0), imu(0), imu(1), imu_at(7, end_of(1)), imu(2)];
+    let (frames, counts) = assemble(&records);
+    assert_eq!(frames, [(Some(0), 0, 0), (Some(1), 0, 0), (Some(2), 0, 0)]);
+    assert_eq!(counts.imu_records_dropped, 2);
+}
+
+#[test]
+fn measurements_beyond_a_frames_ports_are_counted() {
+    let mut records = vec![imu(0)];
+    records.extend((0..12).map(|_| gnss(end_of(1))));
+    let (frames, counts) = assemble(&records);
+    assert_eq!(frames, [(Some(0), 0, FRAME_GNSS_CAPACITY)]);
+    assert_eq!(counts.measurements_delivered, 4);
+    assert_eq!(counts.measurements_dropped, 8);
+}
+
+#[test]
+fn a_log_without_imu_records_has_no_frame() {
+    let (frames, counts) = assemble(&[star(end_of(1)), gnss(end_of(2))]);
+    assert!(frames.is_empty());
+    assert_eq!(counts.measurements_dropped, 2);
+}
+
+#[test]
+fn a_log_at_another_rate_or_time_base_or_with_a_long_jump_is_refused_unchanged() {
+    let mut assembler = FrameAssembler::new(GRID).unwrap();
+    for interval_s in [0.01, 0.0, -0.002, 1e300, f64::NAN] {
+        let LogRecord::Imu(mut record) = imu(0) else {
+            unreachable!()
+        };
+        record.interval_s = interval_s;
+        let refused = assembler.push(&LogRecord::Imu(record)).unwrap_err();
+        assert!(
+            matches!(refused, FrameAssemblyError::ImuInterval { period_s, .. }
+                if period_s.to_bits() == PERIOD_S.to_bits()),
+            "{refused}"
+        );
+    }
+    // A log shifted by 10 ms against the setup's initial time.
+    assert_eq!(
+        assembler.push(&imu_at(0, end_of(6))),
+        Err(FrameAssemblyError::TimeBase {
+            first_imu_time_s: end_of(6),
+            first_frame_end_s: end_of(1)
+        })
+    );
+    assembler.push(&imu(0)).unwrap();
+    assert!(assembler.next_frame().is_none());
+    let jump = assembler.push(&imu_at(1, end_of(1) + 2.0)).unwrap_err();
+    assert!(matches!(jump, FrameAssemblyError::Gap { .. }), "{jump}");
+    assembler.push(&imu(1)).unwrap();
+    assert_eq!(assembler.push(&imu(2)), Err(FrameAssemblyError::NotDrained));
+    assert_eq!(assembler.next_frame().unwrap().imu.0.unwrap().sequence, 0);
+    assert!(assembler.next_frame().is_none());
+    assembler.finish();
+    assert_eq!(assembler.next_frame().unwrap().imu.0.unwrap().sequence, 1);
+    assert_eq!(assembler.push(&imu(2)), Err(FrameAssemblyError::Finished));
+    let bad_grids = [
+        FrameGrid {
+            period_s: 0.0,
+            ..GRID
+        },
+        FrameGrid {
+            tolerance: 0.5,
+            ..GRID
+        },
+        FrameGrid {
+            max_gap_s: f64::INFINITY,
+            ..GRID
+        },
+        FrameGrid {
+            max_gap_s: 1001.0,
+            ..GRID
+        },
+        FrameGrid {
+            start_time_s: f64::NAN,
+            ..GRID
+        },
+    ];
+    for grid in bad_grids {
+        assert!(FrameAssembler::new(grid).is_err(), "{grid:?}");
+    }
+}
+
+#[test]
+fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
+    let config = FswConfig::paper_defaults(
+        LaunchSite {
+            latitude_rad: 0.7,
+            longitude_rad: 1.7,
+            height_m: 1000.0,
+            azimuth_rad: 3.3,
+            earth_axis_ecef: [1e-6, -2e-6, 0.999_999_999_997_5],
+        },
+        SensorFrames {
+            gcrf_to_launch_inertial_wxyz: [0.5, -0.5, 0.5, 0.5],
+            launch_epoch_gps_week: 2_391,
+            launch_epoch_gps_seconds_of_week: 302_418.25,
+        },
+    );
+    let setup = ReplaySetup {
+        launch_site: config.launch_site,
+        sensor_frames: config.sensor_frames,
+        initial: NavigationState {
+            attitude: Quaternion::new(0.5, 0.5, -0.5, 0.5),
+            position_m: Vector3::new(1.0, -2.0, 3.0),
+            velocity_mps: Vector3::new(7.5e3, 0.1, -0.2),
+            time_s: 600.0,
+        },
+        mode: FilterMode::ClosedLoop,
+        discretisation_order: 3,
+        initial_sigma: config.filter.initial,
+        process_noise: config.process_noise,
+        imu_period_s: 0.002,
+        star_mounting_wxyz: [0.9659, 0.0, -0.2588, 0.0],
+        star_noise_rad: 4.8e-5,
+        star_gate_nis: 16.27,
+        gnss_noise_m: 10.0,
+        gnss_gate_nis: 16.27,
+        max_latency_s: 0.1,
+        gnss_error: nav_core::gnss_error::GnssErrorModel {
+            sigma_m: 8.0,
+            correlation_time_s: 300.0,
+        },
+        gnss_velocity_noise_mps: 0.05,
+        imu_max_rate_rad_s: 7.0,
+        imu_max_specific_force_mps2: 200.0,
+    };
+    let words = setup.to_words();
+    assert_eq!(ReplaySetup::from_words(&words), Ok(setup));
+    let mut bad = words;
+    bad[0] = 0;
+    assert!(ReplaySetup::from_words(&bad).is_err());
+    bad = words;
+    bad[1] = 7;
+    assert!(ReplaySetup::from_words(&bad).is_err());
+}
