@@ -272,13 +272,16 @@ fn what_leaving_out_earth_orientation_costs_the_default_flight() {
     use nav_sim::flight::{fly_with, fsw_config, FlightOptions};
     let scenario = Scenario::default_scenario().unwrap();
     type Change = fn(&mut EarthOrientation);
-    let cases: [(&str, Change); 4] = [
+    let cases: [(&str, Change); 7] = [
         ("the day's values", |_| {}),
         ("UT1 - UTC left out", |e| e.ut1_minus_utc_s = 0.0),
         ("polar motion left out", |e| {
             e.polar_motion_x_arcsec = 0.0;
             e.polar_motion_y_arcsec = 0.0;
         }),
+        ("UT1 - UTC wrong by 0.02 s", |e| e.ut1_minus_utc_s += 0.02),
+        ("UT1 - UTC wrong by 0.05 s", |e| e.ut1_minus_utc_s += 0.05),
+        ("UT1 - UTC wrong by 0.1 s", |e| e.ut1_minus_utc_s += 0.1),
         ("UT1 - UTC wrong by 0.5 s", |e| e.ut1_minus_utc_s += 0.5),
     ];
     for (name, change) in cases {
