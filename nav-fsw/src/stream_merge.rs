@@ -208,7 +208,6 @@ impl<I: RecordSource, S: RecordSource, G: RecordSource> ArrivalMerge<I, S, G> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::log_record::{GnssRecord, ImuRecord, StarRecord};
 
     struct Listed(std::vec::IntoIter<LogRecord>);
 
@@ -218,32 +217,10 @@ mod tests {
         }
     }
 
+    use crate::log_record::test_records::{gnss, star};
+
     fn imu(time_s: f64) -> LogRecord {
-        LogRecord::Imu(ImuRecord {
-            sequence: 0,
-            time_s,
-            interval_s: 0.002,
-            delta_angle_rad: [0.0; 3],
-            delta_velocity_mps: [0.0; 3],
-        })
-    }
-
-    fn star(arrival_time_s: f64) -> LogRecord {
-        LogRecord::Star(StarRecord {
-            arrival_time_s,
-            time_tag_s: arrival_time_s,
-            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
-        })
-    }
-
-    fn gnss(arrival_time_s: f64) -> LogRecord {
-        LogRecord::Gnss(GnssRecord {
-            arrival_time_s,
-            gps_week: 2_303,
-            gps_seconds_of_week: arrival_time_s,
-            position_ecef_m: [6.4e6, 0.0, 0.0],
-            velocity_ecef_mps: None,
-        })
+        crate::log_record::test_records::imu(0, time_s, 0.002)
     }
 
     fn listed(records: Vec<LogRecord>) -> Listed {

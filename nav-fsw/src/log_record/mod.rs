@@ -575,3 +575,41 @@ impl RecordWords {
 
 #[cfg(test)]
 mod tests;
+
+/// Minimal records for the crate's tests: zero increments, identity attitude, a fix on the
+/// equator at GPS week 2,000.
+#[cfg(test)]
+pub(crate) mod test_records {
+    use super::{GnssRecord, ImuRecord, LogRecord, StarRecord};
+
+    /// An IMU record ending at `time_s` over `interval_s`.
+    pub(crate) fn imu(sequence: u64, time_s: f64, interval_s: f64) -> LogRecord {
+        LogRecord::Imu(ImuRecord {
+            sequence,
+            time_s,
+            interval_s,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        })
+    }
+
+    /// A star record valid at its arrival.
+    pub(crate) fn star(arrival_time_s: f64) -> LogRecord {
+        LogRecord::Star(StarRecord {
+            arrival_time_s,
+            time_tag_s: arrival_time_s,
+            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+        })
+    }
+
+    /// A position-only fix arriving at `arrival_time_s`.
+    pub(crate) fn gnss(arrival_time_s: f64) -> LogRecord {
+        LogRecord::Gnss(GnssRecord {
+            arrival_time_s,
+            gps_week: 2_000,
+            gps_seconds_of_week: arrival_time_s,
+            position_ecef_m: [7e6, 0.0, 0.0],
+            velocity_ecef_mps: None,
+        })
+    }
+}

@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::config::FswConfig;
-use crate::log_record::{GnssRecord, ImuRecord, StarRecord};
+use crate::log_record::test_records::{self, gnss, star};
 use crate::sensor_frames::SensorFrames;
 use nalgebra::{Quaternion, Vector3};
 use nav_core::filter::FilterMode;
@@ -23,35 +23,11 @@ fn imu(sequence: u64) -> LogRecord {
 }
 
 fn imu_at(sequence: u64, time_s: f64) -> LogRecord {
-    LogRecord::Imu(ImuRecord {
-        sequence,
-        time_s,
-        interval_s: PERIOD_S,
-        delta_angle_rad: [0.0; 3],
-        delta_velocity_mps: [0.0; 3],
-    })
+    test_records::imu(sequence, time_s, PERIOD_S)
 }
 
 fn end_of(frame: u64) -> f64 {
     GRID.start_time_s + PERIOD_S * f64::from(u32::try_from(frame).unwrap())
-}
-
-fn star(arrival_time_s: f64) -> LogRecord {
-    LogRecord::Star(StarRecord {
-        arrival_time_s,
-        time_tag_s: arrival_time_s,
-        attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
-    })
-}
-
-fn gnss(arrival_time_s: f64) -> LogRecord {
-    LogRecord::Gnss(GnssRecord {
-        arrival_time_s,
-        gps_week: 2_000,
-        gps_seconds_of_week: arrival_time_s,
-        position_ecef_m: [7e6, 0.0, 0.0],
-        velocity_ecef_mps: None,
-    })
 }
 
 type FrameSummary = (Option<u32>, usize, usize);
