@@ -61,6 +61,14 @@ pub(crate) fn dot(a: Row, b: Row) -> f64 {
     a0 * b0 + a1 * b1 + a2 * b2
 }
 
+/// `c + a · b = ((c + a0 b0) + a1 b1) + a2 b2` (the order of [`mul_transpose_add`]).
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+pub(crate) fn dot_add(c: f64, a: Row, b: Row) -> f64 {
+    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
+    c + a0 * b0 + a1 * b1 + a2 * b2
+}
+
 /// `acc + A b` (`b` a column vector).
 #[inline(always)]
 pub(crate) fn mul_vector_add(acc: Row, a: &Block, b: Row) -> Row {

@@ -231,6 +231,8 @@ pub(crate) struct Cholesky3 {
     inverse_diagonal: Row,
 }
 
+#[cfg(any(test, target_arch = "arm"))]
+mod columns;
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense;
 mod model;

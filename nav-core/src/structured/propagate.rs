@@ -1,6 +1,8 @@
 //! Propagation of the state and the covariance through the structured model: the 3×3 block
 //! kernel (the target's) and the tail shared with the row kernel (`super::rows`, the host's).
 
+#[cfg(any(test, target_arch = "arm"))]
+use super::columns;
 #[cfg(any(test, not(target_arch = "arm")))]
 use super::rows;
 use super::{StateRows, StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
@@ -13,9 +15,8 @@ use crate::block::{
     write_diagonal_symmetric, write_symmetric, Block, FiniteCheck, Row,
 };
 #[cfg(any(test, target_arch = "arm"))]
-use crate::block::{mul_transpose, mul_transpose_add};
+use crate::block::{dot, dot_add, entry};
 use crate::discretise::CovarianceMatrix;
-#[cfg(any(test, not(target_arch = "arm")))]
 use crate::state::STATE_DIMENSION;
 
 impl StructuredModel {
@@ -122,60 +123,15 @@ impl StructuredModel {
         [new_attitude, new_position, new_velocity]
     }
 
-    /// Rows (ϑ, δp, δv) of `U = [Φ E] P` in one column block, given as its three columns of
-    /// `P`; scale factors folded into the biases (module docs). Not inlined: one compact
-    /// body called per column block keeps the working set in the registers and the
-    /// addresses within load offsets on the target.
-    #[cfg(any(test, target_arch = "arm"))]
-    #[inline(never)]
-    fn propagate_column(&self, columns: [&[f64; 24]; 3]) -> [Block; 3] {
-        use crate::block::add_scaled_rows;
-        let rows = |offset: usize| -> Block {
-            [0, 1, 2].map(|i| columns.map(|c| c.get(offset + i).copied().unwrap_or(f64::NAN)))
-        };
-        let attitude = rows(ATT);
-        let position = rows(POS);
-        let velocity = rows(VEL);
-        let gyro = add_scaled_rows(&rows(BIAS_G), &rows(SCALE_G), self.measured_rate_rad_s);
-        let accel = add_scaled_rows(
-            &rows(BIAS_A),
-            &rows(SCALE_A),
-            self.measured_specific_force_mps2,
-        );
-        let t = &self.transition;
-        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
-        let [accel_position, accel_velocity] = &self.accel_bias_column;
-        let sum = |terms: [(&Block, &Block); 5]| {
-            let [(f0, x0), rest @ ..] = terms;
-            rest.iter()
-                .fold(mul(f0, x0), |acc, (f, x)| mul_add(&acc, f, x))
-        };
-        [
-            mul_add(&mul(&t.attitude_attitude, &attitude), gyro_attitude, &gyro),
-            sum([
-                (&t.position_attitude, &attitude),
-                (&t.position_position, &position),
-                (&t.position_velocity, &velocity),
-                (gyro_position, &gyro),
-                (accel_position, &accel),
-            ]),
-            sum([
-                (&t.velocity_attitude, &attitude),
-                (&t.velocity_position, &position),
-                (&t.velocity_velocity, &velocity),
-                (gyro_velocity, &gyro),
-                (accel_velocity, &accel),
-            ]),
-        ]
-    }
-
     /// Block (`R`, `S`), `S` = δp or δv, of the new `P_dd = U_d [Φ E]_Sᵀ` (without the
     /// walks' `Qd`): `row` is `(U_Rϑ, U_Rp, U_Rv)`, `folded` row `R` of `U`'s folded
     /// calibration columns (with the white noise folded in), `transition` row `S` of `Φ` and
-    /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`).
+    /// `bias_columns` row `S` of `E_g`, `E_a` (multiplied transposed: `X Yᵀ`, as
+    /// `block::mul_transpose` then `block::mul_transpose_add`). A diagonal block (`UPPER`)
+    /// is computed on and above its diagonal only (the rest is never read: zero).
     #[cfg(any(test, target_arch = "arm"))]
     #[inline(never)]
-    fn dynamic_pair(
+    fn dynamic_pair<const UPPER: bool>(
         row: [&Block; 3],
         folded: [&Block; 2],
         transition: [&Block; 3],
@@ -185,23 +141,38 @@ impl StructuredModel {
         let [f_attitude, f_position, f_velocity] = transition;
         let [gyro, accel] = folded;
         let [e_gyro, e_accel] = bias_columns;
-        let mut value = mul_transpose(u_attitude, f_attitude);
-        value = mul_transpose_add(&value, u_position, f_position);
-        value = mul_transpose_add(&value, u_velocity, f_velocity);
-        value = mul_transpose_add(&value, gyro, e_gyro);
-        mul_transpose_add(&value, accel, e_accel)
+        let terms = [
+            (u_position, f_position),
+            (u_velocity, f_velocity),
+            (gyro, e_gyro),
+            (accel, e_accel),
+        ];
+        pair_elements::<UPPER>(|i, j| {
+            let pick =
+                |block: &Block, index: usize| block.get(index).copied().unwrap_or([f64::NAN; 3]);
+            terms.iter().fold(
+                dot(pick(u_attitude, i), pick(f_attitude, j)),
+                |sum, (x, y)| dot_add(sum, pick(x, i), pick(y, j)),
+            )
+        })
     }
 
-    /// Block (`R`, ϑ) of the new `P_dd`: `Φ_ϑp = Φ_ϑv = 0` and `E_a` has no attitude row.
+    /// Block (ϑ, ϑ) of the new `P_dd`, on and above its diagonal (`Φ_ϑp = Φ_ϑv = 0` and
+    /// `E_a` has no attitude row).
     #[cfg(any(test, target_arch = "arm"))]
     #[inline(never)]
     fn attitude_pair(&self, u_attitude: &Block, gyro: &Block) -> Block {
         let [gyro_attitude, _, _] = &self.gyro_bias_column;
-        mul_transpose_add(
-            &mul_transpose(u_attitude, &self.transition.attitude_attitude),
-            gyro,
-            gyro_attitude,
-        )
+        let f_attitude = &self.transition.attitude_attitude;
+        pair_elements::<true>(|i, j| {
+            let pick =
+                |block: &Block, index: usize| block.get(index).copied().unwrap_or([f64::NAN; 3]);
+            dot_add(
+                dot(pick(u_attitude, i), pick(f_attitude, j)),
+                pick(gyro, i),
+                pick(gyro_attitude, j),
+            )
+        })
     }
 
     /// `P ← F P Fᵀ + Qd` in place, by blocks (module docs); `false` (and `P` unchanged) if
@@ -223,25 +194,22 @@ impl StructuredModel {
         return self.propagate_covariance_by_rows(p);
     }
 
-    /// [`StructuredModel::propagate_covariance`] with the 3×3 block kernel (the target's).
+    /// [`StructuredModel::propagate_covariance`] with the 3×3 block kernel (the target's,
+    /// [`columns`]): `U`'s dynamic column blocks into locals, its calibration column blocks
+    /// (the new `P_dc`) into the lower triangle of `P`, then the new `P_dd` from them.
     #[cfg(any(test, target_arch = "arm"))]
     pub(super) fn propagate_covariance_by_blocks(&self, p: &mut CovarianceMatrix) -> bool {
-        // `ck` is column `k` of `P` (state `k`, [`crate::state`] order): the three columns of
-        // a block are `c{3b}..c{3b+2}` for the block at offset `3b`.
-        let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11, c12, c13, c14, c15, c16, c17, c18, c19, c20, c21, c22, c23] =
-            &p.data.0;
-        // U = [Φ E] P by column blocks; U's calibration columns are the new P_dc.
-        // Bound whole and split by reference: destructuring by value copies each block.
-        let u_attitude_columns = self.propagate_column([c0, c1, c2]);
-        let u_position_columns = self.propagate_column([c3, c4, c5]);
-        let u_velocity_columns = self.propagate_column([c6, c7, c8]);
-        let mut gyro_bias = self.propagate_column([c9, c10, c11]);
-        let mut accel_bias = self.propagate_column([c12, c13, c14]);
-        let installation = self.propagate_column([c15, c16, c17]);
-        let gyro_scale = self.propagate_column([c18, c19, c20]);
-        let accel_scale = self.propagate_column([c21, c22, c23]);
-        let (folded_gyro, folded_accel) =
-            self.fold_calibration_columns(&gyro_bias, &gyro_scale, &accel_bias, &accel_scale);
+        let rows = self.kernel_rows();
+        let u_attitude_columns = self.dynamic_column_block::<ATT>(&rows, &p.data.0);
+        let u_position_columns = self.dynamic_column_block::<POS>(&rows, &p.data.0);
+        let u_velocity_columns = self.dynamic_column_block::<VEL>(&rows, &p.data.0);
+        let check = self.calibration_column_blocks(&rows, p);
+        let (folded_gyro, folded_accel) = self.fold_calibration_columns(
+            &written_column::<BIAS_G>(p),
+            &written_column::<SCALE_G>(p),
+            &written_column::<BIAS_A>(p),
+            &written_column::<SCALE_A>(p),
+        );
         let [u_aa, u_pa, u_va] = &u_attitude_columns;
         let [u_ap, u_pp, u_vp] = &u_position_columns;
         let [u_av, u_pv, u_vv] = &u_velocity_columns;
@@ -268,18 +236,39 @@ impl StructuredModel {
         let row_v = [u_va, u_vp, u_vv];
         let mut dynamic = [
             self.attitude_pair(u_aa, fg_a),
-            Self::dynamic_pair(row_a, [fg_a, fa_a], position_row, position_columns),
-            Self::dynamic_pair(row_a, [fg_a, fa_a], velocity_row, velocity_columns),
-            Self::dynamic_pair(row_p, [fg_p, fa_p], position_row, position_columns),
-            Self::dynamic_pair(row_p, [fg_p, fa_p], velocity_row, velocity_columns),
-            Self::dynamic_pair(row_v, [fg_v, fa_v], velocity_row, velocity_columns),
+            Self::dynamic_pair::<false>(row_a, [fg_a, fa_a], position_row, position_columns),
+            Self::dynamic_pair::<false>(row_a, [fg_a, fa_a], velocity_row, velocity_columns),
+            Self::dynamic_pair::<true>(row_p, [fg_p, fa_p], position_row, position_columns),
+            Self::dynamic_pair::<false>(row_p, [fg_p, fa_p], velocity_row, velocity_columns),
+            Self::dynamic_pair::<true>(row_v, [fg_v, fa_v], velocity_row, velocity_columns),
         ];
-        self.write_propagated(
-            p,
-            [&mut gyro_bias, &mut accel_bias],
-            [&installation, &gyro_scale, &accel_scale],
-            &mut dynamic,
-        )
+        self.write_propagated(p, check, &mut dynamic)
+    }
+
+    /// `U`'s five calibration column blocks written into the lower triangle of `P`
+    /// ([`columns`]), with their finite check. Not inlined: one frame for the five.
+    #[cfg(any(test, target_arch = "arm"))]
+    #[inline(never)]
+    fn calibration_column_blocks(
+        &self,
+        rows: &columns::KernelRows,
+        p: &mut CovarianceMatrix,
+    ) -> FiniteCheck {
+        let (dynamic, calibration) = p.data.0.split_at_mut(columns::DYNAMIC_DIMENSION);
+        let (Ok(dynamic), Ok(calibration)) = (
+            <&mut [[f64; STATE_DIMENSION]; 9]>::try_from(dynamic),
+            <&[[f64; STATE_DIMENSION]; 15]>::try_from(&*calibration),
+        ) else {
+            let mut check = FiniteCheck::new();
+            check.value(f64::NAN);
+            return check;
+        };
+        let mut check = self.calibration_column_block::<BIAS_G>(rows, dynamic, calibration);
+        check.merge(self.calibration_column_block::<BIAS_A>(rows, dynamic, calibration));
+        check.merge(self.calibration_column_block::<INSTALL>(rows, dynamic, calibration));
+        check.merge(self.calibration_column_block::<SCALE_G>(rows, dynamic, calibration));
+        check.merge(self.calibration_column_block::<SCALE_A>(rows, dynamic, calibration));
+        check
     }
 
     /// [`StructuredModel::propagate_covariance`] with the row kernel ([`rows`]; the host's).
@@ -340,70 +329,32 @@ impl StructuredModel {
     }
 
     /// The block kernel's tail of the propagation: the walks' `Qd` added to the new `P_dd`
-    /// (`dynamic`, pairs ϑϑ, ϑp, ϑv, pp, pv, vv without noise) and to the bias columns, the
-    /// finite check of everything new, then the writes with their mirrors. `bias` are `U`'s
-    /// gyro- and accelerometer-bias columns, `other` its installation and scale-factor
-    /// columns (rows ϑ, δp, δv each). `false`, with `P` unchanged, if anything is not finite.
+    /// (`dynamic`, pairs ϑϑ, ϑp, ϑv, pp, pv, vv without noise) and to the bias columns of
+    /// the new `P_dc` (in the lower triangle, [`columns`]), the finite check of everything
+    /// new (`check` holds the new `P_dc`'s before the walks), then the writes: the new
+    /// `P_dc` copied into the upper triangle, `P_dd` with its mirror. `false`, with `P`
+    /// restored from its upper triangle, if anything is not finite.
     #[cfg(any(test, target_arch = "arm"))]
     #[inline(always)]
     fn write_propagated(
         &self,
         p: &mut CovarianceMatrix,
-        bias: [&mut [Block; 3]; 2],
-        other: [&[Block; 3]; 3],
+        mut check: FiniteCheck,
         dynamic: &mut [Block; 6],
     ) -> bool {
         self.add_dynamic_noise(dynamic);
-        let [gyro_bias, accel_bias] = bias;
         // Bias walks: Qd in the bias columns of the dynamic rows and on the bias diagonal.
         if self.bias_walk {
-            // In place (new arrays of blocks would be copies).
-            let with = |column: &mut [Block; 3], noise: &[Block; 3]| {
-                for (value, q) in column.iter_mut().zip(noise) {
-                    *value = add(value, q);
-                }
-            };
-            with(gyro_bias, &self.noise.dynamic_gyro_bias);
-            with(accel_bias, &self.noise.dynamic_accel_bias);
+            add_walk_to_lower::<BIAS_G>(p, &self.noise.dynamic_gyro_bias, &mut check);
+            add_walk_to_lower::<BIAS_A>(p, &self.noise.dynamic_accel_bias, &mut check);
         }
         let walk_diagonal = self.walk_diagonal(p);
-        let [installation, gyro_scale, accel_scale] = other;
-        let mut check = FiniteCheck::new();
-        for blocks in [
-            &*gyro_bias,
-            &*accel_bias,
-            installation,
-            gyro_scale,
-            accel_scale,
-        ] {
-            for value in blocks {
-                check.block(value);
-            }
-        }
         Self::check_dynamic(&mut check, dynamic, &walk_diagonal);
         if !check.all_finite() {
+            block::mirror_upper_to_lower(p, columns::DYNAMIC_DIMENSION);
             return false;
         }
-        let [gyro_a, gyro_p, gyro_v] = &*gyro_bias;
-        write_symmetric::<ATT, BIAS_G>(p, gyro_a);
-        write_symmetric::<POS, BIAS_G>(p, gyro_p);
-        write_symmetric::<VEL, BIAS_G>(p, gyro_v);
-        let [accel_a, accel_p, accel_v] = &*accel_bias;
-        write_symmetric::<ATT, BIAS_A>(p, accel_a);
-        write_symmetric::<POS, BIAS_A>(p, accel_p);
-        write_symmetric::<VEL, BIAS_A>(p, accel_v);
-        let [installation_a, installation_p, installation_v] = installation;
-        write_symmetric::<ATT, INSTALL>(p, installation_a);
-        write_symmetric::<POS, INSTALL>(p, installation_p);
-        write_symmetric::<VEL, INSTALL>(p, installation_v);
-        let [scale_gyro_a, scale_gyro_p, scale_gyro_v] = gyro_scale;
-        write_symmetric::<ATT, SCALE_G>(p, scale_gyro_a);
-        write_symmetric::<POS, SCALE_G>(p, scale_gyro_p);
-        write_symmetric::<VEL, SCALE_G>(p, scale_gyro_v);
-        let [scale_accel_a, scale_accel_p, scale_accel_v] = accel_scale;
-        write_symmetric::<ATT, SCALE_A>(p, scale_accel_a);
-        write_symmetric::<POS, SCALE_A>(p, scale_accel_p);
-        write_symmetric::<VEL, SCALE_A>(p, scale_accel_v);
+        copy_lower_calibration_to_upper(p);
         Self::write_dynamic(p, dynamic, &walk_diagonal);
         true
     }
@@ -467,8 +418,10 @@ impl StructuredModel {
         dynamic: &[Block; 6],
         walk_diagonal: &Option<[Block; 2]>,
     ) {
-        for value in dynamic.iter() {
-            check.block(value);
+        // The diagonal blocks on and above their diagonal only (the rest is not written).
+        let [aa, ap, av, pp, pv, vv] = dynamic;
+        for value in [upper(aa), *ap, *av, upper(pp), *pv, upper(vv)] {
+            check.block(&value);
         }
         if let Some(blocks) = walk_diagonal {
             for value in blocks {
@@ -494,6 +447,66 @@ impl StructuredModel {
         if let Some([gyro, accel]) = walk_diagonal {
             write_diagonal_symmetric::<BIAS_G>(p, gyro);
             write_diagonal_symmetric::<BIAS_A>(p, accel);
+        }
+    }
+}
+
+/// The elements of a 3×3 block from `element(i, j)`; with `UPPER`, those on and above the
+/// diagonal only (the others zero).
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+fn pair_elements<const UPPER: bool>(element: impl Fn(usize, usize) -> f64) -> Block {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| if UPPER && j < i { 0.0 } else { element(i, j) }))
+}
+
+/// A diagonal block's elements on and above its diagonal (the others zero).
+#[inline(always)]
+fn upper(b: &Block) -> Block {
+    let [[b00, b01, b02], [_, b11, b12], [_, _, b22]] = *b;
+    [[b00, b01, b02], [0.0, b11, b12], [0.0, 0.0, b22]]
+}
+
+/// `U`'s column block at `C` (rows ϑ, δp, δv) as written by the block kernel into the
+/// lower triangle of `P` ([`columns`]): element `(i, j)` of block `R` is `P(C + j, R + i)`.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+fn written_column<const C: usize>(p: &CovarianceMatrix) -> [Block; 3] {
+    [ATT, POS, VEL].map(|r| [0, 1, 2].map(|i| [0, 1, 2].map(|j| entry(p, C + j, r + i))))
+}
+
+/// Adds a walk's `Qd` blocks (rows ϑ, δp, δv) to the new `P_dc`'s column block at `C` in the
+/// lower triangle (as `block::add`), and checks the sums.
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+fn add_walk_to_lower<const C: usize>(
+    p: &mut CovarianceMatrix,
+    noise: &[Block; 3],
+    check: &mut FiniteCheck,
+) {
+    for (r, block) in [ATT, POS, VEL].iter().zip(noise) {
+        for (i, q_row) in block.iter().enumerate() {
+            let Some(row) = p.data.0.get_mut(r + i).and_then(|c| c.get_mut(C..C + 3)) else {
+                continue;
+            };
+            for (value, q) in row.iter_mut().zip(q_row) {
+                *value += q;
+                check.value(*value);
+            }
+        }
+    }
+}
+
+/// Copies the new `P_dc` from the lower triangle (rows 9..24 of columns 0..9, where the
+/// block kernel writes it) into the upper (rows 0..9 of columns 9..24).
+#[cfg(any(test, target_arch = "arm"))]
+#[inline(always)]
+fn copy_lower_calibration_to_upper(p: &mut CovarianceMatrix) {
+    let (dynamic, calibration) = p.data.0.split_at_mut(columns::DYNAMIC_DIMENSION);
+    for (offset, column) in calibration.iter_mut().enumerate() {
+        for (target, source) in column.iter_mut().zip(dynamic.iter()) {
+            if let Some(value) = source.get(columns::DYNAMIC_DIMENSION + offset) {
+                *target = *value;
+            }
         }
     }
 }

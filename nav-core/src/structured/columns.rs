@@ -1,0 +1,272 @@
+//! The block kernel of `U = [Φ E] P` (the Cortex-M7's; module docs of [`super`]): one
+//! column block of three states at a time, one block row of `U` (ϑ, δp or δv) per call.
+//!
+//! A call holds the nine sums of its output block in registers and streams the inputs:
+//! per term and per `k`, three values of `P` (or of the folded calibration rows) and three
+//! coefficients of `F`, nine multiply-adds. Nine sums, three inputs and one coefficient fit
+//! the 16 double registers of the FPv5-D16 without spilling; the block rows are separate
+//! calls so that the compiler cannot interleave two of them (which spills). Every element is
+//! summed as the textbook product of [`crate::block`]: the first product, then each further
+//! product added in the term order ϑ, δp, δv, bg, ba and `k` order, so the bits equal those
+//! of `block::mul`/`block::mul_add` and of the row kernel (`super::rows`).
+//!
+//! The calibration columns of `U` (the new `P_dc`) are written straight into the lower
+//! triangle of `P` (rows 9..24 of columns 0..9), whose old values, by symmetry a copy of the
+//! upper triangle, no later column block reads (the dynamic column blocks, which read them,
+//! come first): the upper triangle keeps the old `P_dc` as the roll-back copy.
+
+use super::{StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
+use crate::block::{Block, FiniteCheck, Row};
+use crate::state::STATE_DIMENSION;
+
+/// The dynamic states (ϑ, δp, δv): `P`'s columns 0..9 hold the new `P_dc` while it is
+/// computed.
+pub(super) const DYNAMIC_DIMENSION: usize = 9;
+
+/// Three columns of `P` (a column block): column `j` holds row `j` of `P` by symmetry, so
+/// `X_t[k][j]` of term `t` is `columns[j][3t + k]` for the dynamic terms.
+pub(super) type Columns = [[f64; STATE_DIMENSION]; 3];
+
+/// The folded calibration rows of a column block, by column `j`:
+/// `P_bg + diag(ω_m) P_λg` (values 0..3) and `P_ba + diag(f_m) P_λa` (values 3..6).
+type Folded = [[f64; 6]; 3];
+
+/// The blocks of `F`'s δp rows or δv rows over the terms ϑ, δp, δv, bg, ba.
+pub(super) type FRow<'a> = [&'a Block; 5];
+
+/// Input `X_t[k][j]` of term `t` (0..3: ϑ, δp, δv from `P`; 3, 4: the folded gyro and
+/// accelerometer rows).
+#[inline(always)]
+fn input(columns: &Columns, folded: &Folded, t: usize, k: usize, j: usize) -> f64 {
+    let value = if t < 3 {
+        columns.get(j).and_then(|c| c.get(3 * t + k))
+    } else {
+        folded.get(j).and_then(|c| c.get(3 * (t - 3) + k))
+    };
+    value.copied().unwrap_or(f64::NAN)
+}
+
+/// `acc + F_t X_t` for term `T` (or `F_t X_t` if `FIRST`): element `(i, j)` gets
+/// `F_t[i][k] X_t[k][j]` added for `k = 0, 1, 2` in turn (as `block::mul_add`, or from the
+/// first product as `block::mul`; IEEE multiplication commutes).
+#[inline(always)]
+fn add_term<const T: usize, const FIRST: bool>(
+    acc: &mut Block,
+    f: &Block,
+    columns: &Columns,
+    folded: &Folded,
+) {
+    for k in 0..3 {
+        let x = [0, 1, 2].map(|j| input(columns, folded, T, k, j));
+        for (acc_row, f_row) in acc.iter_mut().zip(f.iter()) {
+            let coefficient = f_row.get(k).copied().unwrap_or(f64::NAN);
+            for (sum, value) in acc_row.iter_mut().zip(x) {
+                *sum = if FIRST && k == 0 {
+                    value * coefficient
+                } else {
+                    *sum + value * coefficient
+                };
+            }
+        }
+    }
+}
+
+/// Block row ϑ of `U` in a column block: `Φ_ϑϑ X_ϑ + E_gϑ G` (`Φ_ϑp = Φ_ϑv = 0`, `E_a` has
+/// no attitude row).
+#[inline(never)]
+fn attitude_block(f: &[&Block; 2], columns: &Columns, folded: &Folded) -> Block {
+    attitude_sum(f, columns, folded)
+}
+
+/// `Φ_ϑϑ X_ϑ + E_gϑ G`, the terms in order.
+#[inline(always)]
+fn attitude_sum(f: &[&Block; 2], columns: &Columns, folded: &Folded) -> Block {
+    let [f_attitude, e_gyro] = *f;
+    let mut acc = [[0.0; 3]; 3];
+    add_term::<0, true>(&mut acc, f_attitude, columns, folded);
+    add_term::<3, false>(&mut acc, e_gyro, columns, folded);
+    acc
+}
+
+/// `F_Rϑ X_ϑ + F_Rp X_p + F_Rv X_v + E_gR G + E_aR A`, the terms in order.
+#[inline(always)]
+fn dynamic_sum(f: &FRow, columns: &Columns, folded: &Folded) -> Block {
+    let [f_attitude, f_position, f_velocity, e_gyro, e_accel] = *f;
+    let mut acc = [[0.0; 3]; 3];
+    add_term::<0, true>(&mut acc, f_attitude, columns, folded);
+    add_term::<1, false>(&mut acc, f_position, columns, folded);
+    add_term::<2, false>(&mut acc, f_velocity, columns, folded);
+    add_term::<3, false>(&mut acc, e_gyro, columns, folded);
+    add_term::<4, false>(&mut acc, e_accel, columns, folded);
+    acc
+}
+
+/// Block row δp or δv of `U` in a column block: `F_R X` over its five terms.
+#[inline(never)]
+fn dynamic_block(f: &FRow, columns: &Columns, folded: &Folded) -> Block {
+    dynamic_sum(f, columns, folded)
+}
+
+/// Writes `value` into `out` (`out[i][j]`) and returns its finite check.
+#[inline(always)]
+fn store(value: &Block, out: &mut [&mut Row; 3]) -> FiniteCheck {
+    for (target, row) in out.iter_mut().zip(value) {
+        **target = *row;
+    }
+    let mut check = FiniteCheck::new();
+    check.block(value);
+    check
+}
+
+/// [`attitude_block`] written into `out` (rows of the output, three values each), with its
+/// finite check.
+#[inline(never)]
+fn attitude_into(
+    f: &[&Block; 2],
+    columns: &Columns,
+    folded: &Folded,
+    out: &mut [&mut Row; 3],
+) -> FiniteCheck {
+    store(&attitude_sum(f, columns, folded), out)
+}
+
+/// [`dynamic_block`] written into `out`, with its finite check.
+#[inline(never)]
+fn dynamic_into(
+    f: &FRow,
+    columns: &Columns,
+    folded: &Folded,
+    out: &mut [&mut Row; 3],
+) -> FiniteCheck {
+    store(&dynamic_sum(f, columns, folded), out)
+}
+
+/// The coefficients of `F` the kernel reads: the attitude rows' `Φ_ϑϑ`, `E_gϑ`, and the δp
+/// and δv rows' five blocks.
+pub(super) struct KernelRows<'a> {
+    attitude: [&'a Block; 2],
+    position: FRow<'a>,
+    velocity: FRow<'a>,
+}
+
+impl StructuredModel {
+    /// The blocks of `F` by row for the kernel.
+    #[inline(always)]
+    pub(super) fn kernel_rows(&self) -> KernelRows<'_> {
+        let t = &self.transition;
+        let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
+        let [accel_position, accel_velocity] = &self.accel_bias_column;
+        KernelRows {
+            attitude: [&t.attitude_attitude, gyro_attitude],
+            position: [
+                &t.position_attitude,
+                &t.position_position,
+                &t.position_velocity,
+                gyro_position,
+                accel_position,
+            ],
+            velocity: [
+                &t.velocity_attitude,
+                &t.velocity_position,
+                &t.velocity_velocity,
+                gyro_velocity,
+                accel_velocity,
+            ],
+        }
+    }
+
+    /// The folded calibration rows of a column block (module docs of [`super`]):
+    /// `P_bg,j + ω_k P_λg,j` and `P_ba,j + f_k P_λa,j` (as `block::add_scaled_rows`).
+    #[inline(always)]
+    fn fold_inputs(&self, columns: &Columns) -> Folded {
+        let (rate, force) = (self.measured_rate_rad_s, self.measured_specific_force_mps2);
+        columns.each_ref().map(|column| {
+            let at = |index: usize| column.get(index).copied().unwrap_or(f64::NAN);
+            let [g0, g1, g2] =
+                [0, 1, 2].map(|k| at(BIAS_G + k) + at(SCALE_G + k) * element(rate, k));
+            let [a0, a1, a2] =
+                [0, 1, 2].map(|k| at(BIAS_A + k) + at(SCALE_A + k) * element(force, k));
+            [g0, g1, g2, a0, a1, a2]
+        })
+    }
+
+    /// `U`'s dynamic column block at `C` (ϑ, δp or δv): its blocks `(ϑ, C)`, `(δp, C)`,
+    /// `(δv, C)`.
+    #[inline(always)]
+    pub(super) fn dynamic_column_block<const C: usize>(
+        &self,
+        rows: &KernelRows,
+        p: &[[f64; STATE_DIMENSION]; STATE_DIMENSION],
+    ) -> [Block; 3] {
+        let Some(columns) = column_block::<C>(p) else {
+            return [[[f64::NAN; 3]; 3]; 3];
+        };
+        let folded = self.fold_inputs(columns);
+        [
+            attitude_block(&rows.attitude, columns, &folded),
+            dynamic_block(&rows.position, columns, &folded),
+            dynamic_block(&rows.velocity, columns, &folded),
+        ]
+    }
+
+    /// `U`'s calibration column block at `C` written into the lower triangle of `P`
+    /// (`dynamic` its columns 0..9, `calibration` its columns 9..24; module docs), with the
+    /// finite check of the values written.
+    #[inline(always)]
+    pub(super) fn calibration_column_block<const C: usize>(
+        &self,
+        rows: &KernelRows,
+        dynamic: &mut [[f64; STATE_DIMENSION]; DYNAMIC_DIMENSION],
+        calibration: &[[f64; STATE_DIMENSION]; 15],
+    ) -> FiniteCheck {
+        let mut check = FiniteCheck::new();
+        let Some(columns) = calibration
+            .get(C - 9..C - 6)
+            .and_then(|c| <&Columns>::try_from(c).ok())
+        else {
+            check.value(f64::NAN);
+            return check;
+        };
+        let folded = self.fold_inputs(columns);
+        let [c0, c1, c2, c3, c4, c5, c6, c7, c8] = dynamic;
+        let part = part_of::<C>;
+        let written = [
+            (ATT, [part(c0), part(c1), part(c2)]),
+            (POS, [part(c3), part(c4), part(c5)]),
+            (VEL, [part(c6), part(c7), part(c8)]),
+        ];
+        for (row, targets) in written {
+            let [Some(t0), Some(t1), Some(t2)] = targets else {
+                check.value(f64::NAN);
+                continue;
+            };
+            let mut out = [t0, t1, t2];
+            check.merge(match row {
+                ATT => attitude_into(&rows.attitude, columns, &folded, &mut out),
+                POS => dynamic_into(&rows.position, columns, &folded, &mut out),
+                _ => dynamic_into(&rows.velocity, columns, &folded, &mut out),
+            });
+        }
+        check
+    }
+}
+
+/// Element `k` of a row (NaN outside).
+#[inline(always)]
+fn element(row: Row, k: usize) -> f64 {
+    row.get(k).copied().unwrap_or(f64::NAN)
+}
+
+/// The three columns at `C` of `P`'s columns.
+#[inline(always)]
+fn column_block<const C: usize>(p: &[[f64; STATE_DIMENSION]; STATE_DIMENSION]) -> Option<&Columns> {
+    p.get(C..C + 3).and_then(|c| <&Columns>::try_from(c).ok())
+}
+
+/// Values `C..C + 3` of a column.
+#[inline(always)]
+fn part_of<const C: usize>(column: &mut [f64; STATE_DIMENSION]) -> Option<&mut Row> {
+    column
+        .get_mut(C..C + 3)
+        .and_then(|values| <&mut Row>::try_from(values).ok())
+}
