@@ -176,8 +176,10 @@ impl StructuredModel {
     }
 
     /// The folded calibration rows of a column block (module docs of [`super`]):
-    /// `P_bg,j + ω_k P_λg,j` and `P_ba,j + f_k P_λa,j` (as `block::add_scaled_rows`).
-    #[inline(always)]
+    /// `P_bg,j + ω_k P_λg,j` and `P_ba,j + f_k P_λa,j` (as `block::add_scaled_rows`). Not
+    /// inlined: its result goes straight into the caller's frame (inlined, the compiler
+    /// keeps the values in registers across the kernel calls and then copies them).
+    #[inline(never)]
     fn fold_inputs(&self, columns: &Columns) -> Folded {
         let (rate, force) = (self.measured_rate_rad_s, self.measured_specific_force_mps2);
         columns.each_ref().map(|column| {

@@ -502,11 +502,16 @@ fn add_walk_to_lower<const C: usize>(
 #[inline(always)]
 fn copy_lower_calibration_to_upper(p: &mut CovarianceMatrix) {
     let (dynamic, calibration) = p.data.0.split_at_mut(columns::DYNAMIC_DIMENSION);
-    for (offset, column) in calibration.iter_mut().enumerate() {
-        for (target, source) in column.iter_mut().zip(dynamic.iter()) {
-            if let Some(value) = source.get(columns::DYNAMIC_DIMENSION + offset) {
-                *target = *value;
-            }
-        }
+    let Ok(dynamic) = <&[[f64; STATE_DIMENSION]; columns::DYNAMIC_DIMENSION]>::try_from(&*dynamic)
+    else {
+        return;
+    };
+    for (row, column) in (columns::DYNAMIC_DIMENSION..).zip(calibration.iter_mut()) {
+        let Some(top) = column.first_chunk_mut::<{ columns::DYNAMIC_DIMENSION }>() else {
+            continue;
+        };
+        *top = dynamic
+            .each_ref()
+            .map(|source| source.get(row).copied().unwrap_or(f64::NAN));
     }
 }
