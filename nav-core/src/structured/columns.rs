@@ -15,7 +15,7 @@
 //! upper triangle, no later column block reads (the dynamic column blocks, which read them,
 //! come first): the upper triangle keeps the old `P_dc` as the roll-back copy.
 
-use super::{StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
+use super::{StructuredModel, BIAS_A, BIAS_G, SCALE_A, SCALE_G};
 use crate::block::{Block, FiniteCheck, Row};
 use crate::state::STATE_DIMENSION;
 
@@ -107,27 +107,33 @@ fn dynamic_block(f: &FRow, columns: &Columns, folded: &Folded) -> Block {
     dynamic_sum(f, columns, folded)
 }
 
-/// Writes `value` into `out` (`out[i][j]`) and returns its finite check.
+/// Writes `value` into `out` (element `(i, j)` into `out[i][column + j]`) and returns its
+/// finite check.
 #[inline(always)]
-fn store(value: &Block, out: &mut [&mut Row; 3]) -> FiniteCheck {
-    for (target, row) in out.iter_mut().zip(value) {
-        **target = *row;
-    }
+fn store(value: &Block, out: &mut Columns, column: usize) -> FiniteCheck {
     let mut check = FiniteCheck::new();
+    for (target, row) in out.iter_mut().zip(value) {
+        let Some(target) = target.get_mut(column..column + 3) else {
+            check.value(f64::NAN);
+            continue;
+        };
+        target.copy_from_slice(row);
+    }
     check.block(value);
     check
 }
 
-/// [`attitude_block`] written into `out` (rows of the output, three values each), with its
-/// finite check.
+/// [`attitude_block`] written into `out` (three rows of the output, from `column` on), with
+/// its finite check.
 #[inline(never)]
 fn attitude_into(
     f: &[&Block; 2],
     columns: &Columns,
     folded: &Folded,
-    out: &mut [&mut Row; 3],
+    out: &mut Columns,
+    column: usize,
 ) -> FiniteCheck {
-    store(&attitude_sum(f, columns, folded), out)
+    store(&attitude_sum(f, columns, folded), out, column)
 }
 
 /// [`dynamic_block`] written into `out`, with its finite check.
@@ -136,9 +142,10 @@ fn dynamic_into(
     f: &FRow,
     columns: &Columns,
     folded: &Folded,
-    out: &mut [&mut Row; 3],
+    out: &mut Columns,
+    column: usize,
 ) -> FiniteCheck {
-    store(&dynamic_sum(f, columns, folded), out)
+    store(&dynamic_sum(f, columns, folded), out, column)
 }
 
 /// The coefficients of `F` the kernel reads: the attitude rows' `Φ_ϑϑ`, `E_gϑ`, and the δp
@@ -230,25 +237,19 @@ impl StructuredModel {
             return check;
         };
         let folded = self.fold_inputs(columns);
-        let [c0, c1, c2, c3, c4, c5, c6, c7, c8] = dynamic;
-        let part = part_of::<C>;
-        let written = [
-            (ATT, [part(c0), part(c1), part(c2)]),
-            (POS, [part(c3), part(c4), part(c5)]),
-            (VEL, [part(c6), part(c7), part(c8)]),
-        ];
-        for (row, targets) in written {
-            let [Some(t0), Some(t1), Some(t2)] = targets else {
-                check.value(f64::NAN);
-                continue;
-            };
-            let mut out = [t0, t1, t2];
-            check.merge(match row {
-                ATT => attitude_into(&rows.attitude, columns, &folded, &mut out),
-                POS => dynamic_into(&rows.position, columns, &folded, &mut out),
-                _ => dynamic_into(&rows.velocity, columns, &folded, &mut out),
-            });
-        }
+        let (attitude, rest) = dynamic.split_at_mut(3);
+        let (position, velocity) = rest.split_at_mut(3);
+        let (Ok(attitude), Ok(position), Ok(velocity)) = (
+            <&mut Columns>::try_from(attitude),
+            <&mut Columns>::try_from(position),
+            <&mut Columns>::try_from(velocity),
+        ) else {
+            check.value(f64::NAN);
+            return check;
+        };
+        check.merge(attitude_into(&rows.attitude, columns, &folded, attitude, C));
+        check.merge(dynamic_into(&rows.position, columns, &folded, position, C));
+        check.merge(dynamic_into(&rows.velocity, columns, &folded, velocity, C));
         check
     }
 }
@@ -263,12 +264,4 @@ fn element(row: Row, k: usize) -> f64 {
 #[inline(always)]
 fn column_block<const C: usize>(p: &[[f64; STATE_DIMENSION]; STATE_DIMENSION]) -> Option<&Columns> {
     p.get(C..C + 3).and_then(|c| <&Columns>::try_from(c).ok())
-}
-
-/// Values `C..C + 3` of a column.
-#[inline(always)]
-fn part_of<const C: usize>(column: &mut [f64; STATE_DIMENSION]) -> Option<&mut Row> {
-    column
-        .get_mut(C..C + 3)
-        .and_then(|values| <&mut Row>::try_from(values).ok())
 }
