@@ -37,7 +37,8 @@ impl NavigationComputer {
         self.sums = PropagationSums::EMPTY;
         let frames = f64::from(sums.frames.max(1));
         let interval_s = frames * self.config.imu.period_s;
-        let point = LinearisationPoint {
+        // Built in place (a local moved into `last_point` is a 240-byte copy on the target).
+        let point = self.last_point.insert(LinearisationPoint {
             corrected_rate_rad_s: sums.corrected_rate / frames,
             corrected_specific_force_mps2: sums.corrected_force / frames,
             measured_rate_rad_s: sums.measured_rate / frames,
@@ -48,8 +49,7 @@ impl NavigationComputer {
                 .strapdown
                 .gravity
                 .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
-        };
-        self.last_point = Some(point);
+        });
         self.manager.observe_motion(
             &point.corrected_rate_rad_s,
             &point.corrected_specific_force_mps2,
@@ -59,7 +59,7 @@ impl NavigationComputer {
         let frozen = self.manager.frozen_blocks();
         let order = self.config.filter.discretisation_order;
         let step = Propagation {
-            point: &point,
+            point,
             noise: &self.config.process_noise,
             interval_s,
             order,
