@@ -111,6 +111,28 @@ impl Powers {
     }
 }
 
+impl Powers {
+    /// `Φ = Σ (MΔ)^n/n!` block by block, and `E_g = −½Δ Ψ_{·ϑ}`, `E_a = −Δ Ψ_{·v} Ĉ` (`Ψ`:
+    /// shift 1), from these powers over `d = Δ`. Not inlined, and given the blocks it fills
+    /// apart from the powers: the powers lie more than 1 kB into the model, beyond the reach
+    /// of a load's offset from the model's address, and each read of one would need its
+    /// own address computation.
+    #[inline(never)]
+    fn transition_into(
+        &self,
+        transition: &mut DynamicBlocks,
+        gyro_bias_column: &mut [Block; 3],
+        accel_bias_column: &mut [Block; 2],
+        (order, d): (usize, f64),
+        c: &Block,
+    ) {
+        let terms = SeriesTerms::of(self);
+        transition_into(transition, &terms, order);
+        terms.gyro_columns_into(gyro_bias_column, order, 1, -0.5 * d);
+        terms.accel_columns_into(accel_bias_column, order, 1, -d, c);
+    }
+}
+
 /// `dynamic = q Γ Γᵀ` (`ACCUMULATE` false: written, so the blocks need no zero fill first)
 /// or `dynamic += q Γ Γᵀ` over the pairs of [`DYNAMIC_PAIRS`] for an input column
 /// `Γ = [Γ_ϑ; Γ_p; Γ_v]`: `q Γ_R Γ_Sᵀ`, with `q` folded into the left factor.
@@ -273,12 +295,14 @@ impl StructuredModel {
         self.interval_s = interval_s;
         let c = block::from_matrix(&point.body_to_inertial);
         self.powers.update(point, &c, d, order);
+        self.powers.transition_into(
+            &mut self.transition,
+            &mut self.gyro_bias_column,
+            &mut self.accel_bias_column,
+            (order, d),
+            &c,
+        );
         let terms = SeriesTerms::of(&self.powers);
-        // Φ = Σ (MΔ)^n/n!.
-        transition_into(&mut self.transition, &terms, order);
-        // E_g = −½Δ Ψ_{·ϑ}, E_a = −Δ Ψ_{·v} Ĉ (Ψ: shift 1).
-        terms.gyro_columns_into(&mut self.gyro_bias_column, order, 1, -0.5 * d);
-        terms.accel_columns_into(&mut self.accel_bias_column, order, 1, -d, &c);
         self.measured_rate_rad_s = block::from_vector(&point.measured_rate_rad_s);
         self.measured_specific_force_mps2 = block::from_vector(&point.measured_specific_force_mps2);
         self.input_noise = [gyro_noise, accel_noise];
