@@ -46,9 +46,17 @@ fn input(columns: &Columns, folded: &Folded, t: usize, k: usize, j: usize) -> f6
     value.copied().unwrap_or(f64::NAN)
 }
 
+/// The three inputs `X_t[0..3][j]` of term `t` in column `j`: contiguous in memory (one
+/// multiple load on the target).
+#[inline(always)]
+fn input_column(columns: &Columns, folded: &Folded, t: usize, j: usize) -> Row {
+    [0, 1, 2].map(|k| input(columns, folded, t, k, j))
+}
+
 /// `acc + F_t X_t` for term `T` (or `F_t X_t` if `FIRST`): element `(i, j)` gets
 /// `F_t[i][k] X_t[k][j]` added for `k = 0, 1, 2` in turn (as `block::mul_add`, or from the
-/// first product as `block::mul`; IEEE multiplication commutes).
+/// first product as `block::mul`; IEEE multiplication commutes). Row `i` of `F_t` and
+/// column `j` of `X_t` are each three contiguous values, loaded together.
 #[inline(always)]
 fn add_term<const T: usize, const FIRST: bool>(
     acc: &mut Block,
@@ -56,17 +64,12 @@ fn add_term<const T: usize, const FIRST: bool>(
     columns: &Columns,
     folded: &Folded,
 ) {
-    for k in 0..3 {
-        let x = [0, 1, 2].map(|j| input(columns, folded, T, k, j));
-        for (acc_row, f_row) in acc.iter_mut().zip(f.iter()) {
-            let coefficient = f_row.get(k).copied().unwrap_or(f64::NAN);
-            for (sum, value) in acc_row.iter_mut().zip(x) {
-                *sum = if FIRST && k == 0 {
-                    value * coefficient
-                } else {
-                    *sum + value * coefficient
-                };
-            }
+    for (acc_row, f_row) in acc.iter_mut().zip(f.iter()) {
+        let [f0, f1, f2] = *f_row;
+        for (j, sum) in acc_row.iter_mut().enumerate() {
+            let [x0, x1, x2] = input_column(columns, folded, T, j);
+            let first = if FIRST { x0 * f0 } else { *sum + x0 * f0 };
+            *sum = first + x1 * f1 + x2 * f2;
         }
     }
 }
