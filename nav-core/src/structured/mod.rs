@@ -59,11 +59,13 @@
 //!
 //! ## In place, without a copy
 //! Propagation and update overwrite `P` where it lies (a 24×24 copy costs thousands of
-//! instructions on the target). They write new values to the upper triangle only, so while
-//! they run the lower triangle (and a saved diagonal) still holds the old `P`: it is read
-//! where an old value is needed after its upper twin was overwritten, and it is the
-//! roll-back copy if the result is not finite; on success the upper triangle is mirrored
-//! into the lower. The arithmetic is done on plain 3×3 arrays (`crate::block`).
+//! instructions on the target). They write new values to one triangle only, so while they
+//! run the other (and a saved diagonal) still holds the old `P`: it is read where an old
+//! value is needed after its twin was overwritten, and it is the roll-back copy if the result
+//! is not finite; on success the new triangle is mirrored into the other. The updates write
+//! the upper triangle; the target's propagation writes the new `P_dc` into the lower one
+//! (rows 9..24 of columns 0..9, which no later step of it reads) and copies it up after the
+//! check (`columns`). The arithmetic is done on plain 3×3 arrays (`crate::block`).
 //!
 //! ## Reset
 //! The reset Jacobian is the identity except the attitude and installation diagonal blocks,
@@ -71,7 +73,8 @@
 //!
 //! ## Files
 //! `model` rebuilds the model, `propagate` propagates the state and covariance (the 3×3
-//! block kernel of the target), `rows` is the host's row kernel, `update` the measurement
+//! block kernel of the target, whose product `U = [Φ E] P` is in `columns`), `rows` is the
+//! host's row kernel, `update` the measurement
 //! update, `reset` the covariance reset and `referral` refers a measurement to a later time.
 
 use crate::block::{Block, Row};

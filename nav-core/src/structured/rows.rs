@@ -4,7 +4,7 @@
 //! vectorises), and the new `P_dd` a block row (three rows) at a time across its output
 //! columns.
 //!
-//! **Same bits as the block kernel** ([`StructuredModel::propagate_column`] and
+//! **Same bits as the block kernel** (`super::columns` and
 //! `dynamic_pair`, the Cortex-M7's): every element is the same sequence of IEEE operations,
 //! the first product and then each further product added in the same term order,
 //! `((F_i0 P_0j + F_i1 P_1j) + F_i2 P_2j) + …` ([`crate::block`]); only the loops are nested
