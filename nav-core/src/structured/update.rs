@@ -159,67 +159,88 @@ impl Cholesky3 {
     }
 }
 
-/// One rank-3 pass of the expanded Joseph update over rows `row..row + 3`, upper triangle:
-/// `P_ij ← ((P_ij ± l_i0 r_j0) ± l_i1 r_j1) ± l_i2 r_j2` (`+` unless `SUBTRACT`), with the
-/// rows' vectors `left` and the columns' vectors `right`. The nine row coefficients stay in
-/// registers while the columns stream past; each column's three rows (contiguous in the
-/// column-major `P`) and its `r_j` are loaded once. Column `row` reaches only row `row`,
-/// column `row + 1` rows `row` and `row + 1`. The subtracting pass also checks every new
-/// value (the returned check; a local accumulator stays in a register).
+/// `P⁺_ij` of the expanded Joseph form (module docs) for row `i` (`n_i = N_i`, `k_i = K_i`)
+/// and column `j` (`k_j = K_j`, `m_j = M_j`):
+/// `((((((P_ij + n_i0 k_j0) + n_i1 k_j1) + n_i2 k_j2) − k_i0 m_j0) − k_i1 m_j1) − k_i2 m_j2)`,
+/// the `+ N_i·K_j` rank-3 term first, then the `− K_i·M_j` one, each summed in index order.
+#[inline(always)]
+fn joseph_element(p: f64, [n0, n1, n2]: Row, [a0, a1, a2]: Row, kj: Row, mj: Row) -> f64 {
+    let ([k0, k1, k2], [m0, m1, m2]) = (kj, mj);
+    p + n0 * k0 + n1 * k1 + n2 * k2 - a0 * m0 - a1 * m1 - a2 * m2
+}
+
+/// Rows `row` and `row + 1` of the expanded Joseph update, upper triangle, in one pass
+/// ([`joseph_element`]: the six multiply-adds of an element in the order of the two
+/// rank-3 terms, so each `P` element is loaded and stored once). The rows' twelve
+/// coefficients (`n`, `k`) stay in registers while the columns stream past; each column's
+/// two rows (contiguous in the column-major `P`) and its `K_j`, `M_j` are loaded once.
+/// Column `row` reaches only row `row`. Returns the sum of the new values, finite only if
+/// every one of them is (a sum with ±∞ or NaN in it is not finite), one addition per value
+/// and no constant in a register ([`upper_triangle_is_finite`] decides when the sum is not).
+/// Two rows, not three: three rows' eighteen coefficients do not fit the Cortex-M7's
+/// sixteen double registers, and two rows' twelve leave exactly four.
 #[inline(never)]
-fn joseph_pass<const SUBTRACT: bool>(
+fn joseph_row_pair(
     columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
     row: usize,
-    left: &[Row; 3],
-    right: &StateRows,
-) -> FiniteCheck {
-    let mut check = FiniteCheck::new();
-    let [l0, l1, l2] = *left;
-    let term = |value: f64, [a0, a1, a2]: Row, [b0, b1, b2]: Row| {
-        if SUBTRACT {
-            value - a0 * b0 - a1 * b1 - a2 * b2
-        } else {
-            value + a0 * b0 + a1 * b1 + a2 * b2
-        }
-    };
-    let mut update = |value: &mut f64, l: Row, r: Row| {
-        *value = term(*value, l, r);
-        if SUBTRACT {
-            check.value(*value);
-        }
-    };
-    if let (Some(column), Some(r)) = (columns.get_mut(row), right.get(row)) {
+    (n, k): (&[Row; 2], &[Row; 2]),
+    gains: &StateRows,
+    products: &StateRows,
+) -> f64 {
+    let mut sum = 0.0;
+    let ([n0, n1], [k0, k1]) = (*n, *k);
+    let first = (columns.get_mut(row), gains.get(row), products.get(row));
+    if let (Some(column), Some(kj), Some(mj)) = first {
         if let Some(p0) = column.get_mut(row) {
-            update(p0, l0, *r);
-        }
-    }
-    if let (Some(column), Some(r)) = (columns.get_mut(row + 1), right.get(row + 1)) {
-        if let Some([p0, p1]) = column.get_mut(row..row + 2) {
-            update(p0, l0, *r);
-            update(p1, l1, *r);
+            *p0 = joseph_element(*p0, n0, k0, *kj, *mj);
+            sum += *p0;
         }
     }
     // Plain slice zips (no iterator state kept in memory across iterations).
-    let (Some(full_columns), Some(full_right)) = (columns.get_mut(row + 2..), right.get(row + 2..))
-    else {
-        return check;
+    let rest = (
+        columns.get_mut(row + 1..),
+        gains.get(row + 1..),
+        products.get(row + 1..),
+    );
+    let (Some(rest_columns), Some(rest_gains), Some(rest_products)) = rest else {
+        return sum;
     };
-    for (column, r) in full_columns.iter_mut().zip(full_right) {
-        if let Some([p0, p1, p2]) = column.get_mut(row..row + 3) {
-            update(p0, l0, *r);
-            update(p1, l1, *r);
-            update(p2, l2, *r);
+    for ((column, kj), mj) in rest_columns.iter_mut().zip(rest_gains).zip(rest_products) {
+        if let Some([p0, p1]) = column.get_mut(row..row + 2) {
+            *p0 = joseph_element(*p0, n0, k0, *kj, *mj);
+            *p1 = joseph_element(*p1, n1, k1, *kj, *mj);
+            sum += *p0;
+            sum += *p1;
         }
     }
-    check
+    sum
+}
+
+/// Whether every element of the upper triangle is finite: the exact check when the sum of
+/// the new values is not finite (it also overflows when finite values are large).
+#[inline(never)]
+fn upper_triangle_is_finite(p: &CovarianceMatrix) -> bool {
+    let mut check = FiniteCheck::new();
+    for (j, column) in p.data.0.iter().enumerate() {
+        for value in column.iter().take(j + 1) {
+            check.value(*value);
+        }
+    }
+    check.all_finite()
+}
+
+/// `N_i = K_i S − M_i` (`s` symmetric, row-major), each element `(0 + K_i·S_r) − M_ir`.
+#[inline(always)]
+fn n_row(gain: Row, s: &Block, product: Row) -> Row {
+    block::row_sub(mul_vector_add([0.0; 3], s, gain), product)
 }
 
 /// Joseph form expanded (module docs), in place: `P⁺_ij = (P_ij + N_i·K_j) − K_i·M_j` with
-/// `N = K S − M` on the upper triangle (6 multiply-adds per element, in two rank-3 passes
-/// per triple of rows, [`joseph_pass`]), mirrored; `gains` are the rows `K_i`, `observed`
-/// holds `M = P Hᵀ`, `s` is symmetric. `false` (and `P` unchanged) if the result is not
-/// finite: new values go to the upper triangle only, so the untouched lower triangle and a
-/// saved diagonal are the roll-back copy.
+/// `N = K S − M` on the upper triangle (6 multiply-adds per element, one pass per pair of
+/// rows, [`joseph_row_pair`], with the pair's `N_i` computed there), mirrored; `gains` are
+/// the rows `K_i`, `observed` holds `M = P Hᵀ`, `s` is symmetric. `false` (and `P`
+/// unchanged) if the result is not finite: new values go to the upper triangle only, so
+/// the untouched lower triangle and a saved diagonal are the roll-back copy.
 pub(crate) fn joseph_update(
     p: &mut CovarianceMatrix,
     gains: &StateRows,
@@ -227,32 +248,18 @@ pub(crate) fn joseph_update(
     s: &Matrix3<f64>,
 ) -> bool {
     let s = block::from_matrix(s);
-    // N_i = K_i S − M_i (built element by element: no zero-fill first).
-    let n_rows: StateRows = core::array::from_fn(|i| {
-        let gain = gains.get(i).copied().unwrap_or([0.0; 3]);
-        let product = observed.products.get(i).copied().unwrap_or([0.0; 3]);
-        block::row_sub(mul_vector_add([0.0; 3], &s, gain), product)
-    });
+    let products = &observed.products;
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
-    let mut check = FiniteCheck::new();
-    let triples = n_rows
-        .chunks_exact(3)
-        .zip(gains.chunks_exact(3))
-        .enumerate();
-    for (triple, (n, k)) in triples {
-        let row = 3 * triple;
-        if let ([n0, n1, n2], [k0, k1, k2]) = (n, k) {
-            joseph_pass::<false>(&mut p.data.0, row, &[*n0, *n1, *n2], gains);
-            let products = &observed.products;
-            check.merge(joseph_pass::<true>(
-                &mut p.data.0,
-                row,
-                &[*k0, *k1, *k2],
-                products,
-            ));
+    let mut sum = 0.0;
+    let pairs = gains.chunks_exact(2).zip(products.chunks_exact(2));
+    for (pair, (k, m)) in pairs.enumerate() {
+        if let ([k0, k1], [m0, m1]) = (k, m) {
+            let n = [n_row(*k0, &s, *m0), n_row(*k1, &s, *m1)];
+            let rows = (&n, &[*k0, *k1]);
+            sum += joseph_row_pair(&mut p.data.0, 2 * pair, rows, gains, products);
         }
     }
-    if check.all_finite() {
+    if sum.is_finite() || upper_triangle_is_finite(p) {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
         true
     } else {
