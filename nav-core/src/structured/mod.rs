@@ -214,9 +214,9 @@ pub(crate) type StateRows = [Row; STATE_DIMENSION];
 /// `P Hᵀ` and `H P Hᵀ` of a measurement, summed over the non-zero 3×3 blocks of `H` only
 /// (module docs).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct ObservedCovariance {
+pub(crate) struct ObservedCovariance<'a> {
     /// `M = P Hᵀ`, row `j` for state `j`.
-    products: StateRows,
+    products: &'a StateRows,
     /// `H P Hᵀ` (without `R`).
     projected: Block,
 }
@@ -243,4 +243,6 @@ mod update;
 
 pub use referral::{refer_to_later_time_at, refer_to_later_time_in_place};
 pub(crate) use reset::reset_covariance;
-pub(crate) use update::{add_gain_times, joseph_update};
+pub(crate) use update::{
+    add_gain_times, corrected_state_is_finite, joseph_update, observed_blocks,
+};

@@ -532,7 +532,7 @@ fn an_overflowing_joseph_update_leaves_p_unchanged() {
     let mut p = random_covariance(&mut rng);
     let before = p;
     let observed = ObservedCovariance {
-        products: [[1e200, 0.0, 0.0]; STATE_DIMENSION],
+        products: &[[1e200, 0.0, 0.0]; STATE_DIMENSION],
         projected: IDENTITY,
     };
     let gains: StateRows = [[1e200, 0.0, 0.0]; STATE_DIMENSION];

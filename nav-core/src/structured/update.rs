@@ -1,77 +1,53 @@
 //! The measurement update: `P Hᵀ` over the observed blocks, the 3×3 Cholesky factor and the
 //! expanded Joseph update (module docs of [`super`]).
 
-use super::{
-    Cholesky3, ObservedCovariance, StateRows, ATT, BIAS_A, BIAS_G, INSTALL, POS, SCALE_A, SCALE_G,
-    VEL,
-};
+use super::{Cholesky3, ObservedCovariance, StateRows};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::block::{
-    self, add, dot, mul_transpose_add, mul_vector_add, read, transpose, Block, FiniteCheck, Row,
-    ZERO,
+    self, add, dot, mul_transpose_add, mul_vector_add, transpose, Block, FiniteCheck, Row, ZERO,
 };
 use crate::discretise::CovarianceMatrix;
 use crate::measurement::MeasurementJacobian;
 use crate::state::{BlockMask, STATE_DIMENSION};
 
-impl ObservedCovariance {
-    /// `M = P Hᵀ` and `H P Hᵀ` over the blocks of `H` that are not all zero: for each
-    /// observed block `K`, `M_j += H_K P_{K,j}` over the 24 columns `j` (the symmetric `P`
-    /// read by columns), then `H P Hᵀ = Σ_K H_K P_{K,·} H_Kᵀ`'s sum `Σ_K (M_K)ᵀ H_Kᵀ`.
+impl<'a> ObservedCovariance<'a> {
+    /// `M = P Hᵀ` and `H P Hᵀ` over the blocks of `H` that are not all zero (`observed`,
+    /// [`observed_blocks`]): from `products` zero, for each observed block `K`,
+    /// `M_j += H_K P_{K,j}` over the 24 columns `j` (the symmetric `P` read by columns),
+    /// then `H P Hᵀ = Σ_K H_K P_{K,·} H_Kᵀ`'s sum `Σ_K (M_K)ᵀ H_Kᵀ`, and the border's terms
+    /// ([`add_border`]) when in use. `M` stays in the caller's `products`.
     pub(crate) fn new(
-        jacobian: &MeasurementJacobian,
+        products: &'a mut StateRows,
+        (jacobian, observed): (&MeasurementJacobian, &[bool; BLOCKS]),
         p: &CovarianceMatrix,
         border: Option<(&StateRows, &crate::gnss_error::Border)>,
     ) -> Self {
-        // Built in its final place (a local array moved into `Self` would be copied).
-        let mut observed = Self {
-            products: [[0.0; 3]; STATE_DIMENSION],
-            projected: ZERO,
-        };
-        let blocks = [
-            (ATT, read::<0, ATT, 3, 24>(jacobian)),
-            (POS, read::<0, POS, 3, 24>(jacobian)),
-            (VEL, read::<0, VEL, 3, 24>(jacobian)),
-            (BIAS_G, read::<0, BIAS_G, 3, 24>(jacobian)),
-            (BIAS_A, read::<0, BIAS_A, 3, 24>(jacobian)),
-            (INSTALL, read::<0, INSTALL, 3, 24>(jacobian)),
-            (SCALE_G, read::<0, SCALE_G, 3, 24>(jacobian)),
-            (SCALE_A, read::<0, SCALE_A, 3, 24>(jacobian)),
-        ];
-        let observed_blocks = || {
-            blocks
-                .iter()
-                .filter(|(_, h)| !h.iter().flatten().all(|v| *v == 0.0))
-        };
-        for (offset, h) in observed_blocks() {
-            add_observed_block(&mut observed.products, p, *offset, h);
+        for (block, _) in observed.iter().enumerate().filter(|(_, o)| **o) {
+            let h = jacobian_block(jacobian, block);
+            add_observed_block(products, p, 3 * block, &h);
         }
+        let mut projected = ZERO;
         // H P Hᵀ = Σ_K (H P)_{·,K} H_Kᵀ, with (H P)_{·,K} = [M_K, M_K+1, M_K+2] as columns.
-        for (offset, h) in observed_blocks() {
-            if let Some([m0, m1, m2]) = observed.products.get(*offset..*offset + 3) {
-                observed.projected =
-                    mul_transpose_add(&observed.projected, &transpose(&[*m0, *m1, *m2]), h);
+        for (block, _) in observed.iter().enumerate().filter(|(_, o)| **o) {
+            let offset = 3 * block;
+            if let Some([m0, m1, m2]) = products.get(offset..offset + 3) {
+                let h = jacobian_block(jacobian, block);
+                projected = mul_transpose_add(&projected, &transpose(&[*m0, *m1, *m2]), &h);
             }
         }
         if let Some((cross, border)) = border {
-            observed.add_border(cross, border);
+            add_border(products, &mut projected, cross, border);
         }
-        observed
-    }
-
-    /// Adds the correlated-GNSS-error border ([`crate::gnss_error`]): `h_ε C_j` to each
-    /// `M_j` and the border's terms to `H P Hᵀ`.
-    fn add_border(&mut self, cross: &StateRows, border: &crate::gnss_error::Border) {
-        for (product, c) in self.products.iter_mut().zip(cross) {
-            *product = block::row_add_scaled(*product, *c, border.coefficient);
+        Self {
+            products,
+            projected,
         }
-        self.projected = add(&self.projected, &border.projected);
     }
 
     /// `M = P Hᵀ`, row `j` for state `j`.
     pub(crate) fn products(&self) -> &StateRows {
-        &self.products
+        self.products
     }
 
     /// `H P Hᵀ`.
@@ -86,6 +62,46 @@ impl ObservedCovariance {
             Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
             _ => [0.0; 3],
         })
+    }
+}
+
+/// The number of 3-state blocks.
+pub(crate) const BLOCKS: usize = STATE_DIMENSION / 3;
+
+/// Adds the correlated-GNSS-error border ([`crate::gnss_error`]): `h_ε C_j` to each
+/// `M_j` and the border's terms to `H P Hᵀ`.
+fn add_border(
+    products: &mut StateRows,
+    projected: &mut Block,
+    cross: &StateRows,
+    border: &crate::gnss_error::Border,
+) {
+    for (product, c) in products.iter_mut().zip(cross) {
+        *product = block::row_add_scaled(*product, *c, border.coefficient);
+    }
+    *projected = add(projected, &border.projected);
+}
+
+/// Which 3-state blocks of `H` have a non-zero value.
+#[inline(always)]
+pub(crate) fn observed_blocks(jacobian: &MeasurementJacobian) -> [bool; BLOCKS] {
+    core::array::from_fn(|block| {
+        jacobian
+            .data
+            .0
+            .get(3 * block..3 * block + 3)
+            .is_some_and(|columns| columns.iter().flatten().any(|v| *v != 0.0))
+    })
+}
+
+/// Block `block` of `H` (states `3 block..3 block + 3`), row-major; zero outside.
+#[inline(always)]
+fn jacobian_block(jacobian: &MeasurementJacobian, block: usize) -> Block {
+    // nalgebra stores columns: data.0[column][row].
+    let column = |i: usize| jacobian.data.0.get(3 * block + i).copied();
+    match (column(0), column(1), column(2)) {
+        (Some(c0), Some(c1), Some(c2)) => transpose(&[c0, c1, c2]),
+        _ => ZERO,
     }
 }
 
@@ -114,6 +130,21 @@ pub(crate) fn add_gain_times(
     for (value, row) in values.iter_mut().zip(gains) {
         *value += dot(*row, nu);
     }
+}
+
+/// Whether every element of `x + K ν` is finite ([`add_gain_times`]'s values, not stored).
+pub(crate) fn corrected_state_is_finite(
+    state: &SMatrix<f64, 24, 1>,
+    gains: &StateRows,
+    innovation: &Vector3<f64>,
+) -> bool {
+    let nu = block::from_vector(innovation);
+    let [values] = &state.data.0;
+    let mut check = FiniteCheck::new();
+    for (value, row) in values.iter().zip(gains) {
+        check.value(*value + dot(*row, nu));
+    }
+    check.all_finite()
 }
 
 impl Cholesky3 {
@@ -172,14 +203,15 @@ fn joseph_element(p: f64, [n0, n1, n2]: Row, [a0, a1, a2]: Row, kj: Row, mj: Row
 /// Rows `row` and `row + 1` of the expanded Joseph update, upper triangle, in one pass
 /// ([`joseph_element`]: the six multiply-adds of an element in the order of the two
 /// rank-3 terms, so each `P` element is loaded and stored once). The rows' twelve
-/// coefficients (`n`, `k`) stay in registers while the columns stream past; each column's
-/// two rows (contiguous in the column-major `P`) and its `K_j`, `M_j` are loaded once.
-/// Column `row` reaches only row `row`. Returns the sum of the new values, finite only if
-/// every one of them is (a sum with ±∞ or NaN in it is not finite), one addition per value
-/// and no constant in a register ([`upper_triangle_is_finite`] decides when the sum is not).
-/// Two rows, not three: three rows' eighteen coefficients do not fit the Cortex-M7's
-/// sixteen double registers, and two rows' twelve leave exactly four.
-#[inline(never)]
+/// coefficients (`n`, `k`) stay in registers while the columns stream past, two at a time;
+/// each column's two rows (contiguous in the column-major `P`) and its `K_j`, `M_j` are
+/// loaded once. Column `row` reaches only row `row`; it and column `row + 1` go first, so
+/// the remaining columns pair up with none left over. Returns the sum of the new values,
+/// finite only if every one of them is (a sum with ±∞ or NaN in it is not finite): one
+/// addition per value and no constant in a register ([`upper_triangle_is_finite`] decides
+/// when the sum is not). Two rows, not three: three rows' eighteen coefficients do not fit
+/// the Cortex-M7's sixteen double registers, and two rows' twelve leave exactly four.
+#[inline(always)]
 fn joseph_row_pair(
     columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
     row: usize,
@@ -189,28 +221,65 @@ fn joseph_row_pair(
 ) -> f64 {
     let mut sum = 0.0;
     let ([n0, n1], [k0, k1]) = (*n, *k);
-    let first = (columns.get_mut(row), gains.get(row), products.get(row));
-    if let (Some(column), Some(kj), Some(mj)) = first {
-        if let Some(p0) = column.get_mut(row) {
-            *p0 = joseph_element(*p0, n0, k0, *kj, *mj);
-            sum += *p0;
-        }
-    }
-    // Plain slice zips (no iterator state kept in memory across iterations).
-    let rest = (
-        columns.get_mut(row + 1..),
-        gains.get(row + 1..),
-        products.get(row + 1..),
+    let head = (
+        columns.get_mut(row..row + 2),
+        gains.get(row..row + 2),
+        products.get(row..row + 2),
     );
-    let (Some(rest_columns), Some(rest_gains), Some(rest_products)) = rest else {
+    let (Some([first, second]), Some([g0, g1]), Some([m0, m1])) = head else {
         return sum;
     };
-    for ((column, kj), mj) in rest_columns.iter_mut().zip(rest_gains).zip(rest_products) {
+    if let Some(p0) = first.get_mut(row) {
+        *p0 = joseph_element(*p0, n0, k0, *g0, *m0);
+        sum += *p0;
+    }
+    let mut pair = |column: &mut [f64; STATE_DIMENSION], kj: Row, mj: Row| {
         if let Some([p0, p1]) = column.get_mut(row..row + 2) {
-            *p0 = joseph_element(*p0, n0, k0, *kj, *mj);
-            *p1 = joseph_element(*p1, n1, k1, *kj, *mj);
+            *p0 = joseph_element(*p0, n0, k0, kj, mj);
+            *p1 = joseph_element(*p1, n1, k1, kj, mj);
             sum += *p0;
             sum += *p1;
+        }
+    };
+    pair(second, *g1, *m1);
+    // Plain slice chunks (no iterator state kept in memory across iterations).
+    let rest = (
+        columns.get_mut(row + 2..),
+        gains.get(row + 2..),
+        products.get(row + 2..),
+    );
+    if let (Some(rest_columns), Some(rest_gains), Some(rest_products)) = rest {
+        let chunks = rest_columns
+            .chunks_exact_mut(2)
+            .zip(rest_gains.chunks_exact(2))
+            .zip(rest_products.chunks_exact(2));
+        for ((columns, gains), products) in chunks {
+            if let ([c0, c1], [g0, g1], [m0, m1]) = (columns, gains, products) {
+                pair(c0, *g0, *m0);
+                pair(c1, *g1, *m1);
+            }
+        }
+    }
+    sum
+}
+
+/// The upper triangle of the expanded Joseph update (module docs), pair of rows by pair of
+/// rows ([`joseph_row_pair`], with the pair's `N_i = K_i S − M_i` computed first); returns
+/// the sum of the new values ([`joseph_row_pair`]). Not inlined: one prologue for the
+/// twelve pairs.
+#[inline(never)]
+fn joseph_upper(
+    columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
+    gains: &StateRows,
+    products: &StateRows,
+    s: &Block,
+) -> f64 {
+    let mut sum = 0.0;
+    let pairs = gains.chunks_exact(2).zip(products.chunks_exact(2));
+    for (pair, (k, m)) in pairs.enumerate() {
+        if let ([k0, k1], [m0, m1]) = (k, m) {
+            let n = [n_row(*k0, s, *m0), n_row(*k1, s, *m1)];
+            sum += joseph_row_pair(columns, 2 * pair, (&n, &[*k0, *k1]), gains, products);
         }
     }
     sum
@@ -250,15 +319,7 @@ pub(crate) fn joseph_update(
     let s = block::from_matrix(s);
     let products = &observed.products;
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
-    let mut sum = 0.0;
-    let pairs = gains.chunks_exact(2).zip(products.chunks_exact(2));
-    for (pair, (k, m)) in pairs.enumerate() {
-        if let ([k0, k1], [m0, m1]) = (k, m) {
-            let n = [n_row(*k0, &s, *m0), n_row(*k1, &s, *m1)];
-            let rows = (&n, &[*k0, *k1]);
-            sum += joseph_row_pair(&mut p.data.0, 2 * pair, rows, gains, products);
-        }
-    }
+    let sum = joseph_upper(&mut p.data.0, gains, products, &s);
     if sum.is_finite() || upper_triangle_is_finite(p) {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
         true
