@@ -24,8 +24,9 @@ impl<'a> ObservedCovariance<'a> {
         border: Option<(&StateRows, &crate::gnss_error::Border)>,
     ) -> Self {
         for (block, _) in observed.iter().enumerate().filter(|(_, o)| **o) {
-            let h = jacobian_block(jacobian, block);
-            add_observed_block(products, p, 3 * block, &h);
+            if let Some([c0, c1, c2]) = jacobian.data.0.get(3 * block..3 * block + 3) {
+                add_observed_block(products, p, 3 * block, &[*c0, *c1, *c2]);
+            }
         }
         let mut projected = ZERO;
         // H P Hᵀ = Σ_K (H P)_{·,K} H_Kᵀ, with (H P)_{·,K} = [M_K, M_K+1, M_K+2] as columns.
@@ -82,16 +83,20 @@ fn add_border(
     *projected = add(projected, &border.projected);
 }
 
-/// Which 3-state blocks of `H` have a non-zero value.
+/// Which 3-state blocks of `H` have a non-zero value: the sum of a block's nine magnitudes
+/// is zero only if every one is (one `vabs` and one addition per value, no branch; a NaN
+/// counts as non-zero, as `v != 0` does).
 #[inline(always)]
 pub(crate) fn observed_blocks(jacobian: &MeasurementJacobian) -> [bool; BLOCKS] {
-    core::array::from_fn(|block| {
-        jacobian
-            .data
-            .0
-            .get(3 * block..3 * block + 3)
-            .is_some_and(|columns| columns.iter().flatten().any(|v| *v != 0.0))
-    })
+    core::array::from_fn(
+        |block| match jacobian.data.0.get(3 * block..3 * block + 3) {
+            Some([c0, c1, c2]) => {
+                let magnitude = |[x, y, z]: Row| (libm::fabs(x) + libm::fabs(y)) + libm::fabs(z);
+                (magnitude(*c0) + magnitude(*c1)) + magnitude(*c2) != 0.0
+            }
+            _ => false,
+        },
+    )
 }
 
 /// Block `block` of `H` (states `3 block..3 block + 3`), row-major; zero outside.
@@ -105,11 +110,17 @@ fn jacobian_block(jacobian: &MeasurementJacobian, block: usize) -> Block {
     }
 }
 
-/// `M_j += H_K P_{K,j}` for all 24 columns `j` (`offset` = `K`'s first state). Not inlined:
-/// `H_K` stays in nine registers over the loop.
+/// `M_j += H_K P_{K,j}` for all 24 columns `j` (`offset` = `K`'s first state, `h_columns`
+/// the block's three columns as `H` stores them). Not inlined: `H_K` stays in nine
+/// registers over the loop.
 #[inline(never)]
-fn add_observed_block(products: &mut StateRows, p: &CovarianceMatrix, offset: usize, h: &Block) {
-    let [h0, h1, h2] = *h;
+fn add_observed_block(
+    products: &mut StateRows,
+    p: &CovarianceMatrix,
+    offset: usize,
+    h_columns: &[Row; 3],
+) {
+    let [h0, h1, h2] = transpose(h_columns);
     for (product, column) in products.iter_mut().zip(p.data.0.iter()) {
         if let Some(&[x0, x1, x2]) = column.get(offset..offset + 3) {
             let x = [x0, x1, x2];
