@@ -545,6 +545,27 @@ fn an_overflowing_joseph_update_leaves_p_unchanged() {
     assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
 }
 
+/// The Joseph update's finite check sums the new values: when finite values are large
+/// enough for the sum to overflow, the exact check accepts them (no false roll-back). Zero
+/// gains and `P Hᵀ` leave `P` as it was, bit for bit, even at `1e308` per element.
+#[test]
+fn a_joseph_update_of_large_finite_values_is_accepted() {
+    let mut p = CovarianceMatrix::from_element(1e308);
+    let before = p;
+    let observed = ObservedCovariance {
+        products: &[[0.0; 3]; STATE_DIMENSION],
+        projected: IDENTITY,
+    };
+    let gains: StateRows = [[0.0; 3]; STATE_DIMENSION];
+    assert!(joseph_update(
+        &mut p,
+        &gains,
+        &observed,
+        &Matrix3::identity()
+    ));
+    assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
+}
+
 /// With a strong gravity gradient and a long step (so the 4th-order terms are large) the
 /// structured transition still equals the dense series: every power's coefficient and
 /// factor of `Δ` shows.
