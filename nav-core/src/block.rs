@@ -247,6 +247,27 @@ pub(crate) fn all_finite(values: &[f64]) -> bool {
     check.all_finite()
 }
 
+/// [`all_finite`] with four running checks over interleaved values, merged at the end: the
+/// same operations, but four independent chains of additions, so an out-of-order host does
+/// not wait on one long chain (84 values: ~60 ns on one chain).
+#[inline(always)]
+pub(crate) fn all_finite_interleaved(values: &[f64]) -> bool {
+    let mut checks = [FiniteCheck::new(); 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (check, value) in checks.iter_mut().zip(chunk) {
+            check.value(*value);
+        }
+    }
+    let [first, ..] = &mut checks;
+    for value in rest {
+        first.value(*value);
+    }
+    let [a, b, c, d] = checks.map(|check| check.0);
+    !((a + b) + (c + d)).is_nan()
+}
+
 /// Element (`row`, `column`) of a column-major matrix (NaN outside, which constant in-range
 /// indices never reach: the branch is removed at compile time).
 #[inline(always)]
