@@ -222,6 +222,7 @@ fn joseph_element(p: f64, [n0, n1, n2]: Row, [a0, a1, a2]: Row, kj: Row, mj: Row
 /// addition per value and no constant in a register ([`upper_triangle_is_finite`] decides
 /// when the sum is not). Two rows, not three: three rows' eighteen coefficients do not fit
 /// the Cortex-M7's sixteen double registers, and two rows' twelve leave exactly four.
+#[cfg(any(test, target_arch = "arm"))]
 #[inline(always)]
 fn joseph_row_pair(
     columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
@@ -278,6 +279,7 @@ fn joseph_row_pair(
 /// rows ([`joseph_row_pair`], with the pair's `N_i = K_i S − M_i` computed first); returns
 /// the sum of the new values ([`joseph_row_pair`]). Not inlined: one prologue for the
 /// twelve pairs.
+#[cfg(any(test, target_arch = "arm"))]
 #[inline(never)]
 fn joseph_upper(
     columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
@@ -294,6 +296,84 @@ fn joseph_upper(
         }
     }
     sum
+}
+
+/// Rows `row..row + 4` of the expanded Joseph update, upper triangle, in one pass: the
+/// host's form of [`joseph_row_pair`] (the same [`joseph_element`] per element, so the same
+/// bits), four rows at a time so each column's four values are one 256-bit vector on
+/// x86-64-v3 and each row's coefficients a vector register (sixteen of them there; the
+/// Cortex-M7's sixteen scalar registers hold two rows' only). Column `row + c` of the first
+/// four reaches rows `row..=row + c`. Returns one sum of new values per row (four
+/// independent chains of additions; finite only if every value is).
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn joseph_row_quad(
+    columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
+    row: usize,
+    (n, k): (&[Row; 4], &[Row; 4]),
+    gains: &StateRows,
+    products: &StateRows,
+) -> [f64; 4] {
+    let mut sums = [0.0; 4];
+    // Rows `row..row + L` of one column (L constant: each call's loop unrolls).
+    let mut update = |column: &mut [f64; STATE_DIMENSION], length: usize, kj: Row, mj: Row| {
+        if let Some(values) = column.get_mut(row..row + length) {
+            let rows = values.iter_mut().zip(n.iter().zip(k)).zip(sums.iter_mut());
+            for ((value, (ni, ki)), sum) in rows {
+                *value = joseph_element(*value, *ni, *ki, kj, mj);
+                *sum += *value;
+            }
+        }
+    };
+    let all = (
+        columns.get_mut(row..),
+        gains.get(row..),
+        products.get(row..),
+    );
+    let (Some(all_columns), Some(all_gains), Some(all_products)) = all else {
+        return sums;
+    };
+    let mut triples = all_columns.iter_mut().zip(all_gains).zip(all_products);
+    // The first four columns reach the diagonal: column `row + c` has c + 1 rows.
+    for length in 1..=4 {
+        if let Some(((column, kj), mj)) = triples.next() {
+            update(column, length, *kj, *mj);
+        }
+    }
+    for ((column, kj), mj) in triples {
+        update(column, 4, *kj, *mj);
+    }
+    sums
+}
+
+/// The host's [`joseph_upper`]: four rows at a time ([`joseph_row_quad`]), the same values.
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(never)]
+fn joseph_upper_by_four(
+    columns: &mut [[f64; STATE_DIMENSION]; STATE_DIMENSION],
+    gains: &StateRows,
+    products: &StateRows,
+    s: &Block,
+) -> f64 {
+    let mut sums = [0.0; 4];
+    let quads = gains.chunks_exact(4).zip(products.chunks_exact(4));
+    for (quad, (k, m)) in quads.enumerate() {
+        if let ([k0, k1, k2, k3], [m0, m1, m2, m3]) = (k, m) {
+            let n = [
+                n_row(*k0, s, *m0),
+                n_row(*k1, s, *m1),
+                n_row(*k2, s, *m2),
+                n_row(*k3, s, *m3),
+            ];
+            let rows = (&n, &[*k0, *k1, *k2, *k3]);
+            let part = joseph_row_quad(columns, 4 * quad, rows, gains, products);
+            for (sum, value) in sums.iter_mut().zip(part) {
+                *sum += value;
+            }
+        }
+    }
+    let [a, b, c, d] = sums;
+    (a + b) + (c + d)
 }
 
 /// Whether every element of the upper triangle is finite: the exact check when the sum of
@@ -330,7 +410,11 @@ pub(crate) fn joseph_update(
     let s = block::from_matrix(s);
     let products = &observed.products;
     let diagonal: [f64; STATE_DIMENSION] = core::array::from_fn(|i| block::entry(p, i, i));
+    // The same values either way (the kernels' bit-for-bit test).
+    #[cfg(target_arch = "arm")]
     let sum = joseph_upper(&mut p.data.0, gains, products, &s);
+    #[cfg(not(target_arch = "arm"))]
+    let sum = joseph_upper_by_four(&mut p.data.0, gains, products, &s);
     if sum.is_finite() || upper_triangle_is_finite(p) {
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
         true
@@ -340,5 +424,39 @@ pub(crate) fn joseph_update(
             block::set_entry(p, index, index, *value);
         }
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::structured::tests::random_covariance;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The Cortex-M7's two-row Joseph kernel and the host's four-row one give the same
+    /// upper triangle and the same verdict, bit for bit (each element's operations are the
+    /// same, only the grouping of rows differs), including the diagonal's partial columns.
+    #[test]
+    fn the_two_row_and_four_row_joseph_kernels_agree_bit_for_bit() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        for _ in 0..50 {
+            let p = random_covariance(&mut rng);
+            let mut row = || -> Row { core::array::from_fn(|_| rng.random_range(-2.0..2.0)) };
+            let gains: StateRows = core::array::from_fn(|_| row());
+            let products: StateRows = core::array::from_fn(|_| row());
+            let s = [row(), row(), row()];
+            let (mut two, mut four) = (p, p);
+            let sum_two = joseph_upper(&mut two.data.0, &gains, &products, &s);
+            let sum_four = joseph_upper_by_four(&mut four.data.0, &gains, &products, &s);
+            assert_eq!(two.map(f64::to_bits), four.map(f64::to_bits));
+            assert!(sum_two.is_finite() && sum_four.is_finite());
+            // The lower triangle is untouched (the roll-back copy).
+            for j in 0..STATE_DIMENSION {
+                for i in j + 1..STATE_DIMENSION {
+                    assert_eq!(two[(i, j)].to_bits(), p[(i, j)].to_bits());
+                }
+            }
+        }
     }
 }
