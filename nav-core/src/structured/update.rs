@@ -276,8 +276,8 @@ fn joseph_row_pair(
 }
 
 /// The upper triangle of the expanded Joseph update (module docs), pair of rows by pair of
-/// rows ([`joseph_row_pair`], with the pair's `N_i = K_i S − M_i` computed first); returns
-/// the sum of the new values ([`joseph_row_pair`]). Not inlined: one prologue for the
+/// rows (`joseph_row_pair`, with the pair's `N_i = K_i S − M_i` computed first); returns
+/// the sum of the new values (`joseph_row_pair`). Not inlined: one prologue for the
 /// twelve pairs.
 #[cfg(any(test, target_arch = "arm"))]
 #[inline(never)]
@@ -299,7 +299,7 @@ fn joseph_upper(
 }
 
 /// Rows `row..row + 4` of the expanded Joseph update, upper triangle, in one pass: the
-/// host's form of [`joseph_row_pair`] (the same [`joseph_element`] per element, so the same
+/// host's form of `joseph_row_pair` (the same [`joseph_element`] per element, so the same
 /// bits), four rows at a time so each column's four values are one 256-bit vector on
 /// x86-64-v3 and each row's coefficients a vector register (sixteen of them there; the
 /// Cortex-M7's sixteen scalar registers hold two rows' only). Column `row + c` of the first
@@ -315,7 +315,7 @@ fn joseph_row_quad(
     products: &StateRows,
 ) -> [f64; 4] {
     let mut sums = [0.0; 4];
-    // Rows `row..row + L` of one column (L constant: each call's loop unrolls).
+    // Rows `row..row + length` of one column (four, except next to the diagonal).
     let mut update = |column: &mut [f64; STATE_DIMENSION], length: usize, kj: Row, mj: Row| {
         if let Some(values) = column.get_mut(row..row + length) {
             let rows = values.iter_mut().zip(n.iter().zip(k)).zip(sums.iter_mut());
@@ -346,7 +346,7 @@ fn joseph_row_quad(
     sums
 }
 
-/// The host's [`joseph_upper`]: four rows at a time ([`joseph_row_quad`]), the same values.
+/// The host's `joseph_upper`: four rows at a time (`joseph_row_quad`), the same values.
 #[cfg(any(test, not(target_arch = "arm")))]
 #[inline(never)]
 fn joseph_upper_by_four(
@@ -396,8 +396,9 @@ fn n_row(gain: Row, s: &Block, product: Row) -> Row {
 }
 
 /// Joseph form expanded (module docs), in place: `P⁺_ij = (P_ij + N_i·K_j) − K_i·M_j` with
-/// `N = K S − M` on the upper triangle (6 multiply-adds per element, one pass per pair of
-/// rows, [`joseph_row_pair`], with the pair's `N_i` computed there), mirrored; `gains` are
+/// `N = K S − M` on the upper triangle (6 multiply-adds per element in one pass, two rows
+/// at a time on the Cortex-M7, `joseph_row_pair`, four on the host, each group's `N_i`
+/// computed with it), mirrored; `gains` are
 /// the rows `K_i`, `observed` holds `M = P Hᵀ`, `s` is symmetric. `false` (and `P`
 /// unchanged) if the result is not finite: new values go to the upper triangle only, so
 /// the untouched lower triangle and a saved diagonal are the roll-back copy.
