@@ -237,12 +237,6 @@ impl FiniteCheck {
         self.0 += (x * 0.0 + y * 0.0) + z * 0.0;
     }
 
-    /// Adds the values another check has seen.
-    #[inline(always)]
-    pub(crate) fn merge(&mut self, other: FiniteCheck) {
-        self.0 += other.0;
-    }
-
     /// True while every value added was finite.
     #[inline(always)]
     pub(crate) fn all_finite(&self) -> bool {
@@ -259,6 +253,27 @@ pub(crate) fn all_finite(values: &[f64]) -> bool {
         check.value(*value);
     }
     check.all_finite()
+}
+
+/// [`all_finite`] with four running checks over interleaved values, merged at the end: the
+/// same operations, but four independent chains of additions, so an out-of-order host does
+/// not wait on one long chain (84 values: ~60 ns on one chain).
+#[inline(always)]
+pub(crate) fn all_finite_interleaved(values: &[f64]) -> bool {
+    let mut checks = [FiniteCheck::new(); 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (check, value) in checks.iter_mut().zip(chunk) {
+            check.value(*value);
+        }
+    }
+    let [first, ..] = &mut checks;
+    for value in rest {
+        first.value(*value);
+    }
+    let [a, b, c, d] = checks.map(|check| check.0);
+    !((a + b) + (c + d)).is_nan()
 }
 
 /// Element (`row`, `column`) of a column-major matrix (NaN outside, which constant in-range

@@ -55,7 +55,11 @@
 //! `S = H P Hᵀ + R`; element-wise `P⁺_ij = (P_ij + (K_i S − M_i)·K_j) − K_i·M_j`, O(n²)
 //! with 6 multiply-adds per element of the upper triangle. `M` is summed only over the non-zero
 //! 3×3 blocks of `H` (found at run time, so a measurement referred to a later time with
-//! `H (I − AΔ)` is handled with its extra bias/scale-factor/velocity columns).
+//! `H (I − AΔ)` is handled with its extra bias/scale-factor/velocity columns). The six
+//! multiply-adds of an element are done in one pass over `P` (each element loaded and stored
+//! once), a few rows at a time: two on the Cortex-M7 (their twelve coefficients fill its
+//! sixteen double registers), four on the host (one 256-bit vector per column); each
+//! element's operations are the same either way, so are its bits.
 //!
 //! ## In place, without a copy
 //! Propagation and update overwrite `P` where it lies (a 24×24 copy costs thousands of
@@ -217,9 +221,9 @@ pub(crate) type StateRows = [Row; STATE_DIMENSION];
 /// `P Hᵀ` and `H P Hᵀ` of a measurement, summed over the non-zero 3×3 blocks of `H` only
 /// (module docs).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct ObservedCovariance {
+pub(crate) struct ObservedCovariance<'a> {
     /// `M = P Hᵀ`, row `j` for state `j`.
-    products: StateRows,
+    products: &'a StateRows,
     /// `H P Hᵀ` (without `R`).
     projected: Block,
 }
@@ -248,4 +252,6 @@ mod update;
 
 pub use referral::{refer_to_later_time_at, refer_to_later_time_in_place};
 pub(crate) use reset::reset_covariance;
-pub(crate) use update::{add_gain_times, joseph_update};
+pub(crate) use update::{
+    add_gain_times, corrected_state_is_finite, joseph_update, observed_blocks,
+};

@@ -74,12 +74,16 @@ pub fn refer_to_later_time_in_place(
     let negative_c = scale(&c, -1.0);
     let accel = mul(&h_velocity, &negative_c);
     let half_attitude = scale(&h_attitude, -0.5);
-    let jacobian = &mut measurement.jacobian;
+    // H's columns (nalgebra stores columns: data.0[column][row]); element (i, offset + j)
+    // is column offset + j, row i.
+    let columns = &mut measurement.jacobian.data.0;
     let mut subtract = |offset: usize, product: &Block| {
-        for (i, row) in product.iter().enumerate() {
-            for (j, value) in row.iter().enumerate() {
-                if let Some(entry) = jacobian.get_mut((i, offset + j)) {
-                    *entry -= value * latency_s;
+        if let Some(block_columns) = columns.get_mut(offset..offset + 3) {
+            for (j, column) in block_columns.iter_mut().enumerate() {
+                for (entry, row) in column.iter_mut().zip(product) {
+                    if let Some(value) = row.get(j) {
+                        *entry -= value * latency_s;
+                    }
                 }
             }
         }

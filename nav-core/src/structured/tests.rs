@@ -532,11 +532,32 @@ fn an_overflowing_joseph_update_leaves_p_unchanged() {
     let mut p = random_covariance(&mut rng);
     let before = p;
     let observed = ObservedCovariance {
-        products: [[1e200, 0.0, 0.0]; STATE_DIMENSION],
+        products: &[[1e200, 0.0, 0.0]; STATE_DIMENSION],
         projected: IDENTITY,
     };
     let gains: StateRows = [[1e200, 0.0, 0.0]; STATE_DIMENSION];
     assert!(!joseph_update(
+        &mut p,
+        &gains,
+        &observed,
+        &Matrix3::identity()
+    ));
+    assert_eq!(p.map(f64::to_bits), before.map(f64::to_bits));
+}
+
+/// The Joseph update's finite check sums the new values: when finite values are large
+/// enough for the sum to overflow, the exact check accepts them (no false roll-back). Zero
+/// gains and `P Hᵀ` leave `P` as it was, bit for bit, even at `1e308` per element.
+#[test]
+fn a_joseph_update_of_large_finite_values_is_accepted() {
+    let mut p = CovarianceMatrix::from_element(1e308);
+    let before = p;
+    let observed = ObservedCovariance {
+        products: &[[0.0; 3]; STATE_DIMENSION],
+        projected: IDENTITY,
+    };
+    let gains: StateRows = [[0.0; 3]; STATE_DIMENSION];
+    assert!(joseph_update(
         &mut p,
         &gains,
         &observed,
