@@ -237,6 +237,12 @@ impl FiniteCheck {
         self.0 += (x * 0.0 + y * 0.0) + z * 0.0;
     }
 
+    /// Adds the values another check has seen.
+    #[inline(always)]
+    pub(crate) fn merge(&mut self, other: FiniteCheck) {
+        self.0 += other.0;
+    }
+
     /// True while every value added was finite.
     #[inline(always)]
     pub(crate) fn all_finite(&self) -> bool {
