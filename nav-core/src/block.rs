@@ -238,6 +238,7 @@ impl FiniteCheck {
     }
 
     /// Adds the values another check has seen.
+    #[cfg(any(test, target_arch = "arm"))]
     #[inline(always)]
     pub(crate) fn merge(&mut self, other: FiniteCheck) {
         self.0 += other.0;
