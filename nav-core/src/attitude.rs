@@ -57,7 +57,7 @@ pub const SERIES_ANGLE_RAD: f64 = 1.0e-4;
 /// `[1 − |φ|²/8 + |φ|⁴/384, φ/2 (1 − |φ|²/24 + |φ|⁴/1920)]` is used (truncation < 1e-22).
 pub fn exp_rotation_vector(phi: &Vector3<f64>) -> Quaternion<f64> {
     let angle_squared = phi.dot(phi);
-    let angle = libm::sqrt(angle_squared);
+    let angle = crate::float::sqrt(angle_squared);
     if angle < SERIES_ANGLE_RAD {
         let scalar = 1.0 - angle_squared / 8.0 + angle_squared * angle_squared / 384.0;
         let vector_gain =
@@ -86,7 +86,7 @@ pub fn exp_rotation_vector(phi: &Vector3<f64>) -> Quaternion<f64> {
 pub fn log_rotation_vector(q: &Quaternion<f64>) -> Vector3<f64> {
     let q = canonical(q);
     let vector = q.imag();
-    let sine = libm::sqrt(vector.dot(&vector));
+    let sine = crate::float::sqrt(vector.dot(&vector));
     if sine < 1.0e-8 {
         vector * (2.0 / q.w)
     } else {
@@ -109,7 +109,7 @@ pub fn from_vector_part(vector_part: &Vector3<f64>) -> Result<Quaternion<f64>, N
         return Err(NavError::DegenerateQuaternion);
     }
     Ok(Quaternion::new(
-        libm::sqrt(1.0 - squared),
+        crate::float::sqrt(1.0 - squared),
         vector_part.x,
         vector_part.y,
         vector_part.z,
@@ -125,7 +125,7 @@ pub fn normalise(q: &Quaternion<f64>) -> Result<Quaternion<f64>, NavError> {
     if !(q.w.is_finite() && q.i.is_finite() && q.j.is_finite() && q.k.is_finite()) {
         return Err(NavError::NonFiniteInput);
     }
-    let norm = libm::sqrt(q.w * q.w + q.i * q.i + q.j * q.j + q.k * q.k);
+    let norm = crate::float::sqrt(q.w * q.w + q.i * q.i + q.j * q.j + q.k * q.k);
     if norm < MIN_QUATERNION_NORM {
         return Err(NavError::DegenerateQuaternion);
     }

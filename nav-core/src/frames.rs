@@ -102,12 +102,12 @@ impl LaunchSite {
     /// sines of the tilt's components, so `√(x² + y²)` bounds the tilt).
     fn earth_axis_is_valid(&self) -> bool {
         let [x, y, z] = self.earth_axis_ecef;
-        let norm = libm::sqrt(x * x + y * y + z * z);
+        let norm = crate::float::sqrt(x * x + y * y + z * z);
         x.is_finite()
             && y.is_finite()
             && z > 0.0
             && (norm - 1.0).abs() <= EARTH_AXIS_UNIT_TOLERANCE
-            && libm::sqrt(x * x + y * y) <= MAX_EARTH_AXIS_TILT_RAD
+            && crate::float::sqrt(x * x + y * y) <= MAX_EARTH_AXIS_TILT_RAD
     }
 }
 
@@ -116,8 +116,8 @@ impl LaunchSite {
 pub fn geodetic_to_ecef(latitude_rad: f64, longitude_rad: f64, height_m: f64) -> Vector3<f64> {
     let (sin_lat, cos_lat) = (libm::sin(latitude_rad), libm::cos(latitude_rad));
     let (sin_lon, cos_lon) = (libm::sin(longitude_rad), libm::cos(longitude_rad));
-    let n =
-        WGS84_SEMI_MAJOR_AXIS_M / libm::sqrt(1.0 - WGS84_ECCENTRICITY_SQUARED * sin_lat * sin_lat);
+    let n = WGS84_SEMI_MAJOR_AXIS_M
+        / crate::float::sqrt(1.0 - WGS84_ECCENTRICITY_SQUARED * sin_lat * sin_lat);
     Vector3::new(
         (n + height_m) * cos_lat * cos_lon,
         (n + height_m) * cos_lat * sin_lon,
@@ -464,7 +464,7 @@ pub(crate) mod tests {
         site.earth_axis_ecef = [
             x_pole,
             -y_pole,
-            libm::sqrt(1.0 - x_pole * x_pole - y_pole * y_pole),
+            crate::float::sqrt(1.0 - x_pole * x_pole - y_pole * y_pole),
         ];
         let frame = LaunchFrame::new(&site).unwrap();
         let k = frame.earth_axis_launch();
@@ -593,7 +593,7 @@ pub(crate) mod tests {
         // The Earth axis: not unit, tilted beyond the bound, pointing south, not finite.
         for axis in [
             [0.0, 0.0, 1.0 + 1e-8],
-            [2e-4, 0.0, libm::sqrt(1.0 - 4e-8)],
+            [2e-4, 0.0, crate::float::sqrt(1.0 - 4e-8)],
             [0.0, 0.0, -1.0],
             [f64::NAN, 0.0, 1.0],
         ] {

@@ -498,8 +498,8 @@ mod tests {
         // C = P_xx^{1/2}-like correlations: C = P_xx W with small W keeps P positive definite
         // when P_εε dominates W' P_xx W (checked by the Cholesky below).
         let w = SMatrix::<f64, STATE_DIMENSION, 3>::from_fn(|j, _| {
-            rng.random_range(-1.0..1.0) * 0.3 / libm::sqrt(p[(j, j)]) * RECEIVER.sigma_m
-                / libm::sqrt(STATE_DIMENSION as f64)
+            rng.random_range(-1.0..1.0) * 0.3 / crate::float::sqrt(p[(j, j)]) * RECEIVER.sigma_m
+                / crate::float::sqrt(STATE_DIMENSION as f64)
         });
         let cross = p * w;
         let border = w.transpose() * p * w + Matrix3::identity() * RECEIVER.sigma_m.powi(2);
@@ -525,8 +525,8 @@ mod tests {
         b: &GnssErrorStates,
         prior: &ErrorStateFilter,
     ) -> f64 {
-        let sigma_x = |j: usize| libm::sqrt(prior.covariance()[(j, j)]);
-        let sigma_e = |a: usize| libm::sqrt(prior.gnss_error().covariance()[(a, a)]);
+        let sigma_x = |j: usize| crate::float::sqrt(prior.covariance()[(j, j)]);
+        let sigma_e = |a: usize| crate::float::sqrt(prior.gnss_error().covariance()[(a, a)]);
         let mut worst = 0.0f64;
         for a_index in 0..3 {
             worst = worst.max((a.estimate[a_index] - b.estimate[a_index]).abs() / sigma_e(a_index));
@@ -584,7 +584,7 @@ mod tests {
             let state_error = (0..STATE_DIMENSION)
                 .map(|j| {
                     (structured.state()[j] - dense.state()[j]).abs()
-                        / libm::sqrt(prior.covariance()[(j, j)])
+                        / crate::float::sqrt(prior.covariance()[(j, j)])
                 })
                 .fold(0.0f64, f64::max);
             worst = worst.max(p_error).max(border_error).max(state_error);
@@ -636,7 +636,7 @@ mod tests {
             let cross = structured.gnss_error().cross_covariance();
             for j in 0..STATE_DIMENSION {
                 for a in 0..3 {
-                    let scale = libm::sqrt(prior.covariance()[(j, j)]) * RECEIVER.sigma_m;
+                    let scale = crate::float::sqrt(prior.covariance()[(j, j)]) * RECEIVER.sigma_m;
                     assert!((cross[(j, a)] - expected_cross[(j, a)]).abs() < 1e-12 * scale);
                 }
             }

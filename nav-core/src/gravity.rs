@@ -46,7 +46,7 @@ impl GravityModel {
     ) -> Vector3<f64> {
         let r_vec = frame.geocentric_position_launch(position_launch_m);
         let r2 = r_vec.dot(&r_vec);
-        let r = libm::sqrt(r2);
+        let r = crate::float::sqrt(r2);
         let r3 = r2 * r;
         let mut g = r_vec * (-WGS84_GM_M3_S2 / r3);
         if self.j2_enabled {
@@ -73,7 +73,7 @@ impl GravityModel {
     ) -> Matrix3<f64> {
         let r_vec = frame.geocentric_position_launch(position_launch_m);
         let r2 = r_vec.dot(&r_vec);
-        let r = libm::sqrt(r2);
+        let r = crate::float::sqrt(r2);
         let r3 = r2 * r;
         let rrt = r_vec * r_vec.transpose();
         let mut gradient = (rrt * (3.0 / r2) - Matrix3::identity()) * (WGS84_GM_M3_S2 / r3);

@@ -28,9 +28,12 @@
 //! ## Rules of this crate
 //! No allocation, no recursion, every loop bounded by a constant, fixed-size types only, no
 //! panicking operations on the flight path: fallible functions return [`NavError`]. All
-//! transcendental functions go through `libm` so host and Cortex-M builds agree bit for bit.
+//! transcendental functions go through `libm` so host and Cortex-M builds agree bit for bit;
+//! the square root goes through [`float::sqrt`] (correctly rounded: libm, or the FPU's
+//! instruction with the `hardware-sqrt` feature, the same bits).
 #![cfg_attr(not(test), no_std)]
-#![forbid(unsafe_code)]
+// No unsafe code but the one FPU instruction of `float::sqrt` (feature `hardware-sqrt`).
+#![deny(unsafe_code)]
 // Flight-path lint policy (the common policy is [workspace.lints] in the root Cargo.toml).
 // Tests may unwrap and index; the flight code may not.
 #![cfg_attr(
@@ -54,6 +57,7 @@ pub mod discretise;
 pub mod error;
 pub mod error_model;
 pub mod filter;
+pub mod float;
 pub mod frames;
 pub mod gnss_error;
 pub mod gravity;

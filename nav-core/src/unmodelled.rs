@@ -219,7 +219,7 @@ pub fn rate_error_correlation(
         sum
     };
     let norm = inner(rate_a_rad_s, rate_a_rad_s) * inner(rate_b_rad_s, rate_b_rad_s);
-    let correlation = inner(rate_a_rad_s, rate_b_rad_s) / libm::sqrt(norm);
+    let correlation = inner(rate_a_rad_s, rate_b_rad_s) / crate::float::sqrt(norm);
     if norm > 0.0 && correlation.is_finite() {
         correlation.clamp(-1.0, 1.0)
     } else {
@@ -244,7 +244,7 @@ mod tests {
         }
         fn gaussian(&mut self) -> f64 {
             let (u1, u2) = (self.uniform().max(1e-300), self.uniform());
-            libm::sqrt(-2.0 * libm::log(u1)) * libm::cos(2.0 * core::f64::consts::PI * u2)
+            crate::float::sqrt(-2.0 * libm::log(u1)) * libm::cos(2.0 * core::f64::consts::PI * u2)
         }
     }
 

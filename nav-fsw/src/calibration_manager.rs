@@ -245,7 +245,8 @@ impl CalibrationEntry {
     /// Filter 1σ per axis (units of the block): the square roots of [`Self::variance`]
     /// (a negative variance, which the filter's floors prevent, reads as 0).
     pub fn sigma(&self) -> [f64; 3] {
-        self.variance.map(|variance| libm::sqrt(variance.max(0.0)))
+        self.variance
+            .map(|variance| nav_core::float::sqrt(variance.max(0.0)))
     }
 }
 

@@ -382,7 +382,7 @@ impl FswConfig {
         let positive = |value: f64| value.is_finite() && value > 0.0;
         let gate = |value: f64| positive(value) || value == f64::INFINITY;
         let [w, x, y, z] = self.star.mounting_wxyz;
-        let norm = libm::sqrt(w * w + x * x + y * y + z * z);
+        let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
         if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
             return invalid(ConfigField::StarMounting);
         }

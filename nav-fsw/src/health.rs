@@ -192,7 +192,7 @@ impl WhitenessMonitor {
             self.previous = None;
             return false;
         }
-        let scale = 1.0 / libm::sqrt(mean_variance);
+        let scale = 1.0 / nav_core::float::sqrt(mean_variance);
         let normalised = innovation.map(|nu| nu * scale);
         let Some(previous) = self.previous.replace(normalised) else {
             return false;
@@ -235,7 +235,7 @@ mod tests {
         };
         let mut normal = move || {
             let (u, v) = (uniform(), uniform());
-            libm::sqrt(-2.0 * libm::log(u)) * libm::cos(2.0 * core::f64::consts::PI * v)
+            nav_core::float::sqrt(-2.0 * libm::log(u)) * libm::cos(2.0 * core::f64::consts::PI * v)
         };
         let mut white = WhitenessMonitor::default();
         let mut episodes = 0;
@@ -251,7 +251,7 @@ mod tests {
         let mut episodes = 0;
         for _ in 0..2000 {
             for e in error.iter_mut() {
-                *e = 0.9 * *e + libm::sqrt(1.0 - 0.81) * normal();
+                *e = 0.9 * *e + nav_core::float::sqrt(1.0 - 0.81) * normal();
             }
             episodes += usize::from(correlated.observe(&error, &[1.0; 3], 64.0, 0.25));
         }

@@ -217,7 +217,7 @@ pub fn check_star(
     if !(measurement.time_tag_s.is_finite() && raw.coords.iter().all(|c| c.is_finite())) {
         return Err(StarFault::NonFinite);
     }
-    let norm = libm::sqrt(raw.coords.dot(&raw.coords));
+    let norm = nav_core::float::sqrt(raw.coords.dot(&raw.coords));
     if (norm - 1.0).abs() > unit_norm_tolerance {
         return Err(StarFault::NotUnit);
     }

@@ -90,7 +90,7 @@ impl SensorFrames {
         let q = self.gcrf_to_launch_inertial_wxyz;
         let norm_squared: f64 = q.iter().map(|c| c * c).sum();
         let unit = q.iter().all(|c| c.is_finite())
-            && (libm::sqrt(norm_squared) - 1.0).abs() <= ROTATION_UNIT_TOLERANCE;
+            && (nav_core::float::sqrt(norm_squared) - 1.0).abs() <= ROTATION_UNIT_TOLERANCE;
         let epoch = check_gps_time(
             self.launch_epoch_gps_week,
             self.launch_epoch_gps_seconds_of_week,

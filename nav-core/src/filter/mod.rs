@@ -298,7 +298,7 @@ impl ErrorStateFilter {
     pub fn standard_deviations(&self) -> ErrorState {
         self.covariance
             .diagonal()
-            .map(|variance| libm::sqrt(variance.max(0.0)))
+            .map(|variance| crate::float::sqrt(variance.max(0.0)))
     }
 
     /// Adds `variance · I` to the diagonal block of `block` (m², rad², … in the block's
@@ -456,7 +456,7 @@ impl ErrorStateFilter {
             ) else {
                 continue;
             };
-            let scale = libm::sqrt(ceiling / variance);
+            let scale = crate::float::sqrt(ceiling / variance);
             self.gnss_error.scale_cross_row(index, scale);
             for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
                 if column_index == index {

@@ -180,7 +180,7 @@ fn a_frozen_block_keeps_its_estimate_and_the_covariance_stays_exact() {
     // zero-row gain, computed here independently.
     let mut filter = ErrorStateFilter::new(&config(FilterMode::OpenLoop)).unwrap();
     let mut covariance = *filter.covariance();
-    let cross = 0.5 * libm::sqrt(1e4 * 1e-8);
+    let cross = 0.5 * crate::float::sqrt(1e4 * 1e-8);
     for axis in 0..3 {
         covariance[(POSITION.index() + axis, ACCEL_SCALE_FACTOR.index() + axis)] = cross;
         covariance[(ACCEL_SCALE_FACTOR.index() + axis, POSITION.index() + axis)] = cross;

@@ -549,7 +549,7 @@ pub fn analyse_factor(
     } else {
         StateVector::zeros()
     };
-    let null_space_projection = null_square.map(libm::sqrt);
+    let null_space_projection = null_square.map(crate::float::sqrt);
     let mut observable = [false; STATE_DIMENSION];
     for (flag, projection) in observable.iter_mut().zip(null_space_projection.iter()) {
         *flag = *projection <= tolerance.projection;

@@ -625,7 +625,7 @@ fn analyse_factor_of_zero_and_of_an_overflowing_factor() {
 fn observable_directions_uses_the_squared_projection_threshold() {
     let mut v = StateVector::zeros();
     v[0] = 1.0e-4;
-    v[23] = libm::sqrt(1.0 - 1.0e-8);
+    v[23] = crate::float::sqrt(1.0 - 1.0e-8);
     let factor = TriangularFactor::identity() - v * v.transpose();
     let analysis = analyse_factor(&factor, &RankTolerance::DEFAULT).unwrap();
     assert_eq!(analysis.rank, 23);

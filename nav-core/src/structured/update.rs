@@ -162,7 +162,8 @@ impl Cholesky3 {
     /// `None` if `s` is not positive definite (or not finite).
     pub(crate) fn new(s: &Matrix3<f64>) -> Option<Self> {
         let [[s00, _, _], [s10, s11, _], [s20, s21, s22]] = block::from_matrix(s);
-        let pivot = |value: f64| (value.is_finite() && value > 0.0).then(|| libm::sqrt(value));
+        let pivot =
+            |value: f64| (value.is_finite() && value > 0.0).then(|| crate::float::sqrt(value));
         let l00 = pivot(s00)?;
         let i00 = 1.0 / l00;
         let l10 = s10 * i00;

@@ -106,9 +106,10 @@ impl NavigationComputer {
             &self.second_order_rate_rad_s,
         );
         self.second_order_rate_rad_s = *measured_rate_rad_s;
-        let added = self
-            .second_order_attitude
-            .grow_correlated(libm::sqrt(rate_variance) * interval_s, correlation);
+        let added = self.second_order_attitude.grow_correlated(
+            nav_core::float::sqrt(rate_variance) * interval_s,
+            correlation,
+        );
         let direction = rate_covariance / rate_variance;
         if self
             .filter
