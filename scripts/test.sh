@@ -53,7 +53,12 @@ step "an integrator's crate outside the workspace, with README's dependency line
 (cd examples/integrator && cargo fmt --check)
 bash scripts/integrator-check.sh
 step "the flight crates package for a registry (cargo package, verified)"
-cargo package -p nav-core -p nav-fsw --allow-dirty
+# In a fresh target directory: cargo extracts the packaged crates into a cache keyed by the
+# target directory's path and never re-extracts the same name and version, so a reused path
+# would verify nav-fsw against an older packaged nav-core.
+package_dir="$(mktemp -d)"
+cargo package -p nav-core -p nav-fsw --allow-dirty --target-dir "$package_dir"
+rm -rf "$package_dir"
 
 step "host tests"
 cargo test --workspace
