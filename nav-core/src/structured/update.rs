@@ -481,7 +481,10 @@ pub(crate) fn joseph_update(
     #[cfg(not(target_arch = "arm"))]
     let sum = joseph_upper_by_four(&mut p.data.0, gains, products, &s);
     if sum.is_finite() || upper_triangle_is_finite(p) {
+        #[cfg(target_arch = "arm")]
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
+        #[cfg(not(target_arch = "arm"))]
+        block::mirror_upper_to_lower_by_tiles(p);
         true
     } else {
         block::mirror_lower_to_upper(p, STATE_DIMENSION);
