@@ -363,6 +363,7 @@ pub(crate) fn write_diagonal_symmetric<const D: usize>(
 
 /// Copies the strict upper triangle of the first `rows` rows into the lower triangle:
 /// `P(j, i) = P(i, j)` for `i < j`, `i < rows`.
+#[cfg(any(test, target_arch = "arm"))]
 pub(crate) fn mirror_upper_to_lower(matrix: &mut CovarianceMatrix, rows: usize) {
     let columns = &mut matrix.data.0;
     for j in 1..columns.len() {

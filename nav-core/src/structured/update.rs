@@ -312,9 +312,8 @@ fn by_term(rows: &[Row; 4]) -> QuadCoefficients {
     [[a0, b0, c0, d0], [a1, b1, c1, d1], [a2, b2, c2, d2]]
 }
 
-/// [`joseph_element`] for four rows of one column at once (`n`, `k` by term): each lane is
-/// the same sequence of operations, `((((((P + n0 k0) + n1 k1) + n2 k2) − a0 m0) − a1 m1)
-/// − a2 m2)`, written as six whole-vector steps.
+/// [`joseph_element`] for four rows of one column at once (`n`, `k` by term), lane by
+/// lane: the compiler makes each of its six multiply-adds one whole-vector step.
 #[cfg(any(test, not(target_arch = "arm")))]
 #[inline(always)]
 fn joseph_lanes(
@@ -323,12 +322,12 @@ fn joseph_lanes(
     kj: Row,
     mj: Row,
 ) -> [f64; 4] {
-    let ([n0, n1, n2], [a0, a1, a2]) = (n, k);
-    let ([k0, k1, k2], [m0, m1, m2]) = (kj, mj);
     let lane = |i: usize| {
-        let c = |terms: &[f64; 4]| terms.get(i).copied().unwrap_or(f64::NAN);
+        let row = |terms: &QuadCoefficients| {
+            terms.map(|values| values.get(i).copied().unwrap_or(f64::NAN))
+        };
         let x = p.get(i).copied().unwrap_or(f64::NAN);
-        x + c(n0) * k0 + c(n1) * k1 + c(n2) * k2 - c(a0) * m0 - c(a1) * m1 - c(a2) * m2
+        joseph_element(x, row(n), row(k), kj, mj)
     };
     [lane(0), lane(1), lane(2), lane(3)]
 }
