@@ -57,12 +57,31 @@ impl<'a> ObservedCovariance<'a> {
     }
 
     /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero.
+    #[cfg(target_arch = "arm")]
     pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
         // Built element by element (no zero-fill of the 576-byte array first).
         core::array::from_fn(|state_index| match self.products.get(state_index) {
             Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
             _ => [0.0; 3],
         })
+    }
+
+    /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero:
+    /// the host's form, every row solved (no branch between the rows, so the compiler
+    /// solves several rows in one vector) and the frozen ones replaced by zero after; the
+    /// same values as the target's, which solves the unfrozen rows only.
+    #[cfg(not(target_arch = "arm"))]
+    pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
+        let mut gains: StateRows = core::array::from_fn(|state_index| {
+            let product = self.products.get(state_index).copied();
+            cholesky.solve(product.unwrap_or([f64::NAN; 3]))
+        });
+        for (state_index, gain) in gains.iter_mut().enumerate() {
+            if frozen.contains_state(state_index) {
+                *gain = [0.0; 3];
+            }
+        }
+        gains
     }
 }
 
