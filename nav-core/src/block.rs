@@ -363,6 +363,7 @@ pub(crate) fn write_diagonal_symmetric<const D: usize>(
 
 /// Copies the strict upper triangle of the first `rows` rows into the lower triangle:
 /// `P(j, i) = P(i, j)` for `i < j`, `i < rows`.
+#[cfg(any(test, target_arch = "arm"))]
 pub(crate) fn mirror_upper_to_lower(matrix: &mut CovarianceMatrix, rows: usize) {
     let columns = &mut matrix.data.0;
     for j in 1..columns.len() {
@@ -373,6 +374,61 @@ pub(crate) fn mirror_upper_to_lower(matrix: &mut CovarianceMatrix, rows: usize) 
         for (column_i, value) in left.iter_mut().zip(column_j.iter()).take(rows) {
             if let Some(target) = column_i.get_mut(j) {
                 *target = *value;
+            }
+        }
+    }
+}
+
+/// Tiles of 4×4 along a side of the 24×24 covariance.
+#[cfg(any(test, not(target_arch = "arm")))]
+const TILES: usize = 6;
+#[cfg(any(test, not(target_arch = "arm")))]
+const _: () = assert!(4 * TILES == crate::state::STATE_DIMENSION);
+
+/// Rows `row..row + 4` of column `column` (NaN outside, which in-range tiles never reach).
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn tile_column(columns: &[[f64; 24]; 24], column: usize, row: usize) -> [f64; 4] {
+    columns
+        .get(column)
+        .and_then(|values| values.get(row..row + 4))
+        .and_then(|values| <[f64; 4]>::try_from(values).ok())
+        .unwrap_or([f64::NAN; 4])
+}
+
+/// `mirror_upper_to_lower(matrix, 24)` by 4×4 tiles, for hosts with 256-bit vectors
+/// (x86-64-v3): each tile above the diagonal is four column vectors, transposed in
+/// registers and stored as four column vectors below it (the element-by-element copy
+/// reads one column's values and stores them 192 bytes apart, one scalar at a time); the
+/// six diagonal tiles are copied element by element. The same copies, so the same bits.
+#[cfg(any(test, not(target_arch = "arm")))]
+pub(crate) fn mirror_upper_to_lower_by_tiles(matrix: &mut CovarianceMatrix) {
+    let columns = &mut matrix.data.0;
+    for tile_column_index in 1..TILES {
+        let column = 4 * tile_column_index;
+        for row in (0..column).step_by(4) {
+            let [[a00, a01, a02, a03], [a10, a11, a12, a13], [a20, a21, a22, a23], [a30, a31, a32, a33]] =
+                [0, 1, 2, 3].map(|c| tile_column(columns, column + c, row));
+            let transposed = [
+                [a00, a10, a20, a30],
+                [a01, a11, a21, a31],
+                [a02, a12, a22, a32],
+                [a03, a13, a23, a33],
+            ];
+            for (offset, values) in transposed.iter().enumerate() {
+                let target = columns
+                    .get_mut(row + offset)
+                    .and_then(|values| values.get_mut(column..column + 4));
+                if let Some(target) = target {
+                    target.copy_from_slice(values);
+                }
+            }
+        }
+    }
+    for corner in (0..4 * TILES).step_by(4) {
+        for j in corner + 1..corner + 4 {
+            for i in corner..j {
+                set_entry(matrix, j, i, entry(matrix, i, j));
             }
         }
     }
@@ -457,6 +513,16 @@ mod tests {
         check.block(&[[f64::MAX; 3]; 3]);
         check.block(&[[-f64::MAX; 3]; 3]);
         assert!(check.all_finite());
+    }
+
+    #[test]
+    fn the_tiled_mirror_equals_the_element_by_element_one() {
+        let mut by_elements = CovarianceMatrix::from_fn(|i, j| (i * 24 + j) as f64 - 0.5);
+        let mut by_tiles = by_elements;
+        mirror_upper_to_lower(&mut by_elements, 24);
+        mirror_upper_to_lower_by_tiles(&mut by_tiles);
+        assert_eq!(by_elements.map(f64::to_bits), by_tiles.map(f64::to_bits));
+        assert_eq!(by_tiles[(23, 0)].to_bits(), 22.5f64.to_bits());
     }
 
     #[test]

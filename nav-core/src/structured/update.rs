@@ -57,12 +57,31 @@ impl<'a> ObservedCovariance<'a> {
     }
 
     /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero.
+    #[cfg(target_arch = "arm")]
     pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
         // Built element by element (no zero-fill of the 576-byte array first).
         core::array::from_fn(|state_index| match self.products.get(state_index) {
             Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
             _ => [0.0; 3],
         })
+    }
+
+    /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero:
+    /// the host's form, every row solved (no branch between the rows, so the compiler
+    /// solves several rows in one vector) and the frozen ones replaced by zero after; the
+    /// same values as the target's, which solves the unfrozen rows only.
+    #[cfg(not(target_arch = "arm"))]
+    pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
+        let mut gains: StateRows = core::array::from_fn(|state_index| {
+            let product = self.products.get(state_index).copied();
+            cholesky.solve(product.unwrap_or([f64::NAN; 3]))
+        });
+        for (state_index, gain) in gains.iter_mut().enumerate() {
+            if frozen.contains_state(state_index) {
+                *gain = [0.0; 3];
+            }
+        }
+        gains
     }
 }
 
@@ -299,13 +318,75 @@ fn joseph_upper(
     sum
 }
 
+/// Four rows' coefficients by term: `[c][r]` is coefficient `c` of row `r` (one vector
+/// register per term on x86-64-v3).
+#[cfg(any(test, not(target_arch = "arm")))]
+type QuadCoefficients = [[f64; 4]; 3];
+
+/// `rows` (four rows of three) by term ([`QuadCoefficients`]).
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn by_term(rows: &[Row; 4]) -> QuadCoefficients {
+    let [[a0, a1, a2], [b0, b1, b2], [c0, c1, c2], [d0, d1, d2]] = *rows;
+    [[a0, b0, c0, d0], [a1, b1, c1, d1], [a2, b2, c2, d2]]
+}
+
+/// [`joseph_element`] for four rows of one column at once (`n`, `k` by term), lane by
+/// lane: the compiler makes each of its six multiply-adds one whole-vector step.
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn joseph_lanes(
+    p: [f64; 4],
+    (n, k): (&QuadCoefficients, &QuadCoefficients),
+    kj: Row,
+    mj: Row,
+) -> [f64; 4] {
+    let lane = |i: usize| {
+        let row = |terms: &QuadCoefficients| {
+            terms.map(|values| values.get(i).copied().unwrap_or(f64::NAN))
+        };
+        let x = p.get(i).copied().unwrap_or(f64::NAN);
+        joseph_element(x, row(n), row(k), kj, mj)
+    };
+    [lane(0), lane(1), lane(2), lane(3)]
+}
+
+/// Lanes `0..=c` of `new`, the others of `old` (rows on and above the diagonal of column
+/// `row + c`).
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn on_and_above(c: usize, new: [f64; 4], old: [f64; 4]) -> [f64; 4] {
+    let ([n0, n1, n2, n3], [_, o1, o2, o3]) = (new, old);
+    let pick = |lane: usize, n: f64, o: f64| if lane <= c { n } else { o };
+    [n0, pick(1, n1, o1), pick(2, n2, o2), pick(3, n3, o3)]
+}
+
+/// `a + b` lane by lane.
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn add_lanes(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    let ([a0, a1, a2, a3], [b0, b1, b2, b3]) = (a, b);
+    [a0 + b0, a1 + b1, a2 + b2, a3 + b3]
+}
+
+/// Rows `row..row + 4` of a column.
+#[cfg(any(test, not(target_arch = "arm")))]
+#[inline(always)]
+fn quad_of(column: &mut [f64; STATE_DIMENSION], row: usize) -> Option<&mut [f64; 4]> {
+    column
+        .get_mut(row..row + 4)
+        .and_then(|values| <&mut [f64; 4]>::try_from(values).ok())
+}
+
 /// Rows `row..row + 4` of the expanded Joseph update, upper triangle, in one pass: the
 /// host's form of `joseph_row_pair` (the same [`joseph_element`] per element, so the same
 /// bits), four rows at a time so each column's four values are one 256-bit vector on
-/// x86-64-v3 and each row's coefficients a vector register (sixteen of them there; the
-/// Cortex-M7's sixteen scalar registers hold two rows' only). Column `row + c` of the first
-/// four reaches rows `row..=row + c`. Returns one sum of new values per row (four
-/// independent chains of additions; finite only if every value is).
+/// x86-64-v3 and each row's coefficients, by term ([`by_term`]), a vector register (sixteen
+/// of them there; the Cortex-M7's sixteen scalar registers hold two rows' only). Column
+/// `row + c` of the first four reaches rows `row..=row + c` (element by element); the
+/// others are whole vectors ([`joseph_lanes`]). Returns one sum of new values per row
+/// (four independent chains of additions, kept in a register; finite only if every value
+/// is).
 #[cfg(any(test, not(target_arch = "arm")))]
 #[inline(always)]
 fn joseph_row_quad(
@@ -316,16 +397,6 @@ fn joseph_row_quad(
     products: &StateRows,
 ) -> [f64; 4] {
     let mut sums = [0.0; 4];
-    // Rows `row..row + length` of one column (four, except next to the diagonal).
-    let mut update = |column: &mut [f64; STATE_DIMENSION], length: usize, kj: Row, mj: Row| {
-        if let Some(values) = column.get_mut(row..row + length) {
-            let rows = values.iter_mut().zip(n.iter().zip(k)).zip(sums.iter_mut());
-            for ((value, (ni, ki)), sum) in rows {
-                *value = joseph_element(*value, *ni, *ki, kj, mj);
-                *sum += *value;
-            }
-        }
-    };
     let all = (
         columns.get_mut(row..),
         gains.get(row..),
@@ -334,15 +405,25 @@ fn joseph_row_quad(
     let (Some(all_columns), Some(all_gains), Some(all_products)) = all else {
         return sums;
     };
+    let terms = (&by_term(n), &by_term(k));
     let mut triples = all_columns.iter_mut().zip(all_gains).zip(all_products);
-    // The first four columns reach the diagonal: column `row + c` has c + 1 rows.
-    for length in 1..=4 {
+    // The first four columns reach the diagonal: column `row + c` has rows `row..=row + c`
+    // only; its lanes below the diagonal (old lower-triangle values, whatever they are) are
+    // computed and discarded, so every column is one vector.
+    for c in 0..4 {
         if let Some(((column, kj), mj)) = triples.next() {
-            update(column, length, *kj, *mj);
+            if let Some(values) = quad_of(column, row) {
+                let new = joseph_lanes(*values, terms, *kj, *mj);
+                *values = on_and_above(c, new, *values);
+                sums = add_lanes(sums, on_and_above(c, new, [0.0; 4]));
+            }
         }
     }
     for ((column, kj), mj) in triples {
-        update(column, 4, *kj, *mj);
+        if let Some(values) = quad_of(column, row) {
+            *values = joseph_lanes(*values, terms, *kj, *mj);
+            sums = add_lanes(sums, *values);
+        }
     }
     sums
 }
@@ -374,7 +455,7 @@ fn joseph_upper_by_four(
         }
     }
     let [a, b, c, d] = sums;
-    (a + b) + (c + d)
+    a + b + c + d
 }
 
 /// Whether every element of the upper triangle is finite: the exact check when the sum of
@@ -418,7 +499,10 @@ pub(crate) fn joseph_update(
     #[cfg(not(target_arch = "arm"))]
     let sum = joseph_upper_by_four(&mut p.data.0, gains, products, &s);
     if sum.is_finite() || upper_triangle_is_finite(p) {
+        #[cfg(target_arch = "arm")]
         block::mirror_upper_to_lower(p, STATE_DIMENSION);
+        #[cfg(not(target_arch = "arm"))]
+        block::mirror_upper_to_lower_by_tiles(p);
         true
     } else {
         block::mirror_lower_to_upper(p, STATE_DIMENSION);
