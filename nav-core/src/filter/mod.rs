@@ -669,8 +669,16 @@ impl ErrorStateFilter {
     /// ([`crate::structured`]).
     pub fn reset(&mut self) -> ErrorState {
         let error = self.state;
+        self.reset_in_place();
+        error
+    }
+
+    /// [`ErrorStateFilter::reset`] for a caller that has read the error state already
+    /// ([`ErrorStateFilter::state`]): nothing is returned, so the 192-byte state is not
+    /// copied (~190 instructions on the target).
+    pub fn reset_in_place(&mut self) {
         let [attitude, installation] =
-            [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&error, block));
+            [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&self.state, block));
         structured::reset_covariance(&mut self.covariance, &attitude, &installation);
         if self.gnss_error.is_enabled() {
             self.gnss_error.reset(
@@ -679,7 +687,6 @@ impl ErrorStateFilter {
             );
         }
         self.state = ErrorState::zeros();
-        error
     }
 
     /// In open loop, the current estimate of the error of one block (for reporting).
