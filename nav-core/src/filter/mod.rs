@@ -616,10 +616,14 @@ impl ErrorStateFilter {
         if !structured::corrected_state_is_finite(&self.state, &gains, &innovation) {
             return Err(NavError::NonFiniteState);
         }
+        // The kernels read a copy of `S` (nine values): the report's own is then written
+        // into the result directly, where one whose address the kernels take is copied
+        // there with the innovation (~200 instructions on the target).
+        let s = covariance;
         if let Some(border) = &border {
-            let solved = (&cholesky, &covariance);
+            let solved = (&cholesky, &s);
             self.update_border_and_covariance(border, &gains, &observed, solved, &innovation)?;
-        } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &covariance) {
+        } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &s) {
             return Err(NavError::NonFiniteState);
         }
         structured::add_gain_times(&mut self.state, &gains, &innovation);
