@@ -116,6 +116,19 @@ impl FilterArithmetic {
             Self::DenseReference => dense::reset(filter),
         }
     }
+
+    /// The closed-loop reset for a caller that has read the error state already
+    /// ([`ErrorStateFilter::reset_in_place`]).
+    #[inline(always)]
+    pub fn reset_in_place(self, filter: &mut ErrorStateFilter) {
+        match self {
+            Self::Structured => filter.reset_in_place(),
+            #[cfg(any(test, feature = "dense-reference"))]
+            Self::DenseReference => {
+                dense::reset(filter);
+            }
+        }
+    }
 }
 
 /// The dense branches, each in its own never-inlined function: inlined, their 24×24

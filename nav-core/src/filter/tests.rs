@@ -538,3 +538,84 @@ fn an_overflowing_nis_is_an_error() {
         Err(NavError::NonPositiveInnovationCovariance)
     );
 }
+
+/// `apply_error_state` changes nothing when it fails (the scheduler's feedback applies it
+/// to its navigation solution and calibration in place): a non-finite error, an attitude
+/// correction with |ϑ| ≥ 1, and an installation correction with |ψ| ≥ 1 after a valid
+/// attitude correction.
+#[test]
+fn a_failed_feedback_changes_nothing() {
+    let mut valid = ErrorState::zeros();
+    for (index, value) in valid.iter_mut().enumerate() {
+        *value = 1e-3 * (index as f64 + 1.0);
+    }
+    let cases = [
+        (ATTITUDE.index(), f64::NAN),
+        (ATTITUDE.index(), 1.5),
+        (STAR_INSTALLATION.index(), 1.5),
+    ];
+    for (index, value) in cases {
+        let mut error = valid;
+        error[index] = value;
+        let attitude_before = Quaternion::new(0.5, 0.5, -0.5, 0.5);
+        let position_before = Vector3::new(1.0e5, 2.0e5, 3.0e5);
+        let velocity_before = Vector3::new(7.5e3, 10.0, -20.0);
+        let calibration_before = CalibrationEstimate {
+            gyro_bias_rad_s: [1e-5, 2e-5, 3e-5],
+            ..CalibrationEstimate::default()
+        };
+        let (mut attitude, mut position, mut velocity, mut calibration) = (
+            attitude_before,
+            position_before,
+            velocity_before,
+            calibration_before,
+        );
+        assert!(apply_error_state(
+            &error,
+            &mut attitude,
+            &mut position,
+            &mut velocity,
+            &mut calibration
+        )
+        .is_err());
+        assert_eq!(attitude, attitude_before, "case {index} {value}");
+        assert_eq!(position, position_before);
+        assert_eq!(velocity, velocity_before);
+        assert_eq!(calibration, calibration_before);
+    }
+}
+
+/// `reset_in_place` is `reset` without the returned error state: the same filter, bit for
+/// bit, with and without the correlated GNSS error states.
+#[test]
+fn reset_in_place_equals_reset() {
+    for gnss_error in [
+        crate::gnss_error::GnssErrorModel::WHITE,
+        crate::gnss_error::GnssErrorModel {
+            sigma_m: 8.0,
+            correlation_time_s: 300.0,
+        },
+    ] {
+        let mut filter = ErrorStateFilter::new(&FilterConfig {
+            gnss_error,
+            ..config(FilterMode::ClosedLoop)
+        })
+        .unwrap();
+        let mut jacobian = MeasurementJacobian::zeros();
+        set_block(&mut jacobian, 0, ATTITUDE, &Matrix3::identity());
+        set_block(&mut jacobian, 0, STAR_INSTALLATION, &Matrix3::identity());
+        let measurement = LinearMeasurement {
+            residual: Vector3::new(2e-3, -1e-3, 3e-3),
+            jacobian,
+            noise_covariance: Matrix3::identity() * 1e-8,
+            gnss_error_coefficient: 0.0,
+        };
+        filter.update(&measurement, f64::INFINITY).unwrap();
+        let (mut returned, mut in_place) = (filter, filter);
+        let error = returned.reset();
+        in_place.reset_in_place();
+        assert_eq!(&error, filter.state());
+        assert_eq!(returned, in_place);
+        assert_eq!(in_place.state(), &ErrorState::zeros());
+    }
+}

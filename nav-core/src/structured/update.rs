@@ -37,7 +37,11 @@ impl<'a> ObservedCovariance<'a> {
                 projected = mul_transpose_add(&projected, &transpose(&[*m0, *m1, *m2]), &h);
             }
         }
-        if let Some((cross, border)) = border {
+        // With `h_ε = 0` (a star or velocity measurement) the border adds `0·C_j` and zeros:
+        // `M` and `H P Hᵀ` are sums started from +0, never −0, so adding ±0 leaves every
+        // bit as it is and is skipped (a non-finite `C` would still fail the update, through
+        // `M_ε = Gᵀ`).
+        if let Some((cross, border)) = border.filter(|(_, border)| border.coefficient != 0.0) {
             add_border(products, &mut projected, cross, border);
         }
         Self {
