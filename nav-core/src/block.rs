@@ -61,8 +61,7 @@ pub(crate) fn dot(a: Row, b: Row) -> f64 {
     a0 * b0 + a1 * b1 + a2 * b2
 }
 
-/// `c + a · b = ((c + a0 b0) + a1 b1) + a2 b2` (the order of [`mul_transpose_add`]).
-#[cfg(any(test, target_arch = "arm"))]
+/// `c + a · b = ((c + a0 b0) + a1 b1) + a2 b2` (each element of [`mul_transpose_add`]).
 #[inline(always)]
 pub(crate) fn dot_add(c: f64, a: Row, b: Row) -> f64 {
     let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
@@ -105,14 +104,8 @@ pub(crate) fn mul_transpose(a: &Block, b: &Block) -> Block {
 pub(crate) fn mul_transpose_add(acc: &Block, a: &Block, b: &Block) -> Block {
     let ([r0, r1, r2], [a0, a1, a2], [b0, b1, b2]) = (*acc, *a, *b);
     // ((c + a0 b0) + a1 b1) + a2 b2: three multiply-accumulates per element.
-    let accumulate = |c: f64, [x, y, z]: Row, [p, q, r]: Row| c + x * p + y * q + z * r;
-    let row = |[c0, c1, c2]: Row, a: Row| {
-        [
-            accumulate(c0, a, b0),
-            accumulate(c1, a, b1),
-            accumulate(c2, a, b2),
-        ]
-    };
+    let row =
+        |[c0, c1, c2]: Row, a: Row| [dot_add(c0, a, b0), dot_add(c1, a, b1), dot_add(c2, a, b2)];
     [row(r0, a0), row(r1, a1), row(r2, a2)]
 }
 
