@@ -5,6 +5,7 @@
 //! * semihosting exit codes, and a HardFault handler that exits QEMU with failure;
 //! * the instruction-count harness ([`cost`]), based on SysTick under `-icount shift=0`;
 //! * the 500 Hz SysTick frame ([`frame_clock`]) and the serial lines ([`cmsdk_uart`]);
+//! * the flight software built in its static slot ([`flight_start`]);
 //! * the stack high-water mark ([`stack`]) from cortex-m-rt's stack painting;
 //! * the short scheduler scenario the cost checks and the profiler share ([`scenario`]).
 #![no_std]
@@ -12,6 +13,7 @@
 
 pub mod cmsdk_uart;
 pub mod cost;
+pub mod flight_start;
 pub mod frame_clock;
 pub mod host_file;
 pub mod logger;

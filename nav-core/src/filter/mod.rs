@@ -14,6 +14,8 @@
 //!
 //! Every failure is a typed [`NavError`] and leaves the filter exactly as it was.
 
+use core::mem::MaybeUninit;
+
 use nalgebra::{Cholesky, Matrix3, Quaternion, SVector, Vector3};
 
 use crate::attitude::{self, skew};
@@ -99,6 +101,48 @@ impl FilterConfig {
         } else {
             Err(NavError::InvalidConfiguration)
         }
+    }
+
+    /// The diagonal of the initial `P` (every state's configured 1σ squared, the values
+    /// [`ErrorStateFilter::new`] puts there), without building a filter.
+    ///
+    /// # Errors
+    /// As [`FilterConfig::validate`].
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::state::{ATTITUDE, POSITION};
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let variances = config.initial_variances()?;
+    /// assert_eq!(variances[POSITION.index()], 100.0);
+    /// // The attitude states are half-angles: (½ · 1 mrad)².
+    /// assert!((variances[ATTITUDE.index()] - 0.25e-6).abs() < 1e-21);
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn initial_variances(&self) -> Result<ErrorState, NavError> {
+        self.validate()?;
+        let mut variances = ErrorState::zeros();
+        for (block, sigma) in self.initial_sigmas() {
+            let first = block.index();
+            let states = first..first.saturating_add(block.dimension());
+            for variance in variances
+                .as_mut_slice()
+                .get_mut(states)
+                .into_iter()
+                .flatten()
+            {
+                *variance = sigma * sigma;
+            }
+        }
+        Ok(variances)
     }
 
     /// 1σ of each block's state (the attitude and installation states are half-angles).
@@ -251,21 +295,65 @@ impl ErrorStateFilter {
     /// As [`FilterConfig::validate`].
     pub fn new(config: &FilterConfig) -> Result<Self, NavError> {
         config.validate()?;
-        let mut covariance = CovarianceMatrix::zeros();
+        let mut filter = Self {
+            state: ErrorState::zeros(),
+            covariance: CovarianceMatrix::zeros(),
+            mode: config.mode,
+            gnss_error: GnssErrorStates::new(config.gnss_error)?,
+        };
+        filter.set_initial_covariance(config);
+        Ok(filter)
+    }
+
+    /// [`ErrorStateFilter::new`] written into `slot` (a field of a larger structure, or a
+    /// `static`), where it stays: its 6 kB are not built on the stack first and moved.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::new`]; `slot` is not written then.
+    ///
+    /// # Examples
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let mut slot = MaybeUninit::uninit();
+    /// let filter = ErrorStateFilter::init_in_place(&mut slot, &config)?;
+    /// assert_eq!(filter.covariance(), ErrorStateFilter::new(&config)?.covariance());
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn init_in_place<'slot>(
+        slot: &'slot mut MaybeUninit<Self>,
+        config: &FilterConfig,
+    ) -> Result<&'slot mut Self, NavError> {
+        config.validate()?;
+        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        let filter = slot.write(Self {
+            state: ErrorState::zeros(),
+            covariance: CovarianceMatrix::zeros(),
+            mode: config.mode,
+            gnss_error,
+        });
+        filter.set_initial_covariance(config);
+        Ok(filter)
+    }
+
+    /// `P = diag(σ²)` of a validated configuration, on a zero `P`.
+    fn set_initial_covariance(&mut self, config: &FilterConfig) {
         for (block, sigma) in config.initial_sigmas() {
             set_block(
-                &mut covariance,
+                &mut self.covariance,
                 block,
                 block,
                 &(Matrix3::identity() * (sigma * sigma)),
             );
         }
-        Ok(Self {
-            state: ErrorState::zeros(),
-            covariance,
-            mode: config.mode,
-            gnss_error: GnssErrorStates::new(config.gnss_error)?,
-        })
     }
 
     /// The correlated GNSS error states ([`crate::gnss_error`]).

@@ -619,3 +619,37 @@ fn reset_in_place_equals_reset() {
         assert_eq!(in_place.state(), &ErrorState::zeros());
     }
 }
+
+/// `init_in_place` builds the filter `new` builds, bit for bit, with and without the
+/// correlated GNSS error states, and refuses what `new` refuses; `initial_variances` is the
+/// filter's diagonal.
+#[test]
+fn init_in_place_equals_new_and_refuses_without_writing() {
+    for gnss_error in [
+        crate::gnss_error::GnssErrorModel::WHITE,
+        crate::gnss_error::GnssErrorModel {
+            sigma_m: 8.0,
+            correlation_time_s: 300.0,
+        },
+    ] {
+        let config = FilterConfig {
+            gnss_error,
+            ..config(FilterMode::ClosedLoop)
+        };
+        let built = ErrorStateFilter::new(&config).unwrap();
+        let mut slot = core::mem::MaybeUninit::uninit();
+        let in_place = *ErrorStateFilter::init_in_place(&mut slot, &config).unwrap();
+        assert_eq!(in_place, built);
+        let diagonal = built.covariance().diagonal();
+        let variances = config.initial_variances().unwrap();
+        assert_eq!(variances.map(f64::to_bits), diagonal.map(f64::to_bits));
+        let mut refused = config;
+        refused.initial.velocity_mps = f64::NAN;
+        let mut unused = core::mem::MaybeUninit::uninit();
+        assert_eq!(
+            ErrorStateFilter::init_in_place(&mut unused, &refused).err(),
+            Some(NavError::InvalidConfiguration)
+        );
+        assert_eq!(refused.initial_variances(), Err(NavError::InvalidConfiguration));
+    }
+}

@@ -46,26 +46,20 @@ fn write_variance_bounds(
     ceiling: &mut MaybeUninit<ErrorState>,
     config: &FswConfig,
 ) -> Result<(), NavError> {
-    floor.write(initial_variances(&FilterConfig {
+    let floor_config = FilterConfig {
         initial: config.covariance.sigma_floor,
         ..config.filter
-    })?);
+    };
+    floor.write(floor_config.initial_variances()?);
     let ceiling_factor = config.covariance.sigma_ceiling_factor;
-    ceiling.write(initial_variances(&config.filter)? * (ceiling_factor * ceiling_factor));
+    ceiling.write(config.filter.initial_variances()? * (ceiling_factor * ceiling_factor));
     Ok(())
 }
 
-/// The diagonal of the initial `P` of a filter configured with `config`. Not inlined: the
-/// filter built for it (6 kB) lives in this function's frame only.
-#[inline(never)]
-fn initial_variances(config: &FilterConfig) -> Result<ErrorState, NavError> {
-    Ok(ErrorStateFilter::new(config)?.covariance().diagonal())
-}
-
-/// Builds one member into its field of the slot. Not inlined: the member's temporaries (the
-/// filter's are 6 kB) live in this function's frame only, one member at a time. The member
-/// is copied from where its constructor built it: moving it out of the `Result` first would
-/// add a second copy to the frame.
+/// Builds one member into its field of the slot. Not inlined: the member's temporaries live
+/// in this function's frame only, one member at a time. The member is copied from where its
+/// constructor built it: moving it out of the `Result` first would add a second copy to the
+/// frame.
 #[inline(never)]
 fn build_into<T: Copy, E: Copy>(
     field: &mut MaybeUninit<T>,
@@ -162,9 +156,10 @@ impl NavigationComputer {
                 &mut *addr_of_mut!((*computer).variance_ceiling).cast(),
                 &config,
             )?;
-            build_into(&mut *addr_of_mut!((*computer).filter).cast(), || {
-                ErrorStateFilter::new(&config.filter)
-            })?;
+            ErrorStateFilter::init_in_place(
+                &mut *addr_of_mut!((*computer).filter).cast(),
+                &config.filter,
+            )?;
             build_into(&mut *addr_of_mut!((*computer).launch_frame).cast(), || {
                 LaunchFrame::new(&config.launch_site)
                     .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))

@@ -18,8 +18,6 @@
 #![no_std]
 #![no_main]
 
-use core::mem::MaybeUninit;
-
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
@@ -27,6 +25,7 @@ use nav_fsw::replay::{
     output_words, FrameAssembler, FrameGrid, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
 };
 use nav_fsw::scheduler::NavigationComputer;
+use nav_qemu::flight_start::start_flight_software;
 use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
 use nav_qemu::host_file::{read_full, HostFile};
 use nav_qemu::{exit_failure, exit_success};
@@ -240,7 +239,7 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
     defmt::println!(
         "REPLAY frames={=u32} worst={=u32} overruns={=u32} budget={=u32} stack={=u32}/{=u32} bytes start-up stack={=u32} bytes",
         frames,
-        telemetry_worst(computer),
+        computer.worst_frame_cost(),
         health.frame_overruns,
         FRAME_BUDGET_INSTRUCTIONS,
         stack.high_water_bytes,
@@ -268,22 +267,6 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
     } else {
         exit_failure()
     }
-}
-
-/// Builds the flight software in place in its static slot: the stack holds only the
-/// construction's small parts, never the 25 kB computer.
-fn start_flight_software(setup: &ReplaySetup) -> Option<&'static mut NavigationComputer> {
-    let slot = cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())?;
-    let started = NavigationComputer::init_in_place(slot, setup.config(), setup.initial);
-    if started.is_err() {
-        defmt::error!("replay: configuration refused");
-    }
-    started.ok()
-}
-
-/// Worst frame cost reported so far (instructions).
-fn telemetry_worst(computer: &NavigationComputer) -> u32 {
-    computer.worst_frame_cost()
 }
 
 #[panic_handler]

@@ -21,15 +21,14 @@
 #![no_main]
 
 use core::convert::Infallible;
-use core::mem::MaybeUninit;
 
 use cortex_m_rt::entry;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
 use nav_fsw::replay::{output_words, FrameAssembler, FramePorts, ReplaySetup, SETUP_WORDS};
-use nav_fsw::scheduler::NavigationComputer;
 use nav_fsw::stream_merge::{ArrivalMerge, FiniteStream, LineSource};
 use nav_fsw::stream_ports::{RecordReader, StreamCounters};
 use nav_qemu::cmsdk_uart::CmsdkUart;
+use nav_qemu::flight_start::start_flight_software;
 use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
 use nav_qemu::{exit_failure, exit_success};
 
@@ -209,17 +208,6 @@ fn counter_words(counters: &StreamCounters) -> [u64; 4] {
         u64::from(counters.wrong_kind),
         u64::from(counters.read_errors),
     ]
-}
-
-/// Builds the flight software in place in its static slot: the stack holds only the
-/// construction's small parts, never the computer.
-fn start_flight_software(setup: &ReplaySetup) -> Option<&'static mut NavigationComputer> {
-    let slot = cortex_m::singleton!(: MaybeUninit<NavigationComputer> = MaybeUninit::uninit())?;
-    let started = NavigationComputer::init_in_place(slot, setup.config(), setup.initial);
-    if started.is_err() {
-        defmt::error!("uart replay: configuration refused");
-    }
-    started.ok()
 }
 
 #[panic_handler]
