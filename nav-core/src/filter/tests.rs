@@ -650,6 +650,9 @@ fn init_in_place_equals_new_and_refuses_without_writing() {
             ErrorStateFilter::init_in_place(&mut unused, &refused).err(),
             Some(NavError::InvalidConfiguration)
         );
-        assert_eq!(refused.initial_variances(), Err(NavError::InvalidConfiguration));
+        assert_eq!(
+            refused.initial_variances(),
+            Err(NavError::InvalidConfiguration)
+        );
     }
 }

@@ -293,6 +293,53 @@ impl FrameAssembler {
         Some(frame)
     }
 
+    /// The next complete frame, taking records from `source` (delivery order; `None` at its
+    /// end, after which the assembler finishes and `source` is not called again) until one
+    /// is ready; `Ok(None)` once every frame has been taken. Each pass of the loop consumes
+    /// one record, so it ends with the source.
+    ///
+    /// # Errors
+    /// [`FrameAssemblyError`] for a refused record ([`FrameAssembler::push`]); the records
+    /// taken before it stay in the assembler.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_fsw::log_record::{ImuRecord, LogRecord};
+    /// use nav_fsw::replay::{FrameAssembler, FrameGrid};
+    ///
+    /// let grid = FrameGrid { start_time_s: 0.0, period_s: 0.002, tolerance: 0.1, max_gap_s: 10.0 };
+    /// let mut assembler = FrameAssembler::new(grid)?;
+    /// let imu = |sequence: u64, time_s: f64| LogRecord::Imu(ImuRecord {
+    ///     sequence,
+    ///     time_s,
+    ///     interval_s: 0.002,
+    ///     delta_angle_rad: [0.0; 3],
+    ///     delta_velocity_mps: [0.0; 3],
+    /// });
+    /// // Sample 2 (ending at 6 ms) is missing from the log.
+    /// let mut log = [imu(0, 0.002), imu(1, 0.004), imu(3, 0.008)].into_iter();
+    /// let mut sequences = Vec::new();
+    /// while let Some(frame) = assembler.next_frame_from(|| log.next())? {
+    ///     sequences.push(frame.imu.0.map(|s| s.sequence));
+    /// }
+    /// assert_eq!(sequences, [Some(0), Some(1), None, Some(3)]);
+    /// # Ok::<(), nav_fsw::replay::FrameAssemblyError>(())
+    /// ```
+    pub fn next_frame_from(
+        &mut self,
+        mut source: impl FnMut() -> Option<LogRecord>,
+    ) -> Result<Option<FramePorts>, FrameAssemblyError> {
+        let mut next = self.next_frame();
+        while next.is_none() && !self.ended {
+            match source() {
+                Some(record) => self.push(&record)?,
+                None => self.finish(),
+            }
+            next = self.next_frame();
+        }
+        Ok(next)
+    }
+
     /// What the assembler did so far.
     pub fn counts(&self) -> AssemblyCounts {
         self.counts

@@ -22,7 +22,7 @@ use cortex_m::peripheral::SYST;
 use cortex_m_rt::entry;
 use nav_fsw::log_record::{decode_header, LogRecord, HEADER_SIZE, RECORD_SIZE};
 use nav_fsw::replay::{
-    output_words, FrameAssembler, FrameGrid, FramePorts, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
+    output_words, FrameAssembler, FrameGrid, ReplaySetup, OUTPUT_WORDS, SETUP_WORDS,
 };
 use nav_fsw::scheduler::NavigationComputer;
 use nav_qemu::flight_start::start_flight_software;
@@ -180,31 +180,20 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
         exit_failure()
     };
     let mut frames = 0_u32;
-    let mut log_ended = false;
     let mut clock = FrameClock::start(systick);
     loop {
-        // Assemble the next frame from the log (outside the measured frame); every ready
-        // frame is taken before the next record is pushed.
-        let mut next: Option<FramePorts> = assembler.next_frame();
-        while next.is_none() && !log_ended {
-            match log.next() {
-                Ok(Some(record)) => {
-                    if let Err(error) = assembler.push(&record) {
-                        defmt::error!("replay: log refused: {}", error);
-                        exit_failure()
-                    }
-                    next = assembler.next_frame();
-                }
-                Ok(None) => {
-                    log_ended = true;
-                    assembler.finish();
-                    next = assembler.next_frame();
-                }
-                Err(()) => exit_failure(),
+        // The next frame from the log (outside the measured frame).
+        let next = assembler.next_frame_from(|| match log.next() {
+            Ok(record) => record,
+            Err(()) => exit_failure(),
+        });
+        let mut ports = match next {
+            Ok(Some(ports)) => ports,
+            Ok(None) => break,
+            Err(error) => {
+                defmt::error!("replay: log refused: {}", error);
+                exit_failure()
             }
-        }
-        let Some(mut ports) = next else {
-            break;
         };
         let (telemetry, cost) = clock.run_frame(|| ports.run(computer));
         computer.report_frame_cost(cost);
@@ -219,21 +208,12 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
         }
         out_frames += 1;
         frames += 1;
-        if out_frames == FRAMES_PER_WRITE || log_ended {
-            let words = out_words.get(..out_frames * FRAME_WORDS).unwrap_or(&[]);
-            for (chunk, word) in out_bytes.chunks_exact_mut(8).zip(words) {
-                chunk.copy_from_slice(&word.to_le_bytes());
-            }
-            if output
-                .write_all(out_bytes.get(..words.len() * 8).unwrap_or(&[]))
-                .is_err()
-            {
-                defmt::error!("replay: output write failed");
-                exit_failure()
-            }
+        if out_frames == FRAMES_PER_WRITE {
+            write_frames(&mut output, out_words, out_frames, out_bytes);
             out_frames = 0;
         }
     }
+    write_frames(&mut output, out_words, out_frames, out_bytes);
     let health = computer.health();
     let stack = nav_qemu::stack::usage();
     defmt::println!(
@@ -265,6 +245,22 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
     if frames > 0 && health.frame_overruns == 0 {
         exit_success()
     } else {
+        exit_failure()
+    }
+}
+
+/// Writes the first `frames` frames of `words` to `output` as little-endian bytes (through
+/// `bytes`); a failed write ends the replay with a failure.
+fn write_frames(output: &mut HostFile, words: &[u64], frames: usize, bytes: &mut [u8]) {
+    let words = words.get(..frames * FRAME_WORDS).unwrap_or(&[]);
+    for (chunk, word) in bytes.chunks_exact_mut(8).zip(words) {
+        chunk.copy_from_slice(&word.to_le_bytes());
+    }
+    if output
+        .write_all(bytes.get(..words.len() * 8).unwrap_or(&[]))
+        .is_err()
+    {
+        defmt::error!("replay: output write failed");
         exit_failure()
     }
 }

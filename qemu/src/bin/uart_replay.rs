@@ -24,7 +24,7 @@ use core::convert::Infallible;
 
 use cortex_m_rt::entry;
 use embedded_io::{ErrorType, Read, ReadReady, Write};
-use nav_fsw::replay::{output_words, FrameAssembler, FramePorts, ReplaySetup, SETUP_WORDS};
+use nav_fsw::replay::{output_words, FrameAssembler, ReplaySetup, SETUP_WORDS};
 use nav_fsw::stream_merge::{ArrivalMerge, FiniteStream, LineSource};
 use nav_fsw::stream_ports::{RecordReader, StreamCounters};
 use nav_qemu::cmsdk_uart::CmsdkUart;
@@ -140,10 +140,14 @@ fn main() -> ! {
     let mut lines = ArrivalMerge::new(imu, star, gnss);
     let mut clock = FrameClock::start(peripherals.SYST);
     let mut frames = 0_u32;
-    let mut lines_ended = false;
     loop {
-        let Some(mut ports) = next_frame(&mut assembler, &mut lines, &mut lines_ended) else {
-            break;
+        let mut ports = match assembler.next_frame_from(|| lines.next_record()) {
+            Ok(Some(ports)) => ports,
+            Ok(None) => break,
+            Err(error) => {
+                defmt::error!("uart replay: record refused: {}", error);
+                exit_failure()
+            }
         };
         let (telemetry, cost) = clock.run_frame(|| ports.run(computer));
         computer.report_frame_cost(cost);
@@ -173,32 +177,6 @@ fn main() -> ! {
     } else {
         exit_failure()
     }
-}
-
-/// The next complete frame, taking records from the lines until one is ready; `None` at the
-/// end of every line. A refused record ends the replay with a failure, as in `replay`.
-fn next_frame(
-    assembler: &mut FrameAssembler,
-    lines: &mut ArrivalMerge<Line, Line, Line>,
-    lines_ended: &mut bool,
-) -> Option<FramePorts> {
-    let mut next = assembler.next_frame();
-    while next.is_none() && !*lines_ended {
-        match lines.next_record() {
-            Some(record) => {
-                if let Err(error) = assembler.push(&record) {
-                    defmt::error!("uart replay: record refused: {}", error);
-                    exit_failure()
-                }
-            }
-            None => {
-                *lines_ended = true;
-                assembler.finish();
-            }
-        }
-        next = assembler.next_frame();
-    }
-    next
 }
 
 fn counter_words(counters: &StreamCounters) -> [u64; 4] {
