@@ -585,17 +585,20 @@ fn a_failed_feedback_changes_nothing() {
     }
 }
 
+/// The paper's white GNSS errors and a correlated-error model with its border states.
+const WITH_AND_WITHOUT_GNSS_ERROR_STATES: [crate::gnss_error::GnssErrorModel; 2] = [
+    crate::gnss_error::GnssErrorModel::WHITE,
+    crate::gnss_error::GnssErrorModel {
+        sigma_m: 8.0,
+        correlation_time_s: 300.0,
+    },
+];
+
 /// `reset_in_place` is `reset` without the returned error state: the same filter, bit for
 /// bit, with and without the correlated GNSS error states.
 #[test]
 fn reset_in_place_equals_reset() {
-    for gnss_error in [
-        crate::gnss_error::GnssErrorModel::WHITE,
-        crate::gnss_error::GnssErrorModel {
-            sigma_m: 8.0,
-            correlation_time_s: 300.0,
-        },
-    ] {
+    for gnss_error in WITH_AND_WITHOUT_GNSS_ERROR_STATES {
         let mut filter = ErrorStateFilter::new(&FilterConfig {
             gnss_error,
             ..config(FilterMode::ClosedLoop)
@@ -624,14 +627,8 @@ fn reset_in_place_equals_reset() {
 /// correlated GNSS error states, and refuses what `new` refuses; `initial_variances` is the
 /// filter's diagonal.
 #[test]
-fn init_in_place_equals_new_and_refuses_without_writing() {
-    for gnss_error in [
-        crate::gnss_error::GnssErrorModel::WHITE,
-        crate::gnss_error::GnssErrorModel {
-            sigma_m: 8.0,
-            correlation_time_s: 300.0,
-        },
-    ] {
+fn init_in_place_equals_new_and_refuses_what_new_refuses() {
+    for gnss_error in WITH_AND_WITHOUT_GNSS_ERROR_STATES {
         let config = FilterConfig {
             gnss_error,
             ..config(FilterMode::ClosedLoop)
