@@ -30,7 +30,7 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::block::{self, dot, row_add, row_scale, Block, FiniteCheck, Row, ZERO};
 use crate::measurement::MeasurementJacobian;
-use crate::state::STATE_DIMENSION;
+use crate::state::{BlockMask, STATE_DIMENSION};
 use crate::structured::StateRows;
 use crate::NavError;
 
@@ -327,8 +327,16 @@ impl GnssErrorStates {
     }
 
     /// The border's part of an update with Jacobian `H_x` and coefficient `h_ε` (module
-    /// docs): `G = H_x C`, then `S`'s and `M_ε`'s terms.
-    pub(crate) fn border(&self, jacobian: &MeasurementJacobian, coefficient: f64) -> Border {
+    /// docs): `G = H_x C`, then `S`'s and `M_ε`'s terms; `observed` marks the 3×3 blocks of
+    /// `H_x` that are not all zero (`crate::structured::observed_blocks`, found once per
+    /// update). With `h_ε = 0` (a star or velocity measurement) the `S` term is not formed:
+    /// it is zero, and the update does not read it then.
+    pub(crate) fn border(
+        &self,
+        jacobian: &MeasurementJacobian,
+        observed: &[bool; STATE_DIMENSION / 3],
+        coefficient: f64,
+    ) -> Border {
         // G = Σ_K H_K C_K over the 3×3 blocks K of H that are not all zero (a star or GNSS
         // measurement has two to five of the eight).
         let mut g = ZERO;
@@ -336,11 +344,9 @@ impl GnssErrorStates {
             .data
             .0
             .chunks_exact(3)
-            .zip(self.rows().chunks_exact(3));
-        for (h_columns, c_rows) in columns {
-            if h_columns.iter().flatten().all(|value| *value == 0.0) {
-                continue;
-            }
+            .zip(self.rows().chunks_exact(3))
+            .zip(observed);
+        for ((h_columns, c_rows), _) in columns.filter(|(_, observed)| **observed) {
             for (h_column, c_row) in h_columns.iter().zip(c_rows) {
                 for (g_row, h) in g.iter_mut().zip(h_column) {
                     *g_row = block::row_add_scaled(*g_row, *c_row, *h);
@@ -348,11 +354,15 @@ impl GnssErrorStates {
             }
         }
         let g_transpose = block::transpose(&g);
-        let projected = block::add_scaled(
-            &block::scale(&block::add(&g, &g_transpose), coefficient),
-            &self.covariance,
-            coefficient * coefficient,
-        );
+        let projected = if coefficient == 0.0 {
+            ZERO
+        } else {
+            block::add_scaled(
+                &block::scale(&block::add(&g, &g_transpose), coefficient),
+                &self.covariance,
+                coefficient * coefficient,
+            )
+        };
         let products = block::add_scaled(&g_transpose, &self.covariance, coefficient);
         Border {
             coefficient,
@@ -371,38 +381,22 @@ impl GnssErrorStates {
         Vector3::from(row_scale(self.estimate, coefficient))
     }
 
-    /// The border after the update with gains `K_x` (`gains`), `M_x` (`products`), `S⁻¹`
-    /// (`solve`) and innovation `ν` (module docs): the new `C` (per element
-    /// `C⁺_ia = C_ia + N_i·K_εa − K_i·M_εa`) into the spare buffer, which
-    /// [`GnssErrorStates::commit`] makes active; the new `ε̂` and `P_εε` returned; `None`
-    /// if anything is not finite (`C` unchanged).
+    /// The border after the update with gains `K_x` (`gains`, zero on the rows of the
+    /// `frozen` blocks), `M_x` (`products`), `S⁻¹` (`solve`) and innovation `ν` (module
+    /// docs): the new `C` (per element `C⁺_ia = C_ia + N_i·K_εa − K_i·M_εa`) into the spare
+    /// buffer, which [`GnssErrorStates::commit`] makes active; the new `ε̂` and `P_εε`
+    /// returned; `None` if anything is not finite (`C` unchanged).
     pub(crate) fn updated(
         &mut self,
         border: &Border,
-        (gains, products): (&StateRows, &StateRows),
+        (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
     ) -> Option<(Row, Block)> {
-        let (old_rows, cross) = self.rows_and_spare();
         let [m0, m1, m2] = border.products;
-        let [k0, k1, k2] = [solve(m0), solve(m1), solve(m2)];
-        // The expanded Joseph form `P_ij + N_i·K_j − K_i·M_j` with `N_i = K_i S − M_i`:
-        // `K_i S = M_i` (to round-off) for every row the update moves, so `N_i = 0` there,
-        // and `N_i = −M_i` for a frozen row (`K_i = 0`); each element takes one product.
-        let mut check = FiniteCheck::new();
-        let rows = cross
-            .iter_mut()
-            .zip(old_rows)
-            .zip(gains.iter().zip(products));
-        for ((new, [c0, c1, c2]), (k, m)) in rows {
-            let (left, [r0, r1, r2]) = if k.iter().all(|gain| *gain == 0.0) {
-                (*m, [k0, k1, k2])
-            } else {
-                (*k, [m0, m1, m2])
-            };
-            *new = [c0 - dot(left, r0), c1 - dot(left, r1), c2 - dot(left, r2)];
-            check.row(new);
-        }
+        let k = [solve(m0), solve(m1), solve(m2)];
+        let cross_finite = self.update_cross(border, (gains, products, frozen), &k);
+        let [k0, k1, k2] = k;
         let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = self.covariance;
         // Upper triangle, mirrored: exactly symmetric. The ε rows are never frozen.
         let (q00, q01, q02) = (p00 - dot(k0, m0), p01 - dot(k0, m1), p02 - dot(k0, m2));
@@ -416,9 +410,55 @@ impl GnssErrorStates {
                 dot(k2, innovation),
             ],
         );
+        let mut check = FiniteCheck::new();
         check.block(&covariance);
         check.row(&estimate);
-        check.all_finite().then_some((estimate, covariance))
+        (cross_finite && check.all_finite()).then_some((estimate, covariance))
+    }
+
+    /// The new `C` of [`GnssErrorStates::updated`] into the spare buffer, with the border's
+    /// gains `K_ε` (`border_gains`, rows `a`); whether every value is finite.
+    ///
+    /// The expanded Joseph form `P_ij + N_i·K_j − K_i·M_j` with `N_i = K_i S − M_i`:
+    /// `K_i S = M_i` (to round-off) for every row the update moves, so `N_i = 0` there,
+    /// and `N_i = −M_i` for a frozen row (`K_i = 0`); each element takes one product. The
+    /// rows go by state blocks, so each block's three `M_ε` (or `K_ε`) rows stay in
+    /// registers over its rows; the check is the sum of the new values, finite only if
+    /// every one is (the exact check when it is not: a sum also overflows when large finite
+    /// values add up).
+    fn update_cross(
+        &mut self,
+        border: &Border,
+        (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
+        border_gains: &[Row; 3],
+    ) -> bool {
+        let (old_rows, cross) = self.rows_and_spare();
+        let mut sum = 0.0;
+        let blocks = cross
+            .chunks_exact_mut(3)
+            .zip(old_rows.chunks_exact(3))
+            .zip(gains.chunks_exact(3).zip(products.chunks_exact(3)));
+        for (block, ((new_rows, old), (k, m))) in blocks.enumerate() {
+            let (left, [r0, r1, r2]) = if frozen.contains_state(3 * block) {
+                (m, *border_gains)
+            } else {
+                (k, border.products)
+            };
+            for ((new, [c0, c1, c2]), left) in new_rows.iter_mut().zip(old).zip(left) {
+                *new = [
+                    c0 - dot(*left, r0),
+                    c1 - dot(*left, r1),
+                    c2 - dot(*left, r2),
+                ];
+                let [a, b, c] = *new;
+                sum += a + b + c;
+            }
+        }
+        sum.is_finite() || {
+            let mut check = FiniteCheck::new();
+            cross.iter().for_each(|row| check.row(row));
+            check.all_finite()
+        }
     }
 
     /// Replaces `ε̂`, `P_εε` and `C` (the dense reference update writes its result).

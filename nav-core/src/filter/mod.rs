@@ -659,11 +659,11 @@ impl ErrorStateFilter {
         // H P = Mᵀ and H P Hᵀ, over the non-zero blocks of H.
         // The correlated GNSS error states' border (crate::gnss_error), when in use.
         let coefficient = measurement.gnss_error_coefficient;
+        let observed_blocks = structured::observed_blocks(h);
         let border = self
             .gnss_error
             .is_enabled()
-            .then(|| self.gnss_error.border(h, coefficient));
-        let observed_blocks = structured::observed_blocks(h);
+            .then(|| self.gnss_error.border(h, &observed_blocks, coefficient));
         let mut products = [[0.0; 3]; STATE_DIMENSION];
         let observed = structured::ObservedCovariance::new(
             &mut products,
@@ -709,7 +709,7 @@ impl ErrorStateFilter {
         // there with the innovation (~200 instructions on the target).
         let s = covariance;
         if let Some(border) = &border {
-            let solved = (&cholesky, &s);
+            let solved = (&cholesky, &s, frozen);
             self.update_border_and_covariance(border, &gains, &observed, solved, &innovation)?;
         } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &s) {
             return Err(NavError::NonFiniteState);
@@ -736,14 +736,14 @@ impl ErrorStateFilter {
         border: &crate::gnss_error::Border,
         gains: &structured::StateRows,
         observed: &structured::ObservedCovariance,
-        (cholesky, s): (&structured::Cholesky3, &Matrix3<f64>),
+        (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
         innovation: &Vector3<f64>,
     ) -> Result<(), NavError> {
         let (estimate, border_covariance) = self
             .gnss_error
             .updated(
                 border,
-                (gains, observed.products()),
+                (gains, observed.products(), frozen),
                 |row| cholesky.solve(row),
                 block::from_vector(innovation),
             )
