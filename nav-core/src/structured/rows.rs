@@ -308,7 +308,11 @@ pub(super) fn dynamic_blocks(
     // padded to [`PAIR_COLUMNS`] with zero columns (their sums are not read).
     let [position_blocks, velocity_blocks] = dynamic_rows_of_f(model);
     let f_rows: [[f64; 15]; PAIR_COLUMNS] = core::array::from_fn(|s| {
-        let blocks = if s < 3 { position_blocks } else { velocity_blocks };
+        let blocks = if s < 3 {
+            position_blocks
+        } else {
+            velocity_blocks
+        };
         if s < 6 {
             row_of_f(blocks, s % 3)
         } else {
