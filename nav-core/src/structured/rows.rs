@@ -287,6 +287,11 @@ pub(super) fn write_calibration_columns(p: &mut CovarianceMatrix, u: &ProjectedR
     }
 }
 
+/// Output columns of the new `P_dd` summed together in [`dynamic_blocks`]: the δp and δv
+/// columns, 6, padded to whole vector registers (8 with AVX's four lanes; 6 are three of
+/// SSE2's two, which need no padding). The padding's sums are not read.
+const PAIR_COLUMNS: usize = if cfg!(target_feature = "avx") { 8 } else { 6 };
+
 /// The new `P_dd` without noise, pairs ϑϑ, ϑp, ϑv, pp, pv, vv: element `(r, s)` is
 /// `Σ_k y_rk F_sk` over `y_r = (U_r,ϑpv, G_r, A_r)` (`U`'s dynamic columns, then its folded
 /// gyro and accelerometer columns `folded_gyro`, `folded_accel`), computed across the output
@@ -299,19 +304,22 @@ pub(super) fn dynamic_blocks(
     folded_gyro: &[Block; 3],
     folded_accel: &[Block; 3],
 ) -> [Block; 6] {
-    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s; two
-    // zero columns pad the 6 to 8, whole vector registers (their sums are not read).
+    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s,
+    // padded to [`PAIR_COLUMNS`] with zero columns (their sums are not read).
     let [position_blocks, velocity_blocks] = dynamic_rows_of_f(model);
-    let f_transposed = transposed(&[
-        row_of_f(position_blocks, 0),
-        row_of_f(position_blocks, 1),
-        row_of_f(position_blocks, 2),
-        row_of_f(velocity_blocks, 0),
-        row_of_f(velocity_blocks, 1),
-        row_of_f(velocity_blocks, 2),
-        [0.0; 15],
-        [0.0; 15],
-    ]);
+    let f_rows: [[f64; 15]; PAIR_COLUMNS] = core::array::from_fn(|s| {
+        let blocks = if s < 3 {
+            position_blocks
+        } else {
+            velocity_blocks
+        };
+        if s < 6 {
+            row_of_f(blocks, s % 3)
+        } else {
+            [0.0; 15]
+        }
+    });
+    let f_transposed = transposed(&f_rows);
     // Rows ϑ of F over (ϑ, bg), transposed: 6 terms of 3 columns, padded to 4 (not read).
     let attitude_row = |i: usize| attitude_row_of_f(model, i);
     let attitude_transposed =
@@ -319,7 +327,7 @@ pub(super) fn dynamic_blocks(
     // y_r for the three rows of each block row of U, and their products across the
     // columns, the three rows together.
     let folded = folded_gyro.iter().zip(folded_accel);
-    let mut products = [[[0.0; 8]; 3]; 3];
+    let mut products = [[[0.0; PAIR_COLUMNS]; 3]; 3];
     let mut attitude_products = [[0.0; 4]; 3];
     for (block_row, (out, (gyro, accel))) in products.iter_mut().zip(folded).enumerate() {
         let y = [0, 1, 2].map(|i| {
@@ -337,8 +345,8 @@ pub(super) fn dynamic_blocks(
         }
     }
     let [attitude_rows, position_rows, velocity_rows] = products;
-    let left = |rows: [[f64; 8]; 3]| rows.map(|[x, y, z, ..]| [x, y, z]);
-    let right = |rows: [[f64; 8]; 3]| rows.map(|[_, _, _, x, y, z, ..]| [x, y, z]);
+    let left = |rows: [[f64; PAIR_COLUMNS]; 3]| rows.map(|[x, y, z, ..]| [x, y, z]);
+    let right = |rows: [[f64; PAIR_COLUMNS]; 3]| rows.map(|[_, _, _, x, y, z, ..]| [x, y, z]);
     [
         attitude_products.map(|[x, y, z, _]| [x, y, z]),
         left(attitude_rows),
