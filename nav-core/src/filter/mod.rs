@@ -344,6 +344,41 @@ impl ErrorStateFilter {
         Ok(filter)
     }
 
+    /// [`ErrorStateFilter::new`] again, in place (its 6 kB are not built on the stack and
+    /// moved): `x = 0`, `P = diag(σ²)`, the correlated GNSS error states at their start.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::new`]; the filter is unchanged then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::state::VELOCITY;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let mut filter = ErrorStateFilter::new(&config)?;
+    /// filter.add_block_variance(VELOCITY, 0.03)?;
+    /// filter.restart(&config)?;
+    /// assert_eq!(filter, ErrorStateFilter::new(&config)?);
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn restart(&mut self, config: &FilterConfig) -> Result<(), NavError> {
+        config.validate()?;
+        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        self.state = ErrorState::zeros();
+        self.covariance.fill(0.0);
+        self.mode = config.mode;
+        self.gnss_error = gnss_error;
+        self.set_initial_covariance(config);
+        Ok(())
+    }
+
     /// `P = diag(σ²)` of a validated configuration, on a zero `P`.
     fn set_initial_covariance(&mut self, config: &FilterConfig) {
         for (block, sigma) in config.initial_sigmas() {

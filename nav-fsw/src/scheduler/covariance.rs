@@ -133,9 +133,8 @@ impl NavigationComputer {
     /// kept. Counted in `filter_resets`.
     pub(super) fn recover_filter(&mut self) {
         count(&mut self.health.filter_resets);
-        if let Ok(filter) = ErrorStateFilter::new(&self.config.filter) {
-            self.filter = filter;
-        }
+        // A refused configuration (checked at start-up, so never here) keeps the filter.
+        let _ = self.filter.restart(&self.config.filter);
         self.restart_second_order_attitude();
         self.manager.restart();
     }
