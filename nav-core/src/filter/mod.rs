@@ -832,7 +832,7 @@ fn check_measurement(measurement: &LinearMeasurement) -> Result<(), NavError> {
     // One multiply-add per value ([`block::all_finite`]): the 84 values cost ~250
     // instructions on the target instead of ~1,100 with `is_finite` per value.
     let finite = block::all_finite(measurement.residual.as_slice())
-        && block::all_finite_interleaved(measurement.jacobian.as_slice())
+        && block::all_finite(measurement.jacobian.as_slice())
         && block::all_finite(measurement.noise_covariance.as_slice());
     if finite {
         Ok(())
