@@ -267,6 +267,13 @@ pub(crate) fn all_finite(values: &[f64]) -> bool {
     !((a + b) + (c + d)).is_nan()
 }
 
+/// Row `i` of a block (NaN outside, which in-range indices never reach: the branch is
+/// removed at compile time).
+#[inline(always)]
+pub(crate) fn row_at(b: &Block, i: usize) -> Row {
+    b.get(i).copied().unwrap_or([f64::NAN; 3])
+}
+
 /// Element (`row`, `column`) of a column-major matrix (NaN outside, which constant in-range
 /// indices never reach: the branch is removed at compile time).
 #[inline(always)]

@@ -15,7 +15,7 @@ use crate::block::{
     write_diagonal_symmetric, write_symmetric, Block, FiniteCheck, Row,
 };
 #[cfg(any(test, target_arch = "arm"))]
-use crate::block::{dot, dot_add, entry};
+use crate::block::{dot, dot_add, entry, row_at};
 use crate::discretise::CovarianceMatrix;
 use crate::state::STATE_DIMENSION;
 
@@ -148,11 +148,9 @@ impl StructuredModel {
             (accel, e_accel),
         ];
         pair_elements::<UPPER>(|i, j| {
-            let pick =
-                |block: &Block, index: usize| block.get(index).copied().unwrap_or([f64::NAN; 3]);
             terms.iter().fold(
-                dot(pick(u_attitude, i), pick(f_attitude, j)),
-                |sum, (x, y)| dot_add(sum, pick(x, i), pick(y, j)),
+                dot(row_at(u_attitude, i), row_at(f_attitude, j)),
+                |sum, (x, y)| dot_add(sum, row_at(x, i), row_at(y, j)),
             )
         })
     }
@@ -165,12 +163,10 @@ impl StructuredModel {
         let [gyro_attitude, _, _] = &self.gyro_bias_column;
         let f_attitude = &self.transition.attitude_attitude;
         pair_elements::<true>(|i, j| {
-            let pick =
-                |block: &Block, index: usize| block.get(index).copied().unwrap_or([f64::NAN; 3]);
             dot_add(
-                dot(pick(u_attitude, i), pick(f_attitude, j)),
-                pick(gyro, i),
-                pick(gyro_attitude, j),
+                dot(row_at(u_attitude, i), row_at(f_attitude, j)),
+                row_at(gyro, i),
+                row_at(gyro_attitude, j),
             )
         })
     }

@@ -167,8 +167,8 @@ fn dynamic_rows_of_f(model: &StructuredModel) -> [[&Block; 5]; 2] {
 #[inline(always)]
 fn row_of_f(blocks: [&Block; 5], i: usize) -> [f64; 15] {
     let mut out = [0.0; 15];
-    let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
-    for (slot, value) in out.iter_mut().zip(blocks.map(pick).iter().flatten()) {
+    let rows = blocks.map(|block| crate::block::row_at(block, i));
+    for (slot, value) in out.iter_mut().zip(rows.iter().flatten()) {
         *slot = *value;
     }
     out
@@ -179,10 +179,9 @@ fn row_of_f(blocks: [&Block; 5], i: usize) -> [f64; 15] {
 #[inline(always)]
 fn attitude_row_of_f(model: &StructuredModel, i: usize) -> [f64; 6] {
     let [gyro_attitude, _, _] = &model.gyro_bias_column;
-    let pick = |block: &Block| block.get(i).copied().unwrap_or([f64::NAN; 3]);
     let ([f0, f1, f2], [e0, e1, e2]) = (
-        pick(&model.transition.attitude_attitude),
-        pick(gyro_attitude),
+        crate::block::row_at(&model.transition.attitude_attitude, i),
+        crate::block::row_at(gyro_attitude, i),
     );
     [f0, f1, f2, e0, e1, e2]
 }
@@ -333,8 +332,8 @@ pub(super) fn dynamic_blocks(
         let y = [0, 1, 2].map(|i| {
             let u_row = u.get(3 * block_row + i).unwrap_or(&NAN_ROW);
             let [u0, u1, u2, u3, u4, u5, u6, u7, u8, ..] = *u_row;
-            let [g0, g1, g2] = gyro.get(i).copied().unwrap_or([f64::NAN; 3]);
-            let [a0, a1, a2] = accel.get(i).copied().unwrap_or([f64::NAN; 3]);
+            let [g0, g1, g2] = crate::block::row_at(gyro, i);
+            let [a0, a1, a2] = crate::block::row_at(accel, i);
             [u0, u1, u2, u3, u4, u5, u6, u7, u8, g0, g1, g2, a0, a1, a2]
         });
         *out = combinations(&y, &f_transposed);
