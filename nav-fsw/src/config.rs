@@ -141,6 +141,8 @@ pub struct CovarianceConfig {
     /// Propagate `P` every this many frames (1 = every frame, the default), over the
     /// accumulated interval with the mean rates and forces of the interval.
     pub propagation_interval_frames: u32,
+    /// Whether one frame may both propagate `P` and fuse a measurement ([`FrameLoad`]).
+    pub frame_load: FrameLoad,
     /// Floor of every 1σ, per block (same units as the initial uncertainty); a variance
     /// below its floor² is raised to it (counted).
     pub sigma_floor: InitialUncertainty,
@@ -152,6 +154,29 @@ pub struct CovarianceConfig {
     /// Whether the attitude covariance grows for the kinematics' second-order term while the
     /// star sensor is unheard ([`SecondOrderAttitude`]).
     pub second_order_attitude: SecondOrderAttitude,
+}
+
+/// How the covariance propagation and the fusion of a measurement share the frames: the
+/// worst frame's cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FrameLoad {
+    /// A frame whose propagation is due propagates `P` to the navigation time, then fuses
+    /// the oldest due measurement: the worst frame carries both.
+    PropagateThenFuse,
+    /// A frame fuses a measurement or propagates `P`, never both (the default): a frame
+    /// with a due measurement fuses it against `P` at its last propagation (the
+    /// measurement referred to that time, [`crate::scheduler`]) and the propagation waits
+    /// one frame, then covers both frames; it waits no longer, so a measurement due in
+    /// that frame waits instead. The worst frame carries the larger of the two.
+    FuseOrPropagate,
+}
+
+impl FrameLoad {
+    /// Whether a frame that fuses a measurement lets a due propagation wait.
+    pub const fn defers_propagation(self) -> bool {
+        matches!(self, FrameLoad::FuseOrPropagate)
+    }
 }
 
 /// The attitude-error kinematics' second-order term `½ ϑ × δω`, which the paper's linear
@@ -274,6 +299,7 @@ impl FswConfig {
             },
             covariance: CovarianceConfig {
                 propagation_interval_frames: 1,
+                frame_load: FrameLoad::FuseOrPropagate,
                 sigma_floor: InitialUncertainty {
                     attitude_rad: 1e-9,
                     position_m: 1e-4,

@@ -35,6 +35,9 @@ impl NavigationComputer {
     pub(super) fn propagate_covariance(&mut self) {
         let sums = self.sums;
         self.sums = PropagationSums::EMPTY;
+        // The covariance is at the navigation time from here on, propagated or, on a
+        // failure, restarted.
+        self.covariance_time_s = self.navigation.time_s;
         let frames = f64::from(sums.frames.max(1));
         let interval_s = frames * self.config.imu.period_s;
         // Built in place (a local moved into `last_point` is a 240-byte copy on the target).

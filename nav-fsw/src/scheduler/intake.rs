@@ -145,11 +145,28 @@ impl NavigationComputer {
         ))
     }
 
+    /// Measurements tagged up to this time (s) are due: the covariance's time, within
+    /// `timing.future_tolerance_s`.
+    fn due_before_s(&self) -> f64 {
+        self.covariance_time_s + self.config.timing.future_tolerance_s
+    }
+
+    /// Whether [`Self::next_due`] has a measurement (and takes nothing).
+    pub(super) fn measurement_is_due(&self) -> bool {
+        let due_before_s = self.due_before_s();
+        let due = |tag: Option<f64>| tag.is_some_and(|t| t <= due_before_s);
+        self.pending_gnss_position.is_some()
+            || due(self.star_queue.oldest_time_tag())
+            || due(self.gnss_queue.oldest_time_tag())
+    }
+
+    /// The oldest due measurement, taken from its queue (a GNSS fix with velocity gives its
+    /// velocity, and its position next time).
     pub(super) fn next_due(&mut self) -> Option<Due> {
         if let Some((tag, position)) = self.pending_gnss_position.take() {
             return Some(Due::GnssPosition(tag, position));
         }
-        let due_before_s = self.navigation.time_s + self.config.timing.future_tolerance_s;
+        let due_before_s = self.due_before_s();
         let star_tag = self
             .star_queue
             .oldest_time_tag()

@@ -8,19 +8,30 @@
 //! 2. History: the navigation solution of the frame goes into a ring of
 //!    [`HISTORY_CAPACITY`] frames, so a late measurement is fused against the solution at
 //!    its own time of validity (interpolated between frames).
-//! 3. Covariance: every `propagation_interval_frames` frames, the error model at the mean
-//!    rates/forces of the interval, 3rd-order `F` and `P ← F P Fᵀ + Qd` by blocks, in place
-//!    (nav-core `structured`; paper §1.3.3), then covariance protection (variance floors
-//!    and ceilings, counted; only the diagonal is read unless a bound is crossed).
-//! 4. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
-//!    queued; then **at most one** due measurement (the oldest) is fused. A second due
-//!    measurement waits for the next frame: the worst frame is therefore strapdown + one
-//!    propagation + one update (+ closed-loop reset), bounded by construction.
+//! 3. Measurements: at most [`MAX_POLLS_PER_FRAME`] new measurements per port are checked and
+//!    queued. A measurement is due once its time tag is no later than the covariance's
+//!    time ([`NavigationComputer::covariance_time_s`], within the future tolerance).
+//! 4. Fusion or propagation (`covariance.frame_load`, [`crate::config::FrameLoad`]). By
+//!    default a frame does one of the two: **at most one** due measurement (the oldest) is
+//!    fused against `P` at its last propagation, and the propagation, if due, waits one
+//!    frame; a frame whose propagation has already waited propagates, and a due measurement
+//!    waits instead. The propagation: every `propagation_interval_frames` frames (or the
+//!    frame after, when it waited), the error model at the mean rates/forces of the
+//!    interval, 3rd-order `F` and `P ← F P Fᵀ + Qd` by blocks, in place (nav-core
+//!    `structured`; paper §1.3.3), then covariance protection (variance floors and
+//!    ceilings, counted; only the diagonal is read unless a bound is crossed). The worst
+//!    frame is therefore strapdown + the larger of one propagation and one update (+
+//!    closed-loop reset), bounded by construction; with `PropagateThenFuse` it is
+//!    strapdown + both.
 //! 5. Calibration manager: table, convergence, frozen set.
 //!
 //! Delayed fusion: the innovation and `H` are formed with the navigation solution at the
-//! measurement's time of validity and referred to the current error state with
-//! `H (I − A Δ)` (nav-core `refer_to_later_time_in_place`, by blocks of `A`).
+//! measurement's time of validity and referred to the error state at the covariance's time
+//! with `H (I − A Δ)` (nav-core `refer_to_later_time_in_place`, by blocks of `A`). In
+//! closed loop the correction, estimated at the covariance's time, is applied to the
+//! navigation solution of the frame, later by the frames not yet propagated (one in a
+//! fusion frame, by default): the error state's change over them, `A Δ x̂`, is left out
+//! (0.35 % of the correction per frame at 100 °/s; docs/flight-software.md).
 //!
 //! `FilterArithmetic::DenseReference` runs the same frame with nav-core's dense 24×24
 //! reference arithmetic (equal within round-off), for cost comparisons only.
@@ -180,6 +191,10 @@ pub struct NavigationComputer {
     gnss_outage: OutageMonitor,
     gnss_whiteness: WhitenessMonitor,
     sums: PropagationSums,
+    /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
+    /// filter's error state refers to it; a measurement is due once its time tag is no
+    /// later (within `timing.future_tolerance_s`) and is referred to it.
+    covariance_time_s: f64,
     /// Motion of the last covariance propagation (for referring late measurements).
     last_point: Option<LinearisationPoint>,
     /// The structured discrete model, refilled in place by every propagation (a ~2 KB
@@ -256,16 +271,48 @@ impl NavigationComputer {
         self.frame = self.frame.wrapping_add(1);
         self.navigate(imu.read());
         self.record_snapshot();
-        if self.sums.frames >= self.config.covariance.propagation_interval_frames {
-            self.propagate_covariance();
-        }
-        self.poll_measurements(star, gnss);
-        let fusion = self.fuse_one_due_measurement();
+        let fusion = if self.config.covariance.frame_load.defers_propagation() {
+            self.poll_measurements(star, gnss);
+            self.fuse_or_propagate()
+        } else {
+            if self.propagation_is_due() {
+                self.propagate_covariance();
+            }
+            self.poll_measurements(star, gnss);
+            self.fuse_one_due_measurement()
+        };
         if fusion == FrameFusion::None {
             self.inflate_for_second_order_attitude();
         }
         self.evaluate_calibration();
         self.telemetry(fusion)
+    }
+
+    /// [`crate::config::FrameLoad::FuseOrPropagate`]'s frame: the oldest due measurement fused, with the
+    /// propagation waiting one frame (no longer: a measurement due when the propagation has
+    /// waited a frame waits instead), or else the propagation if it is due.
+    fn fuse_or_propagate(&mut self) -> FrameFusion {
+        let interval = self.config.covariance.propagation_interval_frames;
+        let waited = self.sums.frames > interval;
+        if !waited && self.measurement_is_due() {
+            return self.fuse_one_due_measurement();
+        }
+        if self.propagation_is_due() {
+            self.propagate_covariance();
+        }
+        FrameFusion::None
+    }
+
+    /// Whether `covariance.propagation_interval_frames` frames have passed since the last
+    /// propagation.
+    fn propagation_is_due(&self) -> bool {
+        self.sums.frames >= self.config.covariance.propagation_interval_frames
+    }
+
+    /// Navigation time (s) of the covariance: of its last propagation, or of the start. A
+    /// fusion refers its measurement to this time.
+    pub fn covariance_time_s(&self) -> f64 {
+        self.covariance_time_s
     }
 
     /// The filter (error state and covariance).

@@ -193,6 +193,7 @@ impl NavigationComputer {
             addr_of_mut!((*computer).gnss_outage).write(OutageMonitor::default());
             addr_of_mut!((*computer).gnss_whiteness).write(WhitenessMonitor::default());
             addr_of_mut!((*computer).sums).write(PropagationSums::EMPTY);
+            addr_of_mut!((*computer).covariance_time_s).write(initial.time_s);
             addr_of_mut!((*computer).last_point).write(None);
             addr_of_mut!((*computer).model).write(StructuredModel::EMPTY);
             addr_of_mut!((*computer).health).write(HealthCounters::default());

@@ -217,3 +217,86 @@ fn init_in_place_refuses_as_new_does() {
     assert!(refused.is_some());
     assert_eq!(refused, expected);
 }
+
+/// Runs 40 frames with a star measurement tagged at the navigation time in every fourth
+/// frame and two in frame 22 (a burst), under `frame_load`; returns per frame whether it
+/// fused, its navigation time and its covariance's time.
+fn flight_with_frame_load(frame_load: crate::config::FrameLoad) -> Vec<(bool, f64, f64)> {
+    let mut config = *computer().config();
+    config.covariance.frame_load = frame_load;
+    let mut computer = NavigationComputer::new(config, initial_state()).unwrap();
+    let mut frames = Vec::new();
+    for sequence in 1..=40_u32 {
+        let mut ports = crate::replay::FramePorts::default();
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence,
+            time_s: 600.0 + 0.002 * f64::from(sequence),
+            delta_angle_rad: [1e-4, -2e-4, 3e-3],
+            delta_velocity_mps: [0.01, 0.04, -0.02],
+        });
+        let star_count = match sequence {
+            22 => 2,
+            s if s % 4 == 0 => 1,
+            _ => 0,
+        };
+        let q = computer.navigation().attitude;
+        for older in (0..star_count).rev() {
+            // The burst's first is 1 ms older (a queue holds one measurement per time tag).
+            let measurement = crate::ports::StarMeasurement {
+                time_tag_s: computer.navigation().time_s - 0.001 * f64::from(older),
+                attitude_wxyz: [q.w, q.i, q.j, q.k],
+            };
+            ports.star.0.push_back(measurement).unwrap();
+        }
+        let telemetry = ports.run(&mut computer);
+        frames.push((
+            telemetry.fusion != FrameFusion::None,
+            computer.navigation().time_s,
+            computer.covariance_time_s(),
+        ));
+    }
+    frames
+}
+
+/// `FuseOrPropagate`: no frame both propagates and fuses. A fusion frame's covariance is
+/// the previous frame's (its propagation waits), a propagation waits one frame at most (a
+/// measurement due then waits instead), and every measurement is fused.
+#[test]
+fn a_frame_fuses_or_propagates_never_both() {
+    let frames = flight_with_frame_load(crate::config::FrameLoad::FuseOrPropagate);
+    let period = 0.002;
+    let mut fused = 0;
+    for (index, (fusion, time_s, covariance_time_s)) in frames.iter().enumerate() {
+        let lag_frames = (time_s - covariance_time_s) / period;
+        if *fusion {
+            fused += 1;
+            assert!(
+                (lag_frames - 1.0).abs() < 1e-6,
+                "frame {index}: {lag_frames}"
+            );
+        } else {
+            assert!(lag_frames.abs() < 1e-6, "frame {index}: {lag_frames}");
+        }
+    }
+    // Ten single measurements and the burst's two, each tagged at the navigation time before
+    // its frame: the covariance's time when the frame before propagated.
+    assert_eq!(fused, 10 + 2);
+    // The burst: frame 22 fuses one, 23 propagates, 24 fuses the other, 25 propagates and
+    // 26 fuses frame 24's.
+    let fusion = |frame: usize| frames[frame - 1].0;
+    let pattern: Vec<bool> = (22..=27).map(fusion).collect();
+    assert_eq!(pattern, [true, false, true, false, true, false]);
+}
+
+/// `PropagateThenFuse`: every frame propagates, and the fusion follows in the same frame.
+#[test]
+fn propagate_then_fuse_propagates_every_frame() {
+    let frames = flight_with_frame_load(crate::config::FrameLoad::PropagateThenFuse);
+    assert!(frames
+        .iter()
+        .all(|(_, time_s, covariance_time_s)| time_s.to_bits() == covariance_time_s.to_bits()));
+    assert_eq!(
+        frames.iter().filter(|(fusion, _, _)| *fusion).count(),
+        10 + 2
+    );
+}
