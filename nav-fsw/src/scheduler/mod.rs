@@ -288,9 +288,10 @@ impl NavigationComputer {
         self.telemetry(fusion)
     }
 
-    /// [`crate::config::FrameLoad::FuseOrPropagate`]'s frame: the oldest due measurement fused, with the
-    /// propagation waiting one frame (no longer: a measurement due when the propagation has
-    /// waited a frame waits instead), or else the propagation if it is due.
+    /// A frame under [`crate::config::FrameLoad::FuseOrPropagate`]: the oldest due
+    /// measurement fused, with the propagation waiting one frame (no longer: a measurement
+    /// due when the propagation has waited a frame waits instead), or else the propagation
+    /// if it is due.
     fn fuse_or_propagate(&mut self) -> FrameFusion {
         let interval = self.config.covariance.propagation_interval_frames;
         let waited = self.sums.frames > interval;
