@@ -24,7 +24,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::block::{
-    add_scaled_columns, add_scaled_rows, entry, from_vector, read, to_matrix, transpose,
+    add_scaled_columns, add_scaled_rows, from_vector, read, to_matrix, transpose, Block, Row,
 };
 use crate::discretise::CovarianceMatrix;
 use crate::state::{ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, STATE_DIMENSION};
@@ -208,18 +208,29 @@ pub fn rate_error_correlation(
     rate_a_rad_s: &Vector3<f64>,
     rate_b_rad_s: &Vector3<f64>,
 ) -> f64 {
-    let inner = |a: &Vector3<f64>, b: &Vector3<f64>| {
+    const B: usize = GYRO_BIAS.index();
+    const L: usize = GYRO_SCALE_FACTOR.index();
+    const N: usize = STATE_DIMENSION;
+    // The diagonals of the three blocks, read once (each sum below takes them in the order
+    // of the formula, axis by axis).
+    let diagonal = |block: Block| {
+        let [[d0, _, _], [_, d1, _], [_, _, d2]] = block;
+        [d0, d1, d2]
+    };
+    let bias = diagonal(read::<B, B, N, N>(covariance));
+    let bias_scale = diagonal(read::<B, L, N, N>(covariance));
+    let scale = diagonal(read::<L, L, N, N>(covariance));
+    let inner = |a: &Row, b: &Row| {
         let mut sum = 0.0;
-        for (k, (wa, wb)) in a.iter().zip(b.iter()).enumerate() {
-            let (bias, scale) = (GYRO_BIAS.index() + k, GYRO_SCALE_FACTOR.index() + k);
-            sum += entry(covariance, bias, bias)
-                + (wa + wb) * entry(covariance, bias, scale)
-                + wa * wb * entry(covariance, scale, scale);
+        for ((((wa, wb), p_bb), p_bl), p_ll) in a.iter().zip(b).zip(bias).zip(bias_scale).zip(scale)
+        {
+            sum += p_bb + (wa + wb) * p_bl + wa * wb * p_ll;
         }
         sum
     };
-    let norm = inner(rate_a_rad_s, rate_a_rad_s) * inner(rate_b_rad_s, rate_b_rad_s);
-    let correlation = inner(rate_a_rad_s, rate_b_rad_s) / crate::float::sqrt(norm);
+    let (rate_a, rate_b) = (from_vector(rate_a_rad_s), from_vector(rate_b_rad_s));
+    let norm = inner(&rate_a, &rate_a) * inner(&rate_b, &rate_b);
+    let correlation = inner(&rate_a, &rate_b) / crate::float::sqrt(norm);
     if norm > 0.0 && correlation.is_finite() {
         correlation.clamp(-1.0, 1.0)
     } else {
