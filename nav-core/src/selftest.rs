@@ -362,7 +362,8 @@ impl FilterPathFixture {
         )
     }
 
-    /// The worst 2 ms frame of the flight scheduler: a strapdown step, a covariance
+    /// The filter path of the worst 2 ms frame of a scheduler that propagates and fuses in
+    /// one frame (nav-fsw's `FrameLoad::PropagateThenFuse`): a strapdown step, a covariance
     /// propagation, one measurement update (the costliest: a GNSS fix 10 ms late, referred
     /// to the current state) and the closed-loop reset.
     ///
