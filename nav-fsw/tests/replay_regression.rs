@@ -16,6 +16,7 @@
 
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;
+use nav_core::discretise::CovarianceMatrix;
 use nav_core::frames::LaunchSite;
 use nav_core::strapdown::NavigationState;
 use nav_fsw::config::FrameLoad;
@@ -419,6 +420,19 @@ fn the_dense_reference_flies_the_same_flight() {
     }
 }
 
+/// Largest difference of an element of two covariances relative to its two standard
+/// deviations in `p` (the correlation scale: every state counts, whatever its unit).
+fn largest_scaled_difference(p: &CovarianceMatrix, q: &CovarianceMatrix) -> f64 {
+    let mut largest = 0.0_f64;
+    for i in 0..24 {
+        for j in 0..24 {
+            let scale = (p[(i, i)] * p[(j, j)]).sqrt();
+            largest = largest.max((p[(i, j)] - q[(i, j)]).abs() / scale);
+        }
+    }
+    largest
+}
+
 /// Propagating the covariance every 5 frames, about the interval's mean rates and forces,
 /// gives nearly the covariance of propagating every frame (the motion is piecewise constant
 /// here, so only the discretisation of the longer step differs): every element within 5 %
@@ -432,15 +446,7 @@ fn a_longer_propagation_interval_uses_the_mean_motion() {
         every_frame.computer.filter().covariance(),
         every_fifth.computer.filter().covariance(),
     );
-    // Largest difference of an element relative to its two standard deviations (the
-    // correlation scale: every state counts, whatever its unit).
-    let mut largest = 0.0_f64;
-    for i in 0..24 {
-        for j in 0..24 {
-            let scale = (p[(i, i)] * p[(j, j)]).sqrt();
-            largest = largest.max((p[(i, j)] - q[(i, j)]).abs() / scale);
-        }
-    }
+    let largest = largest_scaled_difference(p, q);
     assert!(largest < 0.05, "{largest:e}");
     // The gyro scale factors' variances, which the measured rates alone drive (they enter
     // only the scale-factor columns): within 1e-6 (measured ~2e-9; the sums instead of the
@@ -469,14 +475,8 @@ fn the_two_frame_loads_fly_the_same_flight() {
         split.computer.filter().covariance(),
         both.computer.filter().covariance(),
     );
-    let mut largest = 0.0_f64;
-    for i in 0..24 {
-        for j in 0..24 {
-            let scale = (p[(i, i)] * q[(j, j)]).sqrt();
-            largest = largest.max((p[(i, j)] - q[(i, j)]).abs() / scale);
-        }
-    }
     // Measured 0.73 %: each update meets the covariance one frame less grown.
+    let largest = largest_scaled_difference(p, q);
     assert!(largest < 0.02, "{largest:e}");
     let (a, b) = (split.computer.navigation(), both.computer.navigation());
     let position_m = (a.position_m - b.position_m).norm();
