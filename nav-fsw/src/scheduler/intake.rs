@@ -151,13 +151,20 @@ impl NavigationComputer {
         self.covariance_time_s + self.config.timing.future_tolerance_s
     }
 
+    /// The time tags of the oldest star measurement and the oldest GNSS fix, each if due.
+    fn due_tags(&self) -> (Option<f64>, Option<f64>) {
+        let due_before_s = self.due_before_s();
+        let due = |tag: Option<f64>| tag.filter(|t| *t <= due_before_s);
+        (
+            due(self.star_queue.oldest_time_tag()),
+            due(self.gnss_queue.oldest_time_tag()),
+        )
+    }
+
     /// Whether [`Self::next_due`] has a measurement (and takes nothing).
     pub(super) fn measurement_is_due(&self) -> bool {
-        let due_before_s = self.due_before_s();
-        let due = |tag: Option<f64>| tag.is_some_and(|t| t <= due_before_s);
-        self.pending_gnss_position.is_some()
-            || due(self.star_queue.oldest_time_tag())
-            || due(self.gnss_queue.oldest_time_tag())
+        let (star_tag, gnss_tag) = self.due_tags();
+        self.pending_gnss_position.is_some() || star_tag.is_some() || gnss_tag.is_some()
     }
 
     /// The oldest due measurement, taken from its queue (a GNSS fix with velocity gives its
@@ -167,14 +174,7 @@ impl NavigationComputer {
             return Some(Due::GnssPosition(tag, position));
         }
         let due_before_s = self.due_before_s();
-        let star_tag = self
-            .star_queue
-            .oldest_time_tag()
-            .filter(|t| *t <= due_before_s);
-        let gnss_tag = self
-            .gnss_queue
-            .oldest_time_tag()
-            .filter(|t| *t <= due_before_s);
+        let (star_tag, gnss_tag) = self.due_tags();
         let star_first = match (star_tag, gnss_tag) {
             (Some(s), Some(g)) => s <= g,
             (Some(_), None) => true,
