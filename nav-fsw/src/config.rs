@@ -36,6 +36,19 @@ pub fn max_latency_limit_s(period_s: f64) -> f64 {
 /// accumulated interval's mean rates no longer describe the motion.
 pub const MAX_PROPAGATION_INTERVAL_FRAMES: u32 = 500;
 
+/// Default acquisition gate of every aid: the χ²(3) point exceeded with probability 1e-6
+/// (30.67; `Q(x) = erfc(√(x/2)) + √(2x/π) e^(−x/2)` for three degrees of freedom).
+///
+/// Until the filter has accepted a measurement of an aid, its innovation is the prior's
+/// error, and that error does not change from one measurement to the next: a draw beyond the
+/// steady gate (16.27, exceeded with probability 1e-3) would be rejected every time, and
+/// after `timing.rejections_to_declare_faulty` rejections a healthy sensor would be declared
+/// faulty for the flight (one flight in a thousand from the prior alone). The first
+/// acceptance is therefore gated at 1e-6; after it the innovations are fresh noise again and
+/// the steady gate applies. A sensor whose error exceeds this gate is still rejected and
+/// declared faulty.
+pub const ACQUISITION_GATE_NIS: f64 = 30.67;
+
 /// Smallest 1σ or noise density accepted where the filter squares it ([`sigma_is_squarable`]).
 pub const SIGMA_MIN: f64 = 1e-150;
 
@@ -88,6 +101,10 @@ pub struct StarSensorConfig {
     pub noise_rad: f64,
     /// NIS gate, χ²(3) (16.27 = 99.9 %).
     pub gate_nis: f64,
+    /// NIS gate, χ²(3), until the filter has accepted a star measurement: after start-up,
+    /// an outage, a filter re-initialisation or a cleared fault ([`ACQUISITION_GATE_NIS`]);
+    /// the larger of it and `gate_nis` applies.
+    pub acquisition_gate_nis: f64,
     /// Largest accepted `| |q| − 1 |` of a measured quaternion.
     pub unit_norm_tolerance: f64,
 }
@@ -102,6 +119,9 @@ pub struct GnssConfig {
     pub noise_m: f64,
     /// NIS gate, χ²(3).
     pub gate_nis: f64,
+    /// NIS gate, χ²(3), of the positions until the filter has accepted one (as
+    /// [`StarSensorConfig::acquisition_gate_nis`]; the larger of it and `gate_nis` applies).
+    pub acquisition_gate_nis: f64,
     /// A fix farther than this from the predicted antenna position is a jump (m).
     pub max_jump_m: f64,
     /// Velocity noise, 1σ per axis (m/s) of a receiver that outputs velocity (used when a
@@ -109,6 +129,9 @@ pub struct GnssConfig {
     pub velocity_noise_mps: f64,
     /// NIS gate of the velocity update, χ²(3).
     pub velocity_gate_nis: f64,
+    /// NIS gate, χ²(3), of the velocities until the filter has accepted one (the larger of it
+    /// and `velocity_gate_nis` applies).
+    pub velocity_acquisition_gate_nis: f64,
     /// Window (position fixes) of the innovation whiteness monitor
     /// ([`crate::health::WhitenessMonitor`]).
     pub whiteness_window_fixes: f64,
@@ -276,15 +299,18 @@ impl FswConfig {
                 mounting_wxyz: [1.0, 0.0, 0.0, 0.0],
                 noise_rad: 10.0 * ARCSEC_TO_RAD,
                 gate_nis: 16.27,
+                acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 unit_norm_tolerance: 1e-3,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],
                 noise_m: 10.0,
                 gate_nis: 16.27,
+                acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 max_jump_m: 1000.0,
                 velocity_noise_mps: 0.05,
                 velocity_gate_nis: 16.27,
+                velocity_acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 // [chosen] 64 fixes: 1σ of the statistic 0.051 when the innovations are
                 // white; 0.25 is about 5σ, and well below the 0.4-0.6 of an unmodelled
                 // correlated error of the receiver's size.
@@ -342,6 +368,7 @@ impl FswConfig {
         }
         self.imu.validate()?;
         self.validate_sensors()?;
+        self.validate_acquisition_gates()?;
         self.validate_timing()?;
         self.validate_covariance()?;
         self.calibration.validate()
@@ -435,6 +462,23 @@ impl FswConfig {
             && positive(self.gnss.whiteness_threshold))
         {
             return invalid(ConfigField::GnssWhiteness);
+        }
+        Ok(())
+    }
+
+    /// The acquisition gates, each > 0 or +∞ (as the gates).
+    fn validate_acquisition_gates(&self) -> Result<(), FswError> {
+        let gate = |value: f64| (value.is_finite() && value > 0.0) || value == f64::INFINITY;
+        if !gate(self.star.acquisition_gate_nis) {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::StarAcquisitionGate,
+            ));
+        }
+        if !(gate(self.gnss.acquisition_gate_nis) && gate(self.gnss.velocity_acquisition_gate_nis))
+        {
+            return Err(FswError::InvalidConfiguration(
+                ConfigField::GnssAcquisitionGate,
+            ));
         }
         Ok(())
     }
@@ -579,6 +623,24 @@ mod tests {
         assert_eq!(refused(|c| c.star.gate_nis = f64::NAN), Some(F::StarGate));
         assert_eq!(refused(|c| c.gnss.gate_nis = f64::INFINITY), None);
         assert_eq!(refused(|c| c.gnss.gate_nis = 0.0), Some(F::GnssGate));
+        // The acquisition gates follow the same rule, whatever the gates are.
+        assert_eq!(refused(|c| c.star.acquisition_gate_nis = 1.0), None);
+        assert_eq!(
+            refused(|c| c.star.acquisition_gate_nis = f64::INFINITY),
+            None
+        );
+        assert_eq!(
+            refused(|c| c.star.acquisition_gate_nis = f64::NAN),
+            Some(F::StarAcquisitionGate)
+        );
+        assert_eq!(
+            refused(|c| c.gnss.acquisition_gate_nis = 0.0),
+            Some(F::GnssAcquisitionGate)
+        );
+        assert_eq!(
+            refused(|c| c.gnss.velocity_acquisition_gate_nis = -1.0),
+            Some(F::GnssAcquisitionGate)
+        );
         // The unit-norm tolerance must be positive and below 0.5.
         assert_eq!(
             refused(|c| c.star.unit_norm_tolerance = 0.5),

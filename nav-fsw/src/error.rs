@@ -43,6 +43,10 @@ pub enum ConfigField {
     GnssGate,
     /// `gnss.velocity_noise_mps` or `gnss.velocity_gate_nis`.
     GnssVelocity,
+    /// `star.acquisition_gate_nis`
+    StarAcquisitionGate,
+    /// `gnss.acquisition_gate_nis` or `gnss.velocity_acquisition_gate_nis`
+    GnssAcquisitionGate,
     /// `gnss.whiteness_window_fixes` or `gnss.whiteness_threshold`.
     GnssWhiteness,
     /// `filter.gnss_error` (correlated GNSS error σ or correlation time).
@@ -97,6 +101,10 @@ impl ConfigField {
             ConfigField::GnssNoise => "gnss.noise_m",
             ConfigField::GnssGate => "gnss.gate_nis",
             ConfigField::GnssVelocity => "gnss.velocity_noise_mps / gnss.velocity_gate_nis",
+            ConfigField::StarAcquisitionGate => "star.acquisition_gate_nis",
+            ConfigField::GnssAcquisitionGate => {
+                "gnss.acquisition_gate_nis / gnss.velocity_acquisition_gate_nis"
+            }
             ConfigField::GnssWhiteness => "gnss.whiteness_window_fixes / gnss.whiteness_threshold",
             ConfigField::GnssCorrelatedError => "filter.gnss_error",
             ConfigField::HeldSampleUncertainty => "covariance.held_sample",
@@ -160,6 +168,9 @@ impl ConfigField {
             ConfigField::GnssLeverArm => "must be finite",
             ConfigField::GnssVelocity => {
                 "must have a noise 0 (off) or in [1e-150, 1e150] and a gate > 0 (or +infinity)"
+            }
+            ConfigField::StarAcquisitionGate | ConfigField::GnssAcquisitionGate => {
+                "must be > 0 (or +infinity: no gate until acquired)"
             }
             ConfigField::GnssWhiteness => "must have a window >= 1 fix and a threshold > 0",
             ConfigField::GnssCorrelatedError => {

@@ -84,6 +84,8 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         }
         F::InitialNavigation => Some("initial_orbit / initial_attitude"),
         F::ImuPeriodTolerance
+        | F::StarAcquisitionGate
+        | F::GnssAcquisitionGate
         | F::StarNormTolerance
         | F::GnssMaxJump
         | F::GnssLeverArm

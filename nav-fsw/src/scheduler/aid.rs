@@ -51,21 +51,50 @@ impl Aid {
     }
 }
 
-/// Gate statistics and fault state of one aiding sensor.
+/// Gate statistics and fault state of one aiding sensor (or, for `acquired` and `last_nis`,
+/// of one aid).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct AidingSensor {
     pub(super) consecutive_rejections: u32,
     pub(super) faulty: bool,
     pub(super) last_nis: f64,
+    /// Whether the filter has accepted a measurement of the aid since start-up, the aid's
+    /// last outage, the filter's last re-initialisation or its sensor's last cleared fault:
+    /// until then its gate is the acquisition gate ([`crate::config::ACQUISITION_GATE_NIS`]).
+    pub(super) acquired: bool,
 }
 
 impl NavigationComputer {
-    /// The χ² gate (normalised innovation squared) of `aid`.
+    /// The χ² gate (normalised innovation squared) of `aid`: the larger of its gate and its
+    /// acquisition gate until the filter has accepted one of its measurements
+    /// ([`AidingSensor::acquired`]), its gate after.
     pub(super) fn gate_nis(&self, aid: Aid) -> f64 {
-        match aid {
-            Aid::Star => self.config.star.gate_nis,
-            Aid::GnssPosition => self.config.gnss.gate_nis,
-            Aid::GnssVelocity => self.config.gnss.velocity_gate_nis,
+        let (star, gnss) = (&self.config.star, &self.config.gnss);
+        let (statistics, gate, acquisition_gate) = match aid {
+            Aid::Star => (&self.star, star.gate_nis, star.acquisition_gate_nis),
+            Aid::GnssPosition => (&self.gnss, gnss.gate_nis, gnss.acquisition_gate_nis),
+            Aid::GnssVelocity => (
+                &self.gnss_velocity,
+                gnss.velocity_gate_nis,
+                gnss.velocity_acquisition_gate_nis,
+            ),
+        };
+        if statistics.acquired {
+            gate
+        } else {
+            gate.max(acquisition_gate)
+        }
+    }
+
+    /// The aids of `sensor` are to be acquired again (an outage, a re-initialised filter, a
+    /// cleared fault): their next acceptance is gated by the acquisition gate.
+    pub(super) fn reacquire(&mut self, sensor: Sensor) {
+        match sensor {
+            Sensor::Star => self.star.acquired = false,
+            Sensor::Gnss => {
+                self.gnss.acquired = false;
+                self.gnss_velocity.acquired = false;
+            }
         }
     }
 

@@ -140,6 +140,9 @@ impl NavigationComputer {
         let _ = self.filter.restart(&self.config.filter);
         self.restart_second_order_attitude();
         self.manager.restart();
+        // The filter is back at its prior: each aid's first acceptance is an acquisition.
+        self.reacquire(Sensor::Star);
+        self.reacquire(Sensor::Gnss);
     }
 
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless

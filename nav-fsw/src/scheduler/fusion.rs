@@ -171,6 +171,7 @@ impl NavigationComputer {
         }
         if report.accepted {
             self.fault_state(aid.sensor()).consecutive_rejections = 0;
+            self.statistics(aid).acquired = true;
             if aid.measures_attitude() {
                 self.restart_second_order_attitude();
             }

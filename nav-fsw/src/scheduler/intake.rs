@@ -102,11 +102,14 @@ impl NavigationComputer {
             }
         }
         let timeout_s = timing.outage_timeout_s;
+        // After an outage the state error has grown unseen: the aid is acquired again.
         if self.star_outage.observe(now_s, star_heard, timeout_s) {
             count(&mut self.health.star_outages);
+            self.reacquire(Sensor::Star);
         }
         if self.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
             count(&mut self.health.gnss_outages);
+            self.reacquire(Sensor::Gnss);
         }
     }
 

@@ -300,3 +300,85 @@ fn propagate_then_fuse_propagates_every_frame() {
         10 + 2
     );
 }
+
+/// Flies `frames` frames of a vehicle that does not turn (its true attitude stays the
+/// initial one) with a star measurement in every second frame, rotated from the true attitude
+/// by `offset_rad` about body x; returns the NIS of the last star measurement tested.
+fn fly_star_offset(computer: &mut NavigationComputer, frames: u32, offset_rad: f64) -> f64 {
+    let first = computer.frame.wrapping_add(1);
+    for sequence in first..first + frames {
+        let mut ports = crate::replay::FramePorts::default();
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence,
+            time_s: computer.navigation().time_s + 0.002,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        });
+        if sequence % 2 == 0 {
+            let turn = attitude::exp_rotation_vector(&Vector3::new(offset_rad, 0.0, 0.0));
+            let q = attitude::product(&initial_state().attitude, &turn);
+            let measurement = crate::ports::StarMeasurement {
+                time_tag_s: computer.navigation().time_s,
+                attitude_wxyz: [q.w, q.i, q.j, q.k],
+            };
+            ports.star.0.push_back(measurement).unwrap();
+        }
+        ports.run(computer);
+    }
+    computer.star.last_nis
+}
+
+/// The offset about body x, beyond `base_rad` (where the filter's estimate is), whose first
+/// star measurement has an NIS of about `nis` for this computer (probed on a copy: the NIS
+/// of a fixed error grows as its square).
+fn offset_for_nis(computer: &NavigationComputer, base_rad: f64, nis: f64) -> f64 {
+    let probe_rad = 1e-6;
+    let probed = fly_star_offset(&mut computer.clone(), 2, base_rad + probe_rad);
+    probe_rad * (nis / probed).sqrt()
+}
+
+/// A healthy star sensor whose first measurements disagree with the prior beyond the steady
+/// gate (a tail draw of the installation or attitude error, which every measurement repeats)
+/// is acquired under the acquisition gate, not declared faulty. Once acquired, a
+/// disagreement of the same NIS is rejected under the steady gate, and after
+/// `timing.rejections_to_declare_faulty` in a row the sensor is declared faulty.
+#[test]
+fn a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one() {
+    let mut computer = computer();
+    let (gate, acquisition) = (
+        computer.config.star.gate_nis,
+        computer.config.star.acquisition_gate_nis,
+    );
+    let nis = 0.5 * (gate + acquisition);
+    let offset_rad = offset_for_nis(&computer, 0.0, nis);
+    let first_nis = fly_star_offset(&mut computer, 2, offset_rad);
+    assert!(first_nis > gate && first_nis < acquisition, "{first_nis}");
+    assert!(computer.star.acquired);
+    assert_eq!(computer.health().star_gate_rejections, 0);
+    // The filter now agrees with the sensor; measurements at that attitude are accepted.
+    fly_star_offset(&mut computer, 40, offset_rad);
+    assert_eq!(computer.health().star_gate_rejections, 0);
+    // The same NIS after acquisition: rejected, then declared faulty.
+    let limit = computer.config.timing.rejections_to_declare_faulty;
+    let steady_offset_rad = offset_rad + offset_for_nis(&computer, offset_rad, nis);
+    let nis_after = fly_star_offset(&mut computer, 2 * limit, steady_offset_rad);
+    assert!(nis_after > gate && nis_after < acquisition, "{nis_after}");
+    assert_eq!(computer.health().star_gate_rejections, limit);
+    assert_eq!(computer.health().star_declared_faulty, 1);
+    assert!(computer.star.faulty);
+}
+
+/// Without the acquisition gate (set to the steady one) the same first disagreement is a
+/// fault: the persistent prior error is rejected every time.
+#[test]
+fn without_the_acquisition_gate_a_tail_draw_of_the_prior_is_declared_a_fault() {
+    let mut config = *computer().config();
+    config.star.acquisition_gate_nis = config.star.gate_nis;
+    let mut computer = NavigationComputer::new(config, initial_state()).unwrap();
+    let nis = 0.5 * (config.star.gate_nis + crate::config::ACQUISITION_GATE_NIS);
+    let offset_rad = offset_for_nis(&computer, 0.0, nis);
+    let limit = config.timing.rejections_to_declare_faulty;
+    fly_star_offset(&mut computer, 2 * limit, offset_rad);
+    assert_eq!(computer.health().star_gate_rejections, limit);
+    assert_eq!(computer.health().star_declared_faulty, 1);
+}
