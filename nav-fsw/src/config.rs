@@ -49,6 +49,11 @@ pub const MAX_PROPAGATION_INTERVAL_FRAMES: u32 = 500;
 /// declared faulty.
 pub const ACQUISITION_GATE_NIS: f64 = 30.67;
 
+/// Whether `value` is a valid χ² gate of a configuration: finite and > 0, or +∞ (no gate).
+fn is_gate(value: f64) -> bool {
+    (value.is_finite() && value > 0.0) || value == f64::INFINITY
+}
+
 /// Smallest 1σ or noise density accepted where the filter squares it ([`sigma_is_squarable`]).
 pub const SIGMA_MIN: f64 = 1e-150;
 
@@ -433,13 +438,12 @@ impl FswConfig {
     fn validate_sensors(&self) -> Result<(), FswError> {
         let invalid = |field| Err(FswError::InvalidConfiguration(field));
         let positive = |value: f64| value.is_finite() && value > 0.0;
-        let gate = |value: f64| positive(value) || value == f64::INFINITY;
         let [w, x, y, z] = self.star.mounting_wxyz;
         let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
         if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
             return invalid(ConfigField::StarMounting);
         }
-        if !gate(self.star.gate_nis) {
+        if !is_gate(self.star.gate_nis) {
             return invalid(ConfigField::StarGate);
         }
         if !(positive(self.star.unit_norm_tolerance) && self.star.unit_norm_tolerance < 0.5) {
@@ -448,13 +452,13 @@ impl FswConfig {
         if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
             return invalid(ConfigField::GnssLeverArm);
         }
-        if !gate(self.gnss.gate_nis) {
+        if !is_gate(self.gnss.gate_nis) {
             return invalid(ConfigField::GnssGate);
         }
         if !positive(self.gnss.max_jump_m) {
             return invalid(ConfigField::GnssMaxJump);
         }
-        if !gate(self.gnss.velocity_gate_nis) {
+        if !is_gate(self.gnss.velocity_gate_nis) {
             return invalid(ConfigField::GnssVelocity);
         }
         if !(self.gnss.whiteness_window_fixes.is_finite()
@@ -466,15 +470,15 @@ impl FswConfig {
         Ok(())
     }
 
-    /// The acquisition gates, each > 0 or +∞ (as the gates).
+    /// The acquisition gates, each a gate as the steady ones ([`is_gate`]).
     fn validate_acquisition_gates(&self) -> Result<(), FswError> {
-        let gate = |value: f64| (value.is_finite() && value > 0.0) || value == f64::INFINITY;
-        if !gate(self.star.acquisition_gate_nis) {
+        if !is_gate(self.star.acquisition_gate_nis) {
             return Err(FswError::InvalidConfiguration(
                 ConfigField::StarAcquisitionGate,
             ));
         }
-        if !(gate(self.gnss.acquisition_gate_nis) && gate(self.gnss.velocity_acquisition_gate_nis))
+        if !(is_gate(self.gnss.acquisition_gate_nis)
+            && is_gate(self.gnss.velocity_acquisition_gate_nis))
         {
             return Err(FswError::InvalidConfiguration(
                 ConfigField::GnssAcquisitionGate,

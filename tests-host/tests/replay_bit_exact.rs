@@ -107,7 +107,7 @@ fn realistic_sensor_scenario_replays_bit_for_bit_on_host_and_target() {
 /// The realistic-sensor scenario of the replay test.
 const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";
 /// Worst frame the flight path may take on the Cortex-M7 (instructions) with the
-/// correlated-GNSS-error states and the velocity update (measured 20,320: a GNSS velocity
+/// correlated-GNSS-error states and the velocity update (measured 20,360: a GNSS velocity
 /// update referred by one frame, in a frame that fuses and does not propagate;
 /// docs/performance.md).
 const WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 23_000;
