@@ -132,8 +132,8 @@ impl FilterArithmetic {
 }
 
 /// The dense branches, each in its own never-inlined function: inlined, their 24×24
-/// temporaries (84 KB in the propagation) would be reserved in the flight path's stack
-/// frames even where the flight path never takes them.
+/// temporaries (many times the flight path's own stack in the propagation) would be reserved
+/// in the flight path's stack frames even where the flight path never takes them.
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense {
     use super::{ErrorState, ErrorStateFilter, InnovationReport, Propagation};

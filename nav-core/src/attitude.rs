@@ -10,6 +10,18 @@ use crate::NavError;
 /// Quaternion norms below this are treated as degenerate (cannot be normalised).
 pub const MIN_QUATERNION_NORM: f64 = 1.0e-12;
 
+/// Largest distance from 1 of the norm of a quaternion or direction that a configuration or
+/// an initial state gives as unit (dimensionless; the bound itself is accepted,
+/// [`is_unit_norm`]): the round-off of a normalised value stays far below it, a wrong
+/// convention or a value never normalised far above.
+pub const UNIT_NORM_TOLERANCE: f64 = 1.0e-9;
+
+/// Whether `norm` is within [`UNIT_NORM_TOLERANCE`] of 1, the bound included (false for NaN).
+#[inline]
+pub fn is_unit_norm(norm: f64) -> bool {
+    (norm - 1.0).abs() <= UNIT_NORM_TOLERANCE
+}
+
 /// Hamilton product `a ⊗ b` (rotation `b` first, then `a`, when both map into their left frame:
 /// `q_ac = q_ab ⊗ q_bc`).
 #[inline]

@@ -245,10 +245,10 @@ impl FiniteCheck {
 }
 
 /// Whether every value is finite ([`FiniteCheck`]: one multiply-add per value, no branch;
-/// nalgebra's `iter().all(is_finite)` costs ~13 instructions per value on the target). Four
-/// running checks over interleaved values, merged at the end: the same operations as one,
-/// but four independent chains of additions, so an out-of-order host does not wait on one
-/// long chain (a measurement's 84 values: ~60 ns on one chain).
+/// nalgebra's `iter().all(is_finite)` branches on every value and costs several times as
+/// much on the target). Four running checks over interleaved values, merged at the end: the
+/// same operations as one, but four independent chains of additions, so an out-of-order host
+/// does not wait on one long chain of a measurement's values.
 #[inline(always)]
 pub(crate) fn all_finite(values: &[f64]) -> bool {
     let mut checks = [FiniteCheck::new(); 4];
@@ -390,7 +390,7 @@ fn tile_column(columns: &[[f64; 24]; 24], column: usize, row: usize) -> [f64; 4]
 /// `mirror_upper_to_lower(matrix, 24)` by 4×4 tiles, for hosts with 256-bit vectors
 /// (x86-64-v3): each tile above the diagonal is four column vectors, transposed in
 /// registers and stored as four column vectors below it (the element-by-element copy
-/// reads one column's values and stores them 192 bytes apart, one scalar at a time); the
+/// reads one column's values and stores them a whole column apart, one scalar at a time); the
 /// six diagonal tiles are copied element by element. The same copies, so the same bits.
 #[cfg(any(test, not(target_arch = "arm")))]
 pub(crate) fn mirror_upper_to_lower_by_tiles(matrix: &mut CovarianceMatrix) {

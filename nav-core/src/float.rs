@@ -1,9 +1,10 @@
 //! The square root of the flight code: IEEE 754 correctly rounded, so every implementation
 //! gives the same bits, and the cheapest one the build allows is used.
 //!
-//! `libm::sqrt` (the default) is correctly rounded in software: about 85 instructions on the
-//! Cortex-M7, and a star-update frame takes 15 square roots. With the `hardware-sqrt`
-//! feature on 32-bit ARM the FPU's `VSQRT.F64` computes it in one instruction. IEEE 754
+//! `libm::sqrt` (the default) is correctly rounded in software, dozens of instructions on the
+//! Cortex-M7, and a star-update frame takes several square roots (docs/performance.md). With
+//! the `hardware-sqrt` feature on 32-bit ARM the FPU's `VSQRT.F64` computes it in one
+//! instruction. IEEE 754
 //! requires the square root to be correctly rounded, so both give the same bits for every
 //! input in the default rounding mode (round to nearest, which the flight code never
 //! changes); the host/target bit-for-bit replays check it over every square root of a

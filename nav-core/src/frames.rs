@@ -49,9 +49,6 @@ pub const SITE_HEIGHT_RANGE_M: (f64, f64) = (-1.0e3, 1.0e4);
 /// wrong axis.
 pub const MAX_EARTH_AXIS_TILT_RAD: f64 = 1.0e-4;
 
-/// Accepted deviation of the Earth rotation axis from unit length (dimensionless).
-pub const EARTH_AXIS_UNIT_TOLERANCE: f64 = 1.0e-9;
-
 /// Launch site and Earth rotation axis that define the launch and launch-inertial frames.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -67,7 +64,7 @@ pub struct LaunchSite {
     /// Unit Earth rotation axis (the celestial intermediate pole) in ECEF (ITRF) axes,
     /// computed on the ground from the day's polar motion `(x_p, y_p)`: `W [0, 0, 1]ᵀ ≈
     /// [x_p, −y_p, 1]` (IERS Conventions 2010, eq. 5.3); `[0, 0, 1]` neglects polar motion.
-    /// Unit within [`EARTH_AXIS_UNIT_TOLERANCE`], within [`MAX_EARTH_AXIS_TILT_RAD`] of `z`.
+    /// Unit ([`crate::attitude::is_unit_norm`]), within [`MAX_EARTH_AXIS_TILT_RAD`] of `z`.
     pub earth_axis_ecef: [f64; 3],
 }
 
@@ -106,7 +103,7 @@ impl LaunchSite {
         x.is_finite()
             && y.is_finite()
             && z > 0.0
-            && (norm - 1.0).abs() <= EARTH_AXIS_UNIT_TOLERANCE
+            && crate::attitude::is_unit_norm(norm)
             && crate::float::sqrt(x * x + y * y) <= MAX_EARTH_AXIS_TILT_RAD
     }
 }

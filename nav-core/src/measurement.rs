@@ -219,8 +219,7 @@ pub fn gnss_velocity(
 /// `H_gyro_scale` (`H_velocity = I`), as one expression of its 24 columns (nalgebra stores
 /// columns), in [`gnss_velocity`], which is not inlined: LLVM then writes most of it into
 /// the caller's result directly, where a zero-filled `H` written by blocks, or this one
-/// inlined into the scheduler, is assembled in a temporary and copied (~230 to ~470
-/// instructions more on the target).
+/// inlined into the scheduler, is assembled in a temporary and copied.
 #[inline(always)]
 fn velocity_jacobian(
     attitude: &Matrix3<f64>,

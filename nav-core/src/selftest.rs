@@ -276,9 +276,8 @@ impl FilterPathFixture {
             &mounting,
         );
         let [w, x, y, z] = self.calibration.star_installation_wxyz;
-        // Used where it lies, as the flight scheduler does: moving the 680-byte measurement
-        // out of the `Result` (`?`) copied it twice, through a misaligned temporary, at
-        // ~4,900 instructions on the target.
+        // Used where it lies, as the flight scheduler does: moving the measurement out of
+        // the `Result` (`?`) copies it twice on the target, through a misaligned temporary.
         let measurement = star_sensor(
             &self.navigation.attitude,
             &mounting,

@@ -103,6 +103,13 @@ pub const BLOCK_DIMENSION: usize = 3;
 
 /// Number of error states (paper eq. 15).
 pub const STATE_DIMENSION: usize = 24;
+/// Number of dynamic states: the blocks of [`StateBlock::NAVIGATION`] (attitude, position,
+/// velocity), first in the vector; the only rows of the system matrix that are not zero.
+pub const DYNAMIC_DIMENSION: usize = StateBlock::NAVIGATION.len() * BLOCK_DIMENSION;
+/// Number of calibration states: the blocks of [`StateBlock::CALIBRATION`], after the dynamic
+/// states.
+pub const CALIBRATION_DIMENSION: usize = StateBlock::CALIBRATION.len() * BLOCK_DIMENSION;
+const _: () = assert!(DYNAMIC_DIMENSION + CALIBRATION_DIMENSION == STATE_DIMENSION);
 /// Number of measurement components of a full update (star attitude 3 + GNSS position 3).
 pub const MEASUREMENT_DIMENSION: usize = 6;
 

@@ -26,7 +26,7 @@ use crate::error::{ConfigField, FswError};
 pub use crate::motion_observability::{MotionObservabilityTable, MotionSignature};
 
 /// Number of calibration blocks (biases, installation, scale factors).
-pub const CALIBRATION_BLOCK_COUNT: usize = 5;
+pub const CALIBRATION_BLOCK_COUNT: usize = StateBlock::CALIBRATION.len();
 
 /// The flight's manoeuvre phase, as commanded or as known from the flight plan.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -232,8 +232,8 @@ pub struct CalibrationEntry {
     /// rotation vector in rad).
     pub value: [f64; 3],
     /// Filter variance per axis (units of the block, squared). Kept as the variance so the
-    /// 500 Hz evaluation needs no square root (a software `sqrt` is ~85 instructions on the
-    /// Cortex-M7 target); [`CalibrationEntry::sigma`] gives the 1σ.
+    /// 500 Hz evaluation needs no square root (a software `sqrt` costs dozens of instructions
+    /// on the Cortex-M7 target); [`CalibrationEntry::sigma`] gives the 1σ.
     pub variance: [f64; 3],
     /// Navigation time at which the block was declared converged (s), if it has.
     pub converged_at_s: Option<f64>,

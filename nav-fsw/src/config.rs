@@ -41,13 +41,17 @@ pub const MAX_PROPAGATION_INTERVAL_FRAMES: u32 = 500;
 ///
 /// Until the filter has accepted a measurement of an aid, its innovation is the prior's
 /// error, and that error does not change from one measurement to the next: a draw beyond the
-/// steady gate (16.27, exceeded with probability 1e-3) would be rejected every time, and
+/// steady gate ([`GATE_NIS`], exceeded with probability 1e-3) would be rejected every time, and
 /// after `timing.rejections_to_declare_faulty` rejections a healthy sensor would be declared
 /// faulty for the flight (one flight in a thousand from the prior alone). The first
 /// acceptance is therefore gated at 1e-6; after it the innovations are fresh noise again and
 /// the steady gate applies. A sensor whose error exceeds this gate is still rejected and
 /// declared faulty.
 pub const ACQUISITION_GATE_NIS: f64 = 30.67;
+
+/// Default steady gate of every aid: the χ²(3) point exceeded with probability 1e-3 (16.27,
+/// 99.9 %), by the same `Q(x)` as [`ACQUISITION_GATE_NIS`].
+pub const GATE_NIS: f64 = 16.27;
 
 /// Whether `value` is a valid χ² gate of a configuration: finite and > 0, or +∞ (no gate).
 fn is_gate(value: f64) -> bool {
@@ -104,7 +108,7 @@ pub struct StarSensorConfig {
     pub mounting_wxyz: [f64; 4],
     /// Attitude noise, 1σ per axis (rad); the paper's 10″.
     pub noise_rad: f64,
-    /// NIS gate, χ²(3) (16.27 = 99.9 %).
+    /// NIS gate, χ²(3) ([`GATE_NIS`] by default).
     pub gate_nis: f64,
     /// NIS gate, χ²(3), until the filter has accepted a star measurement: after start-up,
     /// an outage, a filter re-initialisation or a cleared fault ([`ACQUISITION_GATE_NIS`]);
@@ -303,18 +307,18 @@ impl FswConfig {
             star: StarSensorConfig {
                 mounting_wxyz: [1.0, 0.0, 0.0, 0.0],
                 noise_rad: 10.0 * ARCSEC_TO_RAD,
-                gate_nis: 16.27,
+                gate_nis: GATE_NIS,
                 acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 unit_norm_tolerance: 1e-3,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],
                 noise_m: 10.0,
-                gate_nis: 16.27,
+                gate_nis: GATE_NIS,
                 acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 max_jump_m: 1000.0,
                 velocity_noise_mps: 0.05,
-                velocity_gate_nis: 16.27,
+                velocity_gate_nis: GATE_NIS,
                 velocity_acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 // [chosen] 64 fixes: 1σ of the statistic 0.051 when the innovations are
                 // white; 0.25 is about 5σ, and well below the 0.4-0.6 of an unmodelled
@@ -440,7 +444,7 @@ impl FswConfig {
         let positive = |value: f64| value.is_finite() && value > 0.0;
         let [w, x, y, z] = self.star.mounting_wxyz;
         let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
-        if !(norm.is_finite() && (norm - 1.0).abs() < 1e-9) {
+        if !(norm.is_finite() && nav_core::attitude::is_unit_norm(norm)) {
             return invalid(ConfigField::StarMounting);
         }
         if !is_gate(self.star.gate_nis) {
@@ -605,7 +609,7 @@ mod tests {
         use ConfigField as F;
         // A zero noise is not positive.
         assert_eq!(refused(|c| c.star.noise_rad = 0.0), Some(F::StarNoise));
-        // Any unit mounting is accepted, whatever its axis; a norm 1e-9 off is refused.
+        // Any unit mounting is accepted, whatever its axis; a norm 2e-9 off is refused.
         let half = core::f64::consts::FRAC_1_SQRT_2;
         for mounting in [
             [0.5, 0.5, -0.5, 0.5],

@@ -23,8 +23,6 @@ use crate::error::{ConfigField, FswError};
 pub const SECONDS_PER_WEEK: f64 = 604_800.0;
 /// Largest accepted GPS week (full count): week 9999 ends in the year 2171.
 pub const MAX_GPS_WEEK: u32 = 9_999;
-/// Accepted deviation of `q_ig` from unit norm (dimensionless), as the star mounting's.
-pub const ROTATION_UNIT_TOLERANCE: f64 = 1.0e-9;
 
 /// The ground-computed constants that relate the sensors' frames and time scales to the
 /// launch-inertial frame and navigation time.
@@ -32,7 +30,7 @@ pub const ROTATION_UNIT_TOLERANCE: f64 = 1.0e-9;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SensorFrames {
     /// `q_ig` `[w, x, y, z]`: GCRF → launch-inertial at the launch epoch (Hamilton, scalar
-    /// first; `v_i = q_ig ⊗ v_g ⊗ q_ig*`). Unit within [`ROTATION_UNIT_TOLERANCE`].
+    /// first; `v_i = q_ig ⊗ v_g ⊗ q_ig*`). Unit ([`nav_core::attitude::is_unit_norm`]).
     pub gcrf_to_launch_inertial_wxyz: [f64; 4],
     /// GPS week of the launch epoch `w₀` (full count), at most [`MAX_GPS_WEEK`].
     pub launch_epoch_gps_week: u32,
@@ -90,7 +88,7 @@ impl SensorFrames {
         let q = self.gcrf_to_launch_inertial_wxyz;
         let norm_squared: f64 = q.iter().map(|c| c * c).sum();
         let unit = q.iter().all(|c| c.is_finite())
-            && (nav_core::float::sqrt(norm_squared) - 1.0).abs() <= ROTATION_UNIT_TOLERANCE;
+            && nav_core::attitude::is_unit_norm(nav_core::float::sqrt(norm_squared));
         let epoch = check_gps_time(
             self.launch_epoch_gps_week,
             self.launch_epoch_gps_seconds_of_week,

@@ -192,3 +192,241 @@ fn link_targets_are_parsed() {
         ["docs/a.md", "b.md#x"]
     );
 }
+
+/// Units of a measurement of the software's own cost: instructions and cycles, memory in
+/// bytes, and execution times below the millisecond (a time in ms or s is the model's: the
+/// 2 ms frame, a measurement 10 ms late).
+const COST_UNITS: [&str; 22] = [
+    "instruction",
+    "instructions",
+    "instr",
+    "cycle",
+    "cycles",
+    "byte",
+    "bytes",
+    "kilobyte",
+    "kilobytes",
+    "B",
+    "kB",
+    "KB",
+    "KiB",
+    "kiB",
+    "MB",
+    "MiB",
+    "ns",
+    "nanoseconds",
+    "µs",
+    "μs",
+    "us",
+    "microseconds",
+];
+
+/// Byte counts that define a wire format (the replay log's records and header, the IMU's SPI
+/// packet, the 8-byte words of the replay setup and output): a definition, like the constant
+/// beside it, not a measurement. Each is matched with the word after it (up to a hyphen).
+const WIRE_FORMAT_SIZES: [&str; 9] = [
+    "80-byte record",
+    "80 bytes each",
+    "80-byte records",
+    "80-byte buffer",
+    "16-byte header",
+    "8-byte word",
+    "8-byte words",
+    "8-byte little",
+    "34 bytes,",
+];
+
+/// The first figure in `text` that states a cost of the software (a number followed by a
+/// unit of [`COST_UNITS`], e.g. "8,384 bytes", "~2 KB", "10,400 instructions", "600 ns",
+/// "a 672-byte struct"), with the word after it; `None` if there is none. A number is digits
+/// with thousands commas, a decimal point or an exponent, and a `k`/`M` multiplier; it starts
+/// a word (not `f64`, `x2`, `3×3`), and one space or hyphen may separate it from the unit.
+fn cost_figure(text: &str) -> Option<String> {
+    let chars: Vec<char> = text.chars().collect();
+    let at = |i: usize| chars.get(i).copied().unwrap_or(' ');
+    let starts_word = |i: usize| {
+        i == 0 || {
+            let before = at(i - 1);
+            !(before.is_alphanumeric() || "_.×^/'-".contains(before))
+        }
+    };
+    let word_at = |start: usize| {
+        let start = start.min(chars.len());
+        let mut i = start;
+        while at(i).is_alphabetic() {
+            i += 1;
+        }
+        (chars[start..i].iter().collect::<String>(), i)
+    };
+    let separated = |i: usize| [' ', '-', '\u{a0}', '\u{202f}'].contains(&at(i));
+    for start in 0..chars.len() {
+        if !(chars[start].is_ascii_digit() && starts_word(start)) {
+            continue;
+        }
+        let mut i = start;
+        while at(i).is_ascii_digit() || ([',', '.'].contains(&at(i)) && at(i + 1).is_ascii_digit())
+        {
+            i += 1;
+        }
+        if at(i) == 'e' && (at(i + 1).is_ascii_digit() || at(i + 1) == '-') {
+            i += 2;
+            while at(i).is_ascii_digit() {
+                i += 1;
+            }
+        }
+        let mut unit_start = if separated(i) { i + 1 } else { i };
+        let (mut unit, mut end) = word_at(unit_start);
+        if ["k", "K", "M", "thousand"].contains(&unit.as_str()) && separated(end) {
+            unit_start = end + 1;
+            (unit, end) = word_at(unit_start);
+        }
+        if unit.is_empty() || !COST_UNITS.contains(&unit.as_str()) {
+            continue;
+        }
+        let (next, next_end) = word_at(end + usize::from(at(end) == ' '));
+        let mut figure: String = chars[start..end].iter().collect();
+        if !next.is_empty() {
+            figure = chars[start..next_end].iter().collect();
+        } else if at(end) == ',' {
+            figure.push(',');
+        }
+        if !WIRE_FORMAT_SIZES.contains(&figure.as_str()) {
+            return Some(figure);
+        }
+    }
+    None
+}
+
+/// The comments of a Rust source file, each run of consecutive comment lines joined into one
+/// text (a figure may be split across lines): whole-line `//`, `///` and `//!` comments, and
+/// a `//` comment after code outside a string literal.
+fn comments(source: &str) -> Vec<(usize, String)> {
+    let mut found: Vec<(usize, String)> = Vec::new();
+    let mut open = false;
+    for (index, line) in source.lines().enumerate() {
+        let trimmed = line.trim_start();
+        let comment = if trimmed.starts_with("//") {
+            Some(trimmed.trim_start_matches('/').trim_start_matches('!'))
+        } else {
+            let mut quotes = 0;
+            let mut after_code = None;
+            for (at, c) in line.char_indices() {
+                if c == '"' {
+                    quotes += 1;
+                } else if quotes % 2 == 0 && line[at..].starts_with("//") {
+                    after_code = Some(&line[at + 2..]);
+                    break;
+                }
+            }
+            after_code
+        };
+        match (comment, open) {
+            (Some(text), true) if trimmed.starts_with("//") => {
+                if let Some((_, joined)) = found.last_mut() {
+                    joined.push(' ');
+                    joined.push_str(text.trim());
+                }
+            }
+            (Some(text), _) => found.push((index + 1, text.trim().to_string())),
+            (None, _) => {}
+        }
+        open = comment.is_some() && trimmed.starts_with("//");
+    }
+    found
+}
+
+/// The flight crates' comments give reasons, not measurements: a figure of the software's
+/// cost (instructions, cycles, bytes, an execution time) goes stale with the next change of
+/// the code or the compiler, so it lives in docs/performance.md or docs/reliability.md next
+/// to the command that measures it again.
+#[test]
+fn the_flight_code_comments_state_no_measured_cost() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .unwrap();
+    let mut files = Vec::new();
+    for directory in ["nav-core", "nav-fsw"] {
+        source_files(&root.join(directory), &mut files);
+    }
+    let sources: Vec<&PathBuf> = files
+        .iter()
+        .filter(|file| file.extension().is_some_and(|extension| extension == "rs"))
+        .collect();
+    assert!(sources.len() >= 40, "only {} sources found", sources.len());
+    let mut figures = Vec::new();
+    for file in sources {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (line, comment) in comments(&text) {
+            if let Some(figure) = cost_figure(&comment) {
+                figures.push(format!(
+                    "{}: comment from line {line}: `{figure}`",
+                    file.display()
+                ));
+            }
+        }
+    }
+    assert!(
+        figures.is_empty(),
+        "measured figures in comments (move them to docs/performance.md with their command):\n{}",
+        figures.join("\n")
+    );
+}
+
+#[test]
+fn cost_figures_are_found_and_physics_is_not() {
+    for (text, figure) in [
+        (
+            "the frame loop takes 8,384 bytes of stack",
+            "8,384 bytes of",
+        ),
+        ("the filter (6 kB) is reset", "6 kB"),
+        ("a copy of the ~2 KB model", "2 KB model"),
+        ("costs 10,400 instructions", "10,400 instructions"),
+        ("about 600 ns on the host", "600 ns on"),
+        ("1.54 µs per frame", "1.54 µs per"),
+        ("the 672-byte measurement", "672-byte measurement"),
+        ("a 4.8 kB filter", "4.8 kB filter"),
+        ("(27.6 kB: host use)", "27.6 kB"),
+        ("10k instructions", "10k instructions"),
+        ("~540\ninstructions", "540\ninstructions"),
+        ("(12,000 cycles)", "12,000 cycles"),
+        ("2 KiB", "2 KiB"),
+        ("84 KB in the propagation", "84 KB in"),
+    ] {
+        let text = text.replace('\n', " ");
+        let figure = figure.replace('\n', " ");
+        assert_eq!(
+            cost_figure(&text).as_deref(),
+            Some(figure.as_str()),
+            "{text}"
+        );
+    }
+    for text in [
+        "the 2 ms frame at 500 Hz",
+        "a 10″ star sensor, 1e-9 rad",
+        "a GNSS fix 10 ms late, 15 states",
+        "the 3×3 B block, f64 values, x2 bytes",
+        "records of [`RECORD_SIZE`] = 80 bytes each",
+        "the documented 80-byte records; a 16-byte header; nine 8-byte words",
+        "as 8-byte little-endian words",
+        "reads [`PACKET_SIZE`] = 34 bytes, all",
+        "the largest instruction count",
+        "Σ_k over 15 terms k of 6 columns s",
+    ] {
+        assert_eq!(cost_figure(text), None, "{text}");
+    }
+}
+
+#[test]
+fn comments_are_joined_per_run_and_strings_are_not_comments() {
+    let source = "/// a figure split\n/// across lines\nlet url = \"http://x\"; // after code\nfn f() {}\n//! module\n";
+    assert_eq!(
+        comments(source),
+        [
+            (1, "a figure split across lines".to_string()),
+            (3, "after code".to_string()),
+            (5, "module".to_string()),
+        ]
+    );
+}

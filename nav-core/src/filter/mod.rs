@@ -306,7 +306,7 @@ impl ErrorStateFilter {
     }
 
     /// [`ErrorStateFilter::new`] written into `slot` (a field of a larger structure, or a
-    /// `static`), where it stays: its 6 kB are not built on the stack first and moved.
+    /// `static`), where it stays: the large filter is not built on the stack first and moved.
     ///
     /// # Errors
     /// As [`ErrorStateFilter::new`]; `slot` is not written then.
@@ -344,7 +344,7 @@ impl ErrorStateFilter {
         Ok(filter)
     }
 
-    /// [`ErrorStateFilter::new`] again, in place (its 6 kB are not built on the stack and
+    /// [`ErrorStateFilter::new`] again, in place (the filter is not built on the stack and
     /// moved): `x = 0`, `P = diag(σ²)`, the correlated GNSS error states at their start.
     ///
     /// # Errors
@@ -428,8 +428,8 @@ impl ErrorStateFilter {
     /// units): process noise the discrete model does not contain, such as the error of a
     /// held IMU sample. `P` stays symmetric positive definite. The isotropic case of
     /// [`ErrorStateFilter::add_block_covariance`], with a loop of its own over the diagonal:
-    /// written through that function it costs 80 instructions more in the worst frame on the
-    /// Cortex-M7 (QEMU replay).
+    /// written through that function it costs more in the worst frame on the Cortex-M7
+    /// (QEMU replay).
     ///
     /// # Errors
     /// [`NavError::NonFiniteInput`] for a negative or non-finite variance; nothing changes
@@ -542,7 +542,7 @@ impl ErrorStateFilter {
     /// was changed. Only the diagonal is read unless a bound is crossed.
     pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
         // The diagonal is read through the column arrays with one index (nalgebra's strided
-        // iterators and checked 2-D indexing cost ~45 instructions per state on the target).
+        // iterators and checked 2-D indexing cost several times as much on the target).
         let ([floor], [ceiling]) = (&floor.data.0, &ceiling.data.0);
         let columns = &mut self.covariance.data.0;
         let mut crossed = [false; STATE_DIMENSION];
@@ -708,8 +708,8 @@ impl ErrorStateFilter {
                 .as_ref()
                 .map(|border| (self.gnss_error.cross_rows(), border)),
         );
-        // `&self.state`: by reference, so the 192-byte state is not copied first (~190
-        // instructions on the target; clippy's `op_ref` assumes the copy is free).
+        // `&self.state`: by reference, so the state is not copied first (a `memcpy` on the
+        // target; clippy's `op_ref` assumes the copy is free).
         #[allow(clippy::op_ref)]
         let mut innovation = measurement.residual - h * &self.state;
         if border.is_some() {
@@ -741,7 +741,7 @@ impl ErrorStateFilter {
         }
         // The kernels read a copy of `S` (nine values): the report's own is then written
         // into the result directly, where one whose address the kernels take is copied
-        // there with the innovation (~200 instructions on the target).
+        // there with the innovation.
         let s = covariance;
         if let Some(border) = &border {
             let solved = (&cholesky, &s, frozen);
@@ -801,8 +801,7 @@ impl ErrorStateFilter {
     }
 
     /// [`ErrorStateFilter::reset`] for a caller that has read the error state already
-    /// ([`ErrorStateFilter::state`]): nothing is returned, so the 192-byte state is not
-    /// copied (~190 instructions on the target).
+    /// ([`ErrorStateFilter::state`]): nothing is returned, so the state is not copied.
     pub fn reset_in_place(&mut self) {
         let [attitude, installation] =
             [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&self.state, block));
@@ -829,8 +828,8 @@ impl ErrorStateFilter {
 
 /// [`NavError::NonFiniteInput`] for NaN/Inf in a measurement's residual, `H` or `R`.
 fn check_measurement(measurement: &LinearMeasurement) -> Result<(), NavError> {
-    // One multiply-add per value ([`block::all_finite`]): the 84 values cost ~250
-    // instructions on the target instead of ~1,100 with `is_finite` per value.
+    // One multiply-add per value ([`block::all_finite`]): a fraction of the cost of
+    // `is_finite` per value on the target.
     let finite = block::all_finite(measurement.residual.as_slice())
         && block::all_finite(measurement.jacobian.as_slice())
         && block::all_finite(measurement.noise_covariance.as_slice());

@@ -67,7 +67,7 @@ pub type MeasurementVector = SVector<f64, MEASUREMENT_DIMENSION>;
 pub type MeasurementMatrix = SMatrix<f64, MEASUREMENT_DIMENSION, STATE_DIMENSION>;
 /// Rows of one segment's observability matrix: 6 per power, powers 0..=23.
 pub const SEGMENT_ROWS: usize = MEASUREMENT_DIMENSION * STATE_DIMENSION;
-/// One segment's (scaled) observability matrix `Q_j`, 144×24 (27.6 kB: host/analysis use).
+/// One segment's (scaled) observability matrix `Q_j`, 144×24 (too large for the flight stack: host/analysis use).
 pub type SegmentObservabilityMatrix = SMatrix<f64, SEGMENT_ROWS, STATE_DIMENSION>;
 /// Upper-triangular 24×24 factor `R` with `RᵀR = Q_sᵀQ_s`.
 pub type TriangularFactor = SMatrix<f64, STATE_DIMENSION, STATE_DIMENSION>;

@@ -17,11 +17,7 @@
 
 use super::{StructuredModel, BIAS_A, BIAS_G, SCALE_A, SCALE_G};
 use crate::block::{Block, FiniteCheck, Row};
-use crate::state::STATE_DIMENSION;
-
-/// The dynamic states (ϑ, δp, δv): `P`'s columns 0..9 hold the new `P_dc` while it is
-/// computed.
-pub(super) const DYNAMIC_DIMENSION: usize = 9;
+use crate::state::{BLOCK_DIMENSION, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
 
 /// Three columns of `P` (a column block): column `j` holds row `j` of `P` by symmetry, so
 /// `X_t[k][j]` of term `t` is `columns[j][3t + k]` for the dynamic terms.
@@ -32,7 +28,7 @@ pub(super) type Columns = [[f64; STATE_DIMENSION]; 3];
 type Folded = [[f64; 6]; 3];
 
 /// The blocks of `F`'s δp rows or δv rows over the terms ϑ, δp, δv, bg, ba.
-pub(super) type FRow<'a> = [&'a Block; 5];
+pub(super) type FRow<'a> = [&'a Block; super::F_ROW_TERMS];
 
 /// Input `X_t[k][j]` of term `t` (0..3: ϑ, δp, δv from `P`; 3, 4: the folded gyro and
 /// accelerometer rows).
@@ -229,11 +225,11 @@ impl StructuredModel {
         &self,
         rows: &KernelRows,
         dynamic: &mut [[f64; STATE_DIMENSION]; DYNAMIC_DIMENSION],
-        calibration: &[[f64; STATE_DIMENSION]; 15],
+        calibration: &[[f64; STATE_DIMENSION]; CALIBRATION_DIMENSION],
     ) -> FiniteCheck {
         let mut check = FiniteCheck::new();
         let Some(columns) = calibration
-            .get(C - 9..C - 6)
+            .get(C - DYNAMIC_DIMENSION..C - DYNAMIC_DIMENSION + BLOCK_DIMENSION)
             .and_then(|c| <&Columns>::try_from(c).ok())
         else {
             check.value(f64::NAN);

@@ -90,6 +90,10 @@ use crate::state::{
 #[cfg(any(test, not(target_arch = "arm")))]
 mod rows;
 
+/// Terms of a δp or δv row of `F` in the kernels: the blocks ϑ, δp, δv, bg, ba (the
+/// scale-factor columns folded into the bias ones, the installation column zero).
+const F_ROW_TERMS: usize = 5;
+
 /// Number of states the process noise can reach: attitude, position, velocity, gyro bias and
 /// accelerometer bias (states 1-15; the installation error and scale factors have none).
 pub const NOISE_DRIVEN_DIMENSION: usize = 15;

@@ -20,8 +20,7 @@ use crate::NavError;
 /// (`DIAGONAL_FIRST`: the identity, or `ΔI`) adds only its scaled diagonal (the same
 /// products, without the zero off-diagonal ones). Inlined at each call, so the term
 /// array, the shift and the diagonal flag fold into constants (a called function builds
-/// the arrays of `(n, &T_n)` in memory at every call, about 400 instructions per rebuild
-/// on the target).
+/// the arrays of `(n, &T_n)` in memory at every call).
 #[inline(always)]
 fn series_into<const N: usize, const DIAGONAL_FIRST: bool>(
     out: &mut Block,
@@ -73,8 +72,8 @@ impl Powers {
     };
 
     /// The powers at `point` over `d = Δ` (module docs: `a = WΔ`, `b = VΔ`, `g = NΔ`), in
-    /// place: every block the order reaches is overwritten (a new struct, zero-filled and
-    /// moved, cost ~900 instructions more on the target).
+    /// place: every block the order reaches is overwritten (a new struct is zero-filled and
+    /// moved on the target).
     #[inline(never)]
     fn update(&mut self, point: &LinearisationPoint, c: &Block, d: f64, order: usize) {
         let rate = block::from_vector(&point.corrected_rate_rad_s);
@@ -114,8 +113,8 @@ impl Powers {
 impl Powers {
     /// `Φ = Σ (MΔ)^n/n!` block by block, and `E_g = −½Δ Ψ_{·ϑ}`, `E_a = −Δ Ψ_{·v} Ĉ` (`Ψ`:
     /// shift 1), from these powers over `d = Δ`. Not inlined, and given the blocks it fills
-    /// apart from the powers: the powers lie more than 1 kB into the model, beyond the reach
-    /// of a load's offset from the model's address, and each read of one would need its
+    /// apart from the powers: the powers lie deep into the model, beyond the reach of a
+    /// load's offset from the model's address, and each read of one would need its
     /// own address computation.
     #[inline(never)]
     fn transition_into(
@@ -277,7 +276,7 @@ impl StructuredModel {
     };
 
     /// [`StructuredModel::new`] in place (the flight path keeps one model and refills it
-    /// every propagation: no copy of the ~2 KB model). On error the model is unchanged.
+    /// every propagation: the large model is never copied). On error the model is unchanged.
     ///
     /// # Errors
     /// As [`StructuredModel::new`].
@@ -308,7 +307,7 @@ impl StructuredModel {
         self.input_noise = [gyro_noise, accel_noise];
         // The walks' noise columns of Γ (module docs): [−½Δ² Χ_{·ϑ}; ΔI] and
         // [−Δ² Χ_{·v} Ĉ; ΔI] (Χ: shift 2).
-        // Every noise block written once (no zero fill of the 1 kB first): the gyro walk
+        // Every noise block written once (no zero fill of them all first): the gyro walk
         // sets the dynamic blocks (or zeroes them), the accelerometer walk adds to them.
         // Without any walk the blocks are zeroed only if something made them non-zero.
         let noise = &mut self.noise;

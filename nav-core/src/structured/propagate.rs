@@ -17,7 +17,9 @@ use crate::block::{
 #[cfg(any(test, target_arch = "arm"))]
 use crate::block::{dot, dot_add, entry, row_at};
 use crate::discretise::CovarianceMatrix;
-use crate::state::STATE_DIMENSION;
+#[cfg(any(test, target_arch = "arm"))]
+use crate::state::CALIBRATION_DIMENSION;
+use crate::state::{DYNAMIC_DIMENSION, STATE_DIMENSION};
 
 impl StructuredModel {
     /// `x_d ← Φ x_d + E_g (x_bg + diag(ω_m) x_λg) + E_a (x_ba + diag(f_m) x_λa)`; the
@@ -226,7 +228,7 @@ impl StructuredModel {
         ];
         let position_columns = [e_gyro_p, e_accel_p];
         let velocity_columns = [e_gyro_v, e_accel_v];
-        // Rows of U_dd by reference (an array of blocks would be copied, 72 bytes each).
+        // Rows of U_dd by reference (an array of blocks would copy every block).
         let row_a = [u_aa, u_ap, u_av];
         let row_p = [u_pa, u_pp, u_pv];
         let row_v = [u_va, u_vp, u_vv];
@@ -250,10 +252,10 @@ impl StructuredModel {
         rows: &columns::KernelRows,
         p: &mut CovarianceMatrix,
     ) -> FiniteCheck {
-        let (dynamic, calibration) = p.data.0.split_at_mut(columns::DYNAMIC_DIMENSION);
+        let (dynamic, calibration) = p.data.0.split_at_mut(DYNAMIC_DIMENSION);
         let (Ok(dynamic), Ok(calibration)) = (
-            <&mut [[f64; STATE_DIMENSION]; 9]>::try_from(dynamic),
-            <&[[f64; STATE_DIMENSION]; 15]>::try_from(&*calibration),
+            <&mut [[f64; STATE_DIMENSION]; DYNAMIC_DIMENSION]>::try_from(dynamic),
+            <&[[f64; STATE_DIMENSION]; CALIBRATION_DIMENSION]>::try_from(&*calibration),
         ) else {
             let mut check = FiniteCheck::new();
             check.value(f64::NAN);
@@ -271,7 +273,7 @@ impl StructuredModel {
     #[cfg(any(test, not(target_arch = "arm")))]
     pub(super) fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
         // Every element is written by `projected_rows` (the zeros are never read).
-        let mut u = [[0.0; STATE_DIMENSION]; rows::DYNAMIC_DIMENSION];
+        let mut u = [[0.0; STATE_DIMENSION]; DYNAMIC_DIMENSION];
         rows::projected_rows(self, p, &mut u);
         let (folded_gyro, folded_accel) = self.fold_calibration_columns(
             &rows::column_block(&u, BIAS_G),
@@ -347,7 +349,7 @@ impl StructuredModel {
         let walk_diagonal = self.walk_diagonal(p);
         Self::check_dynamic(&mut check, dynamic, &walk_diagonal);
         if !check.all_finite() {
-            block::mirror_upper_to_lower(p, columns::DYNAMIC_DIMENSION);
+            block::mirror_upper_to_lower(p, DYNAMIC_DIMENSION);
             return false;
         }
         copy_lower_calibration_to_upper(p);
@@ -497,13 +499,12 @@ fn add_walk_to_lower<const C: usize>(
 #[cfg(any(test, target_arch = "arm"))]
 #[inline(always)]
 fn copy_lower_calibration_to_upper(p: &mut CovarianceMatrix) {
-    let (dynamic, calibration) = p.data.0.split_at_mut(columns::DYNAMIC_DIMENSION);
-    let Ok(dynamic) = <&[[f64; STATE_DIMENSION]; columns::DYNAMIC_DIMENSION]>::try_from(&*dynamic)
-    else {
+    let (dynamic, calibration) = p.data.0.split_at_mut(DYNAMIC_DIMENSION);
+    let Ok(dynamic) = <&[[f64; STATE_DIMENSION]; DYNAMIC_DIMENSION]>::try_from(&*dynamic) else {
         return;
     };
-    for (row, column) in (columns::DYNAMIC_DIMENSION..).zip(calibration.iter_mut()) {
-        let Some(top) = column.first_chunk_mut::<{ columns::DYNAMIC_DIMENSION }>() else {
+    for (row, column) in (DYNAMIC_DIMENSION..).zip(calibration.iter_mut()) {
+        let Some(top) = column.first_chunk_mut::<{ DYNAMIC_DIMENSION }>() else {
             continue;
         };
         *top = dynamic

@@ -28,9 +28,9 @@ pub fn refer_to_later_time_at(
     Ok(referred)
 }
 
-/// [`refer_to_later_time_at`] in place (the flight path: a [`LinearMeasurement`] is 672
-/// bytes, and each copy costs ~540 instructions on the Cortex-M7 target). On an error the
-/// measurement is unchanged.
+/// [`refer_to_later_time_at`] in place (the flight path: a [`LinearMeasurement`] is large,
+/// and every copy of it is a `memcpy` on the Cortex-M7 target). On an error the measurement
+/// is unchanged.
 ///
 /// # Errors
 /// As [`refer_to_later_time_at`].
@@ -71,7 +71,7 @@ pub fn refer_to_later_time_in_place(
     );
     // A block of H that is all zero adds nothing to (H A): its products are skipped (a
     // star measurement has no position or velocity block, a GNSS velocity without lever
-    // arm no attitude block; each product not formed saves up to ~90 instructions on the
+    // arm no attitude block; each product not formed is a block product saved on the
     // target). Subtracting a zero would change at most the sign of a zero entry of H,
     // which no later product sees.
     let attitude_observed = !is_zero(&h_attitude);

@@ -15,18 +15,18 @@
 
 use core::borrow::Borrow;
 
-use super::{StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
+use super::{StructuredModel, ATT, BIAS_A, BIAS_G, F_ROW_TERMS, POS, SCALE_A, SCALE_G, VEL};
 use crate::block::{Block, Row};
 use crate::discretise::CovarianceMatrix;
-use crate::state::STATE_DIMENSION;
+use crate::state::{BLOCK_DIMENSION, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
+
+/// Coefficients of one δp or δv row of `F` over the kernels' terms.
+const F_ROW_LENGTH: usize = F_ROW_TERMS * BLOCK_DIMENSION;
 
 /// A row over the 24 states.
 type StateRow = [f64; STATE_DIMENSION];
 
-/// The dynamic states (ϑ, δp, δv): the rows of `U`.
-pub(super) const DYNAMIC_DIMENSION: usize = 9;
-
-/// `U = [Φ E] P`, rows ϑ, δp, δv; row `i`'s element `j` is `U_ij` (state `j`'s column).
+/// `U = [Φ E] P`, rows ϑ, δp, δv (the dynamic states); row `i`'s element `j` is `U_ij` (state `j`'s column).
 pub(super) type ProjectedRows = [StateRow; DYNAMIC_DIMENSION];
 
 /// Read where an index is out of range (constant indices never are).
@@ -141,7 +141,7 @@ fn folded_rows(p: &CovarianceMatrix, bias: usize, scale: usize, input: Row) -> [
 /// The blocks of `F`'s δp rows and of its δv rows over the terms ϑ, p, v, bg, ba (the
 /// block kernel's term order; the scale factors are folded into the biases).
 #[inline(always)]
-fn dynamic_rows_of_f(model: &StructuredModel) -> [[&Block; 5]; 2] {
+fn dynamic_rows_of_f(model: &StructuredModel) -> [[&Block; F_ROW_TERMS]; 2] {
     let t = &model.transition;
     let [_, gyro_position, gyro_velocity] = &model.gyro_bias_column;
     let [accel_position, accel_velocity] = &model.accel_bias_column;
@@ -163,10 +163,10 @@ fn dynamic_rows_of_f(model: &StructuredModel) -> [[&Block; 5]; 2] {
     ]
 }
 
-/// Row `i` of one of those block rows: its 15 coefficients side by side.
+/// Row `i` of one of those block rows: its coefficients side by side.
 #[inline(always)]
-fn row_of_f(blocks: [&Block; 5], i: usize) -> [f64; 15] {
-    let mut out = [0.0; 15];
+fn row_of_f(blocks: [&Block; F_ROW_TERMS], i: usize) -> [f64; F_ROW_LENGTH] {
+    let mut out = [0.0; F_ROW_LENGTH];
     let rows = blocks.map(|block| crate::block::row_at(block, i));
     for (slot, value) in out.iter_mut().zip(rows.iter().flatten()) {
         *slot = *value;
@@ -256,7 +256,7 @@ pub(super) fn add_to_column(u: &mut ProjectedRows, column: usize, blocks: &[Bloc
 /// vectorised (one running sum would be a chain of 135 dependent additions).
 #[inline(always)]
 pub(super) fn calibration_finite(u: &ProjectedRows) -> bool {
-    let mut sums = [0.0; STATE_DIMENSION - DYNAMIC_DIMENSION];
+    let mut sums = [0.0; CALIBRATION_DIMENSION];
     for row in u {
         let values = row.get(DYNAMIC_DIMENSION..).unwrap_or(&[f64::NAN]);
         for (sum, x) in sums.iter_mut().zip(values) {
@@ -303,10 +303,10 @@ pub(super) fn dynamic_blocks(
     folded_gyro: &[Block; 3],
     folded_accel: &[Block; 3],
 ) -> [Block; 6] {
-    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: 15 terms k of 6 columns s,
+    // Rows δp, δv of F over (ϑ, p, v, bg, ba), transposed: the terms k of 6 columns s,
     // padded to [`PAIR_COLUMNS`] with zero columns (their sums are not read).
     let [position_blocks, velocity_blocks] = dynamic_rows_of_f(model);
-    let f_rows: [[f64; 15]; PAIR_COLUMNS] = core::array::from_fn(|s| {
+    let f_rows: [[f64; F_ROW_LENGTH]; PAIR_COLUMNS] = core::array::from_fn(|s| {
         let blocks = if s < 3 {
             position_blocks
         } else {
@@ -315,7 +315,7 @@ pub(super) fn dynamic_blocks(
         if s < 6 {
             row_of_f(blocks, s % 3)
         } else {
-            [0.0; 15]
+            [0.0; F_ROW_LENGTH]
         }
     });
     let f_transposed = transposed(&f_rows);

@@ -63,7 +63,7 @@ impl<'a> ObservedCovariance<'a> {
     /// The gain `K = P Hᵀ S⁻¹`, row `j` = `S⁻¹ M_j`, the rows of the `frozen` blocks zero.
     #[cfg(target_arch = "arm")]
     pub(crate) fn gain(&self, cholesky: &Cholesky3, frozen: &BlockMask) -> StateRows {
-        // Built element by element (no zero-fill of the 576-byte array first).
+        // Built element by element (no zero-fill of the whole array first).
         core::array::from_fn(|state_index| match self.products.get(state_index) {
             Some(product) if !frozen.contains_state(state_index) => cholesky.solve(*product),
             _ => [0.0; 3],

@@ -269,7 +269,7 @@ pub fn decode_header(header: &[u8; HEADER_SIZE]) -> Result<(), LogRecordError> {
     Ok(())
 }
 
-/// The first 8 bytes of a slice as a word (zero-filled if shorter) and the rest.
+/// The first [`WORD`] bytes of a slice as a word (zero-filled if shorter) and the rest.
 fn split_word(bytes: &[u8]) -> ([u8; WORD], &[u8]) {
     let mut word = [0_u8; WORD];
     for (destination, byte) in word.iter_mut().zip(bytes.iter()) {

@@ -8,9 +8,8 @@ impl NavigationComputer {
     /// the sensor corrections, then the filter reset (module docs).
     pub(super) fn feed_back(&mut self) {
         // nav-core's `apply_error_state` changes nothing on error, so the correction is
-        // applied to the navigation solution and calibration in place (copies of them to
-        // roll back cost ~500 instructions on the target), and the filter (4.8 kB) is reset
-        // in place only once it succeeded.
+        // applied to the navigation solution and calibration in place (no copies of them to
+        // roll back), and the large filter is reset in place only once it succeeded.
         let error = self.filter.state();
         let applied = apply_error_state(
             error,

@@ -40,7 +40,7 @@ impl NavigationComputer {
         self.covariance_time_s = self.navigation.time_s;
         let frames = f64::from(sums.frames.max(1));
         let interval_s = frames * self.config.imu.period_s;
-        // Built in place (a local moved into `last_point` is a 240-byte copy on the target).
+        // Built in place (a local moved into `last_point` is a copy on the target).
         let point = self.last_point.insert(LinearisationPoint {
             corrected_rate_rad_s: sums.corrected_rate / frames,
             corrected_specific_force_mps2: sums.corrected_force / frames,

@@ -26,11 +26,11 @@ impl NavigationComputer {
             self.note_rejection(aid);
             return aid.fusion(false);
         }
-        // Formed where it lies: the 672-byte measurement is never copied.
+        // Formed where it lies: the large measurement is never copied.
         let mut measurement = self.form_measurement(&due, &snapshot);
         // A late measurement is referred to the error state at the covariance's time
-        // (nav-core docs), in place: the 672-byte measurement is never copied (each copy
-        // is ~540 instructions on the target).
+        // (nav-core docs), in place: the measurement is never copied (every copy is a
+        // `memcpy` on the target).
         let latency_s = self.covariance_time_s - tag;
         if let Ok(m) = &mut measurement {
             if let Err(error) = self.refer_to_now(m, aid, latency_s) {

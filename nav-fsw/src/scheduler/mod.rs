@@ -197,8 +197,8 @@ pub struct NavigationComputer {
     covariance_time_s: f64,
     /// Motion of the last covariance propagation (for referring late measurements).
     last_point: Option<LinearisationPoint>,
-    /// The structured discrete model, refilled in place by every propagation (a ~2 KB
-    /// struct: building it in place avoids copies that cost thousands of instructions).
+    /// The structured discrete model, refilled in place by every propagation (a large
+    /// struct: building it in place avoids copying it).
     model: StructuredModel,
     variance_floor: ErrorState,
     variance_ceiling: ErrorState,
@@ -291,8 +291,9 @@ impl NavigationComputer {
     /// A frame under [`crate::config::FrameLoad::FuseOrPropagate`]: the oldest due
     /// measurement fused, with the propagation waiting one frame (no longer: a measurement
     /// due when the propagation has waited a frame waits instead), or else the propagation
-    /// if it is due. Not inlined: inlined into the frame loop, its two paths' locals took
-    /// 2.4 kB more of the frame loop's stack on the Cortex-M7 (10,768 bytes against 8,384).
+    /// if it is due. Not inlined: inlined into the frame loop, its two paths' locals would
+    /// both be reserved in the frame loop's stack frame on the Cortex-M7
+    /// (docs/performance.md).
     #[inline(never)]
     fn fuse_or_propagate(&mut self) -> FrameFusion {
         let interval = self.config.covariance.propagation_interval_frames;

@@ -1,23 +1,17 @@
 //! Construction of the computer: in place into a caller's slot
-//! ([`NavigationComputer::init_in_place`]), so a flight image can keep the 25 kB computer in
+//! ([`NavigationComputer::init_in_place`]), so a flight image can keep the large computer in
 //! a `static` and start up on a small stack, or by value ([`NavigationComputer::new`]), the
 //! same path followed by a move.
 //!
 //! The crate's only `unsafe` code is here: writing the fields of a `MaybeUninit` slot one by
 //! one needs raw pointers. Building the whole value first and moving it into the slot needs
-//! no `unsafe` but reserves several copies of it on the stack (tens of kilobytes on the
-//! target).
+//! no `unsafe` but reserves several copies of it on the stack.
 #![allow(unsafe_code)]
 
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
 use super::*;
-
-/// Largest distance of the initial attitude quaternion's norm from 1 that is accepted:
-/// round-off of a normalised quaternion stays far below it, a wrong convention or a
-/// non-normalised input far above.
-const UNIT_NORM_TOLERANCE: f64 = 1e-9;
 
 /// The checks of the configuration and the initial state that need no member built. Not
 /// inlined, like the builders below, so the construction's own frame stays small.
@@ -28,7 +22,7 @@ fn check(config: &FswConfig, initial: &NavigationState) -> Result<(), FswError> 
     let finite = attitude::all_finite3(&initial.position_m)
         && attitude::all_finite3(&initial.velocity_mps)
         && initial.time_s.is_finite();
-    let unit = (attitude_norm - 1.0).abs() < UNIT_NORM_TOLERANCE;
+    let unit = attitude::is_unit_norm(attitude_norm);
     if finite && attitude_norm.is_finite() && unit {
         Ok(())
     } else {
@@ -86,7 +80,7 @@ impl NavigationComputer {
     /// The flight software at start, built in `slot`: the given navigation solution, `x = 0`,
     /// `P` from the configured initial 1σ, no calibration (zero corrections). The large
     /// members (filter, history, queues, model) are written into the slot field by field, so
-    /// start-up needs only a few kilobytes of stack whatever the computer's size; a flight
+    /// start-up needs only a small stack whatever the computer's size; a flight
     /// image passes a slot in a `static`.
     ///
     /// # Errors
