@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use nav_core::error_model::ProcessNoise;
-use nav_sim::covariance_design::{analyse, DesignOptions};
+use nav_sim::studies::covariance_design::{analyse, DesignOptions};
 use nav_sim::Scenario;
 
 /// Linear covariance analysis of a calibration scenario.
@@ -54,7 +54,7 @@ fn main() -> ExitCode {
         ..DesignOptions::default()
     };
     if let Ok([radial, along_track, normal]) =
-        nav_sim::covariance_design::initial_orbital_axes(&scenario)
+        nav_sim::studies::covariance_design::initial_orbital_axes(&scenario)
     {
         println!(
             "launch-inertial axes at the start: radial {:?}, along-track {:?}, normal {:?}",

@@ -7,8 +7,9 @@
 //! `cargo run --release -p nav-sim --example frame_load -- nav-sim/scenarios/default.toml`
 
 use nav_fsw::config::FrameLoad;
-use nav_sim::flight::{fly_with, fsw_config, FlightOptions, FlightResult};
+use nav_sim::harness::flight::{fly_with, FlightOptions, FlightResult};
 use nav_sim::scenario::Scenario;
+use nav_sim::setup::fsw::fsw_config;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::env::args()

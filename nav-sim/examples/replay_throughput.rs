@@ -10,7 +10,8 @@ use std::time::Instant;
 
 use nav_fsw::replay::{FrameAssembler, FramePorts};
 use nav_fsw::scheduler::{FilterArithmetic, NavigationComputer};
-use nav_sim::{sensor_log, Scenario, Simulation};
+use nav_sim::logs::sensor_log;
+use nav_sim::{Scenario, Simulation};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seconds: f64 = std::env::args()
@@ -19,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .transpose()?
         .unwrap_or(120.0);
     let scenario = Scenario::default_scenario()?;
-    let setup = nav_sim::flight::replay_setup(&scenario)?;
+    let setup = nav_sim::setup::fsw::replay_setup(&scenario)?;
     let mut simulation = Simulation::new(&scenario)?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())?;
     let mut frames: Vec<FramePorts> = Vec::new();

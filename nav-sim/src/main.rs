@@ -8,10 +8,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use nav_sim::flight::{self, FlightOptions, FlightResult};
-use nav_sim::monte_carlo;
+use nav_sim::campaign::monte_carlo;
+use nav_sim::harness::flight::{self, FlightOptions, FlightResult};
+use nav_sim::output::report::{self, CalibrationResult, Parameter, TimeHistorySample};
 use nav_sim::output::{self, OutputFile};
-use nav_sim::report::{self, CalibrationResult, Parameter, TimeHistorySample};
 use nav_sim::Scenario;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
@@ -120,10 +120,10 @@ enum Command {
     },
     /// Observability analysis (the paper's Table 1) of its motion states and the scenario's
     /// manoeuvre schedule.
-    Observability(nav_sim::observability_report::ObservabilityArgs),
+    Observability(nav_sim::studies::observability::ObservabilityArgs),
     /// Search a manoeuvre schedule with the covariance analysis under a vehicle's limits
     /// (default: the upper stage's), print its predicted accuracy and write it as a scenario.
-    Design(nav_sim::manoeuvre_design::DesignArgs),
+    Design(nav_sim::studies::manoeuvre_design::DesignArgs),
     /// Target benchmark: replay the scenario's first SECONDS on the Cortex-M7 firmware under
     /// QEMU and on the host, compare every output bit for bit, and print the per-frame cost
     /// (min / median / worst by frame type), the stack high-water mark and the image's flash
@@ -147,7 +147,7 @@ enum Command {
     /// What calibration buys: fly the scenario, then a coast with GNSS and star tracker lost,
     /// with the on-line calibration and with it switched off (same sensor data), and print the
     /// position, velocity and attitude error growth side by side (`--runs N`: over seeds).
-    Benefit(nav_sim::benefit::BenefitArgs),
+    Benefit(nav_sim::studies::benefit::BenefitArgs),
 }
 
 type Failure = Box<dyn std::error::Error>;
@@ -421,8 +421,10 @@ fn merge(paths: &[PathBuf], out: Option<&Path>, json: bool, check: bool) -> Resu
 fn write_log(scenario_path: Option<&Path>, out: &Path) -> Result<(), Failure> {
     let mut file = OutputFile::create_distinct(out, &inputs(scenario_path))?;
     let scenario = load(scenario_path)?;
-    let rows =
-        nav_sim::sensor_log::record_simulation(nav_sim::Simulation::new(&scenario)?, &mut file)?;
+    let rows = nav_sim::logs::sensor_log::record_simulation(
+        nav_sim::Simulation::new(&scenario)?,
+        &mut file,
+    )?;
     file.commit()?;
     println!("wrote {rows} sensor events to {}", out.display());
     Ok(())
@@ -435,7 +437,7 @@ fn replay(log: &Path, scenario_path: Option<&Path>, out: &Path) -> Result<(), Fa
     let scenario = load(scenario_path)?;
     let input = std::fs::File::open(log)
         .map_err(|error| format!("cannot open {}: {error}", log.display()))?;
-    let summary = nav_sim::log_replay::replay(input, &scenario, &mut output)
+    let summary = nav_sim::harness::log_replay::replay(input, &scenario, &mut output)
         .map_err(|error| format!("replaying {}: {error}", log.display()))?;
     output.commit()?;
     println!("replayed {}: {}", log.display(), summary.text());
@@ -445,10 +447,11 @@ fn replay(log: &Path, scenario_path: Option<&Path>, out: &Path) -> Result<(), Fa
 
 fn faults(scenario: Option<&Path>) -> Result<(), Failure> {
     let scenario = load(scenario)?;
-    let total = nav_sim::faults::campaign().len() as u64;
+    let total = nav_sim::studies::faults::campaign().len() as u64;
     let bar = ProgressBar::new(total);
     bar.set_message("fault classes");
-    let result = nav_sim::faults::run_campaign(&scenario, |done, _| bar.set_position(done))?;
+    let result =
+        nav_sim::studies::faults::run_campaign(&scenario, |done, _| bar.set_position(done))?;
     bar.finish_and_clear();
     println!("{}", result.table());
     println!("{}", result.summary_line());
@@ -467,7 +470,8 @@ fn target_bench(
     out: &Path,
 ) -> Result<(), Failure> {
     let scenario = load(scenario)?;
-    let report = nav_sim::target_replay::replay_on_target(&scenario, seconds, elf, runner, out)?;
+    let report =
+        nav_sim::harness::target_replay::replay_on_target(&scenario, seconds, elf, runner, out)?;
     let text = report.text();
     print!("{text}");
     let path = out.join("target-bench-report.txt");
@@ -481,7 +485,7 @@ fn target_bench(
     Ok(())
 }
 
-fn benefit(arguments: &nav_sim::benefit::BenefitArgs) -> Result<(), Failure> {
+fn benefit(arguments: &nav_sim::studies::benefit::BenefitArgs) -> Result<(), Failure> {
     let scenario = load(arguments.scenario.as_deref())?;
     // A bad --out fails now, not after the flights.
     if let Some(directory) = arguments.out.as_deref() {
@@ -490,12 +494,12 @@ fn benefit(arguments: &nav_sim::benefit::BenefitArgs) -> Result<(), Failure> {
     let options = arguments.options();
     print!(
         "{}",
-        nav_sim::benefit::run(&scenario, &options, arguments.out.as_deref(), true)?
+        nav_sim::studies::benefit::run(&scenario, &options, arguments.out.as_deref(), true)?
     );
     Ok(())
 }
 
-fn design(arguments: &nav_sim::manoeuvre_design::DesignArgs) -> Result<(), Failure> {
+fn design(arguments: &nav_sim::studies::manoeuvre_design::DesignArgs) -> Result<(), Failure> {
     arguments.run().map_err(Failure::from)
 }
 

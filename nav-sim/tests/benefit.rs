@@ -1,11 +1,11 @@
 //! What calibration buys: a short calibration flight (three rotations and a burn), then a
 //! coast with GNSS and star tracker lost, flown over several seeds with the on-line calibration
-//! and with its states switched off (`nav_sim::benefit`).
+//! and with its states switched off (`nav_sim::studies::benefit`).
 
 mod common;
 
-use nav_sim::benefit::{self, BenefitOptions, Comparison, Filter, OutagePlan, Quantity};
 use nav_sim::scenario::ManoeuvreSegment;
+use nav_sim::studies::benefit::{self, BenefitOptions, Comparison, Filter, OutagePlan, Quantity};
 use nav_sim::Scenario;
 
 /// `common::short_scenario`'s sensors with a schedule that makes the calibration states

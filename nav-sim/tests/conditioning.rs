@@ -10,8 +10,9 @@
 //! clamp, no filter reset, 36 / 41 star / GNSS gate rejections in 1.8 M frames.
 
 use nalgebra::SymmetricEigen;
-use nav_sim::flight::{fly_observed, fsw_config, FlightOptions};
+use nav_sim::harness::flight::{fly_observed, FlightOptions};
 use nav_sim::scenario::ManoeuvreSegment;
+use nav_sim::setup::fsw::fsw_config;
 use nav_sim::Scenario;
 
 const ONE_HOUR_S: f64 = 3600.0;

@@ -9,7 +9,7 @@
 //! overconfident): its linear model drops terms that the uncorrected navigation errors make
 //! large (`tests/model_mismatch.rs`).
 
-use nav_sim::monte_carlo::{fly_campaign, summarise};
+use nav_sim::campaign::monte_carlo::{fly_campaign, summarise};
 
 mod common;
 
@@ -17,10 +17,10 @@ mod common;
 fn average_nees_is_consistent(scenario: &nav_sim::Scenario) {
     let seeds: Vec<u64> = (0..12).map(|run| 1000 + run).collect();
     let outcomes = fly_campaign(scenario, &seeds, false).unwrap();
-    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     println!(
         "{}",
-        summary.table(&nav_sim::monte_carlo::calibration_labels())
+        summary.table(&nav_sim::campaign::monte_carlo::calibration_labels())
     );
     println!("{}", summary.nees_line());
     assert!(summary.nees.consistent(), "{}", summary.nees_line());

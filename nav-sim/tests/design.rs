@@ -4,9 +4,9 @@
 //! `nav-sim design` flies to the accuracy the design predicted. Results:
 //! docs/scenario-design.md, "nav-sim design".
 
-use nav_sim::covariance_design::{analyse, DesignOptions, DesignReport};
-use nav_sim::flight::{fly, FlightOptions};
-use nav_sim::manoeuvre_design::{self, Constraints};
+use nav_sim::harness::flight::{fly, FlightOptions};
+use nav_sim::studies::covariance_design::{analyse, DesignOptions, DesignReport};
+use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
 const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");

@@ -4,10 +4,13 @@
 //! refused naming its key.
 
 use nav_core::attitude;
-use nav_sim::dispersion::{truth_scenario, Dispersion, Distribution, ENTRY_KEYS};
-use nav_sim::flight::{fly, fsw_config, replay_setup, with_truth_drawn_from_prior, FlightOptions};
-use nav_sim::monte_carlo::{fly_campaign, RunOutcome};
+use nav_sim::campaign::monte_carlo::{fly_campaign, RunOutcome};
+use nav_sim::harness::flight::{fly, FlightOptions};
+use nav_sim::scenario::dispersion::{Dispersion, Distribution, ENTRY_KEYS};
 use nav_sim::scenario::{ScenarioError, DEFAULT_SCENARIO_TOML};
+use nav_sim::setup::dispersion::{draw, truth_scenario};
+use nav_sim::setup::fsw::{fsw_config, replay_setup};
+use nav_sim::setup::prior::with_truth_drawn_from_prior;
 use nav_sim::Scenario;
 
 mod common;
@@ -65,7 +68,7 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
     };
     let mut mountings = Vec::new();
     for seed in SEEDS {
-        let draw = dispersion.draw(seed);
+        let draw = draw(&dispersion, seed);
         let seeded = with_truth_drawn_from_prior(&scenario, seed);
         let truth = truth_scenario(&seeded, seed);
         let expected_noise =
@@ -91,7 +94,7 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
                 .map(f64::to_bits),
         );
         // The flight software's configuration is the undispersed scenario's.
-        let config = nav_sim::dispersion::flight_config(&seeded, &truth).unwrap();
+        let config = nav_sim::setup::dispersion::flight_config(&seeded, &truth).unwrap();
         let nominal = fsw_config(&with_truth_drawn_from_prior(&undispersed, seed)).unwrap();
         assert_eq!(
             config.star.noise_rad.to_bits(),
@@ -104,8 +107,8 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
         assert_eq!(config.process_noise, nominal.process_noise);
 
         // The initial navigation error is the σ draw plus the dispersion's offset.
-        let frame = nav_sim::truth::launch_frame(&seeded).unwrap();
-        let start = nav_sim::truth::initial_state(&seeded, &frame).unwrap();
+        let frame = nav_sim::setup::launch::launch_frame(&seeded).unwrap();
+        let start = nav_sim::setup::launch::initial_state(&seeded, &frame).unwrap();
         let error = |scenario: &Scenario| {
             let initial = replay_setup(scenario).unwrap().initial;
             let attitude = attitude::log_rotation_vector(&attitude::product(

@@ -6,7 +6,8 @@
 use nalgebra::Vector3;
 use nav_fsw::health::HealthCounters;
 use nav_fsw::replay::FramePorts;
-use nav_sim::flight::{fly_with, fsw_config, FlightOptions, FlightResult};
+use nav_sim::harness::flight::{fly_with, FlightOptions, FlightResult};
+use nav_sim::setup::fsw::fsw_config;
 use nav_sim::Scenario;
 
 mod common;

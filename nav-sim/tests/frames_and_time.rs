@@ -8,8 +8,11 @@ mod common;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use nav_core::frames::{LaunchFrame, ECEF_Z_AXIS};
 use nav_fsw::log_record::LogRecord;
-use nav_sim::epoch::{self, EarthOrientation, ItrfFromLaunchInertial, LaunchEpoch};
-use nav_sim::{log_replay, sensor_log, Scenario};
+use nav_sim::harness::log_replay;
+use nav_sim::logs::sensor_log;
+use nav_sim::scenario::epoch::{self, EarthOrientation, ItrfFromLaunchInertial, LaunchEpoch};
+use nav_sim::setup::launch::{scenario_epoch, scenario_ground_constants};
+use nav_sim::Scenario;
 
 const ARCSEC: f64 = 1.0 / 206_264.806_247_096_36;
 
@@ -143,10 +146,10 @@ fn leap_seconds_and_gps_time_across_the_end_of_2016() {
 #[test]
 fn the_flight_models_earth_rotation_error_is_bounded_over_an_hour() {
     let scenario = Scenario::default_scenario().unwrap();
-    let launch = epoch::scenario_epoch(&scenario).unwrap();
-    let frame = nav_sim::truth::launch_frame(&scenario).unwrap();
+    let launch = scenario_epoch(&scenario).unwrap();
+    let frame = nav_sim::setup::launch::launch_frame(&scenario).unwrap();
     let full = ItrfFromLaunchInertial::new(&launch, &frame);
-    let mut site_z = nav_sim::truth::launch_site(&scenario);
+    let mut site_z = nav_sim::setup::launch::launch_site(&scenario);
     site_z.earth_axis_ecef = ECEF_Z_AXIS;
     let frame_z = LaunchFrame::new(&site_z).unwrap();
     let point = Vector3::new(3.0e5, 1.0e6, -2.0e5);
@@ -172,7 +175,7 @@ fn the_flight_models_earth_rotation_error_is_bounded_over_an_hour() {
 #[test]
 fn ground_constants_and_what_each_parameter_costs() {
     let scenario = Scenario::default_scenario().unwrap();
-    let ground = epoch::scenario_ground_constants(&scenario).unwrap();
+    let ground = scenario_ground_constants(&scenario).unwrap();
     let [w, x, y, z] = ground.sensor_frames.gcrf_to_launch_inertial_wxyz;
     let q_ig = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
     println!("q_ig = {q_ig:?} ({:.2} deg)", q_ig.angle().to_degrees());
@@ -180,7 +183,7 @@ fn ground_constants_and_what_each_parameter_costs() {
     let angle_without = |change: fn(&mut EarthOrientation)| {
         let mut changed = scenario.clone();
         change(&mut changed.launch_site.earth_orientation);
-        let [w, x, y, z] = epoch::scenario_ground_constants(&changed)
+        let [w, x, y, z] = scenario_ground_constants(&changed)
             .unwrap()
             .sensor_frames
             .gcrf_to_launch_inertial_wxyz;
@@ -220,9 +223,7 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
     scenario.validate().unwrap();
     let frames = (42.0 / scenario.imu.frame_period_s()).round() as u64;
     let records = sensor_log::simulated_records(&scenario, frames).unwrap();
-    let sensor_frames = epoch::scenario_ground_constants(&scenario)
-        .unwrap()
-        .sensor_frames;
+    let sensor_frames = scenario_ground_constants(&scenario).unwrap().sensor_frames;
     let mut tags = Vec::new();
     for record in &records {
         if let LogRecord::Gnss(gnss) = record {
@@ -269,7 +270,8 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
 #[test]
 #[ignore = "a measurement: four full flights"]
 fn what_leaving_out_earth_orientation_costs_the_default_flight() {
-    use nav_sim::flight::{fly_with, fsw_config, FlightOptions};
+    use nav_sim::harness::flight::{fly_with, FlightOptions};
+    use nav_sim::setup::fsw::fsw_config;
     let scenario = Scenario::default_scenario().unwrap();
     type Change = fn(&mut EarthOrientation);
     let cases: [(&str, Change); 7] = [

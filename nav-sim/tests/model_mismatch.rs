@@ -17,8 +17,9 @@
 //! the uncorrected errors make large.
 
 use nalgebra::SVector;
-use nav_sim::flight::{fly_with, fsw_config, FlightOptions, CALIBRATION_STATE_COUNT};
+use nav_sim::harness::flight::{fly_with, FlightOptions, CALIBRATION_STATE_COUNT};
 use nav_sim::scenario::FilterMode;
+use nav_sim::setup::fsw::fsw_config;
 use nav_sim::Scenario;
 
 mod common;

@@ -2,8 +2,9 @@
 //! calibration states and the NIS of each aiding sensor since the previous sample; a Monte
 //! Carlo campaign averages them per instant with their 95 % χ² intervals and plots them.
 
-use nav_sim::flight::{fly, with_truth_drawn_from_prior, FlightOptions, FlightResult};
-use nav_sim::monte_carlo::{fly_campaign, over_time, summarise};
+use nav_sim::campaign::monte_carlo::{fly_campaign, over_time, summarise};
+use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
+use nav_sim::setup::prior::with_truth_drawn_from_prior;
 
 mod common;
 
@@ -34,7 +35,7 @@ fn samples_carry_the_nees_and_the_interval_nis_of_the_flight() {
 
     // The campaign's thinned series keeps the totals, the first and the last instant.
     let series = over_time(&result.samples);
-    assert!(series.len() <= nav_sim::monte_carlo::OVER_TIME_POINTS + 1);
+    assert!(series.len() <= nav_sim::campaign::monte_carlo::OVER_TIME_POINTS + 1);
     let thinned: u64 = series.iter().map(|point| point.star_nis.updates).sum();
     assert_eq!(thinned, result.star_nis.updates);
     let thinned: u64 = series.iter().map(|point| point.gnss_nis.updates).sum();
@@ -53,7 +54,7 @@ fn samples_carry_the_nees_and_the_interval_nis_of_the_flight() {
 fn campaign_summary_has_the_consistency_over_time_and_plots_it() {
     let seeds: Vec<u64> = (0..3).map(|run| 3000 + run).collect();
     let outcomes = fly_campaign(&common::short_scenario(), &seeds, false).unwrap();
-    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let times: Vec<u64> = outcomes[0]
         .over_time
         .iter()

@@ -5,9 +5,9 @@
 //! `nav-sim monte-carlo --runs 50`, README) has its calibration NEES inside the two-sided 95 %
 //! χ² interval. Each flight is the whole 3077 s scenario (1.5 M frames).
 
-use nav_sim::flight::{fly, FlightOptions, FlightResult};
-use nav_sim::monte_carlo::{fly_campaign, summarise};
-use nav_sim::report::{CalibrationResult, Parameter};
+use nav_sim::campaign::monte_carlo::{fly_campaign, summarise};
+use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
+use nav_sim::output::report::{CalibrationResult, Parameter};
 use nav_sim::Scenario;
 
 const MADE_UP_ERRORS_TOML: &str = include_str!("../scenarios/made_up_errors.toml");
@@ -88,7 +88,7 @@ fn assert_campaign_consistent(runs: u64) {
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .collect();
     let outcomes = fly_campaign(&scenario, &seeds, false).unwrap();
-    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     println!("{}", summary.nees_line());
     let star = summary.star_nis.clone().unwrap();
     let gnss = summary.gnss_nis.clone().unwrap();

@@ -14,9 +14,11 @@
 use std::path::PathBuf;
 
 use nav_fsw::config::SecondOrderAttitude;
-use nav_sim::flight::{fly_with, fsw_config, with_truth_drawn_from_prior, FlightOptions};
-use nav_sim::monte_carlo::{calibration_labels, fly_campaign, summarise, RunOutcome};
-use nav_sim::report::Parameter;
+use nav_sim::campaign::monte_carlo::{calibration_labels, fly_campaign, summarise, RunOutcome};
+use nav_sim::harness::flight::{fly_with, FlightOptions};
+use nav_sim::output::report::Parameter;
+use nav_sim::setup::fsw::fsw_config;
+use nav_sim::setup::prior::with_truth_drawn_from_prior;
 use nav_sim::Scenario;
 
 /// Largest |error| / σ any run's calibration state may end at.
@@ -70,7 +72,7 @@ fn seeds(scenario: &Scenario) -> Vec<u64> {
 
 fn fly(scenario: &Scenario) -> Campaign {
     let outcomes = fly_campaign(scenario, &seeds(scenario), false).unwrap();
-    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let (worst_sigma, worst_seed) = outcomes
         .iter()
         .map(|outcome| (worst_sigma(outcome), outcome.seed))
@@ -259,7 +261,7 @@ fn the_filter_keys_are_validated_by_name() {
         "gnss_correlated_sigma_m = 8.0\ngnss_correlation_time_s = 300.0\ngnss_noise_m = 6.0",
     ))
     .unwrap();
-    let config = nav_sim::flight::fsw_config(&told).unwrap();
+    let config = nav_sim::setup::fsw::fsw_config(&told).unwrap();
     assert_eq!(config.filter.gnss_error.sigma_m.to_bits(), 8.0f64.to_bits());
     assert_eq!(
         config.filter.gnss_error.correlation_time_s.to_bits(),
@@ -271,8 +273,8 @@ fn the_filter_keys_are_validated_by_name() {
 // ---------------------------------------------------------------------------------------
 // The simulator's realistic error models.
 
-use nav_sim::faults::scenario_prefix;
-use nav_sim::sensor_log::record_of;
+use nav_sim::logs::sensor_log::record_of;
+use nav_sim::studies::faults::scenario_prefix;
 use nav_sim::{SensorEvent, Simulation};
 
 /// FNV-1a of the encoded events of a scenario's first `seconds`.
@@ -400,9 +402,9 @@ fn the_gnss_velocity_is_the_true_ecef_velocity() {
     let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 5.0);
     scenario.simulation.truth_substeps_per_frame = 1;
     scenario.gnss.velocity_noise_mps = 1e-300;
-    let frame = nav_sim::truth::launch_frame(&scenario).unwrap();
-    let epoch = nav_sim::epoch::scenario_epoch(&scenario).unwrap();
-    let itrf = nav_sim::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
+    let frame = nav_sim::setup::launch::launch_frame(&scenario).unwrap();
+    let epoch = nav_sim::setup::launch::scenario_epoch(&scenario).unwrap();
+    let itrf = nav_sim::scenario::epoch::ItrfFromLaunchInertial::new(&epoch, &frame);
     let mut simulation = Simulation::new(&scenario).unwrap();
     let mut events = Vec::new();
     let mut checked = 0;
@@ -475,14 +477,15 @@ fn unflyable_scenarios_are_refused_by_name() {
 fn json_reports_have_the_documented_shape() {
     let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 30.0);
     scenario.simulation.truth_substeps_per_frame = 1;
-    let result = nav_sim::flight::fly(
+    let result = nav_sim::harness::flight::fly(
         &scenario,
-        nav_sim::flight::FlightOptions::default(),
+        nav_sim::harness::flight::FlightOptions::default(),
         |_, _| {},
     )
     .unwrap();
     let last = result.samples.last().unwrap().time_history();
-    let table = nav_sim::report::CalibrationResult::from_sample(&last, &Parameter::CALIBRATION);
+    let table =
+        nav_sim::output::report::CalibrationResult::from_sample(&last, &Parameter::CALIBRATION);
     let report: serde_json::Value = serde_json::from_str(
         &table
             .report_json(result.calibration_nees(), &result.health)
@@ -510,7 +513,7 @@ fn json_reports_have_the_documented_shape() {
 
     let seeds = [scenario.simulation.seed, scenario.simulation.seed + 1];
     let outcomes = fly_campaign(&scenario, &seeds, false).unwrap();
-    let summary = summarise::<15, nav_sim::flight::FlightError>(&outcomes).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let campaign: serde_json::Value =
         serde_json::from_str(&summary.json(&calibration_labels()).unwrap()).unwrap();
     let mut keys: Vec<&String> = campaign.as_object().unwrap().keys().collect();

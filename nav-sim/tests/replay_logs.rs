@@ -1,4 +1,4 @@
-//! Real logs through `nav-sim replay` (nav_sim::log_replay) and nav-fsw's frame assembler:
+//! Real logs through `nav-sim replay` (nav_sim::harness::log_replay) and nav-fsw's frame assembler:
 //! dropped IMU samples, duplicated records, time jumps, logs at another rate or on another
 //! time base, more measurements in a frame than its ports hold. Every sample is placed by
 //! its own time tag, every measurement is fused or counted, and a log that does not match the
@@ -10,8 +10,8 @@ use nav_fsw::log_record::LogRecord;
 use nav_fsw::replay::FrameAssembler;
 use nav_fsw::scheduler::NavigationComputer;
 use nav_fsw::telemetry::FrameFusion;
-use nav_sim::log_replay::{self, ReplaySummary};
-use nav_sim::sensor_log::{self, SensorLogWriter};
+use nav_sim::harness::log_replay::{self, ReplaySummary};
+use nav_sim::logs::sensor_log::{self, SensorLogWriter};
 use nav_sim::Scenario;
 use proptest::prelude::*;
 
@@ -253,7 +253,7 @@ proptest! {
         for edit in &edits {
             apply(&mut log, *edit, period_s);
         }
-        let setup = nav_sim::flight::replay_setup(&scenario).unwrap();
+        let setup = nav_sim::setup::fsw::replay_setup(&scenario).unwrap();
         let mut computer = NavigationComputer::new(setup.config(), setup.initial).unwrap();
         let mut assembler = FrameAssembler::new(setup.frame_grid()).unwrap();
         let mut frames_with_imu = 0_u32;

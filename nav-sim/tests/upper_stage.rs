@@ -2,8 +2,8 @@
 //! calibrates what its manoeuvres can reach; the paper's strategy as printed (a short flight)
 //! leaves the accelerometer scale factors at their prior. Results: docs/upper-stage.md.
 
-use nav_sim::flight::{fly, FlightOptions, FlightResult};
-use nav_sim::report::{CalibrationResult, CalibrationRow, Parameter};
+use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
+use nav_sim::output::report::{CalibrationResult, CalibrationRow, Parameter};
 use nav_sim::Scenario;
 
 const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");
@@ -76,7 +76,7 @@ fn the_upper_stage_flight_calibrates_what_its_manoeuvres_reach() {
     for row in &rows {
         let ratio = sigma_ratio(row);
         let lateral_accelerometer = row.parameter == Parameter::AccelerometerScaleFactor
-            && row.axis != nav_sim::report::Axis::X;
+            && row.axis != nav_sim::output::report::Axis::X;
         if lateral_accelerometer {
             assert!(
                 (10.0..40.0).contains(&ratio),
@@ -120,19 +120,20 @@ fn the_papers_strategy_as_printed_leaves_the_accelerometer_scale_factors_near_th
 fn a_tail_draw_of_the_installation_error_does_not_lose_the_star_tracker() {
     let scenario = Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap();
     let seed = 91_730_045;
-    let seeded = nav_sim::flight::with_truth_drawn_from_prior(&scenario, seed);
+    let seeded = nav_sim::setup::prior::with_truth_drawn_from_prior(&scenario, seed);
     let installation_z_rad = seeded.star_sensor.installation_error_rotation_vector_rad[2];
     let prior_rad = scenario.filter.initial_sigma.star_installation_rad;
     assert!(
         installation_z_rad.abs() > 3.4 * prior_rad,
         "{installation_z_rad}"
     );
-    let truth = nav_sim::dispersion::truth_scenario(&seeded, seed);
-    let config = nav_sim::dispersion::flight_config(&seeded, &truth).unwrap();
+    let truth = nav_sim::setup::dispersion::truth_scenario(&seeded, seed);
+    let config = nav_sim::setup::dispersion::flight_config(&seeded, &truth).unwrap();
     let options = FlightOptions {
         record_interval_s: 60.0,
     };
-    let result = nav_sim::flight::fly_with(&truth, config, options, |_, _| {}, |_, _| {}).unwrap();
+    let result =
+        nav_sim::harness::flight::fly_with(&truth, config, options, |_, _| {}, |_, _| {}).unwrap();
     let health = result.health;
     assert_eq!(
         (health.star_declared_faulty, health.gnss_declared_faulty),

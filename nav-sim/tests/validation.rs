@@ -6,10 +6,10 @@
 
 use nav_fsw::config::FswConfig;
 use nav_fsw::{ConfigField, FswError};
-use nav_sim::flight::{configuration_error, fsw_config, scenario_key};
 use nav_sim::scenario::{
     max_imu_rate_hz, ScenarioError, DEFAULT_SCENARIO_TOML, SIGMA_RANGE, SIGMA_UNIT_MARGIN,
 };
+use nav_sim::setup::fsw::{configuration_error, fsw_config, scenario_key};
 use nav_sim::Scenario;
 
 /// The default scenario with the first `original` replaced by `replacement`: the refused key

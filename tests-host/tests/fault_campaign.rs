@@ -1,4 +1,4 @@
-//! The fault-injection campaign (`nav_sim::faults`, also
+//! The fault-injection campaign (`nav_sim::studies::faults`, also
 //! `nav-sim faults`) over the default scenario, its table printed, every row met.
 //!
 //! Ignored in the plain `cargo test --workspace` (it flies one 800 s flight per fault class):
@@ -6,7 +6,7 @@
 //! table is in the test command's output. `NAV_FAULT_ROWS=text` flies only the rows whose
 //! name contains `text`.
 
-use nav_sim::faults::run_campaign_rows;
+use nav_sim::studies::faults::run_campaign_rows;
 use nav_sim::Scenario;
 
 #[test]
@@ -14,7 +14,7 @@ use nav_sim::Scenario;
 fn every_fault_class_is_survived_counted_and_leaves_the_calibration_consistent() {
     let scenario = Scenario::default_scenario().unwrap();
     let selected = std::env::var("NAV_FAULT_ROWS").ok();
-    let select = |class: &nav_sim::faults::FaultClass| {
+    let select = |class: &nav_sim::studies::faults::FaultClass| {
         selected
             .as_deref()
             .is_none_or(|text| class.name.contains(text))

@@ -11,7 +11,9 @@
 
 use std::path::PathBuf;
 
-use nav_sim::target_replay::{replay_on_target, STACK_BUDGET_BYTES, START_UP_STACK_BUDGET_BYTES};
+use nav_sim::harness::target_replay::{
+    replay_on_target, STACK_BUDGET_BYTES, START_UP_STACK_BUDGET_BYTES,
+};
 use nav_sim::Scenario;
 
 #[test]
@@ -125,14 +127,14 @@ const PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 20_000;
 fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
     use nav_fsw::log_record::LogRecord;
     use nav_fsw::replay::OUTPUT_FIELD_NAMES;
-    use nav_sim::target_replay::{replay_records_on_target, FRAME_WORDS};
+    use nav_sim::harness::target_replay::{replay_records_on_target, FRAME_WORDS};
 
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let elf = root.join(
         std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
     );
     let scenario = Scenario::default_scenario().unwrap();
-    let mut log = nav_sim::sensor_log::simulated_records(&scenario, 10_000).unwrap();
+    let mut log = nav_sim::logs::sensor_log::simulated_records(&scenario, 10_000).unwrap();
     let imu_index = |log: &[LogRecord], sequence: u64| {
         log.iter()
             .position(|r| matches!(r, LogRecord::Imu(imu) if imu.sequence == sequence))
@@ -160,7 +162,7 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
     log.splice(fix + 1..fix + 1, copies);
     let jump = imu_index(&log, 6_000);
     for record in &mut log[jump..] {
-        *record = nav_sim::sensor_log::shifted(record, 0.04);
+        *record = nav_sim::logs::sensor_log::shifted(record, 0.04);
     }
     let report = replay_records_on_target(
         &scenario,
@@ -193,19 +195,19 @@ fn an_edited_log_replays_bit_for_bit_with_every_gap_counted() {
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn the_firmware_refuses_a_log_on_another_time_base_or_rate_or_without_imu() {
     use nav_fsw::log_record::LogRecord;
-    use nav_sim::target_replay::replay_records_on_target;
+    use nav_sim::harness::target_replay::replay_records_on_target;
 
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let elf = root.join(
         std::env::var("NAV_QEMU_REPLAY_ELF").expect("NAV_QEMU_REPLAY_ELF: the replay firmware"),
     );
     let records = |scenario: &Scenario| -> Vec<LogRecord> {
-        nav_sim::sensor_log::simulated_records(scenario, 200).unwrap()
+        nav_sim::logs::sensor_log::simulated_records(scenario, 200).unwrap()
     };
     let scenario = Scenario::default_scenario().unwrap();
     let shifted: Vec<LogRecord> = records(&scenario)
         .iter()
-        .map(|record| nav_sim::sensor_log::shifted(record, 0.5))
+        .map(|record| nav_sim::logs::sensor_log::shifted(record, 0.5))
         .collect();
     let mut slow = scenario.clone();
     slow.imu.rate_hz = 100.0;
@@ -227,8 +229,8 @@ fn the_firmware_refuses_a_log_on_another_time_base_or_rate_or_without_imu() {
         );
         let error = outcome.expect_err(case).to_string();
         assert!(error.contains("firmware replay failed"), "{case}: {error}");
-        let input = nav_sim::target_replay::records_input(&scenario, &log).unwrap();
-        let host = nav_sim::target_replay::run_on_host(&input);
+        let input = nav_sim::harness::target_replay::records_input(&scenario, &log).unwrap();
+        let host = nav_sim::harness::target_replay::run_on_host(&input);
         assert!(
             host.as_ref().is_err() || host.as_ref().is_ok_and(|words| words.is_empty()),
             "{case}: the host accepts it"

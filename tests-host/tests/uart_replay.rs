@@ -11,9 +11,9 @@
 use std::path::PathBuf;
 
 use nav_fsw::log_record::{LogRecord, RECORD_SIZE};
-use nav_sim::flight::replay_setup;
-use nav_sim::target_replay::{run_records_on_host, FRAME_WORDS};
-use nav_sim::uart_replay::{replay_lines_on_target, run_lines_on_host, SensorLines};
+use nav_sim::harness::target_replay::{run_records_on_host, FRAME_WORDS};
+use nav_sim::harness::uart_replay::{replay_lines_on_target, run_lines_on_host, SensorLines};
+use nav_sim::setup::fsw::replay_setup;
 use nav_sim::Scenario;
 
 fn seconds() -> u64 {
@@ -25,7 +25,7 @@ fn seconds() -> u64 {
 
 fn default_log(frames: u64) -> (Scenario, Vec<LogRecord>) {
     let scenario = Scenario::default_scenario().unwrap();
-    let log = nav_sim::sensor_log::simulated_records(&scenario, frames).unwrap();
+    let log = nav_sim::logs::sensor_log::simulated_records(&scenario, frames).unwrap();
     (scenario, log)
 }
 

@@ -215,31 +215,6 @@ pub fn itrf_from_gcrf_mjd(tt_mjd: f64, ut1_mjd: f64, xp_rad: f64, yp_rad: f64) -
     Matrix3::from_fn(|row, column| m[row][column])
 }
 
-/// The scenario's launch epoch (`launch_site.epoch_utc`, `launch_site.earth_orientation`).
-///
-/// # Errors
-/// As [`LaunchEpoch::new`].
-pub fn scenario_epoch(scenario: &crate::Scenario) -> Result<LaunchEpoch, EpochError> {
-    let site = &scenario.launch_site;
-    LaunchEpoch::new(&site.epoch_utc, site.earth_orientation)
-}
-
-/// The scenario's ground constants (its launch frame's rotation, its epoch).
-///
-/// # Errors
-/// As [`LaunchEpoch::new`] and [`LaunchEpoch::ground_constants`]; a refused launch site as
-/// [`EpochError::Parse`] naming the site.
-pub fn scenario_ground_constants(
-    scenario: &crate::Scenario,
-) -> Result<GroundConstants, EpochError> {
-    let epoch = scenario_epoch(scenario)?;
-    let frame = crate::truth::launch_frame(scenario).map_err(|error| EpochError::Parse {
-        text: scenario.launch_site.epoch_utc.clone(),
-        reason: error.to_string(),
-    })?;
-    epoch.ground_constants(&frame)
-}
-
 /// Launch-inertial truth to ITRF with the full IAU 2006/2000A chain at every time (the
 /// simulator's GNSS receiver): `r_e = ITRF←GCRF(t) C_igᵀ (p_i − o_i)`, `o_i` the Earth centre
 /// in launch-inertial axes; `v_e = ITRF←GCRF(t) C_igᵀ v_i − ERA-rate · k × r_e` (the rate of

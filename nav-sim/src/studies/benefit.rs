@@ -34,8 +34,8 @@ use nav_fsw::health::HealthCounters;
 use plotters::style::RGBColor;
 use rayon::prelude::*;
 
-use crate::flight::{self, FlightError, FlightOptions, FlightSample};
-use crate::report::{self, Curve, Panel, ReportError};
+use crate::harness::flight::{self, FlightError, FlightOptions, FlightSample};
+use crate::output::report::{self, Curve, Panel, ReportError};
 use crate::scenario::{ManoeuvreSegment, Scenario, ScenarioError};
 
 /// Initial 1σ and covariance floor of the switched-off calibration states (installation error
@@ -191,7 +191,7 @@ pub fn outage_scenario(scenario: &Scenario, plan: &OutagePlan) -> Result<Scenari
 /// # Errors
 /// As [`flight::fsw_config`].
 pub fn uncalibrated_config(scenario: &Scenario) -> Result<FswConfig, FlightError> {
-    let mut config = flight::fsw_config(scenario)?;
+    let mut config = crate::setup::fsw::fsw_config(scenario)?;
     for sigma in [
         &mut config.filter.initial,
         &mut config.covariance.sigma_floor,
@@ -357,7 +357,7 @@ pub fn fly_outage(
         source,
     };
     let config = match filter {
-        Filter::Calibrated => flight::fsw_config(outage),
+        Filter::Calibrated => crate::setup::fsw::fsw_config(outage).map_err(FlightError::from),
         Filter::Uncalibrated => uncalibrated_config(outage),
     }
     .map_err(failed)?;
@@ -448,13 +448,14 @@ pub fn compare(
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .flat_map(|seed| Filter::BOTH.map(|filter| (seed, filter)))
         .collect();
-    let bar = crate::monte_carlo::campaign_bar(jobs.len(), "benefit", "flights", show_progress);
+    let bar =
+        crate::campaign::monte_carlo::campaign_bar(jobs.len(), "benefit", "flights", show_progress);
     let runs: Vec<Result<OutageRun, BenefitError>> = jobs
         .par_iter()
         .progress_with(bar.clone())
         .map(|&(seed, filter)| {
             let seeded = if options.draw_truth {
-                flight::with_truth_drawn_from_prior(&outage, seed)
+                crate::setup::prior::with_truth_drawn_from_prior(&outage, seed)
             } else {
                 let mut seeded = outage.clone();
                 seeded.simulation.seed = seed;

@@ -1,5 +1,5 @@
 //! `nav-sim design`: a manoeuvre schedule searched with the covariance analysis
-//! ([`crate::covariance_design`]) under a vehicle's limits, for the sensors of a scenario.
+//! ([`crate::studies::covariance_design`]) under a vehicle's limits, for the sensors of a scenario.
 //!
 //! **The mission stays as it is.** The input scenario's main-engine burns (specific force
 //! along the main-engine axis above the lateral acceleration limit) and its attitude slews
@@ -24,7 +24,7 @@
 //! * the rest of each window is quiet coast at the input's coast rate.
 //!
 //! **The search** minimises the worst `σ / target` over the 15 calibration states
-//! ([`crate::covariance_design::CALIBRATION_TARGETS`]), ties (within 2 %) broken by the
+//! ([`crate::studies::covariance_design::CALIBRATION_TARGETS`]), ties (within 2 %) broken by the
 //! next-worst ratio and so on, by coordinate descent over six coordinates: the slew rate (14/15 of the
 //! tighter of the body-rate limit and the star tracker's tracking limit; also 14/15 of the
 //! body-rate limit when the tracker's is the tighter, so the search weighs a blind tracker
@@ -44,12 +44,12 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::covariance_design::{analyse, DesignError, DesignOptions, DesignReport};
 use crate::output::{OutputError, OutputFile};
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario, ScenarioError};
+use crate::studies::covariance_design::{analyse, DesignError, DesignOptions, DesignReport};
 
 /// The upper-stage scenario: the default input of `nav-sim design`.
-pub const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");
+pub const UPPER_STAGE_TOML: &str = include_str!("../../scenarios/upper_stage.toml");
 
 /// Slews fly at this fraction of the rate limit: a margin for the attitude controller.
 const RATE_MARGIN: f64 = 14.0 / 15.0;

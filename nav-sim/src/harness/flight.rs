@@ -7,31 +7,24 @@ use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
 use nav_core::attitude;
 use nav_core::filter::CalibrationEstimate;
 use nav_core::state::StateBlock;
-use nav_core::strapdown::NavigationState;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
 use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
-use nav_fsw::replay::{FramePorts, ReplaySetup};
+use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
-use nav_fsw::{ConfigField, FswError};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
 
-use crate::covariance_design;
-use crate::report::{BlockSample, Parameter, TimeHistorySample};
+use crate::logs::sensor_log;
+use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
-use crate::sensor_log;
-use crate::sensors::SensorErrorTruth;
-use crate::simulation::{Simulation, SimulationError};
-use crate::truth::{self, TruthFrame};
+use crate::setup::fsw::{configuration_error, fsw_config, replay_setup};
+use crate::setup::SetupError;
+use crate::world::sensors::SensorErrorTruth;
+use crate::world::simulation::{Simulation, SimulationError};
+use crate::world::truth::TruthFrame;
 
 /// Number of calibration states (biases, installation error, scale factors).
 pub const CALIBRATION_STATE_COUNT: usize = 3 * CALIBRATION_BLOCK_COUNT;
-
-/// ChaCha8 stream of the initial navigation errors (the sensors use streams 0..=4).
-const INITIAL_ERROR_STREAM: u64 = 100;
 
 /// Why a flight could not run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -39,92 +32,9 @@ pub enum FlightError {
     /// The simulation failed.
     #[error(transparent)]
     Simulation(#[from] SimulationError),
-    /// The flight software refused its configuration ([`configuration_error`]).
-    #[error("flight software configuration refused: {message}")]
-    Configuration {
-        /// The flight software's error.
-        error: FswError,
-        /// The scenario key that sets the refused field, with its value and limit where the
-        /// scenario gives them, and the flight software's rule.
-        message: String,
-    },
-    /// The scenario's launch site was refused.
-    #[error("launch site refused: {0}")]
-    LaunchSite(String),
-    /// A scenario setting the flight software cannot take.
-    #[error("scenario setting: {0}")]
-    Setting(String),
-}
-
-/// The scenario key that sets a flight-software configuration field ([`replay_setup`]), or
-/// `None` for a field the scenario leaves at the flight software's default.
-pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
-    use ConfigField as F;
-    match field {
-        F::ImuPeriod | F::FutureTolerance => Some("imu.rate_hz"),
-        F::ImuMaxRate => Some("imu.max_rate_deg_per_s"),
-        F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
-        F::MaxLatency => Some("gnss.latency_s"),
-        F::LaunchSite => Some("launch_site"),
-        F::SensorFrames => Some("launch_site.epoch_utc / launch_site.earth_orientation"),
-        F::FilterInitialUncertainty => Some("filter.initial_sigma / filter.discretisation_order"),
-        F::ProcessNoise => Some(
-            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz / \
-             gyro.bias_random_walk_rad_per_s_per_sqrt_s / accelerometer.noise_per_sample_mps2 \
-             / accelerometer.bias_random_walk_mps2_per_sqrt_s",
-        ),
-        F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
-        F::StarNoise => Some("star_sensor.noise_arcsec"),
-        F::StarGate => Some("filter.nis_gate.star_threshold"),
-        F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
-        F::GnssGate => Some("filter.nis_gate.gnss_threshold"),
-        F::GnssVelocity => Some("gnss.velocity_noise_mps"),
-        F::GnssCorrelatedError => {
-            Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
-        }
-        F::InitialNavigation => Some("initial_orbit / initial_attitude"),
-        F::ImuPeriodTolerance
-        | F::StarAcquisitionGate
-        | F::GnssAcquisitionGate
-        | F::StarNormTolerance
-        | F::GnssMaxJump
-        | F::GnssLeverArm
-        | F::GnssWhiteness
-        | F::HeldSampleUncertainty
-        | F::OutageTimeout
-        | F::RejectionsToDeclareFaulty
-        | F::PropagationInterval
-        | F::SigmaFloor
-        | F::SigmaCeiling
-        | F::CalibrationThreshold
-        | F::CalibrationWindow
-        | F::CalibrationStability
-        | F::CalibrationMotionThreshold
-        | F::CalibrationObservabilityTable => None,
-    }
-}
-
-/// The flight software's refusal of the configuration made from `scenario`, as the user
-/// reads it: the scenario key that sets the field ([`scenario_key`]), with its value and the
-/// limit where the scenario determines them, and the flight software's rule.
-pub fn configuration_error(scenario: &Scenario, error: FswError) -> FlightError {
-    let period_s = scenario.imu.frame_period_s();
-    let latency_s = scenario.gnss.latency_s;
-    let message = match error {
-        FswError::InvalidConfiguration(ConfigField::MaxLatency) => {
-            scenario::gnss_latency_violation(latency_s, period_s)
-                .map(|requirement| format!("gnss.latency_s {requirement}"))
-        }
-        _ => None,
-    };
-    let message = message.unwrap_or_else(|| match error {
-        FswError::InvalidConfiguration(field) => match scenario_key(field) {
-            Some(key) => format!("{key} is refused: the flight software's {field}"),
-            None => format!("the flight software's own setting {field} (not a scenario key)"),
-        },
-        FswError::Navigation(_) => error.to_string(),
-    });
-    FlightError::Configuration { error, message }
+    /// The run could not be set up from its scenario (launch site, configuration).
+    #[error(transparent)]
+    Setup(#[from] SetupError),
 }
 
 /// Values of the five calibration blocks, per axis, in [`StateBlock::CALIBRATION`] order (gyro
@@ -302,128 +212,6 @@ impl Default for FlightOptions {
             record_interval_s: 0.25,
         }
     }
-}
-
-/// What the scenario decides about the flight software (its launch site, filter settings,
-/// sensor noise as process-noise densities, star mounting, gates) and its initial navigation
-/// solution: the truth at the start with errors drawn from the configured initial 1σ
-/// (ChaCha8, stream [`INITIAL_ERROR_STREAM`] of the scenario seed), so the initial
-/// covariance is honest. The replay files carry exactly this.
-///
-/// # Errors
-/// [`FlightError`] if the launch site or the initial state cannot be computed.
-pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, FlightError> {
-    let frame = truth::launch_frame(scenario)
-        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
-    let truth_start = truth::initial_state(scenario, &frame)
-        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
-    let settings = &scenario.filter;
-    let filter = covariance_design::filter_config(scenario)
-        .map_err(|error| FlightError::Setting(error.to_string()))?;
-    let period_s = scenario.imu.frame_period_s();
-    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
-    let mounting = attitude::exp_rotation_vector(&Vector3::new(
-        x.to_radians(),
-        y.to_radians(),
-        z.to_radians(),
-    ));
-    let ground = crate::epoch::scenario_ground_constants(scenario)
-        .map_err(|error| FlightError::LaunchSite(error.to_string()))?;
-    let defaults = FswConfig::paper_defaults(truth::launch_site(scenario), ground.sensor_frames);
-    let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
-    Ok(ReplaySetup {
-        launch_site: truth::launch_site(scenario),
-        sensor_frames: ground.sensor_frames,
-        initial: initial_navigation(scenario, &truth_start),
-        mode: filter.mode,
-        discretisation_order: filter.discretisation_order,
-        initial_sigma: filter.initial,
-        process_noise: covariance_design::scenario_process_noise(scenario),
-        imu_period_s: period_s,
-        star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
-        // A zero-noise sensor (a test setting) still needs a positive R.
-        star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
-        star_gate_nis: settings.nis_gate.star_threshold,
-        gnss_noise_m: settings
-            .gnss_noise_m
-            .unwrap_or(scenario.gnss.noise_m)
-            .max(1e-6),
-        gnss_gate_nis: settings.nis_gate.gnss_threshold,
-        max_latency_s: defaults
-            .timing
-            .max_latency_s
-            .max(scenario.gnss.latency_s + period_s),
-        gnss_error: filter.gnss_error,
-        // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
-        gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
-        imu_max_rate_rad_s: max_rate_rad_s,
-        imu_max_specific_force_mps2: max_force_mps2,
-    })
-}
-
-/// The flight software configuration for a scenario ([`replay_setup`]).
-///
-/// # Errors
-/// As [`replay_setup`].
-pub fn fsw_config(scenario: &Scenario) -> Result<FswConfig, FlightError> {
-    Ok(replay_setup(scenario)?.config())
-}
-
-/// The truth at the start with errors drawn from the scenario's initial 1σ.
-fn initial_navigation(scenario: &Scenario, truth_start: &truth::TruthState) -> NavigationState {
-    let mut rng = ChaCha8Rng::seed_from_u64(scenario.simulation.seed);
-    rng.set_stream(INITIAL_ERROR_STREAM);
-    let sigma = &scenario.filter.initial_sigma;
-    let mut draw = |scale: f64| -> Vector3<f64> {
-        Vector3::from_fn(|_, _| {
-            let normal: f64 = StandardNormal.sample(&mut rng);
-            normal * scale
-        })
-    };
-    // A `[dispersion]` table's initial-state entries add to the error the σ describes, so the
-    // filter starts with an error its initial covariance does not expect.
-    let (attitude_offset, position_offset, velocity_offset) =
-        crate::dispersion::initial_error_offsets(scenario);
-    let attitude_error = draw(sigma.attitude_rad) + attitude_offset;
-    let position_error = draw(sigma.position_m) + position_offset;
-    let velocity_error = draw(sigma.velocity_mps) + velocity_offset;
-    NavigationState {
-        attitude: attitude::product(
-            &truth_start.attitude_q_ib,
-            &attitude::exp_rotation_vector(&attitude_error),
-        ),
-        position_m: truth_start.position_m + position_error,
-        velocity_mps: truth_start.velocity_mps + velocity_error,
-        time_s: truth_start.time_s,
-    }
-}
-
-/// ChaCha8 stream of the sensor-error truth drawn by [`with_truth_drawn_from_prior`].
-const TRUTH_DRAW_STREAM: u64 = 101;
-
-/// The scenario with its sensor-error truth (gyro and accelerometer bias and scale factor,
-/// star installation error) drawn from the filter's initial 1σ with `seed` (ChaCha8,
-/// stream [`TRUTH_DRAW_STREAM`]) and the simulation seed set to `seed`: what a Monte Carlo
-/// needs so that the NEES tests the filter's covariance, prior included (with one fixed truth
-/// a weakly observed state would sit far inside its prior every run).
-pub fn with_truth_drawn_from_prior(scenario: &Scenario, seed: u64) -> Scenario {
-    let mut drawn = scenario.clone();
-    drawn.simulation.seed = seed;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(TRUTH_DRAW_STREAM);
-    let sigma = scenario.filter.initial_sigma.clone();
-    let mut draw = |scale: f64| -> [f64; 3] {
-        [0; 3].map(|_| {
-            let normal: f64 = StandardNormal.sample(&mut rng);
-            normal * scale
-        })
-    };
-    drawn.gyro.bias_rad_per_s = draw(sigma.gyro_bias_rad_per_s);
-    drawn.gyro.scale_factor = draw(sigma.gyro_scale_factor);
-    drawn.accelerometer.bias_mps2 = draw(sigma.accel_bias_mps2);
-    drawn.accelerometer.scale_factor = draw(sigma.accel_scale_factor);
-    drawn.star_sensor.installation_error_rotation_vector_rad = draw(sigma.star_installation_rad);
-    drawn
 }
 
 /// The phase the flight plan commands during a manoeuvre segment.
@@ -612,7 +400,7 @@ pub fn fly_observed(
         if let (Some((_, phase)), true) = (phase_due, uses_phase) {
             computer
                 .command(Command::SetPhase(*phase))
-                .map_err(|error| FlightError::Setting(error.to_string()))?;
+                .map_err(|error| SetupError::Setting(error.to_string()))?;
         }
         let mut ports = FramePorts::default();
         for event in events.drain(..) {

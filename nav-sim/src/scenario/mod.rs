@@ -10,11 +10,17 @@
 
 use std::path::Path;
 
+use nav_core::frames::LaunchSite;
 use nav_fsw::config::FswConfig;
 use serde::Deserialize;
 
+pub mod dispersion;
+pub mod epoch;
+
+use epoch::{EarthOrientation, EpochError, LaunchEpoch};
+
 /// The default scenario file, verbatim (what `nav-sim scenario` prints).
-pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../scenarios/default.toml");
+pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../../scenarios/default.toml");
 
 /// Seconds per hour (for the `_deg_per_h` noise specifications).
 const SECONDS_PER_HOUR: f64 = 3600.0;
@@ -66,7 +72,7 @@ pub const SIGMA_UNIT_MARGIN: f64 = 1.0e50;
 /// Largest `gnss.latency_s` the flight software can fuse at an IMU period (s): its navigation
 /// history reaches [`nav_fsw::config::max_latency_limit_s`] back (63 frames), and the flight
 /// is configured with `latency_s` plus one frame of hand-over margin
-/// ([`crate::flight::replay_setup`]): 62 frames, 0.124 s at 500 Hz.
+/// (the setup layer's `replay_setup`): 62 frames, 0.124 s at 500 Hz.
 pub fn max_gnss_latency_s(period_s: f64) -> f64 {
     nav_fsw::config::max_latency_limit_s(period_s) - period_s
 }
@@ -136,7 +142,7 @@ pub enum ScenarioError {
 /// A complete simulation scenario (the TOML file's top level).
 ///
 /// Its `Debug` rendering leaves out an absent `[dispersion]` table, so a scenario without
-/// one renders (and hashes, [`crate::campaign::scenario_hash`]) as it did before the table
+/// one renders (and hashes, the campaign's `scenario_hash`) as it did before the table
 /// existed.
 #[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -165,9 +171,9 @@ pub struct Scenario {
     /// Filter settings (placeholders the filter reads).
     pub filter: FilterSettings,
     /// Truth-side quantities drawn afresh for every Monte Carlo run; absent = none
-    /// ([`crate::dispersion`]).
+    /// ([`dispersion`]).
     #[serde(default)]
-    pub dispersion: Option<crate::dispersion::Dispersion>,
+    pub dispersion: Option<dispersion::Dispersion>,
 }
 
 impl std::fmt::Debug for Scenario {
@@ -230,10 +236,35 @@ pub struct LaunchSiteSettings {
     /// Launch azimuth, clockwise from north (deg), in [−360, 360].
     pub azimuth_deg: f64,
     /// Launch epoch (ISO 8601, UTC): fixes the GCRF → launch-inertial rotation and the GPS
-    /// time of the launch ([`crate::epoch`]).
+    /// time of the launch ([`epoch`]).
     pub epoch_utc: String,
     /// Earth orientation parameters of the launch day (IERS Bulletin A).
-    pub earth_orientation: crate::epoch::EarthOrientation,
+    pub earth_orientation: EarthOrientation,
+}
+
+impl LaunchSiteSettings {
+    /// The launch epoch (`epoch_utc`, `earth_orientation`).
+    ///
+    /// # Errors
+    /// As [`LaunchEpoch::new`].
+    pub fn epoch(&self) -> Result<LaunchEpoch, EpochError> {
+        LaunchEpoch::new(&self.epoch_utc, self.earth_orientation)
+    }
+
+    /// nav-core's [`LaunchSite`] for this site, rotating about the Earth axis (CIP) of its
+    /// epoch ([`LaunchEpoch::earth_axis_ecef`]; the ECEF `z` axis for an epoch that does not
+    /// parse, which scenario validation refuses).
+    pub fn nav_site(&self) -> LaunchSite {
+        LaunchSite {
+            latitude_rad: self.latitude_deg.to_radians(),
+            longitude_rad: self.longitude_deg.to_radians(),
+            height_m: self.height_m,
+            azimuth_rad: self.azimuth_deg.to_radians(),
+            earth_axis_ecef: self.epoch().map_or(nav_core::frames::ECEF_Z_AXIS, |epoch| {
+                epoch.earth_axis_ecef()
+            }),
+        }
+    }
 }
 
 /// Keplerian elements at the scenario start, in the Earth-centred inertial frame that coincides
@@ -689,7 +720,7 @@ impl Checker<'_> {
     /// flight software's limit together with `gnss.latency_s`.
     fn dispersion(
         &self,
-        dispersion: &crate::dispersion::Dispersion,
+        dispersion: &dispersion::Dispersion,
         scenario: &Scenario,
     ) -> Result<(), ScenarioError> {
         let entries = [
@@ -718,8 +749,8 @@ impl Checker<'_> {
                 continue;
             };
             let field = match distribution {
-                crate::dispersion::Distribution::Normal { .. } => "sigma",
-                crate::dispersion::Distribution::Uniform { .. } => "half_width",
+                dispersion::Distribution::Normal { .. } => "sigma",
+                dispersion::Distribution::Uniform { .. } => "half_width",
             };
             self.non_negative(&format!("dispersion.{name}.{field}"), distribution.width())?;
         }
@@ -837,7 +868,8 @@ impl Scenario {
         )?;
         check.within("launch_site.height_m", site.height_m, -500.0, 10_000.0)?;
         check.within("launch_site.azimuth_deg", site.azimuth_deg, -360.0, 360.0)?;
-        crate::epoch::scenario_epoch(self)
+        self.launch_site
+            .epoch()
             .and_then(|epoch| epoch.gps_week_and_seconds())
             .map_err(|error| check.fail("launch_site.epoch_utc", &error.to_string()))?;
 
@@ -875,7 +907,7 @@ impl Scenario {
         check.positive("imu.rate_hz", self.imu.rate_hz)?;
         let period_s = self.imu.frame_period_s();
         let fsw = FswConfig::paper_defaults(
-            crate::truth::launch_site(self),
+            self.launch_site.nav_site(),
             nav_fsw::sensor_frames::SensorFrames::ALIGNED,
         );
         let span_frames = nav_fsw::config::history_span_frames();

@@ -43,12 +43,13 @@ use nav_core::attitude::{canonical, exp_rotation_vector};
 use nav_core::frames::LaunchFrame;
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::sensor_frames::SensorFrames;
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use crate::scenario::{frames_in, Scenario};
-use crate::truth::TruthFrame;
+use crate::setup::streams::{self, Stream};
+use crate::world::truth::TruthFrame;
 
 /// One sensor output, in delivery order.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -208,27 +209,6 @@ impl SensorErrorTruth {
     }
 }
 
-/// Independent random streams, one per error source (ChaCha8 stream ids of one seed).
-#[derive(Debug, Clone, Copy)]
-enum NoiseStream {
-    GyroNoise = 1,
-    GyroBiasWalk = 2,
-    AccelNoise = 3,
-    AccelBiasWalk = 4,
-    Star = 5,
-    Gnss = 6,
-    // Streams of the realistic error models: drawn only when a model is switched on, so a
-    // scenario without them gets the very same numbers as before they existed.
-    GnssCorrelated = 7,
-    GnssVelocity = 8,
-}
-
-fn stream(seed: u64, which: NoiseStream) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(which as u64);
-    rng
-}
-
 fn normal3(rng: &mut ChaCha8Rng) -> Vector3<f64> {
     let x: f64 = rng.sample(StandardNormal);
     let y: f64 = rng.sample(StandardNormal);
@@ -287,7 +267,7 @@ impl TriadModel {
 #[derive(Debug, Clone)]
 pub struct SensorSimulator {
     /// The receiver's ECEF: the full IAU 2006/2000A chain at each fix.
-    itrf: crate::epoch::ItrfFromLaunchInertial,
+    itrf: crate::scenario::epoch::ItrfFromLaunchInertial,
     /// The ground constants: the star tracker's GCRF and the GPS time of the launch.
     sensor_frames: SensorFrames,
     /// `q_ig*`, launch-inertial → GCRF.
@@ -324,9 +304,9 @@ impl SensorSimulator {
     /// # Errors
     /// [`SensorError::LaunchSite`] if nav-core refuses the launch site.
     pub fn new(scenario: &Scenario) -> Result<Self, SensorError> {
-        let frame = LaunchFrame::new(&crate::truth::launch_site(scenario))
+        let frame = LaunchFrame::new(&crate::setup::launch::launch_site(scenario))
             .map_err(|error| SensorError::LaunchSite(format!("{error:?}")))?;
-        let epoch = crate::epoch::scenario_epoch(scenario)
+        let epoch = crate::setup::launch::scenario_epoch(scenario)
             .map_err(|error| SensorError::LaunchSite(error.to_string()))?;
         let ground = epoch
             .ground_constants(&frame)
@@ -339,7 +319,7 @@ impl SensorSimulator {
         let star = &scenario.star_sensor;
         let [mount_x, mount_y, mount_z] = star.mounting_rotation_vector_deg;
         Ok(Self {
-            itrf: crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
+            itrf: crate::scenario::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
             sensor_frames: ground.sensor_frames,
             gcrf_from_launch_q: Quaternion::new(w, x, y, z).conjugate(),
             gyro: TriadModel {
@@ -348,8 +328,8 @@ impl SensorSimulator {
                 increment_noise_sigma: gyro.delta_angle_noise_sigma_rad(period_s),
                 bias_walk_per_sqrt_s: gyro.bias_random_walk_rad_per_s_per_sqrt_s,
                 quantum: gyro.quantum_rad,
-                noise_rng: stream(seed, NoiseStream::GyroNoise),
-                bias_walk_rng: stream(seed, NoiseStream::GyroBiasWalk),
+                noise_rng: streams::rng(seed, Stream::GyroNoise),
+                bias_walk_rng: streams::rng(seed, Stream::GyroBiasWalk),
                 continuous_total: Vector3::zeros(),
                 quantised_total: Vector3::zeros(),
             },
@@ -359,8 +339,8 @@ impl SensorSimulator {
                 increment_noise_sigma: accelerometer.delta_velocity_noise_sigma_mps(period_s),
                 bias_walk_per_sqrt_s: accelerometer.bias_random_walk_mps2_per_sqrt_s,
                 quantum: accelerometer.quantum_mps,
-                noise_rng: stream(seed, NoiseStream::AccelNoise),
-                bias_walk_rng: stream(seed, NoiseStream::AccelBiasWalk),
+                noise_rng: streams::rng(seed, Stream::AccelNoise),
+                bias_walk_rng: streams::rng(seed, Stream::AccelBiasWalk),
                 continuous_total: Vector3::zeros(),
                 quantised_total: Vector3::zeros(),
             },
@@ -374,19 +354,19 @@ impl SensorSimulator {
             )),
             star_noise_rad: star.noise_rad(),
             star_frames_per_sample: frames_in(1.0 / star.rate_hz, period_s),
-            star_rng: stream(seed, NoiseStream::Star),
+            star_rng: streams::rng(seed, Stream::Star),
             gnss_noise_m: scenario.gnss.noise_m,
             gnss_frames_per_sample: frames_in(1.0 / scenario.gnss.rate_hz, period_s),
             gnss_latency_s: scenario.gnss.latency_s,
-            gnss_rng: stream(seed, NoiseStream::Gnss),
+            gnss_rng: streams::rng(seed, Stream::Gnss),
             gnss_correlated: GaussMarkov {
                 sigma: scenario.gnss.correlated_noise_m,
                 correlation_time_s: scenario.gnss.correlation_time_s,
                 state: None,
-                rng: stream(seed, NoiseStream::GnssCorrelated),
+                rng: streams::rng(seed, Stream::GnssCorrelated),
             },
             gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
-            gnss_velocity_rng: stream(seed, NoiseStream::GnssVelocity),
+            gnss_velocity_rng: streams::rng(seed, Stream::GnssVelocity),
             gnss_outages: scenario.gnss.outages.clone(),
             star_max_rate_rad_s: star.max_rate_deg_per_s.to_radians(),
             star_reacquisition_s: star.reacquisition_s,
@@ -568,7 +548,7 @@ impl GaussMarkov {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::truth::launch_frame;
+    use crate::setup::launch::launch_frame;
 
     const START_TIME_S: f64 = 600.0;
 
@@ -659,16 +639,21 @@ mod tests {
 
     /// The sensors speak GCRF (star) and ITRF (GNSS): the exact ITRF of the truth (the full
     /// IAU 2006/2000A chain) and `q_ig`, to bring the star back to launch-inertial.
-    fn port_frames(scenario: &Scenario) -> (crate::epoch::ItrfFromLaunchInertial, Quaternion<f64>) {
+    fn port_frames(
+        scenario: &Scenario,
+    ) -> (
+        crate::scenario::epoch::ItrfFromLaunchInertial,
+        Quaternion<f64>,
+    ) {
         let frame = launch_frame(scenario).unwrap();
-        let epoch = crate::epoch::scenario_epoch(scenario).unwrap();
+        let epoch = crate::setup::launch::scenario_epoch(scenario).unwrap();
         let [w, x, y, z] = epoch
             .ground_constants(&frame)
             .unwrap()
             .sensor_frames
             .gcrf_to_launch_inertial_wxyz;
         (
-            crate::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
+            crate::scenario::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
             Quaternion::new(w, x, y, z),
         )
     }
@@ -964,7 +949,7 @@ mod tests {
         let norm: f64 = star.attitude_wxyz.iter().map(|c| c * c).sum();
         assert!((norm - 1.0).abs() < 1e-15 && star.attitude_wxyz[0] >= 0.0);
         let fix = events.iter().find_map(SensorEvent::to_gnss_fix).unwrap();
-        let frames = crate::epoch::scenario_ground_constants(&scenario)
+        let frames = crate::setup::launch::scenario_ground_constants(&scenario)
             .unwrap()
             .sensor_frames;
         let time_s = frames

@@ -43,8 +43,8 @@ use nav_fsw::log_record::{
 
 use nav_fsw::sensor_frames::SensorFrames;
 
-use crate::sensors::SensorEvent;
-use crate::simulation::{Simulation, SimulationError};
+use crate::world::sensors::SensorEvent;
+use crate::world::simulation::{Simulation, SimulationError};
 
 /// The CSV header, in column order.
 pub const COLUMNS: [&str; 23] = [
@@ -381,7 +381,7 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
 /// # Errors
 /// [`SimulationError`] from the simulation.
 pub fn simulated_records(
-    scenario: &crate::Scenario,
+    scenario: &crate::scenario::Scenario,
     frames: u64,
 ) -> Result<Vec<LogRecord>, SimulationError> {
     let mut simulation = Simulation::new(scenario)?;
@@ -1033,7 +1033,7 @@ mod tests {
             log.write_event(event).unwrap();
         }
         let csv = log.finish().unwrap();
-        let frames = crate::epoch::scenario_ground_constants(&scenario)
+        let frames = crate::setup::launch::scenario_ground_constants(&scenario)
             .unwrap()
             .sensor_frames;
         let read = read_events(csv.as_slice(), &frames).unwrap();
@@ -1066,7 +1066,7 @@ mod tests {
             .filter(|event| matches!(event, SensorEvent::Imu { .. }))
             .count();
         assert_eq!(u64::try_from(imu_rows).unwrap(), scenario.frame_count());
-        let frames = crate::epoch::scenario_ground_constants(&scenario)
+        let frames = crate::setup::launch::scenario_ground_constants(&scenario)
             .unwrap()
             .sensor_frames;
         let read = read_events(csv.as_slice(), &frames).unwrap();

@@ -14,10 +14,11 @@ use nav_fsw::replay::{
 };
 use nav_fsw::scheduler::NavigationComputer;
 
-use crate::flight::{replay_setup, FlightError};
+use crate::harness::flight::FlightError;
+use crate::logs::sensor_log;
 use crate::scenario::Scenario;
-use crate::sensor_log;
-use crate::simulation::Simulation;
+use crate::setup::fsw::replay_setup;
+use crate::world::simulation::Simulation;
 
 /// Words per output frame: the record and the cost.
 pub const FRAME_WORDS: usize = OUTPUT_WORDS + 1;
@@ -71,7 +72,10 @@ pub fn write_input<W: Write>(
 
 /// The start of a replay input: the setup words of `scenario`, then the binary log header.
 fn write_input_header<W: Write>(scenario: &Scenario, writer: &mut W) -> Result<(), ReplayError> {
-    for word in replay_setup(scenario)?.to_words() {
+    for word in replay_setup(scenario)
+        .map_err(FlightError::from)?
+        .to_words()
+    {
         writer.write_all(&word.to_le_bytes())?;
     }
     writer.write_all(&log_record::encode_header())?;

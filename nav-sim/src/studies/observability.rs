@@ -973,7 +973,7 @@ mod tests {
         // PWCS cases carry no Table 1 value.
         assert!(paper_states[3]["states"][0]["paper_table_1"].is_null());
         let phases = value["phases"].as_array().unwrap();
-        let scenario_phases = crate::Scenario::default_scenario()
+        let scenario_phases = crate::scenario::Scenario::default_scenario()
             .unwrap()
             .manoeuvres
             .len();

@@ -5,7 +5,7 @@
 //!
 //! Run `k` of a campaign has the seed `scenario seed + k` (wrapping), and its sensor-error
 //! truth and sensor noise come from that seed alone
-//! ([`crate::flight::with_truth_drawn_from_prior`]), so a run gives the same bits in any shard,
+//! ([`crate::setup::prior::with_truth_drawn_from_prior`]), so a run gives the same bits in any shard,
 //! in any process and alone (`nav-sim monte-carlo --run K`).
 //!
 //! Sharding is round robin: run `k` belongs to shard `k mod M` (shards numbered from 0, as
@@ -26,12 +26,12 @@ use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::flight::{FlightError, NisSum};
-use crate::monte_carlo::{
+use crate::campaign::monte_carlo::{
     self, MonteCarloError, MonteCarloSummary, RunOutcome, CALIBRATION_STATES,
 };
+use crate::harness::flight::{FlightError, NisSum};
 use crate::output::{OutputError, OutputFile};
-use crate::Scenario;
+use crate::scenario::Scenario;
 
 /// The `format` field of a shard file's header.
 pub const FORMAT: &str = "nav-sim monte-carlo shard";

@@ -46,8 +46,9 @@ use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::NavigationComputer;
 use rayon::prelude::*;
 
-use crate::flight::{fly_observed, fsw_config, FlightError, FlightOptions, FlightResult};
+use crate::harness::flight::{fly_observed, FlightError, FlightOptions, FlightResult};
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
+use crate::setup::fsw::fsw_config;
 
 /// Flight length of a row whose injection lasts at most [`SHORT_INJECTION_LIMIT_S`] (s, from
 /// the scenario start).

@@ -12,9 +12,8 @@ use nav_fsw::replay::{AssemblyCounts, FrameAssembler};
 use nav_fsw::scheduler::NavigationComputer;
 use nav_fsw::telemetry::FrameTelemetry;
 
-use crate::flight;
-use crate::sensor_log::SensorLogReader;
-use crate::Scenario;
+use crate::logs::sensor_log::SensorLogReader;
+use crate::scenario::Scenario;
 
 /// What a replay did.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,7 +133,7 @@ pub fn replay<R: Read, W: Write>(
     scenario: &Scenario,
     output: W,
 ) -> Result<ReplaySummary, ReplayFailure> {
-    let setup = flight::replay_setup(scenario)?;
+    let setup = crate::setup::fsw::replay_setup(scenario)?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| format!("flight software configuration refused: {error:?}"))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())?;

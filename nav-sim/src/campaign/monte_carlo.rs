@@ -24,7 +24,7 @@ use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::report::{self, Axis, Curve, Panel, Parameter, ReportError};
+use crate::output::report::{self, Axis, Curve, Panel, Parameter, ReportError};
 
 /// Number of calibration states: gyro bias, accelerometer bias, star installation, gyro and
 /// accelerometer scale factors, three axes each (nav-core's `StateBlock::CALIBRATION`).
@@ -54,9 +54,9 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     /// Final filter covariance of the states.
     pub covariance: SMatrix<f64, N, N>,
     /// NIS of the star sensor's tested updates (zero sums when not recorded).
-    pub star_nis: crate::flight::NisSum,
+    pub star_nis: crate::harness::flight::NisSum,
     /// NIS of the GNSS fixes' tested updates.
-    pub gnss_nis: crate::flight::NisSum,
+    pub gnss_nis: crate::harness::flight::NisSum,
     /// Norm of the final navigation position error (m; NaN if the flight recorded no sample).
     pub position_error_m: f64,
     /// The run's consistency over time ([`over_time`]; empty when not recorded).
@@ -66,7 +66,7 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
 impl RunOutcome {
     /// The outcome of the flight of seed `seed`: its final calibration error and covariance,
     /// NIS sums, final position error and consistency over time.
-    pub fn of_flight(seed: u64, result: &crate::flight::FlightResult) -> Self {
+    pub fn of_flight(seed: u64, result: &crate::harness::flight::FlightResult) -> Self {
         Self {
             seed,
             error: -result.calibration_error,
@@ -90,9 +90,9 @@ pub struct OverTimeSample {
     /// positive definite).
     pub nees: Option<f64>,
     /// NIS of the star sensor's tested updates since the previous instant.
-    pub star_nis: crate::flight::NisSum,
+    pub star_nis: crate::harness::flight::NisSum,
     /// NIS of the GNSS fixes' tested updates since the previous instant.
-    pub gnss_nis: crate::flight::NisSum,
+    pub gnss_nis: crate::harness::flight::NisSum,
 }
 
 /// At most this many instants (and the last) of a run enter its consistency over time, so a
@@ -103,11 +103,11 @@ pub const OVER_TIME_POINTS: usize = 100;
 /// last, with `k` the smallest stride that keeps at most [`OVER_TIME_POINTS`] (+ 1) instants;
 /// each instant carries the NIS of all samples since the previous instant, so the interval
 /// sums add up to the flight's totals.
-pub fn over_time(samples: &[crate::flight::FlightSample]) -> Vec<OverTimeSample> {
+pub fn over_time(samples: &[crate::harness::flight::FlightSample]) -> Vec<OverTimeSample> {
     let stride = samples.len().div_ceil(OVER_TIME_POINTS).max(1);
     let mut points = Vec::with_capacity(OVER_TIME_POINTS + 1);
-    let mut star_nis = crate::flight::NisSum::default();
-    let mut gnss_nis = crate::flight::NisSum::default();
+    let mut star_nis = crate::harness::flight::NisSum::default();
+    let mut gnss_nis = crate::harness::flight::NisSum::default();
     for (index, sample) in samples.iter().enumerate() {
         star_nis.sum += sample.star_nis.sum;
         star_nis.updates += sample.star_nis.updates;
@@ -126,27 +126,33 @@ pub fn over_time(samples: &[crate::flight::FlightSample]) -> Vec<OverTimeSample>
 }
 
 /// Flies `scenario` once per seed in parallel, each run's sensor-error truth drawn from the
-/// filter's prior ([`crate::flight::with_truth_drawn_from_prior`]): the campaign of
+/// filter's prior ([`crate::setup::prior::with_truth_drawn_from_prior`]): the campaign of
 /// `nav-sim monte-carlo` and of the consistency tests.
 ///
 /// # Errors
 /// [`MonteCarloError::Run`] with the seed of a failed flight.
 pub fn fly_campaign(
-    scenario: &crate::Scenario,
+    scenario: &crate::scenario::Scenario,
     seeds: &[u64],
     show_progress: bool,
-) -> Result<Vec<RunOutcome>, MonteCarloError<crate::flight::FlightError>> {
+) -> Result<Vec<RunOutcome>, MonteCarloError<crate::harness::flight::FlightError>> {
     run_parallel(
         seeds,
         |seed| {
-            let seeded = crate::flight::with_truth_drawn_from_prior(scenario, seed);
+            let seeded = crate::setup::prior::with_truth_drawn_from_prior(scenario, seed);
             // The flight software is configured from the undispersed scenario: a dispersion
-            // changes only the truth ([`crate::dispersion::truth_scenario`]).
-            let truth = crate::dispersion::truth_scenario(&seeded, seed);
-            let flight_config = crate::dispersion::flight_config(&seeded, &truth)?;
-            let run_options = crate::flight::FlightOptions::default();
-            crate::flight::fly_with(&truth, flight_config, run_options, |_, _| {}, |_, _| {})
-                .map(|result| RunOutcome::of_flight(seed, &result))
+            // changes only the truth ([`crate::setup::dispersion::truth_scenario`]).
+            let truth = crate::setup::dispersion::truth_scenario(&seeded, seed);
+            let flight_config = crate::setup::dispersion::flight_config(&seeded, &truth)?;
+            let run_options = crate::harness::flight::FlightOptions::default();
+            crate::harness::flight::fly_with(
+                &truth,
+                flight_config,
+                run_options,
+                |_, _| {},
+                |_, _| {},
+            )
+            .map(|result| RunOutcome::of_flight(seed, &result))
         },
         show_progress,
     )
@@ -281,7 +287,7 @@ fn summarise_over_time<const N: usize, E: std::error::Error>(
                 .map(|point| point.nees.unwrap_or(f64::NAN))
                 .sum::<f64>()
                 / runs_f64;
-            let nis = |sums: Vec<crate::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
+            let nis = |sums: Vec<crate::harness::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
             OverTimeStatistics {
                 time_s: points.first().map_or(f64::NAN, |point| point.time_s),
                 nees_average,
@@ -387,7 +393,7 @@ impl NisTest {
     /// [`MonteCarloError::NoRuns`] without updates, [`MonteCarloError::ChiSquared`] if statrs
     /// refuses the degrees of freedom.
     pub fn new<E: std::error::Error>(
-        runs: &[crate::flight::NisSum],
+        runs: &[crate::harness::flight::NisSum],
         dimension: usize,
     ) -> Result<Self, MonteCarloError<E>> {
         let updates: u64 = runs.iter().map(|run| run.updates).sum();
@@ -466,7 +472,7 @@ pub fn summarise<const N: usize, E: std::error::Error>(
             .sum::<f64>()
             / runs_f64,
     });
-    let nis = |sums: Vec<crate::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
+    let nis = |sums: Vec<crate::harness::flight::NisSum>| NisTest::new::<E>(&sums, 3).ok();
     Ok(MonteCarloSummary {
         runs: outcomes.len(),
         star_nis: nis(outcomes.iter().map(|outcome| outcome.star_nis).collect()),
@@ -825,8 +831,8 @@ mod tests {
                     seed,
                     error: factor * white,
                     covariance,
-                    star_nis: crate::flight::NisSum::default(),
-                    gnss_nis: crate::flight::NisSum::default(),
+                    star_nis: crate::harness::flight::NisSum::default(),
+                    gnss_nis: crate::harness::flight::NisSum::default(),
                     position_error_m: 0.0,
                     over_time: Vec::new(),
                 }

@@ -15,12 +15,12 @@ use nav_fsw::replay::ReplaySetup;
 use nav_fsw::stream_merge::{ArrivalMerge, LineSource, RecordedLine};
 use nav_fsw::stream_ports::{RecordReader, StreamCounters};
 
-use crate::flight::replay_setup;
-use crate::scenario::Scenario;
-use crate::target_replay::{
+use crate::harness::target_replay::{
     cost_statistics, first_difference, run_records_on_host, words_of, CostStatistics,
     FirstDifference, ReplayError, FRAME_WORDS,
 };
+use crate::scenario::Scenario;
+use crate::setup::fsw::replay_setup;
 
 /// First word of the line counters after the last frame (`"NAVLINES"` little-endian).
 pub const LINES_MAGIC: u64 = u64::from_le_bytes(*b"NAVLINES");
@@ -182,7 +182,7 @@ pub fn replay_lines_on_target(
 ) -> Result<UartReplayReport, ReplayError> {
     std::fs::create_dir_all(directory)?;
     let directory = directory.canonicalize()?;
-    let setup = replay_setup(scenario)?;
+    let setup = replay_setup(scenario).map_err(crate::harness::flight::FlightError::from)?;
     let mut ground = Vec::new();
     for word in setup.to_words() {
         ground.extend_from_slice(&word.to_le_bytes());

@@ -1,8 +1,8 @@
 //! Truth and sensors together: the scenario's sensor-event stream, frame by frame.
 
 use crate::scenario::Scenario;
-use crate::sensors::{SensorError, SensorErrorTruth, SensorEvent, SensorSimulator};
-use crate::truth::{FlightGravity, TruthError, TruthFrame, TruthSimulator};
+use crate::world::sensors::{SensorError, SensorErrorTruth, SensorEvent, SensorSimulator};
+use crate::world::truth::{FlightGravity, TruthError, TruthFrame, TruthSimulator};
 
 /// Why a simulation could not be set up or advanced.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -50,7 +50,7 @@ impl Simulation {
         Ok(Self {
             truth: TruthSimulator::from_scenario(scenario)?,
             sensors: SensorSimulator::new(scenario)?,
-            frame: crate::truth::launch_frame(scenario)?,
+            frame: crate::setup::launch::launch_frame(scenario).map_err(TruthError::from)?,
             min_altitude_m: scenario.simulation.min_altitude_m,
             segment_labels: scenario
                 .manoeuvres
@@ -177,7 +177,7 @@ mod tests {
         scenario.gyro.rate_noise_density_deg_per_h_per_sqrt_hz = 0.0;
         scenario.accelerometer.noise_per_sample_mps2 = 0.0;
         let mut simulation = Simulation::new(&scenario).unwrap();
-        let frame = crate::truth::launch_frame(&scenario).unwrap();
+        let frame = crate::setup::launch::launch_frame(&scenario).unwrap();
         let initial = *simulation.truth().state();
         let errors = simulation.error_truth();
         let corrections = SensorCorrections {

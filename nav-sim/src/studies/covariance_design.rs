@@ -1,7 +1,7 @@
 //! Linear covariance analysis of a scenario's calibration: how well *can* the 24-state filter
 //! estimate the sensor errors on this manoeuvre schedule with these sensors?
 //!
-//! The analysis flies the scenario's truth trajectory ([`crate::truth`]) and runs only the
+//! The analysis flies the scenario's truth trajectory ([`crate::world::truth`]) and runs only the
 //! covariance half of nav-core's filter along it, with the flight filter's own pieces:
 //! the error model [`system_matrix`] / [`noise_input_matrix`] linearised at the truth, nav-core's
 //! [`discretise`] at the scenario's order (paper: 3), [`ErrorStateFilter::predict`] and the
@@ -50,9 +50,7 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use nav_core::attitude::{exp_rotation_vector, rotation_matrix};
 use nav_core::discretise::discretise;
 use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint, ProcessNoise};
-use nav_core::filter::{
-    ErrorState, ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty,
-};
+use nav_core::filter::{ErrorState, ErrorStateFilter, FilterMode};
 use nav_core::frames::{LaunchFrame, WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
 use nav_core::gravity::GravityModel;
 use nav_core::measurement;
@@ -64,8 +62,11 @@ use nav_core::NavError;
 use nav_fsw::calibration_manager::CalibrationThresholds;
 
 use crate::scenario::{frames_in, in_outage, Scenario};
-use crate::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
-use crate::truth::{launch_frame, TruthError, TruthFrame, TruthSimulator};
+use crate::setup::fsw::{filter_config, scenario_process_noise};
+use crate::setup::launch::launch_frame;
+use crate::setup::SetupError;
+use crate::world::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
+use crate::world::truth::{TruthError, TruthFrame, TruthSimulator};
 
 /// Why the analysis could not run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -86,6 +87,9 @@ pub enum DesignError {
     /// The sensor models could not be built.
     #[error("sensor models: {0}")]
     Sensor(String),
+    /// The run could not be set up from its scenario.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
     /// A setting is unusable.
     #[error("covariance design setting {key} {requirement}")]
     Setting {
@@ -299,56 +303,6 @@ impl DesignReport {
     }
 }
 
-/// The filter's process noise matching the scenario's sensors: the gyro's white rate-noise
-/// density, the accelerometer's per-sample σ as a density `σ_f √T` (the same noise, see
-/// [`crate::scenario::AccelerometerErrors::noise_density_mps2_per_sqrt_hz`]), and the bias
-/// random walks.
-pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
-    ProcessNoise {
-        gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
-        accel_noise_density_mps2_per_sqrt_hz: scenario
-            .accelerometer
-            .noise_density_mps2_per_sqrt_hz(scenario.imu.frame_period_s()),
-        gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
-        accel_bias_walk_mps3_per_sqrt_hz: scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s,
-    }
-}
-
-/// nav-core's filter configuration from the scenario's `[filter]` table.
-///
-/// # Errors
-/// [`DesignError::Setting`] if the discretisation order does not fit nav-core's `u8`.
-pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, DesignError> {
-    let settings = &scenario.filter;
-    let sigma = &settings.initial_sigma;
-    let discretisation_order =
-        u8::try_from(settings.discretisation_order).map_err(|_| DesignError::Setting {
-            key: "filter.discretisation_order",
-            requirement: "must be in 1..=4",
-        })?;
-    Ok(FilterConfig {
-        mode: match settings.mode {
-            crate::scenario::FilterMode::OpenLoop => FilterMode::OpenLoop,
-            crate::scenario::FilterMode::ClosedLoop => FilterMode::ClosedLoop,
-        },
-        discretisation_order,
-        initial: InitialUncertainty {
-            attitude_rad: sigma.attitude_rad,
-            position_m: sigma.position_m,
-            velocity_mps: sigma.velocity_mps,
-            gyro_bias_rad_s: sigma.gyro_bias_rad_per_s,
-            accel_bias_mps2: sigma.accel_bias_mps2,
-            star_installation_rad: sigma.star_installation_rad,
-            gyro_scale_factor: sigma.gyro_scale_factor,
-            accel_scale_factor: sigma.accel_scale_factor,
-        },
-        gnss_error: nav_core::gnss_error::GnssErrorModel {
-            sigma_m: settings.gnss_correlated_sigma_m,
-            correlation_time_s: settings.gnss_correlation_time_s,
-        },
-    })
-}
-
 /// Osculating perigee and apogee radii (m) of the Keplerian orbit through `position_m`,
 /// `velocity_mps` (geocentric, inertial): `r_p,a = h² / (μ (1 ± e))` with `h = |r × v|` and
 /// the eccentricity vector `e = (v × h)/μ − r̂` (Vallado, 4th ed., algorithm 9, RV2COE).
@@ -378,7 +332,7 @@ pub fn perigee_apogee_radii_m(
 /// [`DesignError::Truth`] if the initial state cannot be built.
 pub fn initial_orbital_axes(scenario: &Scenario) -> Result<[Vector3<f64>; 3], DesignError> {
     let frame = launch_frame(scenario)?;
-    let state = crate::truth::initial_state(scenario, &frame)?;
+    let state = crate::setup::launch::initial_state(scenario, &frame)?;
     let radial = frame
         .geocentric_position_launch(&state.position_m)
         .normalize();
@@ -830,7 +784,7 @@ mod tests {
     use nav_core::state::ACCEL_SCALE_FACTOR;
 
     /// The second shipped scenario: the default schedule with different true sensor errors.
-    const MADE_UP_ERRORS_TOML: &str = include_str!("../scenarios/made_up_errors.toml");
+    const MADE_UP_ERRORS_TOML: &str = include_str!("../../scenarios/made_up_errors.toml");
 
     /// Coarse but exact enough for the tests: a covariance step is at most 50 frames (0.1 s,
     /// and the 10 Hz measurements end a step every 0.1 s anyway); one truth substep.

@@ -1,0 +1,183 @@
+//! The draws of a scenario's `[dispersion]` table ([`crate::scenario::dispersion`]) for one
+//! Monte Carlo run (`docs/monte-carlo.md`, "Dispersions").
+//!
+//! Every entry changes what the simulated vehicle and sensors do, never what the flight
+//! software is configured with, so a dispersion is a model mismatch the campaign measures.
+//! Each entry draws from its own random stream of the run's seed
+//! ([`Stream::Dispersion`] with the entry's index in [`ENTRY_KEYS`]): a run's draws depend
+//! only on its seed and the table, so run k alone reproduces run k of a campaign, and adding
+//! or removing one entry leaves the others' draws unchanged.
+
+use nalgebra::Vector3;
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution as _, StandardNormal};
+
+use crate::scenario::dispersion::{
+    Dispersion, Distribution, ENTRY_KEYS, MIN_CORRELATION_TIME_FACTOR,
+};
+use crate::scenario::Scenario;
+use crate::setup::streams::{self, Stream};
+use crate::setup::SetupError;
+
+/// The values one run draws, in the entries' units (zero for an absent entry).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Draw {
+    /// Added initial attitude error (deg).
+    pub initial_attitude_deg: [f64; 3],
+    /// Added initial position error (m).
+    pub initial_position_m: [f64; 3],
+    /// Added initial velocity error (m/s).
+    pub initial_velocity_mps: [f64; 3],
+    /// Gyro noise change (%).
+    pub gyro_noise_percent: f64,
+    /// Accelerometer noise change (%).
+    pub accelerometer_noise_percent: f64,
+    /// Star-sensor noise change (%).
+    pub star_noise_percent: f64,
+    /// GNSS white noise change (%).
+    pub gnss_noise_percent: f64,
+    /// Added star mounting rotation (deg).
+    pub star_mounting_deg: [f64; 3],
+    /// GNSS correlated 1σ change (%).
+    pub gnss_correlated_sigma_percent: f64,
+    /// GNSS correlation time change (%).
+    pub gnss_correlation_time_percent: f64,
+    /// Added GNSS latency (IMU frames).
+    pub gnss_latency_frames: u32,
+}
+
+fn stream(seed: u64, entry: usize) -> ChaCha8Rng {
+    streams::rng(seed, Stream::Dispersion { entry })
+}
+
+/// One draw from `distribution`.
+fn sample(distribution: &Distribution, rng: &mut ChaCha8Rng) -> f64 {
+    match *distribution {
+        Distribution::Normal { sigma } => {
+            let normal: f64 = StandardNormal.sample(rng);
+            normal * sigma
+        }
+        Distribution::Uniform { half_width } => {
+            let unit: f64 = rng.random_range(-1.0..=1.0);
+            unit * half_width
+        }
+    }
+}
+
+fn draw3(distribution: Option<&Distribution>, seed: u64, entry: usize) -> [f64; 3] {
+    distribution.map_or([0.0; 3], |distribution| {
+        let mut rng = stream(seed, entry);
+        [0; 3].map(|_| sample(distribution, &mut rng))
+    })
+}
+
+fn draw1(distribution: Option<&Distribution>, seed: u64, entry: usize) -> f64 {
+    distribution.map_or(0.0, |distribution| {
+        sample(distribution, &mut stream(seed, entry))
+    })
+}
+
+/// The values the run with `seed` draws from `dispersion`.
+pub fn draw(dispersion: &Dispersion, seed: u64) -> Draw {
+    let latency_entry = ENTRY_KEYS.len() - 1;
+    Draw {
+        initial_attitude_deg: draw3(dispersion.initial_attitude_deg.as_ref(), seed, 0),
+        initial_position_m: draw3(dispersion.initial_position_m.as_ref(), seed, 1),
+        initial_velocity_mps: draw3(dispersion.initial_velocity_mps.as_ref(), seed, 2),
+        gyro_noise_percent: draw1(dispersion.gyro_noise_percent.as_ref(), seed, 3),
+        accelerometer_noise_percent: draw1(
+            dispersion.accelerometer_noise_percent.as_ref(),
+            seed,
+            4,
+        ),
+        star_noise_percent: draw1(dispersion.star_noise_percent.as_ref(), seed, 5),
+        gnss_noise_percent: draw1(dispersion.gnss_noise_percent.as_ref(), seed, 6),
+        star_mounting_deg: draw3(dispersion.star_mounting_deg.as_ref(), seed, 7),
+        gnss_correlated_sigma_percent: draw1(
+            dispersion.gnss_correlated_sigma_percent.as_ref(),
+            seed,
+            8,
+        ),
+        gnss_correlation_time_percent: draw1(
+            dispersion.gnss_correlation_time_percent.as_ref(),
+            seed,
+            9,
+        ),
+        gnss_latency_frames: dispersion.gnss_latency_frames.map_or(0, |frames| {
+            stream(seed, latency_entry).random_range(0..=frames)
+        }),
+    }
+}
+
+/// `1 + percent / 100`, at least `floor`: a noise level cannot fall below zero.
+fn factor(percent: f64, floor: f64) -> f64 {
+    (1.0 + percent / 100.0).max(floor)
+}
+
+/// The truth side of the run with `seed`: `scenario` (already seeded for the run) with the
+/// drawn noise levels, star mounting, correlated GNSS error and latency. The flight software's
+/// configuration is made from the undispersed scenario, so these are model mismatches. Without
+/// a `[dispersion]` table the scenario is returned unchanged.
+pub fn truth_scenario(scenario: &Scenario, seed: u64) -> Scenario {
+    let mut truth = scenario.clone();
+    let Some(dispersion) = &scenario.dispersion else {
+        return truth;
+    };
+    let draw = draw(dispersion, seed);
+    truth.gyro.rate_noise_density_deg_per_h_per_sqrt_hz *= factor(draw.gyro_noise_percent, 0.0);
+    truth.accelerometer.noise_per_sample_mps2 *= factor(draw.accelerometer_noise_percent, 0.0);
+    truth.star_sensor.noise_arcsec *= factor(draw.star_noise_percent, 0.0);
+    truth.gnss.noise_m *= factor(draw.gnss_noise_percent, 0.0);
+    for (mounting, added) in truth
+        .star_sensor
+        .mounting_rotation_vector_deg
+        .iter_mut()
+        .zip(draw.star_mounting_deg)
+    {
+        *mounting += added;
+    }
+    truth.gnss.correlated_noise_m *= factor(draw.gnss_correlated_sigma_percent, 0.0);
+    truth.gnss.correlation_time_s *= factor(
+        draw.gnss_correlation_time_percent,
+        MIN_CORRELATION_TIME_FACTOR,
+    );
+    truth.gnss.latency_s += f64::from(draw.gnss_latency_frames) * scenario.imu.frame_period_s();
+    truth
+}
+
+/// The initial navigation error a flight of `scenario` adds to the one drawn from the filter's
+/// initial 1σ, drawn with the scenario's seed (a campaign run's seed,
+/// [`crate::setup::prior::with_truth_drawn_from_prior`]): (attitude rotation vector rad, position m,
+/// velocity m/s), zero without a `[dispersion]` table.
+pub fn initial_error_offsets(scenario: &Scenario) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    let Some(dispersion) = &scenario.dispersion else {
+        return (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+    };
+    let draw = draw(dispersion, scenario.simulation.seed);
+    (
+        Vector3::from(draw.initial_attitude_deg.map(f64::to_radians)),
+        Vector3::from(draw.initial_position_m),
+        Vector3::from(draw.initial_velocity_mps),
+    )
+}
+
+/// The flight software's configuration for a run: made from the undispersed `scenario`
+/// ([`crate::setup::fsw::fsw_config`]), with the measurement history's latency window widened to
+/// the `truth`'s dispersed GNSS latency plus the hand-over frame, as the scenario's own
+/// `gnss.latency_s` widens it: the window is a buffer length, not a model the filter assumes,
+/// and a fix older than it would be dropped rather than fused late.
+///
+/// # Errors
+/// As [`crate::setup::fsw::fsw_config`].
+pub fn flight_config(
+    scenario: &Scenario,
+    truth: &Scenario,
+) -> Result<nav_fsw::config::FswConfig, SetupError> {
+    let mut config = crate::setup::fsw::fsw_config(scenario)?;
+    if truth.gnss.latency_s > scenario.gnss.latency_s {
+        let window_s = truth.gnss.latency_s + scenario.imu.frame_period_s();
+        config.timing.max_latency_s = config.timing.max_latency_s.max(window_s);
+    }
+    Ok(config)
+}

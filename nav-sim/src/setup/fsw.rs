@@ -1,0 +1,229 @@
+//! The flight software's configuration for a scenario: what the scenario decides about it
+//! (launch site, ground constants, filter settings, process noise, mounting, gates), the
+//! initial navigation solution, and the scenario key behind each refused field.
+
+use nalgebra::Vector3;
+use nav_core::attitude;
+use nav_core::error_model::ProcessNoise;
+use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
+use nav_core::strapdown::NavigationState;
+use nav_fsw::config::FswConfig;
+use nav_fsw::replay::ReplaySetup;
+use nav_fsw::{ConfigField, FswError};
+use rand_distr::{Distribution, StandardNormal};
+
+use crate::scenario::{FilterMode as ScenarioFilterMode, Scenario};
+use crate::setup::launch::{self, TruthState};
+use crate::setup::streams::{self, Stream};
+use crate::setup::{dispersion, SetupError};
+
+/// The scenario key that sets a flight-software configuration field ([`replay_setup`]), or
+/// `None` for a field the scenario leaves at the flight software's default.
+pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
+    use ConfigField as F;
+    match field {
+        F::ImuPeriod | F::FutureTolerance => Some("imu.rate_hz"),
+        F::ImuMaxRate => Some("imu.max_rate_deg_per_s"),
+        F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
+        F::MaxLatency => Some("gnss.latency_s"),
+        F::LaunchSite => Some("launch_site"),
+        F::SensorFrames => Some("launch_site.epoch_utc / launch_site.earth_orientation"),
+        F::FilterInitialUncertainty => Some("filter.initial_sigma / filter.discretisation_order"),
+        F::ProcessNoise => Some(
+            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz / \
+             gyro.bias_random_walk_rad_per_s_per_sqrt_s / accelerometer.noise_per_sample_mps2 \
+             / accelerometer.bias_random_walk_mps2_per_sqrt_s",
+        ),
+        F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
+        F::StarNoise => Some("star_sensor.noise_arcsec"),
+        F::StarGate => Some("filter.nis_gate.star_threshold"),
+        F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
+        F::GnssGate => Some("filter.nis_gate.gnss_threshold"),
+        F::GnssVelocity => Some("gnss.velocity_noise_mps"),
+        F::GnssCorrelatedError => {
+            Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
+        }
+        F::InitialNavigation => Some("initial_orbit / initial_attitude"),
+        F::ImuPeriodTolerance
+        | F::StarAcquisitionGate
+        | F::GnssAcquisitionGate
+        | F::StarNormTolerance
+        | F::GnssMaxJump
+        | F::GnssLeverArm
+        | F::GnssWhiteness
+        | F::HeldSampleUncertainty
+        | F::OutageTimeout
+        | F::RejectionsToDeclareFaulty
+        | F::PropagationInterval
+        | F::SigmaFloor
+        | F::SigmaCeiling
+        | F::CalibrationThreshold
+        | F::CalibrationWindow
+        | F::CalibrationStability
+        | F::CalibrationMotionThreshold
+        | F::CalibrationObservabilityTable => None,
+    }
+}
+
+/// The flight software's refusal of the configuration made from `scenario`, as the user
+/// reads it: the scenario key that sets the field ([`scenario_key`]), with its value and the
+/// limit where the scenario determines them, and the flight software's rule.
+pub fn configuration_error(scenario: &Scenario, error: FswError) -> SetupError {
+    let period_s = scenario.imu.frame_period_s();
+    let latency_s = scenario.gnss.latency_s;
+    let message = match error {
+        FswError::InvalidConfiguration(ConfigField::MaxLatency) => {
+            crate::scenario::gnss_latency_violation(latency_s, period_s)
+                .map(|requirement| format!("gnss.latency_s {requirement}"))
+        }
+        _ => None,
+    };
+    let message = message.unwrap_or_else(|| match error {
+        FswError::InvalidConfiguration(field) => match scenario_key(field) {
+            Some(key) => format!("{key} is refused: the flight software's {field}"),
+            None => format!("the flight software's own setting {field} (not a scenario key)"),
+        },
+        FswError::Navigation(_) => error.to_string(),
+    });
+    SetupError::Configuration { error, message }
+}
+
+/// What the scenario decides about the flight software (its launch site, filter settings,
+/// sensor noise as process-noise densities, star mounting, gates) and its initial navigation
+/// solution: the truth at the start with errors drawn from the configured initial 1σ
+/// (random stream [`Stream::InitialError`] of the scenario seed), so the initial
+/// covariance is honest. The replay files carry exactly this.
+///
+/// # Errors
+/// [`SetupError`] if the launch site or the initial state cannot be computed.
+pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, SetupError> {
+    let frame = launch::launch_frame(scenario)
+        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+    let truth_start = launch::initial_state(scenario, &frame)
+        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+    let settings = &scenario.filter;
+    let filter = filter_config(scenario)?;
+    let period_s = scenario.imu.frame_period_s();
+    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
+    let mounting = attitude::exp_rotation_vector(&Vector3::new(
+        x.to_radians(),
+        y.to_radians(),
+        z.to_radians(),
+    ));
+    let ground = launch::scenario_ground_constants(scenario)
+        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+    let defaults = FswConfig::paper_defaults(launch::launch_site(scenario), ground.sensor_frames);
+    let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
+    Ok(ReplaySetup {
+        launch_site: launch::launch_site(scenario),
+        sensor_frames: ground.sensor_frames,
+        initial: initial_navigation(scenario, &truth_start),
+        mode: filter.mode,
+        discretisation_order: filter.discretisation_order,
+        initial_sigma: filter.initial,
+        process_noise: scenario_process_noise(scenario),
+        imu_period_s: period_s,
+        star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
+        // A zero-noise sensor (a test setting) still needs a positive R.
+        star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
+        star_gate_nis: settings.nis_gate.star_threshold,
+        gnss_noise_m: settings
+            .gnss_noise_m
+            .unwrap_or(scenario.gnss.noise_m)
+            .max(1e-6),
+        gnss_gate_nis: settings.nis_gate.gnss_threshold,
+        max_latency_s: defaults
+            .timing
+            .max_latency_s
+            .max(scenario.gnss.latency_s + period_s),
+        gnss_error: filter.gnss_error,
+        // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
+        gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
+        imu_max_rate_rad_s: max_rate_rad_s,
+        imu_max_specific_force_mps2: max_force_mps2,
+    })
+}
+
+/// The flight software configuration for a scenario ([`replay_setup`]).
+///
+/// # Errors
+/// As [`replay_setup`].
+pub fn fsw_config(scenario: &Scenario) -> Result<FswConfig, SetupError> {
+    Ok(replay_setup(scenario)?.config())
+}
+
+/// The truth at the start with errors drawn from the scenario's initial 1σ.
+fn initial_navigation(scenario: &Scenario, truth_start: &TruthState) -> NavigationState {
+    let mut rng = streams::rng(scenario.simulation.seed, Stream::InitialError);
+    let sigma = &scenario.filter.initial_sigma;
+    let mut draw = |scale: f64| -> Vector3<f64> {
+        Vector3::from_fn(|_, _| {
+            let normal: f64 = StandardNormal.sample(&mut rng);
+            normal * scale
+        })
+    };
+    // A `[dispersion]` table's initial-state entries add to the error the σ describes, so the
+    // filter starts with an error its initial covariance does not expect.
+    let (attitude_offset, position_offset, velocity_offset) =
+        dispersion::initial_error_offsets(scenario);
+    let attitude_error = draw(sigma.attitude_rad) + attitude_offset;
+    let position_error = draw(sigma.position_m) + position_offset;
+    let velocity_error = draw(sigma.velocity_mps) + velocity_offset;
+    NavigationState {
+        attitude: attitude::product(
+            &truth_start.attitude_q_ib,
+            &attitude::exp_rotation_vector(&attitude_error),
+        ),
+        position_m: truth_start.position_m + position_error,
+        velocity_mps: truth_start.velocity_mps + velocity_error,
+        time_s: truth_start.time_s,
+    }
+}
+
+/// The filter's process noise matching the scenario's sensors: the gyro's white rate-noise
+/// density, the accelerometer's per-sample σ as a density `σ_f √T` (the same noise, see
+/// [`crate::scenario::AccelerometerErrors::noise_density_mps2_per_sqrt_hz`]), and the bias
+/// random walks.
+pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
+    ProcessNoise {
+        gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
+        accel_noise_density_mps2_per_sqrt_hz: scenario
+            .accelerometer
+            .noise_density_mps2_per_sqrt_hz(scenario.imu.frame_period_s()),
+        gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+        accel_bias_walk_mps3_per_sqrt_hz: scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s,
+    }
+}
+
+/// nav-core's filter configuration from the scenario's `[filter]` table.
+///
+/// # Errors
+/// [`SetupError::Setting`] if the discretisation order does not fit nav-core's `u8`.
+pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
+    let settings = &scenario.filter;
+    let sigma = &settings.initial_sigma;
+    let discretisation_order = u8::try_from(settings.discretisation_order).map_err(|_| {
+        SetupError::Setting("filter.discretisation_order must be in 1..=4".to_string())
+    })?;
+    Ok(FilterConfig {
+        mode: match settings.mode {
+            ScenarioFilterMode::OpenLoop => FilterMode::OpenLoop,
+            ScenarioFilterMode::ClosedLoop => FilterMode::ClosedLoop,
+        },
+        discretisation_order,
+        initial: InitialUncertainty {
+            attitude_rad: sigma.attitude_rad,
+            position_m: sigma.position_m,
+            velocity_mps: sigma.velocity_mps,
+            gyro_bias_rad_s: sigma.gyro_bias_rad_per_s,
+            accel_bias_mps2: sigma.accel_bias_mps2,
+            star_installation_rad: sigma.star_installation_rad,
+            gyro_scale_factor: sigma.gyro_scale_factor,
+            accel_scale_factor: sigma.accel_scale_factor,
+        },
+        gnss_error: nav_core::gnss_error::GnssErrorModel {
+            sigma_m: settings.gnss_correlated_sigma_m,
+            correlation_time_s: settings.gnss_correlation_time_s,
+        },
+    })
+}

@@ -1,0 +1,95 @@
+//! The registry of random streams: every random draw of a run comes from one ChaCha8 stream of
+//! one seed, named here, so that no two draws share a stream and switching a model on or off
+//! leaves every other draw unchanged.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// A named random stream of a seed (its ChaCha8 stream id is [`Stream::id`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stream {
+    /// Gyro angle random walk (white rate noise).
+    GyroNoise,
+    /// Gyro bias random walk.
+    GyroBiasWalk,
+    /// Accelerometer white noise.
+    AccelNoise,
+    /// Accelerometer bias random walk.
+    AccelBiasWalk,
+    /// Star-sensor white noise.
+    Star,
+    /// GNSS white position noise.
+    Gnss,
+    /// The receiver's correlated error (drawn only when that model is switched on, so a
+    /// scenario without it gets the very same numbers as before the model existed).
+    GnssCorrelated,
+    /// GNSS velocity noise (drawn only when the receiver outputs velocity).
+    GnssVelocity,
+    /// The initial navigation error drawn from the filter's initial 1σ.
+    InitialError,
+    /// The sensor-error truth drawn from the filter's prior for a Monte Carlo run.
+    TruthDraw,
+    /// A `[dispersion]` entry, by its index in
+    /// [`crate::scenario::dispersion::ENTRY_KEYS`].
+    Dispersion {
+        /// The entry's index.
+        entry: usize,
+    },
+}
+
+/// First ChaCha8 stream id of the `[dispersion]` entries.
+pub const DISPERSION_STREAM_BASE: u64 = 200;
+
+impl Stream {
+    /// The ChaCha8 stream id.
+    pub fn id(self) -> u64 {
+        match self {
+            Self::GyroNoise => 1,
+            Self::GyroBiasWalk => 2,
+            Self::AccelNoise => 3,
+            Self::AccelBiasWalk => 4,
+            Self::Star => 5,
+            Self::Gnss => 6,
+            Self::GnssCorrelated => 7,
+            Self::GnssVelocity => 8,
+            Self::InitialError => 100,
+            Self::TruthDraw => 101,
+            // Entry indices are below ENTRY_KEYS.len(), far inside u64.
+            Self::Dispersion { entry } => DISPERSION_STREAM_BASE + entry as u64,
+        }
+    }
+}
+
+/// The generator of `stream` of `seed`.
+pub fn rng(seed: u64, stream: Stream) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream.id());
+    rng
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::dispersion::ENTRY_KEYS;
+
+    #[test]
+    fn no_two_streams_share_an_id() {
+        let mut streams = vec![
+            Stream::GyroNoise,
+            Stream::GyroBiasWalk,
+            Stream::AccelNoise,
+            Stream::AccelBiasWalk,
+            Stream::Star,
+            Stream::Gnss,
+            Stream::GnssCorrelated,
+            Stream::GnssVelocity,
+            Stream::InitialError,
+            Stream::TruthDraw,
+        ];
+        streams.extend((0..ENTRY_KEYS.len()).map(|entry| Stream::Dispersion { entry }));
+        let mut ids: Vec<u64> = streams.iter().map(|stream| stream.id()).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        assert_eq!(ids.len(), streams.len());
+    }
+}
