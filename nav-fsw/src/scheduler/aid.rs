@@ -64,6 +64,16 @@ pub(super) struct AidingSensor {
     pub(super) acquired: bool,
 }
 
+impl Aids {
+    /// Forgets every fault declaration and gate statistic: each aid is used, and acquired,
+    /// again.
+    pub(super) fn clear_faults(&mut self) {
+        self.star = AidingSensor::default();
+        self.gnss = AidingSensor::default();
+        self.gnss_velocity = AidingSensor::default();
+    }
+}
+
 impl NavigationComputer {
     /// The χ² gate (normalised innovation squared) of `aid`: the larger of its gate and its
     /// acquisition gate until the filter has accepted one of its measurements
@@ -71,10 +81,10 @@ impl NavigationComputer {
     pub(super) fn gate_nis(&self, aid: Aid) -> f64 {
         let (star, gnss) = (&self.config.star, &self.config.gnss);
         let (statistics, gate, acquisition_gate) = match aid {
-            Aid::Star => (&self.star, star.gate_nis, star.acquisition_gate_nis),
-            Aid::GnssPosition => (&self.gnss, gnss.gate_nis, gnss.acquisition_gate_nis),
+            Aid::Star => (&self.aids.star, star.gate_nis, star.acquisition_gate_nis),
+            Aid::GnssPosition => (&self.aids.gnss, gnss.gate_nis, gnss.acquisition_gate_nis),
             Aid::GnssVelocity => (
-                &self.gnss_velocity,
+                &self.aids.gnss_velocity,
                 gnss.velocity_gate_nis,
                 gnss.velocity_acquisition_gate_nis,
             ),
@@ -90,10 +100,10 @@ impl NavigationComputer {
     /// cleared fault): their next acceptance is gated by the acquisition gate.
     pub(super) fn reacquire(&mut self, sensor: Sensor) {
         match sensor {
-            Sensor::Star => self.star.acquired = false,
+            Sensor::Star => self.aids.star.acquired = false,
             Sensor::Gnss => {
-                self.gnss.acquired = false;
-                self.gnss_velocity.acquired = false;
+                self.aids.gnss.acquired = false;
+                self.aids.gnss_velocity.acquired = false;
             }
         }
     }
@@ -101,26 +111,26 @@ impl NavigationComputer {
     /// The gate statistics of `aid` (the GNSS velocity keeps its own NIS).
     pub(super) fn statistics(&mut self, aid: Aid) -> &mut AidingSensor {
         match aid {
-            Aid::Star => &mut self.star,
-            Aid::GnssPosition => &mut self.gnss,
-            Aid::GnssVelocity => &mut self.gnss_velocity,
+            Aid::Star => &mut self.aids.star,
+            Aid::GnssPosition => &mut self.aids.gnss,
+            Aid::GnssVelocity => &mut self.aids.gnss_velocity,
         }
     }
 
     /// The gate-rejection counter of `aid`.
     pub(super) fn gate_rejections(&mut self, aid: Aid) -> &mut u32 {
         match aid {
-            Aid::Star => &mut self.health.star_gate_rejections,
-            Aid::GnssPosition => &mut self.health.gnss_gate_rejections,
-            Aid::GnssVelocity => &mut self.health.gnss_velocity_gate_rejections,
+            Aid::Star => &mut self.health.counters.star_gate_rejections,
+            Aid::GnssPosition => &mut self.health.counters.gnss_gate_rejections,
+            Aid::GnssVelocity => &mut self.health.counters.gnss_velocity_gate_rejections,
         }
     }
 
     /// The fault state of `sensor`.
     pub(super) fn fault_state(&mut self, sensor: Sensor) -> &mut AidingSensor {
         match sensor {
-            Sensor::Star => &mut self.star,
-            Sensor::Gnss => &mut self.gnss,
+            Sensor::Star => &mut self.aids.star,
+            Sensor::Gnss => &mut self.aids.gnss,
         }
     }
 
@@ -129,8 +139,14 @@ impl NavigationComputer {
     pub(super) fn note_rejection(&mut self, aid: Aid) {
         let limit = self.config.timing.rejections_to_declare_faulty;
         let (sensor, declarations) = match aid.sensor() {
-            Sensor::Star => (&mut self.star, &mut self.health.star_declared_faulty),
-            Sensor::Gnss => (&mut self.gnss, &mut self.health.gnss_declared_faulty),
+            Sensor::Star => (
+                &mut self.aids.star,
+                &mut self.health.counters.star_declared_faulty,
+            ),
+            Sensor::Gnss => (
+                &mut self.aids.gnss,
+                &mut self.health.counters.gnss_declared_faulty,
+            ),
         };
         sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
         if !sensor.faulty && sensor.consecutive_rejections >= limit {
@@ -142,11 +158,11 @@ impl NavigationComputer {
     /// Counts a measurement the queue of `sensor` refused.
     pub(super) fn count_refusal(&mut self, refusal: BufferRefusal, sensor: Sensor) {
         let counter = match (refusal, sensor) {
-            (BufferRefusal::Stale, _) => &mut self.health.measurement_stale,
-            (BufferRefusal::Future, _) => &mut self.health.measurement_future,
-            (BufferRefusal::Overflow, _) => &mut self.health.measurement_overflow,
-            (BufferRefusal::NonFinite, Sensor::Star) => &mut self.health.star_non_finite,
-            (BufferRefusal::NonFinite, Sensor::Gnss) => &mut self.health.gnss_non_finite,
+            (BufferRefusal::Stale, _) => &mut self.health.counters.measurement_stale,
+            (BufferRefusal::Future, _) => &mut self.health.counters.measurement_future,
+            (BufferRefusal::Overflow, _) => &mut self.health.counters.measurement_overflow,
+            (BufferRefusal::NonFinite, Sensor::Star) => &mut self.health.counters.star_non_finite,
+            (BufferRefusal::NonFinite, Sensor::Gnss) => &mut self.health.counters.gnss_non_finite,
         };
         count(counter);
     }

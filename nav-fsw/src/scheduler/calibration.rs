@@ -10,13 +10,13 @@ impl NavigationComputer {
         // nav-core's `apply_error_state` changes nothing on error, so the correction is
         // applied to the navigation solution and calibration in place (no copies of them to
         // roll back), and the large filter is reset in place only once it succeeded.
-        let error = self.filter.state();
+        let error = self.covariance.filter.state();
         let applied = apply_error_state(
             error,
-            &mut self.navigation.attitude,
-            &mut self.navigation.position_m,
-            &mut self.navigation.velocity_mps,
-            &mut self.calibration,
+            &mut self.navigation.solution.attitude,
+            &mut self.navigation.solution.position_m,
+            &mut self.navigation.solution.velocity_mps,
+            &mut self.calibration.estimate,
         );
         if applied.is_err() {
             // A correction nav-core cannot apply (|ϑ| ≥ 1 or non-finite): keep everything
@@ -29,14 +29,14 @@ impl NavigationComputer {
         let velocity_correction = block_of(error, VELOCITY);
         if let Ok(correction) = attitude_correction {
             // Snapshots are corrected when read ([`History::corrected`]).
-            self.history.record_correction(Correction {
+            self.navigation.history.record_correction(Correction {
                 frame: self.frame,
                 attitude: correction,
                 position_m: position_correction,
                 velocity_mps: velocity_correction,
             });
         }
-        self.arithmetic.reset_in_place(&mut self.filter);
+        self.arithmetic.reset_in_place(&mut self.covariance.filter);
     }
 
     /// Current estimate and variance of one calibration block in table units (the
@@ -74,7 +74,7 @@ impl NavigationComputer {
         let mut variances = [[0.0; 3]; CALIBRATION_BLOCK_COUNT];
         // Once per frame (not per block): the estimate and the variance of every state.
         let estimate = self.calibration_estimate();
-        let state_variances = self.filter.covariance().diagonal();
+        let state_variances = self.covariance.filter.covariance().diagonal();
         for ((value, variance), block) in values
             .iter_mut()
             .zip(variances.iter_mut())
@@ -82,19 +82,20 @@ impl NavigationComputer {
         {
             (*value, *variance) = Self::block_estimate(*block, &estimate, &state_variances);
         }
-        self.manager
-            .evaluate(self.navigation.time_s, &values, &variances);
+        self.calibration
+            .manager
+            .evaluate(self.navigation.solution.time_s, &values, &variances);
     }
 
     /// The sensor-error estimate: in closed loop the fed-back corrections; in open loop the
     /// filter's current error state applied to them.
     pub fn calibration_estimate(&self) -> CalibrationEstimate {
-        let mut calibration = self.calibration;
-        if self.filter.mode() == FilterMode::OpenLoop {
-            let mut scratch = self.navigation;
+        let mut calibration = self.calibration.estimate;
+        if self.covariance.filter.mode() == FilterMode::OpenLoop {
+            let mut scratch = self.navigation.solution;
             // Errors only for a non-finite or degenerate x; the fed-back value stands then.
             let _ = apply_error_state(
-                self.filter.state(),
+                self.covariance.filter.state(),
                 &mut scratch.attitude,
                 &mut scratch.position_m,
                 &mut scratch.velocity_mps,

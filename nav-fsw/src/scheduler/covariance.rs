@@ -1,5 +1,6 @@
-//! Covariance propagation at the interval's mean motion, the second-order attitude growth,
-//! variance protection and the documented filter recovery.
+//! Covariance propagation at the interval's mean motion, the growth for a held IMU sample and
+//! for the second-order attitude term, variance protection and the documented filter
+//! recovery.
 
 use super::*;
 
@@ -33,33 +34,33 @@ impl PropagationSums {
 
 impl NavigationComputer {
     pub(super) fn propagate_covariance(&mut self) {
-        let sums = self.sums;
-        self.sums = PropagationSums::EMPTY;
+        let sums = self.covariance.sums;
+        self.covariance.sums = PropagationSums::EMPTY;
         // The covariance is at the navigation time from here on, propagated or, on a
         // failure, restarted.
-        self.covariance_time_s = self.navigation.time_s;
+        self.covariance.time_s = self.navigation.solution.time_s;
         let frames = f64::from(sums.frames.max(1));
         let interval_s = frames * self.config.imu.period_s;
         // Built in place (a local moved into `last_point` is a copy on the target).
-        let point = self.last_point.insert(LinearisationPoint {
+        let point = self.covariance.last_point.insert(LinearisationPoint {
             corrected_rate_rad_s: sums.corrected_rate / frames,
             corrected_specific_force_mps2: sums.corrected_force / frames,
             measured_rate_rad_s: sums.measured_rate / frames,
             measured_specific_force_mps2: sums.measured_force / frames,
-            body_to_inertial: attitude::rotation_matrix(&self.navigation.attitude),
+            body_to_inertial: attitude::rotation_matrix(&self.navigation.solution.attitude),
             gravity_gradient_per_s2: self
                 .config
                 .strapdown
                 .gravity
-                .gravity_gradient_launch(&self.launch_frame, &self.navigation.position_m),
+                .gravity_gradient_launch(&self.launch_frame, &self.navigation.solution.position_m),
         });
-        self.manager.observe_motion(
+        self.calibration.manager.observe_motion(
             &point.corrected_rate_rad_s,
             &point.corrected_specific_force_mps2,
         );
         // Block-structured discretisation and F P Fᵀ + Qd (nav-core `structured`); frozen
         // blocks get no process noise.
-        let frozen = self.manager.frozen_blocks();
+        let frozen = self.calibration.manager.frozen_blocks();
         let order = self.config.filter.discretisation_order;
         let step = Propagation {
             point,
@@ -68,15 +69,55 @@ impl NavigationComputer {
             order,
             frozen: &frozen,
         };
-        let result = self
-            .arithmetic
-            .predict(&mut self.filter, &mut self.model, &step);
+        let result = self.arithmetic.predict(
+            &mut self.covariance.filter,
+            &mut self.covariance.model,
+            &step,
+        );
         match result {
             Ok(()) => {
-                self.second_order_pending_s += interval_s;
+                self.covariance.second_order_pending_s += interval_s;
                 self.protect_covariance();
             }
             Err(_) => self.recover_filter(),
+        }
+    }
+
+    /// The covariance grows for what a held IMU sample may be wrong by
+    /// ([`HeldSampleUncertainty`]), coherently (nav-core `unmodelled`): the held error is the
+    /// same all gap long, so the 1σ grows as the number of held frames. Attitude states are
+    /// half-angles, so their σ is half the angle's.
+    pub(super) fn inflate_for_held_sample(&mut self, held: Option<HeldSampleUncertainty>) {
+        let Some(sigma) = held else {
+            self.covariance.held_attitude.restart();
+            self.covariance.held_velocity.restart();
+            return;
+        };
+        count(&mut self.health.counters.imu_held_frames);
+        let period_s = self.config.imu.period_s;
+        let added = [
+            (
+                ATTITUDE,
+                self.covariance
+                    .held_attitude
+                    .grow(HALF_ANGLE_PER_ANGLE * sigma.rate_rad_s * period_s),
+            ),
+            (
+                VELOCITY,
+                self.covariance
+                    .held_velocity
+                    .grow(sigma.specific_force_mps2 * period_s),
+            ),
+        ];
+        for (block, variance) in added {
+            if self
+                .covariance
+                .filter
+                .add_block_variance(block, variance)
+                .is_err()
+            {
+                count(&mut self.health.counters.filter_errors);
+            }
         }
     }
 
@@ -89,45 +130,50 @@ impl NavigationComputer {
     /// propagation's rate.
     pub(super) fn inflate_for_second_order_attitude(&mut self) {
         let (Some(point), true) = (
-            self.last_point,
+            self.covariance.last_point,
             self.config.covariance.second_order_attitude.is_bounded(),
         ) else {
             return;
         };
-        let (measured_rate_rad_s, interval_s) =
-            (&point.measured_rate_rad_s, self.second_order_pending_s);
-        self.second_order_pending_s = 0.0;
-        let rate_covariance =
-            bilinear_attitude_rate_covariance(self.filter.covariance(), measured_rate_rad_s);
+        let (measured_rate_rad_s, interval_s) = (
+            &point.measured_rate_rad_s,
+            self.covariance.second_order_pending_s,
+        );
+        self.covariance.second_order_pending_s = 0.0;
+        let rate_covariance = bilinear_attitude_rate_covariance(
+            self.covariance.filter.covariance(),
+            measured_rate_rad_s,
+        );
         let rate_variance = rate_covariance.trace();
         if !(rate_variance.is_finite() && rate_variance > 0.0) {
             return;
         }
         let correlation = rate_error_correlation(
-            self.filter.covariance(),
+            self.covariance.filter.covariance(),
             measured_rate_rad_s,
-            &self.second_order_rate_rad_s,
+            &self.covariance.second_order_rate_rad_s,
         );
-        self.second_order_rate_rad_s = *measured_rate_rad_s;
-        let added = self.second_order_attitude.grow_correlated(
+        self.covariance.second_order_rate_rad_s = *measured_rate_rad_s;
+        let added = self.covariance.second_order_attitude.grow_correlated(
             nav_core::float::sqrt(rate_variance) * interval_s,
             correlation,
         );
         let direction = rate_covariance / rate_variance;
         if self
+            .covariance
             .filter
             .add_block_covariance(ATTITUDE, &(direction * added))
             .is_err()
         {
-            count(&mut self.health.filter_errors);
+            count(&mut self.health.counters.filter_errors);
         }
     }
 
     /// The attitude is measured (or the filter starts afresh): the second-order growth starts
     /// again from zero.
     pub(super) fn restart_second_order_attitude(&mut self) {
-        self.second_order_attitude.restart();
-        self.second_order_pending_s = 0.0;
+        self.covariance.second_order_attitude.restart();
+        self.covariance.second_order_pending_s = 0.0;
     }
 
     /// Documented recovery from a filter that nav-core refuses to propagate (non-finite
@@ -135,11 +181,11 @@ impl NavigationComputer {
     /// forgotten; the navigation solution and the sensor corrections fed back so far are
     /// kept. Counted in `filter_resets`.
     pub(super) fn recover_filter(&mut self) {
-        count(&mut self.health.filter_resets);
+        count(&mut self.health.counters.filter_resets);
         // A refused configuration (checked at start-up, so never here) keeps the filter.
-        let _ = self.filter.restart(&self.config.filter);
+        let _ = self.covariance.filter.restart(&self.config.filter);
         self.restart_second_order_attitude();
-        self.manager.restart();
+        self.calibration.manager.restart();
         // The filter is back at its prior: each aid's first acceptance is an acquisition.
         self.reacquire(Sensor::Star);
         self.reacquire(Sensor::Gnss);
@@ -148,12 +194,18 @@ impl NavigationComputer {
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless
     /// a bound is crossed (nav-core `protect_variances`); symmetry is kept by construction.
     pub(super) fn protect_covariance(&mut self) {
-        if self
-            .filter
-            .protect_variances(&self.variance_floor, &self.variance_ceiling)
-        {
-            count(&mut self.health.covariance_clamps);
-            if !self.filter.covariance().iter().all(|v| v.is_finite()) {
+        if self.covariance.filter.protect_variances(
+            &self.covariance.variance_floor,
+            &self.covariance.variance_ceiling,
+        ) {
+            count(&mut self.health.counters.covariance_clamps);
+            if !self
+                .covariance
+                .filter
+                .covariance()
+                .iter()
+                .all(|v| v.is_finite())
+            {
                 self.recover_filter();
             }
         }

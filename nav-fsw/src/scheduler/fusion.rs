@@ -5,7 +5,7 @@ use super::*;
 
 impl NavigationComputer {
     pub(super) fn installation_estimate(&self) -> Quaternion<f64> {
-        ports::quaternion(&self.calibration.star_installation_wxyz)
+        ports::quaternion(&self.calibration.estimate.star_installation_wxyz)
     }
 
     pub(super) fn fuse_one_due_measurement(&mut self) -> FrameFusion {
@@ -14,15 +14,15 @@ impl NavigationComputer {
         };
         let (aid, tag) = (due.aid(), due.time_tag_s());
         if self.fault_state(aid.sensor()).faulty {
-            count(&mut self.health.ignored_from_faulty_sensor);
+            count(&mut self.health.counters.ignored_from_faulty_sensor);
             return aid.fusion(false);
         }
         let Some(snapshot) = self.snapshot_at(tag) else {
-            count(&mut self.health.measurement_stale);
+            count(&mut self.health.counters.measurement_stale);
             return FrameFusion::None;
         };
         if self.is_gnss_jump(&due, &snapshot) {
-            count(&mut self.health.gnss_jump);
+            count(&mut self.health.counters.gnss_jump);
             self.note_rejection(aid);
             return aid.fusion(false);
         }
@@ -31,7 +31,7 @@ impl NavigationComputer {
         // A late measurement is referred to the error state at the covariance's time
         // (nav-core docs), in place: the measurement is never copied (every copy is a
         // `memcpy` on the target).
-        let latency_s = self.covariance_time_s - tag;
+        let latency_s = self.covariance.time_s - tag;
         if let Ok(m) = &mut measurement {
             if let Err(error) = self.refer_to_now(m, aid, latency_s) {
                 measurement = Err(error);
@@ -90,7 +90,7 @@ impl NavigationComputer {
             ),
             Due::GnssVelocity(_, velocity) => {
                 // The lever-arm term's body rates: the mean of the last propagation interval.
-                let rate = self.last_point.map_or(
+                let rate = self.covariance.last_point.map_or(
                     BodyRate {
                         corrected_rad_s: Vector3::zeros(),
                         measured_rad_s: Vector3::zeros(),
@@ -121,7 +121,7 @@ impl NavigationComputer {
         aid: Aid,
         latency_s: f64,
     ) -> Result<(), NavError> {
-        let Some(point) = self.last_point else {
+        let Some(point) = self.covariance.last_point else {
             return Ok(());
         };
         if latency_s <= SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s {
@@ -146,9 +146,9 @@ impl NavigationComputer {
         aid: Aid,
     ) -> Result<nav_core::filter::InnovationReport, NavError> {
         let gate = self.gate_nis(aid);
-        let frozen = self.manager.frozen_blocks();
+        let frozen = self.calibration.manager.frozen_blocks();
         self.arithmetic
-            .update(&mut self.filter, measurement, gate, &frozen)
+            .update(&mut self.covariance.filter, measurement, gate, &frozen)
     }
 
     /// Gate statistics, counters, fault state and closed-loop feedback after an update.
@@ -159,7 +159,7 @@ impl NavigationComputer {
     ) -> FrameFusion {
         let report = match report {
             Err(_) => {
-                count(&mut self.health.filter_errors);
+                count(&mut self.health.counters.filter_errors);
                 self.note_rejection(aid);
                 return aid.fusion(false);
             }
@@ -175,7 +175,7 @@ impl NavigationComputer {
             if aid.measures_attitude() {
                 self.restart_second_order_attitude();
             }
-            if self.filter.mode() == FilterMode::ClosedLoop {
+            if self.covariance.filter.mode() == FilterMode::ClosedLoop {
                 self.feed_back();
             }
         } else {
@@ -189,14 +189,14 @@ impl NavigationComputer {
     pub(super) fn observe_whiteness(&mut self, report: &nav_core::filter::InnovationReport) {
         let (nu, s) = (&report.innovation, &report.covariance);
         let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
-        let began = self.gnss_whiteness.observe(
+        let began = self.aids.gnss_whiteness.observe(
             &[nu.x, nu.y, nu.z],
             &variances,
             self.config.gnss.whiteness_window_fixes,
             self.config.gnss.whiteness_threshold,
         );
         if began {
-            count(&mut self.health.gnss_innovations_correlated);
+            count(&mut self.health.counters.gnss_innovations_correlated);
         }
     }
 }

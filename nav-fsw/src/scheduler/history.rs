@@ -156,13 +156,15 @@ impl History {
 impl NavigationComputer {
     /// Records the current navigation solution in the history.
     pub(super) fn record_snapshot(&mut self) {
-        self.history.record(self.frame, &self.navigation);
+        self.navigation
+            .history
+            .record(self.frame, &self.navigation.solution);
     }
 
     /// The navigation solution at `time_s` from the history ([`History::at`]): frames closer
     /// than [`SAME_INSTANT_FRACTION_OF_PERIOD`] of the IMU period are the same instant.
     pub(super) fn snapshot_at(&self, time_s: f64) -> Option<Snapshot> {
-        self.history.at(
+        self.navigation.history.at(
             self.frame,
             time_s,
             SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s,

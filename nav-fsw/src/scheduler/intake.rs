@@ -42,7 +42,7 @@ impl NavigationComputer {
         star: &mut S,
         gnss: &mut G,
     ) {
-        let now_s = self.navigation.time_s;
+        let now_s = self.navigation.solution.time_s;
         let timing = self.config.timing;
         let (mut star_heard, mut gnss_heard) = (false, false);
         for _ in 0..MAX_POLLS_PER_FRAME {
@@ -52,20 +52,20 @@ impl NavigationComputer {
             star_heard = true;
             match check_star(
                 &measurement,
-                self.last_star.as_ref(),
+                self.aids.last_star.as_ref(),
                 self.config.star.unit_norm_tolerance,
             ) {
-                Err(StarFault::NonFinite) => count(&mut self.health.star_non_finite),
-                Err(StarFault::NotUnit) => count(&mut self.health.star_not_unit),
+                Err(StarFault::NonFinite) => count(&mut self.health.counters.star_non_finite),
+                Err(StarFault::NotUnit) => count(&mut self.health.counters.star_not_unit),
                 Ok((quaternion, flipped)) => {
                     if flipped {
-                        count(&mut self.health.star_sign_flip);
+                        count(&mut self.health.counters.star_sign_flip);
                     }
                     // Remember the sensor's own sign, so that a sensor that changes its sign
                     // convention (e.g. keeps w ≥ 0 while the attitude turns) is counted once
                     // per change, not on every later sample.
-                    self.last_star = Some(if flipped { -quaternion } else { quaternion });
-                    let pushed = self.star_queue.push(
+                    self.aids.last_star = Some(if flipped { -quaternion } else { quaternion });
+                    let pushed = self.aids.star_queue.push(
                         measurement.time_tag_s,
                         self.config
                             .sensor_frames
@@ -86,9 +86,9 @@ impl NavigationComputer {
             };
             gnss_heard = true;
             match self.gnss_in_launch_frame(&fix) {
-                Err(_) => count(&mut self.health.gnss_non_finite),
+                Err(_) => count(&mut self.health.counters.gnss_non_finite),
                 Ok((time_tag_s, queued)) => {
-                    let pushed = self.gnss_queue.push(
+                    let pushed = self.aids.gnss_queue.push(
                         time_tag_s,
                         queued,
                         now_s,
@@ -103,12 +103,12 @@ impl NavigationComputer {
         }
         let timeout_s = timing.outage_timeout_s;
         // After an outage the state error has grown unseen: the aid is acquired again.
-        if self.star_outage.observe(now_s, star_heard, timeout_s) {
-            count(&mut self.health.star_outages);
+        if self.aids.star_outage.observe(now_s, star_heard, timeout_s) {
+            count(&mut self.health.counters.star_outages);
             self.reacquire(Sensor::Star);
         }
-        if self.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
-            count(&mut self.health.gnss_outages);
+        if self.aids.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
+            count(&mut self.health.counters.gnss_outages);
             self.reacquire(Sensor::Gnss);
         }
     }
@@ -151,7 +151,7 @@ impl NavigationComputer {
     /// Measurements tagged up to this time (s) are due: the covariance's time, within
     /// `timing.future_tolerance_s`.
     fn due_before_s(&self) -> f64 {
-        self.covariance_time_s + self.config.timing.future_tolerance_s
+        self.covariance.time_s + self.config.timing.future_tolerance_s
     }
 
     /// The time tags of the oldest star measurement and the oldest GNSS fix, each if due.
@@ -159,21 +159,21 @@ impl NavigationComputer {
         let due_before_s = self.due_before_s();
         let due = |tag: Option<f64>| tag.filter(|t| *t <= due_before_s);
         (
-            due(self.star_queue.oldest_time_tag()),
-            due(self.gnss_queue.oldest_time_tag()),
+            due(self.aids.star_queue.oldest_time_tag()),
+            due(self.aids.gnss_queue.oldest_time_tag()),
         )
     }
 
     /// Whether [`Self::next_due`] has a measurement (and takes nothing).
     pub(super) fn measurement_is_due(&self) -> bool {
         let (star_tag, gnss_tag) = self.due_tags();
-        self.pending_gnss_position.is_some() || star_tag.is_some() || gnss_tag.is_some()
+        self.aids.pending_gnss_position.is_some() || star_tag.is_some() || gnss_tag.is_some()
     }
 
     /// The oldest due measurement, taken from its queue (a GNSS fix with velocity gives its
     /// velocity, and its position next time).
     pub(super) fn next_due(&mut self) -> Option<Due> {
-        if let Some((tag, position)) = self.pending_gnss_position.take() {
+        if let Some((tag, position)) = self.aids.pending_gnss_position.take() {
             return Some(Due::GnssPosition(tag, position));
         }
         let due_before_s = self.due_before_s();
@@ -185,14 +185,15 @@ impl NavigationComputer {
             (None, None) => return None,
         };
         if star_first {
-            self.star_queue
+            self.aids
+                .star_queue
                 .pop_due(due_before_s)
                 .map(|(tag, q)| Due::Star(tag, q))
         } else {
-            let (tag, fix) = self.gnss_queue.pop_due(due_before_s)?;
+            let (tag, fix) = self.aids.gnss_queue.pop_due(due_before_s)?;
             let position = ports::vector(&fix.position_m);
             if fix.has_velocity {
-                self.pending_gnss_position = Some((tag, position));
+                self.aids.pending_gnss_position = Some((tag, position));
                 Some(Due::GnssVelocity(tag, ports::vector(&fix.velocity_mps)))
             } else {
                 Some(Due::GnssPosition(tag, position))

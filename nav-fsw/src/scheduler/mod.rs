@@ -150,26 +150,54 @@ impl core::fmt::Display for CommandError {
 impl core::error::Error for CommandError {}
 
 /// The flight software: strapdown, filter, input checks, fault handling and calibration.
+///
+/// Its state is in five parts, each kept by the files of its job: `Navigation` (`navigate.rs`,
+/// `history.rs`), `Covariance` (`covariance.rs`), `Aids` (`intake.rs`, `aid.rs`), `Health` and
+/// `Calibration` (`calibration.rs`); `fusion.rs` joins them for one update.
 #[derive(Debug, Clone)]
 pub struct NavigationComputer {
     config: FswConfig,
     launch_frame: LaunchFrame,
+    /// Frames run since start-up (wrapping).
+    frame: u32,
+    arithmetic: FilterArithmetic,
+    navigation: Navigation,
+    covariance: Covariance,
+    aids: Aids,
+    health: Health,
+    calibration: Calibration,
+}
+
+/// The navigation solution and what produces it: the IMU step's state and the history of the
+/// solution for delayed fusion.
+#[derive(Debug, Clone)]
+struct Navigation {
     strapdown: Strapdown,
-    navigation: NavigationState,
-    filter: ErrorStateFilter,
-    calibration: CalibrationEstimate,
-    manager: CalibrationManager,
+    solution: NavigationState,
     imu_checker: ImuChecker,
+    /// The last good IMU increment, held when a sample is missing or refused.
     last_increment: Option<ImuIncrement>,
     frames_without_sample: u32,
     history: History,
-    star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
-    gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
-    /// The position of the GNSS fix whose velocity was fused last frame (one update per
-    /// frame: it is fused in the next). The velocity goes first: fused in its own frame it
-    /// needs no referral, while a position referred by one frame gains only a velocity block
-    /// in `H` (a velocity referred gains five).
-    pending_gnss_position: Option<(f64, Vector3<f64>)>,
+}
+
+/// The error-state filter and its propagation: the discrete model, the motion of the interval,
+/// the protection's bounds and the growth for what the model leaves out.
+#[derive(Debug, Clone)]
+struct Covariance {
+    filter: ErrorStateFilter,
+    /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
+    /// filter's error state refers to it; a measurement is due once its time tag is no
+    /// later (within `timing.future_tolerance_s`) and is referred to it.
+    time_s: f64,
+    sums: PropagationSums,
+    /// Motion of the last covariance propagation (for referring late measurements).
+    last_point: Option<LinearisationPoint>,
+    /// The structured discrete model, refilled in place by every propagation (a large
+    /// struct: building it in place avoids copying it).
+    model: StructuredModel,
+    variance_floor: ErrorState,
+    variance_ceiling: ErrorState,
     /// Attitude (half-angle) and velocity 1σ accumulated over the current run of held IMU
     /// samples.
     held_attitude: CoherentGrowth,
@@ -182,7 +210,21 @@ pub struct NavigationComputer {
     second_order_rate_rad_s: Vector3<f64>,
     /// Propagation time (s) the second-order growth has not yet covered.
     second_order_pending_s: f64,
+}
+
+/// The aiding measurements: their queues, the gate statistics and fault state of each aid and
+/// sensor, and the outage and whiteness monitors.
+#[derive(Debug, Clone)]
+struct Aids {
+    /// The star sensor's last quaternion, in its own sign convention.
     last_star: Option<Quaternion<f64>>,
+    star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
+    gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
+    /// The position of the GNSS fix whose velocity was fused last frame (one update per
+    /// frame: it is fused in the next). The velocity goes first: fused in its own frame it
+    /// needs no referral, while a position referred by one frame gains only a velocity block
+    /// in `H` (a velocity referred gains five).
+    pending_gnss_position: Option<(f64, Vector3<f64>)>,
     star: AidingSensor,
     gnss: AidingSensor,
     /// Gate statistics of the GNSS velocity (its fault state is the receiver's, `gnss`).
@@ -190,22 +232,20 @@ pub struct NavigationComputer {
     star_outage: OutageMonitor,
     gnss_outage: OutageMonitor,
     gnss_whiteness: WhitenessMonitor,
-    sums: PropagationSums,
-    /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
-    /// filter's error state refers to it; a measurement is due once its time tag is no
-    /// later (within `timing.future_tolerance_s`) and is referred to it.
-    covariance_time_s: f64,
-    /// Motion of the last covariance propagation (for referring late measurements).
-    last_point: Option<LinearisationPoint>,
-    /// The structured discrete model, refilled in place by every propagation (a large
-    /// struct: building it in place avoids copying it).
-    model: StructuredModel,
-    variance_floor: ErrorState,
-    variance_ceiling: ErrorState,
-    health: HealthCounters,
+}
+
+/// What the computer reports about itself: the health counters and the frame cost.
+#[derive(Debug, Clone)]
+struct Health {
+    counters: HealthCounters,
     cost: FrameCostMonitor,
-    frame: u32,
-    arithmetic: FilterArithmetic,
+}
+
+/// The calibration: the sensor corrections fed back (closed loop) and the manager's table.
+#[derive(Debug, Clone)]
+struct Calibration {
+    estimate: CalibrationEstimate,
+    manager: CalibrationManager,
 }
 
 fn array3(vector: &Vector3<f64>) -> [f64; 3] {
@@ -221,19 +261,19 @@ impl NavigationComputer {
 
     /// Sets the frame budget for overrun counting (unit of [`Self::report_frame_cost`]).
     pub fn set_frame_budget(&mut self, budget: u32) {
-        self.cost.budget = budget;
+        self.health.cost.budget = budget;
     }
 
     /// The platform reports the cost of the frame just run (instructions or cycles).
     pub fn report_frame_cost(&mut self, cost: u32) {
-        if self.cost.record(cost) {
-            count(&mut self.health.frame_overruns);
+        if self.health.cost.record(cost) {
+            count(&mut self.health.counters.frame_overruns);
         }
     }
 
     /// Worst frame cost reported by the platform so far.
     pub fn worst_frame_cost(&self) -> u32 {
-        self.cost.worst
+        self.health.cost.worst
     }
 
     /// Executes a command.
@@ -248,14 +288,10 @@ impl NavigationComputer {
                 if !policy.uses_phase() {
                     return Err(CommandError::PhaseNotUsed(policy));
                 }
-                self.manager.set_phase(phase);
+                self.calibration.manager.set_phase(phase);
             }
-            Command::ClearSensorFaults => {
-                self.star = AidingSensor::default();
-                self.gnss = AidingSensor::default();
-                self.gnss_velocity = AidingSensor::default();
-            }
-            Command::RestartCalibration => self.manager.restart(),
+            Command::ClearSensorFaults => self.aids.clear_faults(),
+            Command::RestartCalibration => self.calibration.manager.restart(),
         }
         Ok(())
     }
@@ -297,7 +333,7 @@ impl NavigationComputer {
     #[inline(never)]
     fn fuse_or_propagate(&mut self) -> FrameFusion {
         let interval = self.config.covariance.propagation_interval_frames;
-        let waited = self.sums.frames > interval;
+        let waited = self.covariance.sums.frames > interval;
         if !waited && self.measurement_is_due() {
             return self.fuse_one_due_measurement();
         }
@@ -310,43 +346,44 @@ impl NavigationComputer {
     /// Whether `covariance.propagation_interval_frames` frames have passed since the last
     /// propagation.
     fn propagation_is_due(&self) -> bool {
-        self.sums.frames >= self.config.covariance.propagation_interval_frames
+        self.covariance.sums.frames >= self.config.covariance.propagation_interval_frames
     }
 
     /// Navigation time (s) of the covariance: of its last propagation, or of the start. A
     /// fusion refers its measurement to this time.
     pub fn covariance_time_s(&self) -> f64 {
-        self.covariance_time_s
+        self.covariance.time_s
     }
 
     /// The filter (error state and covariance).
     pub fn filter(&self) -> &ErrorStateFilter {
-        &self.filter
+        &self.covariance.filter
     }
 
     /// The calibration table.
     pub fn calibration_table(&self) -> &CalibrationTable {
-        self.manager.table()
+        self.calibration.manager.table()
     }
 
     /// The blocks frozen now.
     pub fn frozen_blocks(&self) -> BlockMask {
-        self.manager.frozen_blocks()
+        self.calibration.manager.frozen_blocks()
     }
 
     /// The health counters.
     pub fn health(&self) -> &HealthCounters {
-        &self.health
+        &self.health.counters
     }
 
     /// Measurements received and waiting to be fused (star and GNSS queues; a GNSS fix whose
     /// velocity is fused and whose position waits counts once): with the fusions and the
     /// health counters, every measurement received is accounted for.
     pub fn queued_measurements(&self) -> usize {
-        self.star_queue
+        self.aids
+            .star_queue
             .len()
-            .saturating_add(self.gnss_queue.len())
-            .saturating_add(usize::from(self.pending_gnss_position.is_some()))
+            .saturating_add(self.aids.gnss_queue.len())
+            .saturating_add(usize::from(self.aids.pending_gnss_position.is_some()))
     }
 
     /// The launch-inertial frame in use.

@@ -1,5 +1,5 @@
 //! The IMU step of a frame: input check, zero-order hold, closed-loop sensor corrections and
-//! one strapdown step; the covariance grows for a held sample.
+//! one strapdown step (the covariance's growth for a held sample is `covariance.rs`'s).
 
 use super::*;
 
@@ -21,36 +21,36 @@ impl NavigationComputer {
         self.inflate_for_held_sample(checked.err());
         let increment = match checked {
             Ok(sample) => {
-                self.frames_without_sample = 0;
+                self.navigation.frames_without_sample = 0;
                 let increment = ImuIncrement {
                     delta_angle_rad: ports::vector(&sample.delta_angle_rad),
                     delta_velocity_mps: ports::vector(&sample.delta_velocity_mps),
                     interval_s: period_s,
                 };
-                self.last_increment = Some(increment);
+                self.navigation.last_increment = Some(increment);
                 increment
             }
-            Err(_) => self.last_increment.unwrap_or(ImuIncrement {
+            Err(_) => self.navigation.last_increment.unwrap_or(ImuIncrement {
                 delta_angle_rad: Vector3::zeros(),
                 delta_velocity_mps: Vector3::zeros(),
                 interval_s: period_s,
             }),
         };
-        let corrections = match self.filter.mode() {
-            FilterMode::ClosedLoop => sensor_corrections(&self.calibration),
+        let corrections = match self.covariance.filter.mode() {
+            FilterMode::ClosedLoop => sensor_corrections(&self.calibration.estimate),
             FilterMode::OpenLoop => SensorCorrections::default(),
         };
-        match self.strapdown.step(
-            &mut self.navigation,
+        match self.navigation.strapdown.step(
+            &mut self.navigation.solution,
             &increment,
             &corrections,
             &self.launch_frame,
         ) {
-            Ok(step) => self.sums.add(&step),
+            Ok(step) => self.covariance.sums.add(&step),
             Err(_) => {
                 // nav-core left the solution untouched; time still advances with the frame.
-                count(&mut self.health.strapdown_failures);
-                self.navigation.time_s += period_s;
+                count(&mut self.health.counters.strapdown_failures);
+                self.navigation.solution.time_s += period_s;
             }
         }
     }
@@ -63,35 +63,37 @@ impl NavigationComputer {
     ) -> Result<ports::ImuSample, HeldSampleUncertainty> {
         let held = self.config.covariance.held_sample;
         let Some(sample) = sample else {
-            count(&mut self.health.imu_missing);
-            self.frames_without_sample = self.frames_without_sample.saturating_add(1);
+            count(&mut self.health.counters.imu_missing);
+            self.navigation.frames_without_sample =
+                self.navigation.frames_without_sample.saturating_add(1);
             return Err(held);
         };
-        match self.imu_checker.check(&sample) {
+        match self.navigation.imu_checker.check(&sample) {
             Ok(continuity) => {
                 // Gaps already counted frame by frame are not counted twice.
                 let unseen = continuity
                     .missing_samples
-                    .saturating_sub(self.frames_without_sample);
-                self.health.imu_missing = self.health.imu_missing.saturating_add(unseen);
+                    .saturating_sub(self.navigation.frames_without_sample);
+                self.health.counters.imu_missing =
+                    self.health.counters.imu_missing.saturating_add(unseen);
                 Ok(sample)
             }
             Err(ImuFault::TimeJump) => {
                 // The increments are sound; only the time tag is wrong. Navigation time is
                 // frame-driven, so the sample is used.
-                count(&mut self.health.imu_time_jump);
+                count(&mut self.health.counters.imu_time_jump);
                 Ok(sample)
             }
             Err(ImuFault::NonFinite) => {
-                count(&mut self.health.imu_non_finite);
+                count(&mut self.health.counters.imu_non_finite);
                 Err(held)
             }
             Err(ImuFault::Saturated) => {
-                count(&mut self.health.imu_saturated);
+                count(&mut self.health.counters.imu_saturated);
                 Err(self.saturation_sigma(&sample))
             }
             Err(ImuFault::Duplicate) => {
-                count(&mut self.health.imu_duplicate);
+                count(&mut self.health.counters.imu_duplicate);
                 Err(held)
             }
         }
@@ -121,37 +123,6 @@ impl NavigationComputer {
             } else {
                 held.specific_force_mps2
             },
-        }
-    }
-
-    /// The covariance grows for what a held IMU sample may be wrong by
-    /// ([`HeldSampleUncertainty`]), coherently (nav-core `unmodelled`): the held error is the
-    /// same all gap long, so the 1σ grows as the number of held frames. Attitude states are
-    /// half-angles, so their σ is half the angle's.
-    pub(super) fn inflate_for_held_sample(&mut self, held: Option<HeldSampleUncertainty>) {
-        let Some(sigma) = held else {
-            self.held_attitude.restart();
-            self.held_velocity.restart();
-            return;
-        };
-        count(&mut self.health.imu_held_frames);
-        let period_s = self.config.imu.period_s;
-        let added = [
-            (
-                ATTITUDE,
-                self.held_attitude
-                    .grow(HALF_ANGLE_PER_ANGLE * sigma.rate_rad_s * period_s),
-            ),
-            (
-                VELOCITY,
-                self.held_velocity
-                    .grow(sigma.specific_force_mps2 * period_s),
-            ),
-        ];
-        for (block, variance) in added {
-            if self.filter.add_block_variance(block, variance).is_err() {
-                count(&mut self.health.filter_errors);
-            }
         }
     }
 }

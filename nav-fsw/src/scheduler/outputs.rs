@@ -5,12 +5,12 @@ use super::*;
 impl NavigationComputer {
     /// The best navigation solution (open loop: `x` applied on the way out).
     pub fn navigation(&self) -> NavigationState {
-        let mut navigation = self.navigation;
-        if self.filter.mode() == FilterMode::OpenLoop {
-            let mut calibration = self.calibration;
+        let mut navigation = self.navigation.solution;
+        if self.covariance.filter.mode() == FilterMode::OpenLoop {
+            let mut calibration = self.calibration.estimate;
             let mut corrected = navigation;
             if apply_error_state(
-                self.filter.state(),
+                self.covariance.filter.state(),
                 &mut corrected.attitude,
                 &mut corrected.position_m,
                 &mut corrected.velocity_mps,
@@ -34,16 +34,16 @@ impl NavigationComputer {
             position_m: array3(&navigation.position_m),
             velocity_mps: array3(&navigation.velocity_mps),
             fusion,
-            last_star_nis: self.star.last_nis,
-            last_gnss_nis: self.gnss.last_nis,
-            last_gnss_velocity_nis: self.gnss_velocity.last_nis,
-            star_faulty: self.star.faulty,
-            gnss_faulty: self.gnss.faulty,
-            converged_blocks: self.manager.table().converged_count(),
-            frozen_blocks: self.manager.frozen_blocks().bits(),
-            health: self.health,
-            last_frame_cost: self.cost.last,
-            worst_frame_cost: self.cost.worst,
+            last_star_nis: self.aids.star.last_nis,
+            last_gnss_nis: self.aids.gnss.last_nis,
+            last_gnss_velocity_nis: self.aids.gnss_velocity.last_nis,
+            star_faulty: self.aids.star.faulty,
+            gnss_faulty: self.aids.gnss.faulty,
+            converged_blocks: self.calibration.manager.table().converged_count(),
+            frozen_blocks: self.calibration.manager.frozen_blocks().bits(),
+            health: self.health.counters,
+            last_frame_cost: self.health.cost.last,
+            worst_frame_cost: self.health.cost.worst,
         }
     }
 }

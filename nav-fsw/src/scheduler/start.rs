@@ -4,7 +4,7 @@
 //! same path followed by a move.
 //!
 //! The crate's only `unsafe` code is here: writing the fields of a `MaybeUninit` slot one by
-//! one needs raw pointers. Building the whole value first and moving it into the slot needs
+//! one (the computer's parts, and each part's members) needs raw pointers. Building the whole value first and moving it into the slot needs
 //! no `unsafe` but reserves several copies of it on the stack.
 #![allow(unsafe_code)]
 
@@ -78,10 +78,11 @@ impl NavigationComputer {
     }
 
     /// The flight software at start, built in `slot`: the given navigation solution, `x = 0`,
-    /// `P` from the configured initial 1σ, no calibration (zero corrections). The large
-    /// members (filter, history, queues, model) are written into the slot field by field, so
-    /// start-up needs only a small stack whatever the computer's size; a flight
-    /// image passes a slot in a `static`.
+    /// `P` from the configured initial 1σ, no calibration (zero corrections). Each part of
+    /// the computer is written into its field of the slot by the part's own initialiser,
+    /// member by member, so the large members (filter, history, queues, model) are never
+    /// built on the stack and start-up needs only a small stack whatever the computer's size;
+    /// a flight image passes a slot in a `static`.
     ///
     /// # Errors
     /// [`FswError::InvalidConfiguration`] for a bad configuration (named field) or a
@@ -141,57 +142,32 @@ impl NavigationComputer {
         // for writes of `Self` and not aliased. Each field is written once, through
         // `addr_of_mut!` and `write` (which create no reference to uninitialised memory and
         // drop nothing) or through a `&mut MaybeUninit` of the field (which has no validity
-        // requirement). A refusal returns before the reference below is made; the writes
-        // name every field of `Self` (the test `init_in_place_writes_every_field` fails for
-        // one left out), so the slot is initialised when it is made.
+        // requirement), a part by its own `init_in_place`, which writes every field of the
+        // part when it returns `Ok`. A refusal returns before the reference below is made;
+        // the writes name every field of `Self` (the test `init_in_place_writes_every_field`
+        // fails for one left out), so the slot is initialised when it is made.
         unsafe {
-            write_variance_bounds(
-                &mut *addr_of_mut!((*computer).variance_floor).cast(),
-                &mut *addr_of_mut!((*computer).variance_ceiling).cast(),
+            Covariance::init_in_place(
+                &mut *addr_of_mut!((*computer).covariance).cast(),
                 &config,
-            )?;
-            ErrorStateFilter::init_in_place(
-                &mut *addr_of_mut!((*computer).filter).cast(),
-                &config.filter,
+                initial.time_s,
             )?;
             build_into(&mut *addr_of_mut!((*computer).launch_frame).cast(), || {
                 LaunchFrame::new(&config.launch_site)
                     .map_err(|_| FswError::InvalidConfiguration(ConfigField::LaunchSite))
             })?;
-            build_into(&mut *addr_of_mut!((*computer).manager).cast(), || {
-                CalibrationManager::new(config.calibration)
-            })?;
-            build_into(&mut *addr_of_mut!((*computer).imu_checker).cast(), || {
-                ImuChecker::new(config.imu)
-            })?;
+            Calibration::init_in_place(
+                &mut *addr_of_mut!((*computer).calibration).cast(),
+                &config,
+            )?;
+            Navigation::init_in_place(
+                &mut *addr_of_mut!((*computer).navigation).cast(),
+                &config,
+                initial,
+            )?;
+            Aids::init_in_place(&mut *addr_of_mut!((*computer).aids).cast());
+            Health::init_in_place(&mut *addr_of_mut!((*computer).health).cast());
             addr_of_mut!((*computer).config).write(config);
-            addr_of_mut!((*computer).strapdown).write(Strapdown::new(config.strapdown));
-            addr_of_mut!((*computer).navigation).write(initial);
-            addr_of_mut!((*computer).calibration).write(CalibrationEstimate::default());
-            addr_of_mut!((*computer).last_increment).write(None);
-            addr_of_mut!((*computer).frames_without_sample).write(0);
-            addr_of_mut!((*computer).history).write(History::new());
-            addr_of_mut!((*computer).star_queue).write(MeasurementBuffer::new());
-            addr_of_mut!((*computer).gnss_queue).write(MeasurementBuffer::new());
-            addr_of_mut!((*computer).pending_gnss_position).write(None);
-            addr_of_mut!((*computer).held_attitude).write(CoherentGrowth::default());
-            addr_of_mut!((*computer).held_velocity).write(CoherentGrowth::default());
-            addr_of_mut!((*computer).second_order_attitude).write(CoherentGrowth::default());
-            addr_of_mut!((*computer).second_order_rate_rad_s).write(Vector3::zeros());
-            addr_of_mut!((*computer).second_order_pending_s).write(0.0);
-            addr_of_mut!((*computer).last_star).write(None);
-            addr_of_mut!((*computer).star).write(AidingSensor::default());
-            addr_of_mut!((*computer).gnss).write(AidingSensor::default());
-            addr_of_mut!((*computer).gnss_velocity).write(AidingSensor::default());
-            addr_of_mut!((*computer).star_outage).write(OutageMonitor::default());
-            addr_of_mut!((*computer).gnss_outage).write(OutageMonitor::default());
-            addr_of_mut!((*computer).gnss_whiteness).write(WhitenessMonitor::default());
-            addr_of_mut!((*computer).sums).write(PropagationSums::EMPTY);
-            addr_of_mut!((*computer).covariance_time_s).write(initial.time_s);
-            addr_of_mut!((*computer).last_point).write(None);
-            addr_of_mut!((*computer).model).write(StructuredModel::EMPTY);
-            addr_of_mut!((*computer).health).write(HealthCounters::default());
-            addr_of_mut!((*computer).cost).write(FrameCostMonitor::new(u32::MAX));
             addr_of_mut!((*computer).frame).write(0);
             addr_of_mut!((*computer).arithmetic).write(FilterArithmetic::Structured);
         }
@@ -199,5 +175,121 @@ impl NavigationComputer {
         let computer = unsafe { slot.assume_init_mut() };
         computer.record_snapshot();
         Ok(computer)
+    }
+}
+
+// Each part is written member by member into its field of the slot, like the computer: its
+// large members (the filter, the model, the history, the queues) are never built on the
+// stack and moved. Not inlined, so each part's temporaries live in its own frame only. On an
+// error some members may have been written; nothing reads them.
+
+impl Covariance {
+    /// The covariance at start in `slot`: `x = 0`, `P` from the configured initial 1σ at
+    /// `time_s`, the protection's bounds, no motion summed and no growth.
+    #[inline(never)]
+    fn init_in_place(
+        slot: &mut MaybeUninit<Self>,
+        config: &FswConfig,
+        time_s: f64,
+    ) -> Result<(), FswError> {
+        let part = slot.as_mut_ptr();
+        // SAFETY: as for the computer (`NavigationComputer::init_in_place`): `part` is valid
+        // for writes of `Self`, and each field is written once without reading it.
+        unsafe {
+            write_variance_bounds(
+                &mut *addr_of_mut!((*part).variance_floor).cast(),
+                &mut *addr_of_mut!((*part).variance_ceiling).cast(),
+                config,
+            )?;
+            ErrorStateFilter::init_in_place(
+                &mut *addr_of_mut!((*part).filter).cast(),
+                &config.filter,
+            )?;
+            addr_of_mut!((*part).time_s).write(time_s);
+            addr_of_mut!((*part).sums).write(PropagationSums::EMPTY);
+            addr_of_mut!((*part).last_point).write(None);
+            addr_of_mut!((*part).model).write(StructuredModel::EMPTY);
+            addr_of_mut!((*part).held_attitude).write(CoherentGrowth::default());
+            addr_of_mut!((*part).held_velocity).write(CoherentGrowth::default());
+            addr_of_mut!((*part).second_order_attitude).write(CoherentGrowth::default());
+            addr_of_mut!((*part).second_order_rate_rad_s).write(Vector3::zeros());
+            addr_of_mut!((*part).second_order_pending_s).write(0.0);
+        }
+        Ok(())
+    }
+}
+
+impl Calibration {
+    /// No calibration (zero corrections) and the manager of the configured policy, in `slot`.
+    #[inline(never)]
+    fn init_in_place(slot: &mut MaybeUninit<Self>, config: &FswConfig) -> Result<(), FswError> {
+        let part = slot.as_mut_ptr();
+        // SAFETY: as for the covariance.
+        unsafe {
+            build_into(&mut *addr_of_mut!((*part).manager).cast(), || {
+                CalibrationManager::new(config.calibration)
+            })?;
+            addr_of_mut!((*part).estimate).write(CalibrationEstimate::default());
+        }
+        Ok(())
+    }
+}
+
+impl Navigation {
+    /// The navigation solution `initial` in `slot`, with the IMU checker of the configured
+    /// limits, no increment held and an empty history.
+    #[inline(never)]
+    fn init_in_place(
+        slot: &mut MaybeUninit<Self>,
+        config: &FswConfig,
+        initial: NavigationState,
+    ) -> Result<(), FswError> {
+        let part = slot.as_mut_ptr();
+        // SAFETY: as for the covariance.
+        unsafe {
+            build_into(&mut *addr_of_mut!((*part).imu_checker).cast(), || {
+                ImuChecker::new(config.imu)
+            })?;
+            addr_of_mut!((*part).strapdown).write(Strapdown::new(config.strapdown));
+            addr_of_mut!((*part).solution).write(initial);
+            addr_of_mut!((*part).last_increment).write(None);
+            addr_of_mut!((*part).frames_without_sample).write(0);
+            addr_of_mut!((*part).history).write(History::new());
+        }
+        Ok(())
+    }
+}
+
+impl Aids {
+    /// Empty queues, no aid acquired or faulty, no outage and white innovations, in `slot`.
+    #[inline(never)]
+    fn init_in_place(slot: &mut MaybeUninit<Self>) {
+        let part = slot.as_mut_ptr();
+        // SAFETY: as for the covariance.
+        unsafe {
+            addr_of_mut!((*part).last_star).write(None);
+            addr_of_mut!((*part).star_queue).write(MeasurementBuffer::new());
+            addr_of_mut!((*part).gnss_queue).write(MeasurementBuffer::new());
+            addr_of_mut!((*part).pending_gnss_position).write(None);
+            addr_of_mut!((*part).star).write(AidingSensor::default());
+            addr_of_mut!((*part).gnss).write(AidingSensor::default());
+            addr_of_mut!((*part).gnss_velocity).write(AidingSensor::default());
+            addr_of_mut!((*part).star_outage).write(OutageMonitor::default());
+            addr_of_mut!((*part).gnss_outage).write(OutageMonitor::default());
+            addr_of_mut!((*part).gnss_whiteness).write(WhitenessMonitor::default());
+        }
+    }
+}
+
+impl Health {
+    /// Every counter at zero and no frame cost reported (no budget), in `slot`.
+    #[inline(never)]
+    fn init_in_place(slot: &mut MaybeUninit<Self>) {
+        let part = slot.as_mut_ptr();
+        // SAFETY: as for the covariance.
+        unsafe {
+            addr_of_mut!((*part).counters).write(HealthCounters::default());
+            addr_of_mut!((*part).cost).write(FrameCostMonitor::new(u32::MAX));
+        }
     }
 }

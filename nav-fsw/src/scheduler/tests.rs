@@ -59,7 +59,7 @@ fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
         ),
     ];
     for (frame, attitude, position_m) in corrections {
-        computer.history.record_correction(Correction {
+        computer.navigation.history.record_correction(Correction {
             frame,
             attitude,
             velocity_mps: position_m * 0.5,
@@ -67,7 +67,10 @@ fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
         });
     }
     computer.frame = recorded.wrapping_add(4);
-    let corrected = computer.history.corrected(computer.frame, &snapshot);
+    let corrected = computer
+        .navigation
+        .history
+        .corrected(computer.frame, &snapshot);
     let mut eager = snapshot;
     for (_, attitude, position_m) in &corrections[1..] {
         eager.attitude = attitude::product(&eager.attitude, attitude);
@@ -97,9 +100,9 @@ fn a_snapshot_takes_the_corrections_since_its_frame_in_order() {
 fn a_filter_that_cannot_be_propagated_is_reinitialised_once() {
     use crate::replay::FramePorts;
     let mut computer = computer();
-    let fresh = *computer.filter.covariance();
+    let fresh = *computer.covariance.filter.covariance();
     let huge = nav_core::discretise::CovarianceMatrix::from_element(f64::MAX);
-    computer.filter.set_covariance(&huge).unwrap();
+    computer.covariance.filter.set_covariance(&huge).unwrap();
     let before = computer.navigation();
     let mut ports = FramePorts::default();
     ports.imu.0 = Some(crate::ports::ImuSample {
@@ -111,7 +114,7 @@ fn a_filter_that_cannot_be_propagated_is_reinitialised_once() {
     ports.run(&mut computer);
     assert_eq!(computer.health().filter_resets, 1);
     assert_eq!(
-        computer.filter.covariance().map(f64::to_bits),
+        computer.covariance.filter.covariance().map(f64::to_bits),
         fresh.map(f64::to_bits)
     );
     assert!((computer.navigation().position_m - before.position_m).norm() < 100.0);
@@ -134,18 +137,18 @@ fn one_frame(computer: &mut NavigationComputer, sequence: u32) {
 #[test]
 fn a_refused_strapdown_step_still_advances_time_by_one_frame() {
     let mut computer = computer();
-    computer.navigation.position_m = *computer.launch_frame.earth_centre_launch_m();
-    computer.navigation.velocity_mps = Vector3::zeros();
-    let before = computer.navigation;
+    computer.navigation.solution.position_m = *computer.launch_frame.earth_centre_launch_m();
+    computer.navigation.solution.velocity_mps = Vector3::zeros();
+    let before = computer.navigation.solution;
     one_frame(&mut computer, 1);
     assert_eq!(computer.health().strapdown_failures, 1);
     let period = computer.config.imu.period_s;
     assert_eq!(
-        computer.navigation.time_s.to_bits(),
+        computer.navigation.solution.time_s.to_bits(),
         (before.time_s + period).to_bits()
     );
     assert_eq!(
-        computer.navigation.position_m.map(f64::to_bits),
+        computer.navigation.solution.position_m.map(f64::to_bits),
         before.position_m.map(f64::to_bits)
     );
 }
@@ -158,7 +161,7 @@ fn the_frozen_set_is_the_policy_s_for_the_phase() {
     use nav_core::state::{ACCEL_BIAS, GYRO_BIAS, GYRO_SCALE_FACTOR, STAR_INSTALLATION};
     let mut config = computer().config;
     config.calibration.policy = EstimationPolicy::PaperSchedule;
-    let initial = computer().navigation;
+    let initial = computer().navigation.solution;
     let mut computer = NavigationComputer::new(config, initial).unwrap();
     computer
         .command(Command::SetPhase(ManoeuvrePhase::Coast))
@@ -325,7 +328,7 @@ fn fly_star_offset(computer: &mut NavigationComputer, frames: u32, offset_rad: f
         }
         ports.run(computer);
     }
-    computer.star.last_nis
+    computer.aids.star.last_nis
 }
 
 /// The offset about body x, beyond `base_rad` (where the filter's estimate is), whose first
@@ -353,7 +356,7 @@ fn a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one() 
     let offset_rad = offset_for_nis(&computer, 0.0, nis);
     let first_nis = fly_star_offset(&mut computer, 2, offset_rad);
     assert!(first_nis > gate && first_nis < acquisition, "{first_nis}");
-    assert!(computer.star.acquired);
+    assert!(computer.aids.star.acquired);
     assert_eq!(computer.health().star_gate_rejections, 0);
     // The filter now agrees with the sensor; measurements at that attitude are accepted.
     fly_star_offset(&mut computer, 40, offset_rad);
@@ -365,7 +368,7 @@ fn a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one() 
     assert!(nis_after > gate && nis_after < acquisition, "{nis_after}");
     assert_eq!(computer.health().star_gate_rejections, limit);
     assert_eq!(computer.health().star_declared_faulty, 1);
-    assert!(computer.star.faulty);
+    assert!(computer.aids.star.faulty);
 }
 
 /// Without the acquisition gate (set to the steady one) the same first disagreement is a
