@@ -6,8 +6,8 @@ use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
 use nav_sim::output::report::{CalibrationResult, CalibrationRow, Parameter};
 use nav_sim::Scenario;
 
-const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");
-const PAPER_AS_PRINTED_TOML: &str = include_str!("../scenarios/paper_strategy_as_printed.toml");
+const UPPER_STAGE_TOML: &str = include_str!("../../scenarios/upper_stage.toml");
+const PAPER_AS_PRINTED_TOML: &str = include_str!("../../scenarios/paper_strategy_as_printed.toml");
 /// χ²(15) 99.9 % point: the bound on one run's NEES of the 15 calibration states.
 const CALIBRATION_NEES_BOUND: f64 = 37.70;
 

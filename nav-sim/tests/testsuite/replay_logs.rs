@@ -4,7 +4,7 @@
 //! its own time tag, every measurement is fused or counted, and a log that does not match the
 //! scenario is refused with both values named.
 
-mod common;
+use crate::common;
 
 use nav_fsw::log_record::LogRecord;
 use nav_fsw::replay::FrameAssembler;

@@ -9,8 +9,8 @@ use nav_sim::studies::covariance_design::{analyse, DesignOptions, DesignReport};
 use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
-const UPPER_STAGE_TOML: &str = include_str!("../scenarios/upper_stage.toml");
-const BLIND_TRACKER_TOML: &str = include_str!("../scenarios/star_tracker_rate_limited.toml");
+const UPPER_STAGE_TOML: &str = include_str!("../../scenarios/upper_stage.toml");
+const BLIND_TRACKER_TOML: &str = include_str!("../../scenarios/star_tracker_rate_limited.toml");
 
 /// Largest relative difference allowed between predicted and flown final 1σ.
 const AGREEMENT: f64 = 0.10;

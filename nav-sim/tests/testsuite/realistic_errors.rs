@@ -5,120 +5,18 @@
 //! calibration states inside its two-sided 95 % χ² interval, and no run's calibration state
 //! beyond 4σ of its truth; the accuracy against the paper's figures is printed.
 //!
-//! `NAV_MC_FIRST_RUN` offsets the seeds (default 0: the scenario's seed, +1, ...).
 //! `NAV_MC_RUNS` sets the runs per scenario (default 6, the test command's size; the docs'
-//! campaign uses 50: `NAV_MC_RUNS=50 cargo test --release -p nav-sim --test realistic_errors
-//! -- --nocapture --test-threads 1`). The factor-of-3 mismatch study and the second-order
-//! attitude term study are ignored by default.
+//! campaign uses 50: `NAV_MC_RUNS=50 cargo test --release -p nav-sim --test testsuite
+//! realistic_errors -- --nocapture --test-threads 1`); `NAV_MC_FIRST_RUN` offsets the seeds.
+//! The studies for the docs are `examples/realistic_errors.rs`.
 
-use std::path::PathBuf;
-
-use nav_fsw::config::SecondOrderAttitude;
-use nav_sim::campaign::monte_carlo::{calibration_labels, fly_campaign, summarise, RunOutcome};
-use nav_sim::harness::flight::{fly_with, FlightOptions};
+use crate::realistic_campaign::{fly, print, scenario};
+use nav_sim::campaign::monte_carlo::{calibration_labels, fly_campaign, summarise};
 use nav_sim::output::report::Parameter;
-use nav_sim::setup::fsw::fsw_config;
-use nav_sim::setup::prior::with_truth_drawn_from_prior;
 use nav_sim::Scenario;
 
 /// Largest |error| / σ any run's calibration state may end at.
 const WORST_SIGMA_BOUND: f64 = 4.0;
-
-fn scenario(name: &str) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("scenarios")
-        .join(format!("{name}.toml"));
-    Scenario::load(&path).unwrap()
-}
-
-fn runs() -> u64 {
-    std::env::var("NAV_MC_RUNS")
-        .ok()
-        .and_then(|text| text.parse().ok())
-        .unwrap_or(DEFAULT_RUNS)
-}
-
-/// Runs per scenario in the test command (about 45 s for the four on two cores).
-const DEFAULT_RUNS: u64 = 6;
-
-/// Worst |e_i| / σ_i over the 15 calibration states of one run.
-fn worst_sigma(outcome: &RunOutcome) -> f64 {
-    (0..15)
-        .map(|i| outcome.error[i].abs() / outcome.covariance[(i, i)].sqrt())
-        .fold(0.0, f64::max)
-}
-
-/// What a campaign showed: the NEES test, the worst state of any run, and per state the RMS
-/// error over the paper's figure (installation error as an angle, twice the state).
-struct Campaign {
-    nees_line: String,
-    consistent: bool,
-    worst_sigma: f64,
-    worst_seed: u64,
-    accuracy: Vec<(String, f64, f64)>,
-}
-
-/// The campaign's seeds: `NAV_MC_RUNS` of them from the scenario's seed plus
-/// `NAV_MC_FIRST_RUN`.
-fn seeds(scenario: &Scenario) -> Vec<u64> {
-    let first: u64 = std::env::var("NAV_MC_FIRST_RUN")
-        .ok()
-        .and_then(|text| text.parse().ok())
-        .unwrap_or(0);
-    (first..first + runs())
-        .map(|run| scenario.simulation.seed.wrapping_add(run))
-        .collect()
-}
-
-fn fly(scenario: &Scenario) -> Campaign {
-    let outcomes = fly_campaign(scenario, &seeds(scenario), false).unwrap();
-    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
-    let (worst_sigma, worst_seed) = outcomes
-        .iter()
-        .map(|outcome| (worst_sigma(outcome), outcome.seed))
-        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-    let accuracy = calibration_labels()
-        .iter()
-        .zip(summary.states.iter())
-        .map(|((parameter, axis), state)| {
-            let angle = if *parameter == Parameter::StarInstallation {
-                2.0
-            } else {
-                1.0
-            };
-            let paper = parameter.paper_accuracy().unwrap_or(f64::NAN);
-            (
-                format!("{} {}", parameter.name(), axis.name()),
-                angle * state.rms_error / paper,
-                angle * state.mean_sigma / paper,
-            )
-        })
-        .collect();
-    Campaign {
-        nees_line: summary.nees_line(),
-        consistent: summary.nees.consistent(),
-        worst_sigma,
-        worst_seed,
-        accuracy,
-    }
-}
-
-fn print(name: &str, campaign: &Campaign) {
-    println!("== {name}: {}", campaign.nees_line);
-    println!(
-        "   worst calibration state of any run: {:.2} sigma (seed {})",
-        campaign.worst_sigma, campaign.worst_seed
-    );
-    let met = campaign
-        .accuracy
-        .iter()
-        .filter(|(_, rms, _)| *rms <= 1.0)
-        .count();
-    println!("   RMS error / paper's figure ({met} of 15 within):");
-    for (label, rms, sigma) in &campaign.accuracy {
-        println!("     {label:<22} rms {rms:>7.2}  mean sigma {sigma:>7.2}");
-    }
-}
 
 fn assert_consistent(name: &str) {
     let campaign = fly(&scenario(name));
@@ -150,85 +48,6 @@ fn a_rate_limited_star_tracker_keeps_the_filter_consistent() {
 #[test]
 fn gnss_velocity_keeps_the_filter_consistent() {
     assert_consistent("gnss_correlated_velocity");
-}
-
-/// The receiver's σ or τ given to the filter wrong by a factor of 3 either way (scenario (a)
-/// flown with a mis-specified filter): printed for docs/realistic-errors.md, not asserted.
-#[test]
-#[ignore = "a study for the docs: NAV_MC_RUNS=20 ... -- --ignored --nocapture"]
-fn a_mis_specified_correlated_error_model() {
-    let truth = scenario("gnss_correlated");
-    let cases: [(&str, f64, f64); 4] = [
-        ("sigma / 3", 8.0 / 3.0, 300.0),
-        ("sigma x 3", 24.0, 300.0),
-        ("tau / 3", 8.0, 100.0),
-        ("tau x 3", 8.0, 900.0),
-    ];
-    for (name, sigma_m, tau_s) in cases {
-        let mut flown = truth.clone();
-        flown.filter.gnss_correlated_sigma_m = sigma_m;
-        flown.filter.gnss_correlation_time_s = tau_s;
-        print(name, &fly(&flown));
-    }
-}
-
-/// Mean NEES of the three gyro scale factors and of the 15 calibration states over the runs
-/// of `scenario` with `seeds` (truth drawn from the prior), flown with the attitude
-/// kinematics' second-order term neglected or bounded.
-fn second_order_campaign(
-    scenario: &Scenario,
-    treatment: SecondOrderAttitude,
-    seeds: &[u64],
-) -> (f64, f64) {
-    let scale_factor_states: Vec<usize> = calibration_labels()
-        .iter()
-        .enumerate()
-        .filter(|(_, (parameter, _))| *parameter == Parameter::GyroScaleFactor)
-        .map(|(index, _)| index)
-        .collect();
-    let (mut scale_factor_nees, mut nees) = (0.0, 0.0);
-    for seed in seeds {
-        let drawn = with_truth_drawn_from_prior(scenario, *seed);
-        let mut config = fsw_config(&drawn).unwrap();
-        config.covariance.second_order_attitude = treatment;
-        let options = FlightOptions {
-            record_interval_s: 100.0,
-        };
-        let result = fly_with(&drawn, config, options, |_, _| {}, |_, _| {}).unwrap();
-        let (error, covariance) = (result.calibration_error, result.calibration_covariance);
-        scale_factor_nees += scale_factor_states
-            .iter()
-            .map(|&i| error[i] * error[i] / covariance[(i, i)])
-            .sum::<f64>();
-        nees += (error.transpose() * covariance.try_inverse().unwrap() * error)[(0, 0)];
-    }
-    let runs = seeds.len() as f64;
-    (scale_factor_nees / runs, nees / runs)
-}
-
-/// Case (c) flown with the attitude kinematics' second-order term neglected (the paper's
-/// linear model) and bounded (`covariance.second_order_attitude`, the default): printed for
-/// docs/realistic-errors.md, not asserted. Two threads, one per treatment.
-#[test]
-#[ignore = "a study for the docs: NAV_MC_RUNS=100 NAV_MC_FIRST_RUN=200 ... -- --ignored --nocapture"]
-fn the_second_order_attitude_term_with_a_blind_star_tracker() {
-    let flown = scenario("star_tracker_rate_limited");
-    let seeds = seeds(&flown);
-    let treatments = [SecondOrderAttitude::Neglected, SecondOrderAttitude::Bounded];
-    std::thread::scope(|scope| {
-        let handles = treatments.map(|treatment| {
-            let (flown, seeds) = (&flown, &seeds);
-            scope.spawn(move || (treatment, second_order_campaign(flown, treatment, seeds)))
-        });
-        for handle in handles {
-            let (treatment, (scale_factor, all)) = handle.join().unwrap();
-            println!(
-                "{treatment:?}, {} runs: mean NEES of the gyro scale factors {scale_factor:.3} \
-                 (of 3), of the 15 calibration states {all:.3} (of 15)",
-                seeds.len()
-            );
-        }
-    });
 }
 
 /// The filter's correlated-error keys are checked, and a refusal names the key.

@@ -13,7 +13,7 @@ use nav_sim::setup::fsw::{fsw_config, replay_setup};
 use nav_sim::setup::prior::with_truth_drawn_from_prior;
 use nav_sim::Scenario;
 
-mod common;
+use crate::common;
 
 const SEEDS: [u64; 2] = [4242, 4243];
 

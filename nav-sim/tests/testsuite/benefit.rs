@@ -2,7 +2,7 @@
 //! coast with GNSS and star tracker lost, flown over several seeds with the on-line calibration
 //! and with its states switched off (`nav_sim::studies::benefit`).
 
-mod common;
+use crate::common;
 
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::studies::benefit::{self, BenefitOptions, Comparison, Filter, OutagePlan, Quantity};

@@ -11,7 +11,7 @@
 
 use nav_sim::campaign::monte_carlo::{fly_campaign, summarise};
 
-mod common;
+use crate::common;
 
 /// Average NEES of 12 seeds of the short scenario, truth drawn from `scenario`'s prior.
 fn average_nees_is_consistent(scenario: &nav_sim::Scenario) {

@@ -10,8 +10,7 @@ use nav_sim::harness::flight::{fly_with, FlightOptions, FlightResult};
 use nav_sim::setup::fsw::fsw_config;
 use nav_sim::Scenario;
 
-mod common;
-use common::short_scenario;
+use crate::common::short_scenario;
 
 const FAULT_FRAME: u64 = 7_000; // 14 s: during the rotation
 

@@ -6,7 +6,7 @@ use nav_sim::campaign::monte_carlo::{fly_campaign, over_time, summarise};
 use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
 use nav_sim::setup::prior::with_truth_drawn_from_prior;
 
-mod common;
+use crate::common;
 
 fn flight(seed: u64) -> FlightResult {
     let scenario = with_truth_drawn_from_prior(&common::short_scenario(), seed);

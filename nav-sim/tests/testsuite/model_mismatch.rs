@@ -22,7 +22,7 @@ use nav_sim::scenario::FilterMode;
 use nav_sim::setup::fsw::fsw_config;
 use nav_sim::Scenario;
 
-mod common;
+use crate::common;
 
 /// Calibration-state indices (gyro bias x y z, accelerometer bias, installation, gyro scale
 /// factor, accelerometer scale factor; nav-sim `flight` order).

@@ -10,7 +10,7 @@ use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
 use nav_sim::output::report::{CalibrationResult, Parameter};
 use nav_sim::Scenario;
 
-const MADE_UP_ERRORS_TOML: &str = include_str!("../scenarios/made_up_errors.toml");
+const MADE_UP_ERRORS_TOML: &str = include_str!("../../scenarios/made_up_errors.toml");
 /// χ²(15) 99.9 % point: the bound on one run's NEES of the 15 calibration states.
 const CALIBRATION_NEES_BOUND: f64 = 37.70;
 
@@ -101,13 +101,4 @@ fn assert_campaign_consistent(runs: u64) {
 #[test]
 fn a_small_monte_carlo_of_the_default_scenario_is_consistent() {
     assert_campaign_consistent(4);
-}
-
-/// The consistency campaign: 100 runs of the whole default scenario (about 8 min on two cores in
-/// release). Not in the default suite; run it with
-/// `cargo test --release -p nav-sim --test paper_accuracy -- --ignored --nocapture`.
-#[test]
-#[ignore = "100 whole flights, ~8 min on two cores: run explicitly (README, Reliability evidence)"]
-fn a_hundred_run_monte_carlo_of_the_default_scenario_is_consistent() {
-    assert_campaign_consistent(100);
 }

@@ -1,0 +1,23 @@
+//! nav-sim's integration tests, one binary with a module per topic (as cargo's own
+//! `tests/testsuite`): one link, and one place to run them, `cargo test -p nav-sim --test
+//! testsuite [filter]`.
+
+mod benefit;
+mod campaign;
+mod cli;
+mod common;
+mod conditioning;
+mod consistency;
+mod design;
+mod dispersion;
+mod flight_software;
+mod frames_and_time;
+mod layers;
+mod model_mismatch;
+mod nees_over_time;
+mod paper_accuracy;
+mod realistic_campaign;
+mod realistic_errors;
+mod replay_logs;
+mod upper_stage;
+mod validation;
