@@ -181,6 +181,28 @@ mod tests {
         (a - b).abs().max() < tol
     }
 
+    /// The one unit-norm rule: accepted within the tolerance on either side of 1, refused a
+    /// tenth of it beyond, and NaN, infinity and zero refused.
+    #[test]
+    fn a_unit_norm_is_within_the_tolerance_of_one() {
+        for norm in [
+            1.0,
+            1.0 + 0.9 * UNIT_NORM_TOLERANCE,
+            1.0 - 0.9 * UNIT_NORM_TOLERANCE,
+        ] {
+            assert!(is_unit_norm(norm), "{norm}");
+        }
+        for norm in [
+            1.0 + 1.1 * UNIT_NORM_TOLERANCE,
+            1.0 - 1.1 * UNIT_NORM_TOLERANCE,
+            f64::NAN,
+            f64::INFINITY,
+            0.0,
+        ] {
+            assert!(!is_unit_norm(norm), "{norm}");
+        }
+    }
+
     #[test]
     fn rotation_matrix_of_90deg_about_z_maps_x_to_y() {
         let q = exp_rotation_vector(&Vector3::new(0.0, 0.0, core::f64::consts::FRAC_PI_2));

@@ -543,6 +543,24 @@ mod tests {
         }
     }
 
+    /// The rules' text states the tolerance and the gates the code applies.
+    #[test]
+    fn the_rules_and_defaults_state_the_named_constants() {
+        let tolerance = format!("{:e}", nav_core::attitude::UNIT_NORM_TOLERANCE);
+        assert_eq!(tolerance, "1e-9");
+        for field in [ConfigField::StarMounting, ConfigField::SensorFrames] {
+            assert!(field.rule().contains(&tolerance), "{field}");
+        }
+        let defaults = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
+        for gate in [
+            defaults.star.gate_nis,
+            defaults.gnss.gate_nis,
+            defaults.gnss.velocity_gate_nis,
+        ] {
+            assert_eq!(gate.to_bits(), GATE_NIS.to_bits());
+        }
+    }
+
     #[test]
     fn defaults_are_valid_and_each_bad_value_names_its_field() {
         let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
