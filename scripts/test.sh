@@ -3,8 +3,8 @@
 #
 # 1. installs what is missing (idempotent): the thumbv7em-none-eabihf target, llvm-tools,
 #    qemu-system-arm (apt-get when root), defmt-print;
-# 2. formatting, clippy (host workspace and firmware workspace) and the flight crates' API
-#    docs with warnings as errors;
+# 2. formatting, clippy (host workspace and firmware workspace) and the workspace's API docs
+#    with warnings as errors;
 # 3. host tests, then the fault-injection campaign with its table;
 # 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
 #    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
@@ -46,8 +46,8 @@ cargo clippy --workspace --all-targets -- -D warnings
 step "clippy (firmware workspace, $TARGET)"
 (cd qemu && cargo clippy --release --bins --features panic-never -- -D warnings)
 
-step "API docs of the flight crates (warnings are errors)"
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p nav-core -p nav-fsw
+step "API docs of the workspace (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 
 step "an integrator's crate outside the workspace, with README's dependency lines ($TARGET and host)"
 (cd examples/integrator && cargo fmt --check)
@@ -63,7 +63,7 @@ rm -rf "$package_dir"
 step "host tests"
 cargo test --workspace
 
-step "fault-injection campaign (nav_sim::faults): the table, every row met"
+step "fault-injection campaign (nav_sim::studies::faults): the table, every row met"
 cargo test -p tests-host --test fault_campaign -- --include-ignored --nocapture
 
 step "fuzzing the firmware's input decoders (cargo-fuzz on stable, --sanitizer none, 30 s)"

@@ -223,10 +223,10 @@ impl FilterPathFixture {
 
     /// One 2 ms covariance propagation about the last strapdown step (order 3): structured
     /// ([`StructuredModel`], [`ErrorStateFilter::predict_structured`]) or dense (`A` and `G`,
-    /// [`discretise`], [`ErrorStateFilter::predict`]).
+    /// `discretise`, [`ErrorStateFilter::predict`]).
     ///
     /// # Errors
-    /// As [`StructuredModel::new`]/[`discretise`] and the predict.
+    /// As [`StructuredModel::new`]/`discretise` and the predict.
     pub fn propagate_with(&mut self, implementation: FilterArithmetic) -> Result<(), NavError> {
         let point = self.linearisation_point();
         let step = Propagation {
@@ -307,7 +307,7 @@ impl FilterPathFixture {
     /// the velocity, gyro-bias and gyro-scale-factor columns to `H`.
     ///
     /// # Errors
-    /// As [`gnss_position`], [`refer_to_later_time`] and the update.
+    /// As [`gnss_position`], `measurement::refer_to_later_time` and the update.
     pub fn gnss_update_with(
         &mut self,
         implementation: FilterArithmetic,

@@ -5,7 +5,7 @@
 use serde::Deserialize;
 
 /// The entries' keys, in stream order (entry `i` draws from stream
-/// [`DISPERSION_STREAM_BASE`] + `i`).
+/// `crate::setup::streams::DISPERSION_STREAM_BASE` + `i`).
 pub const ENTRY_KEYS: [&str; 11] = [
     "initial_attitude_deg",
     "initial_position_m",
