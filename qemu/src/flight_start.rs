@@ -1,6 +1,6 @@
 //! The flight software's start in the replay firmwares: the computer built in place in a
 //! static slot (`NavigationComputer::init_in_place`), so start-up's stack holds only the
-//! construction's small parts, never the 25 kB computer.
+//! construction's small parts, never the large computer.
 
 use core::mem::MaybeUninit;
 

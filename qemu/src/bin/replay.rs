@@ -69,8 +69,8 @@ impl LogStream {
     }
 }
 
-/// Reads and decodes the setup. Not inlined: its byte and word buffers (736 bytes) live in
-/// this function's frame only, not while the computer is built.
+/// Reads and decodes the setup. Not inlined: its byte and word buffers live in this
+/// function's frame only, not while the computer is built.
 #[inline(never)]
 fn read_setup(file: &mut HostFile) -> Option<ReplaySetup> {
     let mut bytes = [0_u8; SETUP_WORDS * 8];
