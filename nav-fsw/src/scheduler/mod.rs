@@ -154,50 +154,49 @@ impl core::error::Error for CommandError {}
 /// Its state is in five parts, each kept by the files of its job: `Navigation` (`navigate.rs`,
 /// `history.rs`), `Covariance` (`covariance.rs`), `Aids` (`intake.rs`, `aid.rs`), `Health` and
 /// `Calibration` (`calibration.rs`); `fusion.rs` joins them for one update.
+// Laid out in the order written (`repr(C)`, here and in the parts): the small members that
+// every frame reads first and the large arrays (model, filter, history) last, so that most
+// members lie within the reach of a load's offset from the computer's address on the target
+// (the compiler's own order puts some behind the large arrays; docs/performance.md).
 #[derive(Debug, Clone)]
+#[repr(C)]
 pub struct NavigationComputer {
     config: FswConfig,
-    launch_frame: LaunchFrame,
     /// Frames run since start-up (wrapping).
     frame: u32,
     arithmetic: FilterArithmetic,
-    navigation: Navigation,
-    covariance: Covariance,
-    aids: Aids,
     health: Health,
     calibration: Calibration,
+    aids: Aids,
+    launch_frame: LaunchFrame,
+    covariance: Covariance,
+    navigation: Navigation,
 }
 
 /// The navigation solution and what produces it: the IMU step's state and the history of the
 /// solution for delayed fusion.
 #[derive(Debug, Clone)]
+#[repr(C)]
 struct Navigation {
-    strapdown: Strapdown,
     solution: NavigationState,
-    imu_checker: ImuChecker,
+    frames_without_sample: u32,
     /// The last good IMU increment, held when a sample is missing or refused.
     last_increment: Option<ImuIncrement>,
-    frames_without_sample: u32,
+    imu_checker: ImuChecker,
+    strapdown: Strapdown,
     history: History,
 }
 
 /// The error-state filter and its propagation: the discrete model, the motion of the interval,
 /// the protection's bounds and the growth for what the model leaves out.
 #[derive(Debug, Clone)]
+#[repr(C)]
 struct Covariance {
-    filter: ErrorStateFilter,
     /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
     /// filter's error state refers to it; a measurement is due once its time tag is no
     /// later (within `timing.future_tolerance_s`) and is referred to it.
     time_s: f64,
     sums: PropagationSums,
-    /// Motion of the last covariance propagation (for referring late measurements).
-    last_point: Option<LinearisationPoint>,
-    /// The structured discrete model, refilled in place by every propagation (a large
-    /// struct: building it in place avoids copying it).
-    model: StructuredModel,
-    variance_floor: ErrorState,
-    variance_ceiling: ErrorState,
     /// Attitude (half-angle) and velocity 1σ accumulated over the current run of held IMU
     /// samples.
     held_attitude: CoherentGrowth,
@@ -210,6 +209,14 @@ struct Covariance {
     second_order_rate_rad_s: Vector3<f64>,
     /// Propagation time (s) the second-order growth has not yet covered.
     second_order_pending_s: f64,
+    /// Motion of the last covariance propagation (for referring late measurements).
+    last_point: Option<LinearisationPoint>,
+    variance_floor: ErrorState,
+    variance_ceiling: ErrorState,
+    /// The structured discrete model, refilled in place by every propagation (a large
+    /// struct: building it in place avoids copying it).
+    model: StructuredModel,
+    filter: ErrorStateFilter,
 }
 
 /// The aiding measurements: their queues, the gate statistics and fault state of each aid and
