@@ -36,9 +36,9 @@
 //!
 //! **Frames.** The rows give their injection times in seconds from the fault start; a
 //! [`FrameSchedule`] turns them into frames at the scenario's IMU rate (`imu.rate_hz`), so the
-//! faults fall at the same times whatever the rate. The files: [`table`] (the rows),
-//! [`injection`] (how a fault is injected into the frame ports), [`monitor`] (what is
-//! observed and asserted about the reaction), this module (the runner and its table).
+//! faults fall at the same times whatever the rate. The files: `table/` (the rows, by
+//! family), `injection.rs` (how a fault is injected into the frame ports), `monitor.rs` (what
+//! is observed and asserted about the reaction), this one (the runner and its table).
 
 mod injection;
 mod monitor;
