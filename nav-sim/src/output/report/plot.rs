@@ -251,7 +251,7 @@ fn draw_log_panel(
 }
 
 /// Size of a block plot (pixels): two columns of panels.
-const BLOCK_PLOT_SIZE: (u32, u32) = (1800, 1000);
+pub(super) const BLOCK_PLOT_SIZE: (u32, u32) = (1800, 1000);
 
 /// Draws rows of panel pairs into a PNG: the left panel of each row with a linear y axis, the
 /// right one with a logarithmic y axis; all with the x axis `x_label`.

@@ -2,7 +2,7 @@
 
 use plotters::prelude::BLUE;
 
-use super::plot::{converged_window_start, log_range, PLOT_SIZE};
+use super::plot::{converged_window_start, log_range, BLOCK_PLOT_SIZE, PLOT_SIZE};
 use super::*;
 
 fn row(parameter: Parameter, axis: Axis, truth: f64, estimate: f64, sigma: f64) -> CalibrationRow {

@@ -4,7 +4,7 @@ use super::*;
 use nav_core::state::ACCEL_SCALE_FACTOR;
 
 /// The second shipped scenario: the default schedule with different true sensor errors.
-const MADE_UP_ERRORS_TOML: &str = include_str!("../../scenarios/made_up_errors.toml");
+const MADE_UP_ERRORS_TOML: &str = include_str!("../../../scenarios/made_up_errors.toml");
 
 /// Coarse but exact enough for the tests: a covariance step is at most 50 frames (0.1 s,
 /// and the 10 Hz measurements end a step every 0.1 s anyway); one truth substep.
