@@ -125,7 +125,7 @@ pub enum ScenarioError {
     /// The message comes from the TOML parser and names the key and the line.
     #[error("scenario {origin}: {message}")]
     Parse {
-        /// Where the text came from (a file path, or "<built-in default>" / "<string>").
+        /// Where the text came from (a file path, or `"<built-in default>"` / `"<string>"`).
         origin: String,
         /// The parser's description, naming the offending key.
         message: String,
