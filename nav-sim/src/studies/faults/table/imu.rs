@@ -80,12 +80,12 @@ pub(super) fn rows(frames: FrameSchedule) -> Vec<FaultClass> {
             criterion: calibration,
             scenario_change: None,
             injector: |f| {
-                let (second, third) = (0..f.frames(1.0), f.frames(2.0)..f.frames(3.0));
+                let (angle, velocity) = (0..f.frames(1.0), f.frames(2.0)..f.frames(3.0));
                 Box::new(move |relative, ports| {
                     let Some(sample) = imu(ports) else { return };
-                    if second.contains(&relative) {
+                    if angle.contains(&relative) {
                         sample.delta_angle_rad[2] = 0.021;
-                    } else if third.contains(&relative) {
+                    } else if velocity.contains(&relative) {
                         sample.delta_velocity_mps[0] = 0.6;
                     }
                 })
