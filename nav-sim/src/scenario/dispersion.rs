@@ -5,7 +5,7 @@
 use serde::Deserialize;
 
 /// The entries' keys, in stream order (entry `i` draws from stream
-/// `crate::setup::streams::DISPERSION_STREAM_BASE` + `i`).
+/// `DISPERSION_STREAM_BASE` + `i`, the setup layer's dispersion streams).
 pub const ENTRY_KEYS: [&str; 11] = [
     "initial_attitude_deg",
     "initial_position_m",

@@ -1,0 +1,167 @@
+//! Unit tests of the scenario schema: the default scenario, parsing errors and validation.
+
+use super::*;
+
+fn invalid_key(text: &str) -> String {
+    match Scenario::from_toml_str(text) {
+        Err(ScenarioError::Invalid { key, .. }) => key,
+        other => panic!("expected an Invalid error, got {other:?}"),
+    }
+}
+
+/// Parsed decimal literals must equal the literal's f64 to the last bit (up to 1 ulp).
+fn assert_same(parsed: &[f64], expected: &[f64]) {
+    assert_eq!(parsed.len(), expected.len());
+    for (value, wanted) in parsed.iter().zip(expected) {
+        assert!(
+            (value - wanted).abs() <= f64::EPSILON * wanted.abs(),
+            "{parsed:?} != {expected:?}"
+        );
+    }
+}
+
+#[test]
+fn default_scenario_parses_with_the_papers_values() {
+    let scenario = Scenario::default_scenario().unwrap();
+    assert_same(&[scenario.imu.rate_hz], &[500.0]);
+    assert_same(&scenario.gyro.bias_rad_per_s, &[1.0e-4, 2.0e-4, 3.0e-4]);
+    assert_same(&scenario.gyro.scale_factor, &[3.0e-5; 3]);
+    assert_same(&[scenario.accelerometer.noise_per_sample_mps2], &[1.0e-4]);
+    assert_same(
+        &scenario.star_sensor.installation_error_rotation_vector_rad,
+        &[1.0e-3, 2.0e-3, 3.0e-3],
+    );
+    assert_same(&[scenario.star_sensor.noise_arcsec], &[10.0]);
+    assert_same(&[scenario.gnss.noise_m], &[10.0]);
+    assert_eq!(scenario.filter.mode, FilterMode::ClosedLoop);
+    // 20 + 3 x 19 + 6 x 41 + 300 + 4 x 319 + 739 + 439 s.
+    assert!((scenario.duration_s() - 3077.0).abs() < 1e-9);
+    assert_eq!(scenario.frame_count(), 1_538_500);
+}
+
+#[test]
+fn noise_conversions_match_the_stated_interpretation() {
+    let scenario = Scenario::default_scenario().unwrap();
+    let period_s = scenario.imu.frame_period_s();
+    // 0.2 (deg/h)/sqrt(Hz) * sqrt(0.002 s) = 4.3e-8 rad.
+    let sigma_angle = scenario.gyro.delta_angle_noise_sigma_rad(period_s);
+    assert!((sigma_angle - 4.3362e-8).abs() < 1e-11, "{sigma_angle}");
+    // 1e-4 m/s^2 * 0.002 s = 2e-7 m/s.
+    let sigma_velocity = scenario
+        .accelerometer
+        .delta_velocity_noise_sigma_mps(period_s);
+    assert!((sigma_velocity - 2.0e-7).abs() < 1e-20);
+    assert!((scenario.star_sensor.noise_rad() - 4.8481e-5).abs() < 1e-9);
+}
+
+#[test]
+fn unknown_key_is_an_error_naming_it() {
+    let text = DEFAULT_SCENARIO_TOML.replace("rate_hz = 500.0", "rate_hz = 500.0\nrate_hx = 1.0");
+    let error = Scenario::from_toml_str(&text).unwrap_err();
+    let message = error.to_string();
+    assert!(message.contains("rate_hx"), "{message}");
+}
+
+#[test]
+fn unknown_table_is_an_error_naming_it() {
+    let text = format!("{DEFAULT_SCENARIO_TOML}\n[magnetometer]\nrate_hz = 10.0\n");
+    let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+    assert!(message.contains("magnetometer"), "{message}");
+}
+
+#[test]
+fn missing_key_is_an_error_naming_it() {
+    let text = DEFAULT_SCENARIO_TOML.replace("noise_m = 10.0\n", "");
+    let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+    assert!(message.contains("noise_m"), "{message}");
+}
+
+#[test]
+fn invalid_values_are_rejected_naming_the_key() {
+    let cases = [
+        ("rate_hz = 500.0", "rate_hz = 0.0", "imu.rate_hz"),
+        // The first "rate_hz = 10.0" is the star sensor's (GNSS comes after it).
+        ("rate_hz = 10.0", "rate_hz = 3.0", "star_sensor.rate_hz"),
+        ("noise_m = 10.0", "noise_m = -1.0", "gnss.noise_m"),
+        ("latency_s = 0.0", "latency_s = 0.0031", "gnss.latency_s"),
+        (
+            "eccentricity = 0.001",
+            "eccentricity = 1.5",
+            "initial_orbit.eccentricity",
+        ),
+        (
+            "semi_major_axis_m = 6878137.0",
+            "semi_major_axis_m = 6000000.0",
+            "initial_orbit.semi_major_axis_m",
+        ),
+        (
+            "scale_factor = [3.0e-5, 3.0e-5, 3.0e-5]",
+            "scale_factor = [3.0e-5, 1.5, 3.0e-5]",
+            "gyro.scale_factor",
+        ),
+        (
+            "discretisation_order = 3",
+            "discretisation_order = 7",
+            "filter.discretisation_order",
+        ),
+        (
+            "position_m = 10.0",
+            "position_m = 0.0",
+            "filter.initial_sigma.position_m",
+        ),
+        (
+            "truth_substeps_per_frame = 16",
+            "truth_substeps_per_frame = 0",
+            "simulation.truth_substeps_per_frame",
+        ),
+    ];
+    for (original, replacement, key) in cases {
+        assert!(DEFAULT_SCENARIO_TOML.contains(original), "{original}");
+        let text = DEFAULT_SCENARIO_TOML.replacen(original, replacement, 1);
+        assert_eq!(invalid_key(&text), key);
+    }
+}
+
+#[test]
+fn manoeuvre_errors_name_the_segment() {
+    // The second segment (index 1) is "rotate about body x", 19 s, ramp 1 s.
+    let text = DEFAULT_SCENARIO_TOML.replacen(
+        "duration_s = 19.0\nramp_s = 1.0",
+        "duration_s = 19.0\nramp_s = 10.0",
+        1,
+    );
+    assert_eq!(invalid_key(&text), "manoeuvre[1].ramp_s");
+    let text = DEFAULT_SCENARIO_TOML.replacen("duration_s = 19.0", "duration_s = 19.0001", 1);
+    assert_eq!(invalid_key(&text), "manoeuvre[1].duration_s");
+    let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+    assert!(message.contains("whole number of IMU frames"), "{message}");
+}
+
+#[test]
+fn load_names_the_file() {
+    let missing = Path::new("/nonexistent/scenario.toml");
+    let message = Scenario::load(missing).unwrap_err().to_string();
+    assert!(message.contains("/nonexistent/scenario.toml"), "{message}");
+
+    let directory = std::env::temp_dir().join(format!("nav-sim-test-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("bad.toml");
+    std::fs::write(
+        &path,
+        DEFAULT_SCENARIO_TOML.replace(
+            "rate_hz = 10.0\n# ECEF position noise",
+            "rate_hz = -1.0\n# ECEF position noise",
+        ),
+    )
+    .unwrap();
+    let message = Scenario::load(&path).unwrap_err().to_string();
+    assert!(message.contains("bad.toml"), "{message}");
+    assert!(message.contains("gnss.rate_hz must be > 0"), "{message}");
+    let good = directory.join("good.toml");
+    std::fs::write(&good, DEFAULT_SCENARIO_TOML).unwrap();
+    assert_eq!(
+        Scenario::load(&good).unwrap(),
+        Scenario::default_scenario().unwrap()
+    );
+    std::fs::remove_dir_all(&directory).unwrap();
+}

@@ -1,0 +1,529 @@
+//! Scenario validation: every value checked against its documented range, the first
+//! violation reported with its dotted key.
+
+use nav_fsw::config::FswConfig;
+
+use super::{
+    dispersion, gnss_latency_violation, max_imu_rate_hz, number, Scenario, ScenarioError,
+    MAX_DURATION_S, MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS,
+    MAX_TRUTH_SUBSTEPS_PER_FRAME, SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
+};
+
+/// Collects the first violated rule while walking the scenario.
+struct Checker<'a> {
+    origin: &'a str,
+}
+
+impl Checker<'_> {
+    fn fail(&self, key: &str, requirement: &str) -> ScenarioError {
+        ScenarioError::Invalid {
+            origin: self.origin.to_string(),
+            key: key.to_string(),
+            requirement: requirement.to_string(),
+        }
+    }
+
+    /// `[[start_s, duration_s], ...]` with every start ≥ 0 and every duration > 0.
+    fn outages(&self, key: &str, outages: &[[f64; 2]]) -> Result<(), ScenarioError> {
+        for (index, [start_s, duration_s]) in outages.iter().enumerate() {
+            self.non_negative(&format!("{key}[{index}][0] (start_s)"), *start_s)?;
+            self.positive(&format!("{key}[{index}][1] (duration_s)"), *duration_s)?;
+        }
+        Ok(())
+    }
+
+    /// `value` (finite) at most `limit`; the message quotes both, with `unit` (" s", or ""
+    /// for a count), and the limit's reason.
+    fn at_most(
+        &self,
+        key: &str,
+        value: f64,
+        limit: f64,
+        unit: &str,
+        reason: &str,
+    ) -> Result<(), ScenarioError> {
+        let ok = value.is_finite() && value <= limit;
+        self.limit(ok, key, value, ("is above", limit), unit, reason)
+    }
+
+    /// `Ok` if `ok`, else "`key` = value `relation` the limit L (reason)", e.g. "is above".
+    fn limit(
+        &self,
+        ok: bool,
+        key: &str,
+        value: f64,
+        (relation, limit): (&str, f64),
+        unit: &str,
+        reason: &str,
+    ) -> Result<(), ScenarioError> {
+        if ok {
+            return Ok(());
+        }
+        let (value, limit) = (number(value), number(limit));
+        Err(self.fail(
+            key,
+            &format!("= {value}{unit} {relation} the limit {limit}{unit} ({reason})"),
+        ))
+    }
+
+    /// A 1σ or noise key: in [`SIGMA_RANGE`], or 0 where `zero_is_off`.
+    fn sigma(&self, key: &str, value: f64, zero_is_off: bool) -> Result<(), ScenarioError> {
+        let (low, high) = SIGMA_RANGE;
+        if (zero_is_off && value == 0.0) || (low..=high).contains(&value) {
+            return Ok(());
+        }
+        let off = if zero_is_off { "0 (off) or " } else { "" };
+        Err(self.fail(
+            key,
+            &format!(
+                "= {} must be {off}in [{low:e}, {high:e}] (its square must stay a normal f64 \
+                 in the filter's covariance: the flight software's range [{:e}, {:e}] with \
+                 {SIGMA_UNIT_MARGIN:e} to spare for unit conversions)",
+                number(value),
+                nav_fsw::config::SIGMA_MIN,
+                nav_fsw::config::SIGMA_MAX,
+            ),
+        ))
+    }
+
+    fn finite(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be finite"))
+        }
+    }
+
+    fn finite3(&self, key: &str, values: &[f64; 3]) -> Result<(), ScenarioError> {
+        if values.iter().all(|value| value.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must have three finite components"))
+        }
+    }
+
+    fn positive(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be > 0"))
+        }
+    }
+
+    fn non_negative(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && value >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, "must be >= 0"))
+        }
+    }
+
+    fn within(&self, key: &str, value: f64, low: f64, high: f64) -> Result<(), ScenarioError> {
+        if value.is_finite() && (low..=high).contains(&value) {
+            Ok(())
+        } else {
+            Err(self.fail(key, &format!("must be in [{low}, {high}]")))
+        }
+    }
+
+    fn scale_factors(&self, key: &str, values: &[f64; 3]) -> Result<(), ScenarioError> {
+        if values
+            .iter()
+            .all(|value| value.is_finite() && value.abs() <= MAX_SCALE_FACTOR_MAGNITUDE)
+        {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                &format!(
+                    "components must be finite with magnitude <= {MAX_SCALE_FACTOR_MAGNITUDE}"
+                ),
+            ))
+        }
+    }
+
+    /// `duration_s` must be a whole number (≥ `minimum_frames`) of IMU frames of `period_s`.
+    fn whole_frames(
+        &self,
+        key: &str,
+        duration_s: f64,
+        period_s: f64,
+        minimum_frames: f64,
+    ) -> Result<(), ScenarioError> {
+        let frames = duration_s / period_s;
+        let whole = frames.round();
+        if frames.is_finite()
+            && whole >= minimum_frames
+            && (frames - whole).abs() <= WHOLE_FRAME_TOLERANCE * whole.max(1.0)
+        {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                &format!("must be a whole number of IMU frames ({period_s} s), at least {minimum_frames}"),
+            ))
+        }
+    }
+}
+
+impl Checker<'_> {
+    /// Every `[dispersion]` entry: a finite, non-negative width, and the latency within the
+    /// flight software's limit together with `gnss.latency_s`.
+    fn dispersion(
+        &self,
+        dispersion: &dispersion::Dispersion,
+        scenario: &Scenario,
+    ) -> Result<(), ScenarioError> {
+        let entries = [
+            ("initial_attitude_deg", dispersion.initial_attitude_deg),
+            ("initial_position_m", dispersion.initial_position_m),
+            ("initial_velocity_mps", dispersion.initial_velocity_mps),
+            ("gyro_noise_percent", dispersion.gyro_noise_percent),
+            (
+                "accelerometer_noise_percent",
+                dispersion.accelerometer_noise_percent,
+            ),
+            ("star_noise_percent", dispersion.star_noise_percent),
+            ("gnss_noise_percent", dispersion.gnss_noise_percent),
+            ("star_mounting_deg", dispersion.star_mounting_deg),
+            (
+                "gnss_correlated_sigma_percent",
+                dispersion.gnss_correlated_sigma_percent,
+            ),
+            (
+                "gnss_correlation_time_percent",
+                dispersion.gnss_correlation_time_percent,
+            ),
+        ];
+        for (name, distribution) in entries {
+            let Some(distribution) = distribution else {
+                continue;
+            };
+            let field = match distribution {
+                dispersion::Distribution::Normal { .. } => "sigma",
+                dispersion::Distribution::Uniform { .. } => "half_width",
+            };
+            self.non_negative(&format!("dispersion.{name}.{field}"), distribution.width())?;
+        }
+        if let Some(frames) = dispersion.gnss_latency_frames {
+            let period_s = scenario.imu.frame_period_s();
+            let latency_s = scenario.gnss.latency_s + f64::from(frames) * period_s;
+            if let Some(requirement) = gnss_latency_violation(latency_s, period_s) {
+                return Err(self.fail(
+                    "dispersion.gnss_latency_frames",
+                    &format!("= {frames} frames: gnss.latency_s plus them {requirement}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Why a flight is at most [`MAX_DURATION_S`] long (the error message's wording).
+const DURATION_REASON: &str = "one day of flight: an upper stage's orbital phase lasts \
+                               minutes to hours, and run time and recorded history grow with it";
+
+/// WGS-84 equatorial radius (m): the lowest acceptable perigee radius of the initial orbit.
+const EARTH_EQUATORIAL_RADIUS_M: f64 = 6_378_137.0;
+/// Largest filter discretisation order the flight code accepts.
+const MAX_DISCRETISATION_ORDER: u32 = 4;
+
+impl Scenario {
+    /// Checks every value against its documented range.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] naming the first offending key.
+    pub fn validate(&self) -> Result<(), ScenarioError> {
+        self.validate_from("<in memory>")
+    }
+
+    pub(super) fn validate_from(&self, origin: &str) -> Result<(), ScenarioError> {
+        let check = Checker { origin };
+        let simulation = &self.simulation;
+        check.non_negative("simulation.start_time_s", simulation.start_time_s)?;
+        check.at_most(
+            "simulation.start_time_s",
+            simulation.start_time_s,
+            MAX_START_TIME_S,
+            " s",
+            "the f64 time resolution stays 1.9e-9 s, a millionth of a 2 ms frame; \
+             at 1e12 s it is 1.2e-4 s and time tags miss their frames",
+        )?;
+        check.non_negative("simulation.min_altitude_m", simulation.min_altitude_m)?;
+        if simulation.truth_substeps_per_frame == 0 {
+            return Err(check.fail("simulation.truth_substeps_per_frame", "must be >= 1"));
+        }
+        check.at_most(
+            "simulation.truth_substeps_per_frame",
+            f64::from(simulation.truth_substeps_per_frame),
+            f64::from(MAX_TRUTH_SUBSTEPS_PER_FRAME),
+            "",
+            "RK4 at the default 16 is already far below the sensor noise; \
+             more substeps only cost run time",
+        )?;
+
+        let site = &self.launch_site;
+        check.within("launch_site.latitude_deg", site.latitude_deg, -90.0, 90.0)?;
+        check.within(
+            "launch_site.longitude_deg",
+            site.longitude_deg,
+            -180.0,
+            360.0,
+        )?;
+        check.within("launch_site.height_m", site.height_m, -500.0, 10_000.0)?;
+        check.within("launch_site.azimuth_deg", site.azimuth_deg, -360.0, 360.0)?;
+        self.launch_site
+            .epoch()
+            .and_then(|epoch| epoch.gps_week_and_seconds())
+            .map_err(|error| check.fail("launch_site.epoch_utc", &error.to_string()))?;
+
+        let orbit = &self.initial_orbit;
+        check.positive("initial_orbit.semi_major_axis_m", orbit.semi_major_axis_m)?;
+        if !(orbit.eccentricity.is_finite() && (0.0..1.0).contains(&orbit.eccentricity)) {
+            return Err(check.fail("initial_orbit.eccentricity", "must be in [0, 1)"));
+        }
+        if orbit.semi_major_axis_m * (1.0 - orbit.eccentricity) <= EARTH_EQUATORIAL_RADIUS_M {
+            return Err(check.fail(
+                "initial_orbit.semi_major_axis_m",
+                "must put the perigee (a (1 - e)) above the Earth's equatorial radius 6378137 m",
+            ));
+        }
+        check.within(
+            "initial_orbit.inclination_deg",
+            orbit.inclination_deg,
+            0.0,
+            180.0,
+        )?;
+        check.finite(
+            "initial_orbit.right_ascension_of_node_deg",
+            orbit.right_ascension_of_node_deg,
+        )?;
+        check.finite(
+            "initial_orbit.argument_of_perigee_deg",
+            orbit.argument_of_perigee_deg,
+        )?;
+        check.finite("initial_orbit.true_anomaly_deg", orbit.true_anomaly_deg)?;
+        check.finite3(
+            "initial_attitude.rotation_vector_deg",
+            &self.initial_attitude.rotation_vector_deg,
+        )?;
+
+        check.positive("imu.rate_hz", self.imu.rate_hz)?;
+        let period_s = self.imu.frame_period_s();
+        let fsw = FswConfig::paper_defaults(
+            self.launch_site.nav_site(),
+            nav_fsw::sensor_frames::SensorFrames::ALIGNED,
+        );
+        let span_frames = nav_fsw::config::history_span_frames();
+        check.at_most(
+            "imu.rate_hz",
+            self.imu.rate_hz,
+            max_imu_rate_hz(&fsw),
+            " Hz",
+            &format!(
+                "the flight software's navigation history of {span_frames} frames must span \
+                 its latency window timing.max_latency_s = {} s",
+                number(fsw.timing.max_latency_s)
+            ),
+        )?;
+        let min_aiding_rate_hz = 1.0 / fsw.timing.outage_timeout_s;
+        let outage_reason = format!(
+            "a sensor silent for longer than the flight software's timing.outage_timeout_s = \
+             {} s is in an outage",
+            number(fsw.timing.outage_timeout_s)
+        );
+
+        let gyro = &self.gyro;
+        check.sigma(
+            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz",
+            gyro.rate_noise_density_deg_per_h_per_sqrt_hz,
+            true,
+        )?;
+        check.finite3("gyro.bias_rad_per_s", &gyro.bias_rad_per_s)?;
+        check.scale_factors("gyro.scale_factor", &gyro.scale_factor)?;
+        check.sigma(
+            "gyro.bias_random_walk_rad_per_s_per_sqrt_s",
+            gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+            true,
+        )?;
+        check.non_negative("gyro.quantum_rad", gyro.quantum_rad)?;
+
+        let accelerometer = &self.accelerometer;
+        check.sigma(
+            "accelerometer.noise_per_sample_mps2",
+            accelerometer.noise_per_sample_mps2,
+            true,
+        )?;
+        check.finite3("accelerometer.bias_mps2", &accelerometer.bias_mps2)?;
+        check.scale_factors("accelerometer.scale_factor", &accelerometer.scale_factor)?;
+        check.sigma(
+            "accelerometer.bias_random_walk_mps2_per_sqrt_s",
+            accelerometer.bias_random_walk_mps2_per_sqrt_s,
+            true,
+        )?;
+        check.non_negative("accelerometer.quantum_mps", accelerometer.quantum_mps)?;
+
+        let star = &self.star_sensor;
+        check.positive("star_sensor.rate_hz", star.rate_hz)?;
+        check.limit(
+            star.rate_hz > min_aiding_rate_hz,
+            "star_sensor.rate_hz",
+            star.rate_hz,
+            ("is not above", min_aiding_rate_hz),
+            " Hz",
+            &outage_reason,
+        )?;
+        check.whole_frames("star_sensor.rate_hz", 1.0 / star.rate_hz, period_s, 1.0)?;
+        check.sigma("star_sensor.noise_arcsec", star.noise_arcsec, true)?;
+        check.finite3(
+            "star_sensor.mounting_rotation_vector_deg",
+            &star.mounting_rotation_vector_deg,
+        )?;
+        check.finite3(
+            "star_sensor.installation_error_rotation_vector_rad",
+            &star.installation_error_rotation_vector_rad,
+        )?;
+        check.non_negative("star_sensor.max_rate_deg_per_s", star.max_rate_deg_per_s)?;
+        check.non_negative("star_sensor.reacquisition_s", star.reacquisition_s)?;
+        check.outages("star_sensor.outages", &star.outages)?;
+
+        let gnss = &self.gnss;
+        check.positive("gnss.rate_hz", gnss.rate_hz)?;
+        check.limit(
+            gnss.rate_hz > min_aiding_rate_hz,
+            "gnss.rate_hz",
+            gnss.rate_hz,
+            ("is not above", min_aiding_rate_hz),
+            " Hz",
+            &outage_reason,
+        )?;
+        check.whole_frames("gnss.rate_hz", 1.0 / gnss.rate_hz, period_s, 1.0)?;
+        check.sigma("gnss.noise_m", gnss.noise_m, true)?;
+        check.non_negative("gnss.latency_s", gnss.latency_s)?;
+        check.whole_frames("gnss.latency_s", gnss.latency_s, period_s, 0.0)?;
+        if let Some(requirement) = gnss_latency_violation(gnss.latency_s, period_s) {
+            return Err(check.fail("gnss.latency_s", &requirement));
+        }
+        check.sigma("gnss.correlated_noise_m", gnss.correlated_noise_m, true)?;
+        if gnss.correlated_noise_m > 0.0 {
+            check.positive("gnss.correlation_time_s", gnss.correlation_time_s)?;
+        }
+        check.sigma("gnss.velocity_noise_mps", gnss.velocity_noise_mps, true)?;
+        check.outages("gnss.outages", &gnss.outages)?;
+        let (max_rate_deg_per_s, max_force_mps2) = self.imu.ranges();
+        check.positive("imu.max_rate_deg_per_s", max_rate_deg_per_s)?;
+        check.positive("imu.max_specific_force_mps2", max_force_mps2)?;
+
+        if self.manoeuvres.is_empty() {
+            return Err(check.fail("manoeuvre", "must list at least one segment"));
+        }
+        for (index, segment) in self.manoeuvres.iter().enumerate() {
+            let key = |field: &str| format!("manoeuvre[{index}].{field}");
+            check.positive(&key("duration_s"), segment.duration_s)?;
+            check.at_most(
+                &key("duration_s"),
+                segment.duration_s,
+                MAX_DURATION_S,
+                " s",
+                DURATION_REASON,
+            )?;
+            check.whole_frames(&key("duration_s"), segment.duration_s, period_s, 1.0)?;
+            check.non_negative(&key("ramp_s"), segment.ramp_s)?;
+            if 2.0 * segment.ramp_s > segment.duration_s {
+                return Err(check.fail(&key("ramp_s"), "must be at most half of duration_s"));
+            }
+            check.finite3(&key("body_rate_deg_per_s"), &segment.body_rate_deg_per_s)?;
+            check.finite3(&key("specific_force_mps2"), &segment.specific_force_mps2)?;
+            let beyond = |peaks: &[f64; 3], range: f64| peaks.iter().any(|v| v.abs() >= range);
+            if beyond(&segment.body_rate_deg_per_s, max_rate_deg_per_s) {
+                return Err(check.fail(
+                    &key("body_rate_deg_per_s"),
+                    &format!(
+                        "(segment \"{}\") must stay below the gyro's range \
+                         imu.max_rate_deg_per_s = {max_rate_deg_per_s} on every axis",
+                        segment.label
+                    ),
+                ));
+            }
+            if beyond(&segment.specific_force_mps2, max_force_mps2) {
+                return Err(check.fail(
+                    &key("specific_force_mps2"),
+                    &format!(
+                        "(segment \"{}\") must stay below the accelerometer's range \
+                         imu.max_specific_force_mps2 = {max_force_mps2} on every axis",
+                        segment.label
+                    ),
+                ));
+            }
+        }
+
+        check.at_most(
+            "manoeuvre[..].duration_s (total)",
+            self.duration_s(),
+            MAX_DURATION_S,
+            " s",
+            DURATION_REASON,
+        )?;
+        let truth_steps =
+            self.frame_count() as f64 * f64::from(simulation.truth_substeps_per_frame);
+        if truth_steps > MAX_TRUTH_STEPS {
+            return Err(check.fail(
+                "simulation.truth_substeps_per_frame",
+                &format!(
+                    "= {} gives {} truth integration steps (flight duration x imu.rate_hz x \
+                     substeps), above the limit {} (about 40 default flights of run time)",
+                    simulation.truth_substeps_per_frame,
+                    number(truth_steps),
+                    number(MAX_TRUTH_STEPS)
+                ),
+            ));
+        }
+
+        let filter = &self.filter;
+        if !(1..=MAX_DISCRETISATION_ORDER).contains(&filter.discretisation_order) {
+            return Err(check.fail(
+                "filter.discretisation_order",
+                &format!("must be in 1..={MAX_DISCRETISATION_ORDER}"),
+            ));
+        }
+        let sigma = &filter.initial_sigma;
+        for (name, value) in [
+            ("attitude_rad", sigma.attitude_rad),
+            ("position_m", sigma.position_m),
+            ("velocity_mps", sigma.velocity_mps),
+            ("gyro_bias_rad_per_s", sigma.gyro_bias_rad_per_s),
+            ("accel_bias_mps2", sigma.accel_bias_mps2),
+            ("star_installation_rad", sigma.star_installation_rad),
+            ("gyro_scale_factor", sigma.gyro_scale_factor),
+            ("accel_scale_factor", sigma.accel_scale_factor),
+        ] {
+            check.sigma(&format!("filter.initial_sigma.{name}"), value, false)?;
+        }
+        check.positive(
+            "filter.nis_gate.star_threshold",
+            filter.nis_gate.star_threshold,
+        )?;
+        check.positive(
+            "filter.nis_gate.gnss_threshold",
+            filter.nis_gate.gnss_threshold,
+        )?;
+        check.sigma(
+            "filter.gnss_correlated_sigma_m",
+            filter.gnss_correlated_sigma_m,
+            true,
+        )?;
+        if filter.gnss_correlated_sigma_m > 0.0 {
+            check.positive(
+                "filter.gnss_correlation_time_s",
+                filter.gnss_correlation_time_s,
+            )?;
+        }
+        if let Some(noise_m) = filter.gnss_noise_m {
+            check.sigma("filter.gnss_noise_m", noise_m, false)?;
+        }
+        if let Some(dispersion) = &self.dispersion {
+            check.dispersion(dispersion, self)?;
+        }
+        Ok(())
+    }
+}
