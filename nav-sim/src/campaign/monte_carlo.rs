@@ -593,10 +593,10 @@ impl<const N: usize> MonteCarloSummary<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
     use rand_distr::{Distribution, StandardNormal};
+    use std::path::Path;
 
     type Never = std::convert::Infallible;
 

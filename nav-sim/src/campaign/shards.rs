@@ -436,7 +436,7 @@ pub fn write_shard(
 pub(super) mod tests {
     use super::*;
 
-    pub(in crate::campaign)     fn record(run: u64) -> RunRecord {
+    pub(in crate::campaign) fn record(run: u64) -> RunRecord {
         let covariance =
             SMatrix::<f64, CALIBRATION_STATES, CALIBRATION_STATES>::from_fn(|row, column| {
                 if row == column {
@@ -521,5 +521,4 @@ pub(super) mod tests {
         assert_eq!(parsed.json_line().unwrap(), line);
         assert!(RunRecord::parse(&line.replace("\"run\":5", "\"run\":5,\"x\":1")).is_err());
     }
-
 }

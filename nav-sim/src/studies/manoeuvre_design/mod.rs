@@ -39,7 +39,6 @@
 //! radius minus the equatorial radius, below the ellipsoid altitude) goes below
 //! `simulation.min_altitude_m`, is discarded.
 
-
 use crate::output::OutputError;
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario, ScenarioError};
 use crate::studies::covariance_design::DesignError;

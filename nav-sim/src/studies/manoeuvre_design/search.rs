@@ -5,8 +5,8 @@
 use std::time::Instant;
 
 use super::{
-    Constraints, GridPoint, ManoeuvreDesignError, Mission, TemplateParameters, COORDINATES, MAX_PASSES,
-    PLACEMENTS, RATE_MARGIN, SHARES, SLEWS, TRANSLATION_GAPS_S,
+    Constraints, GridPoint, ManoeuvreDesignError, Mission, TemplateParameters, COORDINATES,
+    MAX_PASSES, PLACEMENTS, RATE_MARGIN, SHARES, SLEWS, TRANSLATION_GAPS_S,
 };
 use crate::scenario::{ManoeuvreSegment, Scenario};
 use crate::studies::covariance_design::{analyse, DesignOptions, DesignReport};

@@ -17,7 +17,6 @@
 //! rate over `duration_s − ramp_s`, the integral of the raised-cosine command), zero GNSS lever
 //! arm. It is analysed after all previous phases (the paper's PWCS setting) and alone.
 
-
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude::{exp_rotation_vector, product, rotation_matrix};
 use nav_core::discretise::discretise;

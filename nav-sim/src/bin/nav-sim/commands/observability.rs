@@ -5,8 +5,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use nav_sim::studies::observability::{
-    build_report, render_json, render_text, write_heat_map, ObservabilityReportError,
-    HEAT_MAP_FILE,
+    build_report, render_json, render_text, write_heat_map, ObservabilityReportError, HEAT_MAP_FILE,
 };
 use nav_sim::Scenario;
 
