@@ -1,6 +1,6 @@
 //! Monte Carlo campaigns: runs over seeds with their statistics and the NEES test
 //! ([`monte_carlo`], plotted by [`plots`]), the runs of a campaign ([`runs`]), flown in shards
-//! ([`shards`]), merged again ([`merge`]) and reported ([`report`]).
+//! ([`shards`]), merged again ([`mod@merge`]) and reported ([`report`]).
 //!
 //! The campaign functions draw no progress bar: they take a progress callback,
 //! `progress: &(dyn Fn() + Sync)`, called once per finished run from the rayon workers

@@ -188,10 +188,10 @@ pub fn outage_scenario(scenario: &Scenario, plan: &OutagePlan) -> Result<Scenari
 
 /// The flight-software configuration with the calibration switched off: the initial 1σ and the
 /// covariance floor of the star-sensor installation error and of both scale factors set to
-/// [`SWITCHED_OFF_SIGMA`], everything else as [`flight::fsw_config`] gives it.
+/// [`SWITCHED_OFF_SIGMA`], everything else as [`crate::setup::fsw::fsw_config`] gives it.
 ///
 /// # Errors
-/// As [`flight::fsw_config`].
+/// As [`crate::setup::fsw::fsw_config`].
 pub fn uncalibrated_config(scenario: &Scenario) -> Result<FswConfig, FlightError> {
     let mut config = crate::setup::fsw::fsw_config(scenario)?;
     for sigma in [
@@ -423,7 +423,7 @@ pub struct BenefitOptions {
     /// Number of runs (seeds: the scenario's seed, +1, +2, ...), ≥ 1.
     pub runs: u64,
     /// Draw each run's sensor-error truth from the filter's prior
-    /// ([`flight::with_truth_drawn_from_prior`]) instead of keeping the scenario's.
+    /// ([`crate::setup::prior::with_truth_drawn_from_prior`]) instead of keeping the scenario's.
     pub draw_truth: bool,
     /// Fly both filters with their innovation gates open and no sensor declared faulty
     /// ([`with_open_gates`]).
