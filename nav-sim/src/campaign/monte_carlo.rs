@@ -16,15 +16,12 @@
 //! StateBlock::CALIBRATION`), 5 × 3 = [`CALIBRATION_STATES`] = 15 states; the functions are generic
 //! in the dimension `n` so any sub-state can be tested.
 
-use std::path::Path;
-
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
-use indicatif::{ParallelProgressIterator, ProgressBar, ProgressStyle};
 use nalgebra::{SMatrix, SVector};
 use rayon::prelude::*;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::output::report::{self, Axis, Curve, Panel, Parameter, ReportError};
+use crate::output::report::{Axis, Parameter};
 
 /// Number of calibration states: gyro bias, accelerometer bias, star installation, gyro and
 /// accelerometer scale factors, three axes each (nav-core's `StateBlock::CALIBRATION`).
@@ -127,14 +124,15 @@ pub fn over_time(samples: &[crate::harness::flight::FlightSample]) -> Vec<OverTi
 
 /// Flies `scenario` once per seed in parallel, each run's sensor-error truth drawn from the
 /// filter's prior ([`crate::setup::prior::with_truth_drawn_from_prior`]): the campaign of
-/// `nav-sim monte-carlo` and of the consistency tests.
+/// `nav-sim monte-carlo` and of the consistency tests. `progress` is called once per finished
+/// run, from the rayon workers (`&|| {}` for none).
 ///
 /// # Errors
 /// [`MonteCarloError::Run`] with the seed of a failed flight.
 pub fn fly_campaign(
     scenario: &crate::scenario::Scenario,
     seeds: &[u64],
-    show_progress: bool,
+    progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<RunOutcome>, MonteCarloError<crate::harness::flight::FlightError>> {
     run_parallel(
         seeds,
@@ -154,7 +152,7 @@ pub fn fly_campaign(
             )
             .map(|result| RunOutcome::of_flight(seed, &result))
         },
-        show_progress,
+        progress,
     )
 }
 
@@ -489,48 +487,28 @@ pub fn summarise<const N: usize, E: std::error::Error>(
     })
 }
 
-/// Runs `run` for every seed in parallel (rayon), with a progress bar on standard error if
-/// `show_progress`. Outcomes are returned in seed order whatever the scheduling.
+/// Runs `run` for every seed in parallel (rayon), calling `progress` once per finished run
+/// (from the rayon workers). Outcomes are returned in seed order whatever the scheduling.
 ///
 /// # Errors
 /// [`MonteCarloError::Run`] with the seed of a failed run (the first in seed order).
 pub fn run_parallel<const N: usize, E, F>(
     seeds: &[u64],
     run: F,
-    show_progress: bool,
+    progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<RunOutcome<N>>, MonteCarloError<E>>
 where
     E: std::error::Error + Send + 'static,
     F: Fn(u64) -> Result<RunOutcome<N>, E> + Sync,
 {
-    let bar = campaign_bar(seeds.len(), "Monte Carlo", "runs", show_progress);
-    let outcomes = seeds
+    seeds
         .par_iter()
-        .progress_with(bar.clone())
-        .map(|&seed| run(seed).map_err(|source| MonteCarloError::Run { seed, source }))
-        .collect();
-    bar.finish();
-    outcomes
-}
-
-/// A progress bar over `count` items of a parallel campaign (`{message} [elapsed] bar
-/// done/count {unit}`), hidden unless `show`.
-pub(crate) fn campaign_bar(
-    count: usize,
-    message: &'static str,
-    unit: &str,
-    show: bool,
-) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(u64::try_from(count).unwrap_or(u64::MAX));
-    let template = format!("{{msg}} [{{elapsed_precise}}] {{wide_bar}} {{pos}}/{{len}} {unit}");
-    if let Ok(style) = ProgressStyle::with_template(&template) {
-        bar.set_style(style);
-    }
-    bar.set_message(message);
-    bar
+        .map(|&seed| {
+            let outcome = run(seed).map_err(|source| MonteCarloError::Run { seed, source });
+            progress();
+            outcome
+        })
+        .collect()
 }
 
 impl<const N: usize> MonteCarloSummary<N> {
@@ -610,181 +588,6 @@ impl<const N: usize> MonteCarloSummary<N> {
             }
         )
     }
-
-    /// The plot: NEES per run with the average and its 95% interval, and RMS error / mean 1σ
-    /// per state (1 for a consistent filter).
-    ///
-    /// # Errors
-    /// [`ReportError`] from the plotting.
-    pub fn plot(&self, path: &Path) -> Result<(), ReportError> {
-        let nees = &self.nees;
-        let runs: Vec<f64> = (1..=self.runs).map(|run| run as f64).collect();
-        let constant = |value: f64| runs.iter().map(|&run| (run, value)).collect::<Vec<_>>();
-        let highest_nees = nees
-            .per_run
-            .iter()
-            .copied()
-            .fold(nees.upper_bound, f64::max);
-        let ratios: Vec<(f64, f64)> = self
-            .states
-            .iter()
-            .enumerate()
-            .map(|(index, state)| ((index + 1) as f64, state.rms_error / state.mean_sigma))
-            .collect();
-        let highest_ratio = ratios.iter().map(|(_, ratio)| *ratio).fold(2.0, f64::max);
-        let panels = [
-            Panel {
-                caption: format!("NEES per run ({} states)", nees.states),
-                y_label: "NEES".to_string(),
-                y_range: (0.0, 1.1 * highest_nees),
-                curves: vec![
-                    Curve {
-                        label: "run".to_string(),
-                        color: plotters::style::BLUE,
-                        points: runs.iter().copied().zip(nees.per_run.clone()).collect(),
-                    },
-                    Curve {
-                        label: "average".to_string(),
-                        color: plotters::style::BLACK,
-                        points: constant(nees.average),
-                    },
-                    Curve {
-                        label: "95% interval of the average".to_string(),
-                        color: plotters::style::RED,
-                        points: constant(nees.lower_bound),
-                    },
-                    Curve {
-                        label: String::new(),
-                        color: plotters::style::RED,
-                        points: constant(nees.upper_bound),
-                    },
-                ],
-            },
-            Panel {
-                caption: "RMS error / mean filter 1σ per state (state number)".to_string(),
-                y_label: "ratio".to_string(),
-                y_range: (0.0, 1.1 * highest_ratio),
-                curves: vec![
-                    Curve {
-                        label: "RMS / 1σ".to_string(),
-                        color: plotters::style::BLUE,
-                        points: ratios.clone(),
-                    },
-                    Curve {
-                        label: "1".to_string(),
-                        color: plotters::style::BLACK,
-                        points: ratios.iter().map(|(index, _)| (*index, 1.0)).collect(),
-                    },
-                ],
-            },
-        ];
-        report::draw_panels(
-            path,
-            "Monte Carlo consistency",
-            "run (top) / state number (bottom)",
-            &panels,
-        )
-    }
-
-    /// The consistency over time: the average NEES over the runs at each recorded instant
-    /// with its 95 % interval (top), and the average NIS of the star sensor and of the GNSS
-    /// over the interval ending at each instant with their 95 % intervals (bottom; 3 for a
-    /// consistent filter). Instants without a defined value are left out.
-    ///
-    /// # Errors
-    /// [`ReportError::Empty`] if the runs carry no time series, or [`ReportError`] from the
-    /// plotting.
-    pub fn plot_over_time(&self, path: &Path) -> Result<(), ReportError> {
-        if self.over_time.is_empty() {
-            return Err(ReportError::Empty);
-        }
-        let series = |value: &dyn Fn(&OverTimeStatistics) -> Option<f64>| -> Vec<(f64, f64)> {
-            self.over_time
-                .iter()
-                .filter_map(|point| Some((point.time_s, value(point)?)))
-                .filter(|(time_s, value)| time_s.is_finite() && value.is_finite())
-                .collect()
-        };
-        let highest = |curves: &[Curve], floor: f64| {
-            curves
-                .iter()
-                .flat_map(|curve| curve.points.iter().map(|(_, value)| *value))
-                .fold(floor, f64::max)
-        };
-        let nees_curves = vec![
-            Curve {
-                label: format!("average NEES over {} runs", self.runs),
-                color: plotters::style::BLUE,
-                points: series(&|point| Some(point.nees_average)),
-            },
-            Curve {
-                label: "95% interval".to_string(),
-                color: plotters::style::RED,
-                points: series(&|point| Some(point.nees_lower_bound)),
-            },
-            Curve {
-                label: String::new(),
-                color: plotters::style::RED,
-                points: series(&|point| Some(point.nees_upper_bound)),
-            },
-        ];
-        // Each sensor's average, and its band in a lighter shade of the same colour.
-        let sensor_curves =
-            |sensor: &str,
-             color: plotters::style::RGBColor,
-             band: plotters::style::RGBColor,
-             test: &dyn Fn(&OverTimeStatistics) -> Option<&NisTest>| {
-                vec![
-                    Curve {
-                        label: format!("{sensor} NIS"),
-                        color,
-                        points: series(&|point| test(point).map(|test| test.average)),
-                    },
-                    Curve {
-                        label: format!("{sensor} 95% interval"),
-                        color: band,
-                        points: series(&|point| test(point).map(|test| test.lower_bound)),
-                    },
-                    Curve {
-                        label: String::new(),
-                        color: band,
-                        points: series(&|point| test(point).map(|test| test.upper_bound)),
-                    },
-                ]
-            };
-        let mut nis_curves = sensor_curves(
-            "star sensor",
-            plotters::style::BLUE,
-            plotters::style::RGBColor(130, 170, 255),
-            &|point| point.star_nis.as_ref(),
-        );
-        nis_curves.extend(sensor_curves(
-            "GNSS",
-            plotters::style::RGBColor(0, 150, 0),
-            plotters::style::RGBColor(130, 210, 130),
-            &|point| point.gnss_nis.as_ref(),
-        ));
-        let panels = [
-            Panel {
-                caption: format!("average NEES of {} states over time", self.nees.states),
-                y_label: "NEES".to_string(),
-                y_range: (0.0, 1.1 * highest(&nees_curves, 0.0)),
-                curves: nees_curves,
-            },
-            Panel {
-                caption: "average NIS per sensor over each interval (3 components)".to_string(),
-                y_label: "NIS".to_string(),
-                y_range: (0.0, 1.1 * highest(&nis_curves, 6.0)),
-                curves: nis_curves,
-            },
-        ];
-        report::draw_panels(
-            path,
-            "Monte Carlo consistency over time",
-            "time (s)",
-            &panels,
-        )
-    }
 }
 
 #[cfg(test)]
@@ -793,6 +596,7 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
     use rand_distr::{Distribution, StandardNormal};
+    use std::path::Path;
 
     type Never = std::convert::Infallible;
 
@@ -946,7 +750,7 @@ mod tests {
         let run = |seed: u64| -> Result<RunOutcome, Diverged> {
             Ok(synthetic_runs(1, 1.0, seed).remove(0))
         };
-        let outcomes = run_parallel(&seeds, run, false).unwrap();
+        let outcomes = run_parallel(&seeds, run, &|| {}).unwrap();
         assert_eq!(
             outcomes
                 .iter()
@@ -963,7 +767,7 @@ mod tests {
                 run(seed)
             }
         };
-        let error = run_parallel(&seeds, failing, false).unwrap_err();
+        let error = run_parallel(&seeds, failing, &|| {}).unwrap_err();
         assert_eq!(error.to_string(), "run with seed 107: diverged");
     }
 

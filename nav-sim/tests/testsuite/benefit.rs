@@ -53,7 +53,7 @@ fn campaign(open_gates: bool) -> Vec<Comparison> {
         draw_truth: false,
         open_gates,
     };
-    let comparisons = benefit::compare(&calibration_flight(), &options, false).unwrap();
+    let comparisons = benefit::compare(&calibration_flight(), &options, &|| {}).unwrap();
     println!(
         "open gates: {open_gates}\n{}",
         benefit::text(&comparisons, &PLAN)

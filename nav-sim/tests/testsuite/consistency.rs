@@ -16,7 +16,7 @@ use crate::common;
 /// Average NEES of 12 seeds of the short scenario, truth drawn from `scenario`'s prior.
 fn average_nees_is_consistent(scenario: &nav_sim::Scenario) {
     let seeds: Vec<u64> = (0..12).map(|run| 1000 + run).collect();
-    let outcomes = fly_campaign(scenario, &seeds, false).unwrap();
+    let outcomes = fly_campaign(scenario, &seeds, &|| {}).unwrap();
     let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     println!(
         "{}",

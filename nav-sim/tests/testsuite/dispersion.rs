@@ -46,7 +46,7 @@ fn dispersed() -> Scenario {
 fn without_a_dispersion_table_a_campaign_flies_the_undispersed_bits() {
     let scenario = common::short_scenario();
     assert!(!format!("{scenario:?}").contains("dispersion"));
-    let outcomes = fly_campaign(&scenario, &SEEDS, false).unwrap();
+    let outcomes = fly_campaign(&scenario, &SEEDS, &|| {}).unwrap();
     for (outcome, seed) in outcomes.iter().zip(SEEDS) {
         let seeded = with_truth_drawn_from_prior(&scenario, seed);
         assert_eq!(truth_scenario(&seeded, seed), seeded);
@@ -139,14 +139,14 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
 #[test]
 fn run_k_alone_equals_run_k_of_the_campaign() {
     let scenario = dispersed();
-    let campaign = fly_campaign(&scenario, &SEEDS, false).unwrap();
-    let alone = fly_campaign(&scenario, &SEEDS[1..], false).unwrap();
+    let campaign = fly_campaign(&scenario, &SEEDS, &|| {}).unwrap();
+    let alone = fly_campaign(&scenario, &SEEDS[1..], &|| {}).unwrap();
     assert_eq!(bits(&campaign[1]), bits(&alone[0]));
     let undispersed = Scenario {
         dispersion: None,
         ..scenario
     };
-    let plain = fly_campaign(&undispersed, &SEEDS[1..], false).unwrap();
+    let plain = fly_campaign(&undispersed, &SEEDS[1..], &|| {}).unwrap();
     assert_ne!(bits(&campaign[1]), bits(&plain[0]));
 }
 

@@ -53,7 +53,7 @@ fn samples_carry_the_nees_and_the_interval_nis_of_the_flight() {
 #[test]
 fn campaign_summary_has_the_consistency_over_time_and_plots_it() {
     let seeds: Vec<u64> = (0..3).map(|run| 3000 + run).collect();
-    let outcomes = fly_campaign(&common::short_scenario(), &seeds, false).unwrap();
+    let outcomes = fly_campaign(&common::short_scenario(), &seeds, &|| {}).unwrap();
     let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let times: Vec<u64> = outcomes[0]
         .over_time

@@ -87,7 +87,7 @@ fn assert_campaign_consistent(runs: u64) {
     let seeds: Vec<u64> = (0..runs)
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .collect();
-    let outcomes = fly_campaign(&scenario, &seeds, false).unwrap();
+    let outcomes = fly_campaign(&scenario, &seeds, &|| {}).unwrap();
     let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     println!("{}", summary.nees_line());
     let star = summary.star_nis.clone().unwrap();

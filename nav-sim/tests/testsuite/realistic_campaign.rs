@@ -59,7 +59,7 @@ pub fn seeds(scenario: &Scenario) -> Vec<u64> {
 }
 
 pub fn fly(scenario: &Scenario) -> Campaign {
-    let outcomes = fly_campaign(scenario, &seeds(scenario), false).unwrap();
+    let outcomes = fly_campaign(scenario, &seeds(scenario), &|| {}).unwrap();
     let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let (worst_sigma, worst_seed) = outcomes
         .iter()

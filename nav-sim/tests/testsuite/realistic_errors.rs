@@ -331,7 +331,7 @@ fn json_reports_have_the_documented_shape() {
     );
 
     let seeds = [scenario.simulation.seed, scenario.simulation.seed + 1];
-    let outcomes = fly_campaign(&scenario, &seeds, false).unwrap();
+    let outcomes = fly_campaign(&scenario, &seeds, &|| {}).unwrap();
     let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
     let campaign: serde_json::Value =
         serde_json::from_str(&summary.json(&calibration_labels()).unwrap()).unwrap();

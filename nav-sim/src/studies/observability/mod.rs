@@ -17,9 +17,6 @@
 //! rate over `duration_s − ramp_s`, the integral of the raised-cosine command), zero GNSS lever
 //! arm. It is analysed after all previous phases (the paper's PWCS setting) and alone.
 
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
-
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude::{exp_rotation_vector, product, rotation_matrix};
 use nav_core::discretise::discretise;
@@ -33,6 +30,12 @@ use nav_core::NavError;
 use serde::Serialize;
 
 use crate::scenario::{Scenario, ScenarioError};
+
+mod heat_map;
+mod render;
+
+pub use heat_map::write_heat_map;
+pub use render::render_text;
 
 /// The paper's Table 1, "singular values in different motion states", transcribed from the
 /// PDF text extraction (Section 2.3 of the paper): one row per error state in the
@@ -71,12 +74,8 @@ pub const PAPER_TABLE_1: [[f64; 3]; STATE_DIMENSION] = [
     [1.5e-16, 1.7e-16, 7.4e-17], // 24 accelerometer scale factor z
 ];
 
-/// Lower end of the heat map's colour scale, log10 of the degree.
-const HEAT_MAP_LOG10_MIN: f64 = -12.0;
 /// Heat-map file name inside `--out DIR`.
 pub const HEAT_MAP_FILE: &str = "observability_degree.png";
-/// The family name the embedded font is registered under (plotters' ab_glyph backend).
-const FONT_FAMILY: &str = "sans-serif";
 
 /// Why the report could not be produced.
 #[derive(Debug, thiserror::Error)]
@@ -85,7 +84,7 @@ pub enum ObservabilityReportError {
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
     /// nav-core refused a case (bad numbers in the scenario, or an SVD failure).
-    #[error("observability analysis of {case}: {error:?}")]
+    #[error("observability analysis of {case}: {error}")]
     Analysis {
         /// The case being analysed, e.g. `phase 3 "rotate about body y" after previous`.
         case: String,
@@ -114,62 +113,6 @@ pub enum ObservabilityReportError {
         /// The plotting library's message.
         message: String,
     },
-}
-
-/// Command-line arguments of `nav-sim observability`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct ObservabilityArgs {
-    /// Scenario file (TOML); the built-in default (the paper's Section 3) when omitted.
-    pub scenario: Option<PathBuf>,
-    /// Print the report as JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
-    /// Write the heat map of the observability degree (PNG) into this directory.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-}
-
-impl ObservabilityArgs {
-    /// Loads the scenario, builds the report, prints it and writes the heat map if asked.
-    ///
-    /// # Errors
-    /// Any [`ObservabilityReportError`].
-    pub fn run(&self) -> Result<(), ObservabilityReportError> {
-        let (scenario, origin) = match &self.scenario {
-            Some(path) => (Scenario::load(path)?, path.display().to_string()),
-            None => (
-                Scenario::default_scenario()?,
-                "<built-in default>".to_string(),
-            ),
-        };
-        let report = build_report(&scenario, &origin)?;
-        let text = if self.json {
-            render_json(&report)? + "\n"
-        } else {
-            render_text(&report)
-        };
-        let mut stdout = std::io::stdout().lock();
-        match stdout
-            .write_all(text.as_bytes())
-            .and_then(|()| stdout.flush())
-        {
-            // A closed pipe (`| head`) is the reader's choice, not an error.
-            Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => {
-                return Err(ObservabilityReportError::Output(error));
-            }
-            _ => {}
-        }
-        if let Some(directory) = &self.out {
-            std::fs::create_dir_all(directory).map_err(|source| ObservabilityReportError::Io {
-                path: directory.display().to_string(),
-                source,
-            })?;
-            let path = directory.join(HEAT_MAP_FILE);
-            write_heat_map(&report, &path)?;
-            eprintln!("heat map written to {}", path.display());
-        }
-        Ok(())
-    }
 }
 
 /// The whole report (what `--json` prints).
@@ -529,298 +472,6 @@ pub fn build_report(
 /// [`ObservabilityReportError::Json`] (not expected for finite numbers).
 pub fn render_json(report: &ObservabilityReport) -> Result<String, ObservabilityReportError> {
     Ok(serde_json::to_string_pretty(report)?)
-}
-
-/// `+` / `-` for a verdict.
-fn mark(observable: bool) -> char {
-    if observable {
-        '+'
-    } else {
-        '-'
-    }
-}
-
-/// A per-case total shown below the state rows.
-type CaseCount = fn(&CaseReport) -> usize;
-
-/// Rows of a case table: state name, then per case one cell.
-fn write_matrix(
-    out: &mut String,
-    cases: &[&CaseReport],
-    cell: impl Fn(&StateReport) -> String,
-    width: usize,
-) {
-    use std::fmt::Write as _;
-    let _ = write!(out, "{:22}", "state");
-    for case in cases {
-        let _ = write!(out, " {:>width$}", case.label);
-    }
-    out.push('\n');
-    for k in 0..STATE_DIMENSION {
-        let _ = write!(out, "{:22}", state_name(k));
-        for case in cases {
-            let text = case.states.get(k).map_or_else(String::new, &cell);
-            let _ = write!(out, " {text:>width$}");
-        }
-        out.push('\n');
-    }
-    let totals: [(&str, CaseCount); 4] = [
-        ("rank (ours)", |c| c.rank),
-        ("observable (ours)", |c| c.observable_count),
-        ("σ ≥ 5e-8 (paper-like)", |c| c.paper_like_rank),
-        ("observable (paper-like)", |c| c.paper_like_observable_count),
-    ];
-    for (name, total) in totals {
-        let _ = write!(out, "{name:22}");
-        for case in cases {
-            let _ = write!(out, " {:>width$}", total(case));
-        }
-        out.push('\n');
-    }
-}
-
-/// The report as text (what `nav-sim observability` prints).
-pub fn render_text(report: &ObservabilityReport) -> String {
-    use std::fmt::Write as _;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "Observability of the 24-state model (paper Section 2, Table 1), scenario {}",
-        report.scenario
-    );
-    let _ = writeln!(
-        out,
-        "ours: continuous [H; H Aτ; …], scaled (τ = {} s, or 1 rad / fastest rate when shorter; states in typical magnitudes {}; star rows in {:.3e} rad, GNSS rows in {} m);\n      degree = σ_k/σ_max, '+' observable by the null-space test (σ ≤ {:e} σ_max is zero, projection ≤ {:e})",
-        report.scaling.time_unit_s,
-        report
-            .scaling
-            .state_magnitudes
-            .iter()
-            .map(|entry| format!("{} {:e}", entry.block, entry.magnitude))
-            .collect::<Vec<_>>()
-            .join(", "),
-        report.scaling.star_row_magnitude,
-        report.scaling.gnss_row_magnitude,
-        report.tolerance.relative_zero,
-        report.tolerance.null_space_projection,
-    );
-    let _ = writeln!(
-        out,
-        "paper-like: discrete [H; H F; …], Δ = {} s, order {}, unscaled; assigned σ, '+' when ≥ {:e} (the paper's threshold)\n",
-        report.paper_like_step_s, report.paper_like_order, report.tolerance.paper_absolute
-    );
-
-    let _ = writeln!(
-        out,
-        "== The paper's motion states (I: 2.4e-4 °/s per axis; II: (0,0,10) °/s; III: (0,20,0) m/s²), alone as in Table 1"
-    );
-    let _ = writeln!(
-        out,
-        "   per state: degree(ours) ours | σ(paper-like) paper-like | Table 1 value, its verdict"
-    );
-    let table_cases: Vec<&CaseReport> = report.paper_states.iter().take(3).collect();
-    write_matrix(
-        &mut out,
-        &table_cases,
-        |s| {
-            format!(
-                "{:8.1e} {} | {:8.1e} {} | {:8.1e} {}",
-                s.degree,
-                mark(s.observable),
-                s.paper_like_singular_value,
-                mark(s.observable_paper_threshold),
-                s.paper_table_1.unwrap_or(f64::NAN),
-                s.paper_table_1_observable.map_or('?', mark),
-            )
-        },
-        36,
-    );
-    let _ = writeln!(
-        out,
-        "\n== PWCS: the paper's states as segments after the coast (degree, ours '+'/'-', paper-like '+'/'-')"
-    );
-    let pwcs: Vec<&CaseReport> = report.paper_states.iter().skip(3).collect();
-    let degree_cell = |s: &StateReport| {
-        format!(
-            "{:8.1e}{}{}",
-            s.degree,
-            mark(s.observable),
-            mark(s.observable_paper_threshold)
-        )
-    };
-    write_matrix(&mut out, &pwcs, degree_cell, 11);
-
-    let _ = writeln!(out, "\n== Scenario schedule, phases:");
-    for phase in &report.phases {
-        let _ = writeln!(
-            out,
-            "  {:2}: {:24} rate {:?} °/s, force {:?} m/s²",
-            phase.index, phase.label, phase.body_rate_deg_per_s, phase.specific_force_mps2
-        );
-    }
-    // Columns are phase numbers: relabel them for the matrices.
-    let relabel = |case: &CaseReport, index: usize| CaseReport {
-        label: index.to_string(),
-        ..case.clone()
-    };
-    let after: Vec<CaseReport> = report
-        .phases
-        .iter()
-        .map(|p| relabel(&p.after_previous, p.index))
-        .collect();
-    let alone: Vec<CaseReport> = report
-        .phases
-        .iter()
-        .map(|p| relabel(&p.alone, p.index))
-        .collect();
-    let _ = writeln!(
-        out,
-        "\n== Each phase as a PWCS segment after the previous ones (column k = phases 1..k)"
-    );
-    write_matrix(&mut out, &after.iter().collect::<Vec<_>>(), degree_cell, 11);
-    let _ = writeln!(out, "\n== Each phase alone");
-    write_matrix(&mut out, &alone.iter().collect::<Vec<_>>(), degree_cell, 11);
-    out
-}
-
-/// Heat-map cell colour: viridis over log10(degree) in [−12, 0]; grey when the state fails the
-/// null-space test; white when it passes but was assigned no singular value (degree 0).
-fn cell_colour(state: &StateReport) -> plotters::style::RGBColor {
-    use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
-    if !state.observable {
-        return plotters::style::RGBColor(200, 200, 200);
-    }
-    if state.degree <= 0.0 {
-        // Observable, but the largest-component rule assigned it no singular value.
-        return plotters::style::RGBColor(255, 255, 255);
-    }
-    let level = state.degree.log10().clamp(HEAT_MAP_LOG10_MIN, 0.0);
-    ViridisRGB.get_color_normalized(level, HEAT_MAP_LOG10_MIN, 0.0)
-}
-
-/// Writes the heat map (PNG) of the degree per state (rows) per case (columns): left panel the
-/// paper's states and the phases after the previous ones, right panel each phase alone.
-///
-/// # Errors
-/// [`ObservabilityReportError::Plot`] if the font cannot be loaded or drawing/encoding fails.
-pub fn write_heat_map(
-    report: &ObservabilityReport,
-    path: &Path,
-) -> Result<(), ObservabilityReportError> {
-    use plotters::prelude::*;
-    let fail = |message: String| ObservabilityReportError::Plot {
-        path: path.display().to_string(),
-        message,
-    };
-    plotters::style::register_font(FONT_FAMILY, FontStyle::Normal, ttf_noto_sans::REGULAR)
-        .map_err(|_| fail("the embedded Noto Sans font is not a valid font".to_string()))?;
-
-    let mut left: Vec<(String, &CaseReport)> = report
-        .paper_states
-        .iter()
-        .map(|c| (c.label.clone(), c))
-        .collect();
-    left.extend(
-        report
-            .phases
-            .iter()
-            .map(|p| (format!("1-{}", p.index), &p.after_previous)),
-    );
-    let right: Vec<(String, &CaseReport)> = report
-        .phases
-        .iter()
-        .map(|p| (p.index.to_string(), &p.alone))
-        .collect();
-
-    let root = BitMapBackend::new(path, (1500, 820)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
-    let (body, footer) = root.split_vertically(780);
-    let (left_area, right_area) = body.split_horizontally(880);
-    draw_panel(
-        &left_area,
-        "Degree σk/σmax: paper states I, II, III, I→II, I→III; phases 1..k",
-        &left,
-        true,
-    )
-    .map_err(fail)?;
-    draw_panel(&right_area, "Each phase alone", &right, false).map_err(fail)?;
-    footer
-        .draw(&Text::new(
-            "colour: log10(degree) from -12 (dark blue) to 0 (yellow), scaled continuous PWCS; grey: unobservable (null-space test); white: observable, no singular value assigned",
-            (20, 10),
-            (FONT_FAMILY, 16).into_font(),
-        ))
-        .map_err(|e| fail(e.to_string()))?;
-    root.present().map_err(|e| fail(e.to_string()))?;
-    Ok(())
-}
-
-/// One heat-map panel: 24 named rows, one column per case.
-fn draw_panel<DB: plotters::prelude::DrawingBackend>(
-    area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
-    title: &str,
-    columns: &[(String, &CaseReport)],
-    row_names: bool,
-) -> Result<(), String> {
-    use plotters::prelude::*;
-    let column_count = u32::try_from(columns.len()).map_err(|e| e.to_string())?;
-    let row_count = u32::try_from(STATE_DIMENSION).map_err(|e| e.to_string())?;
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, (FONT_FAMILY, 18))
-        .margin(8)
-        .x_label_area_size(28)
-        .y_label_area_size(if row_names { 170 } else { 10 })
-        // plotters' integer ranges include their end: 0..n−1 gives n segments.
-        .build_cartesian_2d(
-            (0..column_count.saturating_sub(1)).into_segmented(),
-            (0..row_count.saturating_sub(1)).into_segmented(),
-        )
-        .map_err(|e| e.to_string())?;
-    let label_of = |value: &SegmentValue<u32>| match value {
-        SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => *i,
-        SegmentValue::Last => u32::MAX,
-    };
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_labels(columns.len())
-        .y_labels(STATE_DIMENSION)
-        .x_label_formatter(&|value| {
-            usize::try_from(label_of(value))
-                .ok()
-                .and_then(|i| columns.get(i))
-                .map_or_else(String::new, |(name, _)| name.clone())
-        })
-        .y_label_formatter(&|value| {
-            if !row_names {
-                return String::new();
-            }
-            // Row 0 is at the bottom: the first state is drawn at the top.
-            usize::try_from(label_of(value))
-                .ok()
-                .and_then(|row| STATE_DIMENSION.checked_sub(row + 1))
-                .map_or_else(String::new, state_name)
-        })
-        .label_style((FONT_FAMILY, 13))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    let mut cells = Vec::new();
-    for (column, (_, case)) in (0u32..).zip(columns) {
-        for (row, state) in (0..row_count).rev().zip(&case.states) {
-            cells.push(Rectangle::new(
-                [
-                    (SegmentValue::Exact(column), SegmentValue::Exact(row)),
-                    (
-                        SegmentValue::Exact(column + 1),
-                        SegmentValue::Exact(row + 1),
-                    ),
-                ],
-                cell_colour(state).filled(),
-            ));
-        }
-    }
-    chart.draw_series(cells).map_err(|e| e.to_string())?;
-    Ok(())
 }
 
 #[cfg(test)]

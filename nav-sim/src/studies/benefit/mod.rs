@@ -24,19 +24,21 @@
 //! the mean and the range over the runs ([`Spread`]).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
-use indicatif::ParallelProgressIterator;
 use nalgebra::Vector3;
 use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
-use plotters::style::RGBColor;
 use rayon::prelude::*;
 
 use crate::harness::flight::{self, FlightError, FlightOptions, FlightSample};
-use crate::output::report::{self, Curve, Panel, ReportError};
+use crate::output::report::ReportError;
 use crate::scenario::{ManoeuvreSegment, Scenario, ScenarioError};
+
+mod plot;
+
+pub use plot::plot;
 
 /// Initial 1σ and covariance floor of the switched-off calibration states (installation error
 /// in rad, scale factors dimensionless): positive, as the flight software's configuration check
@@ -186,10 +188,10 @@ pub fn outage_scenario(scenario: &Scenario, plan: &OutagePlan) -> Result<Scenari
 
 /// The flight-software configuration with the calibration switched off: the initial 1σ and the
 /// covariance floor of the star-sensor installation error and of both scale factors set to
-/// [`SWITCHED_OFF_SIGMA`], everything else as [`flight::fsw_config`] gives it.
+/// [`SWITCHED_OFF_SIGMA`], everything else as [`crate::setup::fsw::fsw_config`] gives it.
 ///
 /// # Errors
-/// As [`flight::fsw_config`].
+/// As [`crate::setup::fsw::fsw_config`].
 pub fn uncalibrated_config(scenario: &Scenario) -> Result<FswConfig, FlightError> {
     let mut config = crate::setup::fsw::fsw_config(scenario)?;
     for sigma in [
@@ -421,15 +423,16 @@ pub struct BenefitOptions {
     /// Number of runs (seeds: the scenario's seed, +1, +2, ...), ≥ 1.
     pub runs: u64,
     /// Draw each run's sensor-error truth from the filter's prior
-    /// ([`flight::with_truth_drawn_from_prior`]) instead of keeping the scenario's.
+    /// ([`crate::setup::prior::with_truth_drawn_from_prior`]) instead of keeping the scenario's.
     pub draw_truth: bool,
     /// Fly both filters with their innovation gates open and no sensor declared faulty
     /// ([`with_open_gates`]).
     pub open_gates: bool,
 }
 
-/// Flies both filters for every seed, in parallel (rayon, one task per seed and filter), with
-/// a progress bar on standard error if `show_progress`. Comparisons come in seed order.
+/// Flies both filters for every seed, in parallel (rayon, one task per seed and filter),
+/// calling `progress` once per finished flight (from the rayon workers; `&|| {}` for none).
+/// Comparisons come in seed order.
 ///
 /// # Errors
 /// [`BenefitError::NoRuns`], any error of [`outage_scenario`], or the first failed flight
@@ -437,7 +440,7 @@ pub struct BenefitOptions {
 pub fn compare(
     scenario: &Scenario,
     options: &BenefitOptions,
-    show_progress: bool,
+    progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<Comparison>, BenefitError> {
     if options.runs == 0 {
         return Err(BenefitError::NoRuns);
@@ -448,11 +451,8 @@ pub fn compare(
         .map(|run| scenario.simulation.seed.wrapping_add(run))
         .flat_map(|seed| Filter::BOTH.map(|filter| (seed, filter)))
         .collect();
-    let bar =
-        crate::campaign::monte_carlo::campaign_bar(jobs.len(), "benefit", "flights", show_progress);
     let runs: Vec<Result<OutageRun, BenefitError>> = jobs
         .par_iter()
-        .progress_with(bar.clone())
         .map(|&(seed, filter)| {
             let seeded = if options.draw_truth {
                 crate::setup::prior::with_truth_drawn_from_prior(&outage, seed)
@@ -461,16 +461,17 @@ pub fn compare(
                 seeded.simulation.seed = seed;
                 seeded
             };
-            fly_outage(
+            let run = fly_outage(
                 &seeded,
                 calibration_duration_s,
                 filter,
                 options.open_gates,
                 |_, _| {},
-            )
+            );
+            progress();
+            run
         })
         .collect();
-    bar.finish_and_clear();
     let mut runs = runs.into_iter();
     let mut comparisons = Vec::new();
     while let (Some(calibrated), Some(uncalibrated)) = (runs.next(), runs.next()) {
@@ -710,149 +711,9 @@ pub fn text(comparisons: &[Comparison], plan: &OutagePlan) -> String {
     text
 }
 
-/// Colours of the filters' curves (calibrated, uncalibrated): mean, then the largest run.
-const CURVE_COLOURS: [[RGBColor; 2]; 2] = [
-    [RGBColor(0, 0, 255), RGBColor(120, 160, 255)],
-    [RGBColor(220, 0, 0), RGBColor(255, 150, 150)],
-];
-
-/// Writes the error growth of both filters as a PNG: a row per quantity, linear on the left,
-/// logarithmic on the right, each filter's mean over the runs (and, for several runs, its
-/// largest run) against the time into the outage.
-///
-/// # Errors
-/// [`BenefitError::NoRuns`] without comparisons; [`BenefitError::Report`] if drawing fails.
-pub fn plot(path: &Path, comparisons: &[Comparison]) -> Result<PathBuf, BenefitError> {
-    let first = comparisons.first().ok_or(BenefitError::NoRuns)?;
-    let runs = comparisons.len();
-    let rows: Vec<(Panel, Panel)> = Quantity::ALL
-        .iter()
-        .map(|&quantity| {
-            let scale = quantity.report_scale();
-            let mut curves = Vec::new();
-            for (filter, [mean_colour, max_colour]) in Filter::BOTH.into_iter().zip(CURVE_COLOURS) {
-                let series = |pick: fn(&Spread) -> f64| -> Vec<(f64, f64)> {
-                    first
-                        .run(filter)
-                        .samples
-                        .iter()
-                        .enumerate()
-                        .map(|(i, sample)| {
-                            let spread = Spread::of(comparisons.iter().filter_map(|c| {
-                                c.run(filter).samples.get(i).map(|s| s.error(quantity))
-                            }));
-                            (sample.time_into_outage_s, scale * pick(&spread))
-                        })
-                        .collect()
-                };
-                let label = if runs > 1 {
-                    format!("{} (mean of {runs})", filter.name())
-                } else {
-                    filter.name().to_string()
-                };
-                curves.push(Curve {
-                    label,
-                    color: mean_colour,
-                    points: series(|spread| spread.mean),
-                });
-                if runs > 1 {
-                    curves.push(Curve {
-                        label: format!("{} (largest)", filter.name()),
-                        color: max_colour,
-                        points: series(|spread| spread.max),
-                    });
-                }
-            }
-            let largest = curves
-                .iter()
-                .flat_map(|curve| curve.points.iter().map(|(_, value)| *value))
-                .filter(|value| value.is_finite())
-                .fold(0.0, f64::max);
-            let smallest = curves
-                .iter()
-                .flat_map(|curve| curve.points.iter().map(|(_, value)| *value))
-                .filter(|value| value.is_finite() && *value > 0.0)
-                .fold(f64::INFINITY, f64::min);
-            let linear = Panel {
-                caption: quantity.label().to_string(),
-                y_label: quantity.label().to_string(),
-                y_range: (0.0, 1.05 * largest),
-                curves,
-            };
-            let log = Panel {
-                caption: format!("{} (log scale)", quantity.label()),
-                y_label: quantity.label().to_string(),
-                y_range: (0.5 * smallest, 2.0 * largest),
-                curves: linear
-                    .curves
-                    .iter()
-                    .map(|curve| Curve {
-                        label: curve.label.clone(),
-                        color: curve.color,
-                        points: curve.points.clone(),
-                    })
-                    .collect(),
-            };
-            (linear, log)
-        })
-        .collect();
-    report::draw_linear_and_log_panels(
-        path,
-        "navigation error through the aiding outage: calibrated vs calibration switched off",
-        "time into the outage (s)",
-        &rows,
-    )?;
-    Ok(path.to_path_buf())
-}
-
-/// Command-line arguments of `nav-sim benefit`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct BenefitArgs {
-    /// Scenario TOML: the calibration flight (default: the built-in one).
-    pub scenario: Option<PathBuf>,
-    /// Length of the coast after the calibration flight (s).
-    #[arg(long, default_value_t = OutagePlan::default().coast_s)]
-    pub coast_s: f64,
-    /// GNSS outage from the end of the calibration flight (s); 0 = none.
-    #[arg(long, default_value_t = OutagePlan::default().gnss_outage_s)]
-    pub gnss_outage_s: f64,
-    /// Star-tracker outage from the end of the calibration flight (s); 0 = none.
-    #[arg(long, default_value_t = OutagePlan::default().star_outage_s)]
-    pub star_outage_s: f64,
-    /// Number of runs (seeds: the scenario's seed, +1, +2, ...).
-    #[arg(long, default_value_t = 1)]
-    pub runs: u64,
-    /// Draw each run's sensor-error truth from the filter's prior (as `monte-carlo` does)
-    /// instead of keeping the scenario's sensor errors.
-    #[arg(long)]
-    pub draw_truth: bool,
-    /// Fly both filters with the innovation gates open and no sensor ever declared faulty, so
-    /// the uncalibrated filter keeps its aiding sensors however overconfident it is.
-    #[arg(long)]
-    pub open_gates: bool,
-    /// Write the error-growth plot (benefit.png) into this directory.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-}
-
-impl BenefitArgs {
-    /// The comparison's options.
-    pub fn options(&self) -> BenefitOptions {
-        BenefitOptions {
-            plan: OutagePlan {
-                coast_s: self.coast_s,
-                gnss_outage_s: self.gnss_outage_s,
-                star_outage_s: self.star_outage_s,
-            },
-            runs: self.runs,
-            draw_truth: self.draw_truth,
-            open_gates: self.open_gates,
-        }
-    }
-}
-
 /// Runs the comparison and returns its report (a heading, [`text`], and the plot's path when
-/// `out` is given, whose directory is created).
+/// `out` is given, whose directory is created); `progress` is called once per finished flight
+/// (two per run, from the rayon workers).
 ///
 /// # Errors
 /// Any error of [`compare`] or [`plot`]; [`BenefitError::Report`] if the directory cannot be
@@ -861,10 +722,10 @@ pub fn run(
     scenario: &Scenario,
     options: &BenefitOptions,
     out: Option<&Path>,
-    show_progress: bool,
+    progress: &(dyn Fn() + Sync),
 ) -> Result<String, BenefitError> {
     let started = std::time::Instant::now();
-    let comparisons = compare(scenario, options, show_progress)?;
+    let comparisons = compare(scenario, options, progress)?;
     let plan = &options.plan;
     let frames: u64 = comparisons
         .iter()

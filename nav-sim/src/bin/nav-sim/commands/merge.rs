@@ -1,0 +1,43 @@
+//! `nav-sim merge`: the shard files of a sharded campaign read back and reported as
+//! `nav-sim monte-carlo` reports the campaign flown in one process.
+
+use std::path::{Path, PathBuf};
+
+use nav_sim::campaign::{self, CampaignReport};
+
+use super::monte_carlo::{campaign_plots, check_campaign, print_campaign, write_campaign_plots};
+use super::{prepare_outputs, Failure};
+
+/// The arguments of `nav-sim merge`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Shard files, or directories holding them (their shard-*-of-*.jsonl files).
+    #[arg(required = true)]
+    paths: Vec<PathBuf>,
+    /// Write the campaign's plots into this directory (as `monte-carlo --out`:
+    /// `monte_carlo.png`, `nees_over_time.png`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print the report as one JSON object (as `monte-carlo --json`).
+    #[arg(long)]
+    json: bool,
+    /// Exit non-zero if the average NEES is outside its 95 % interval.
+    #[arg(long)]
+    check: bool,
+}
+
+/// Merges the shard files and prints the campaign's report.
+pub fn run(args: Args) -> Result<(), Failure> {
+    let out = args.out.as_deref();
+    if let Some(directory) = out {
+        let inputs: Vec<&Path> = args.paths.iter().map(PathBuf::as_path).collect();
+        prepare_outputs(directory, &campaign_plots(directory), &inputs)?;
+    }
+    let merged = campaign::merge(&args.paths)?;
+    let report = CampaignReport::new(&merged.records, merged.scenario.as_deref())?;
+    print_campaign(&report, args.json)?;
+    if let Some(directory) = out {
+        write_campaign_plots(&report, directory, args.json)?;
+    }
+    check_campaign(&report, args.check, "merge")
+}

@@ -1,0 +1,80 @@
+//! The subcommands of `nav-sim`, one file each (its `Args` and `run`), and what they share:
+//! the [`Failure`] type, loading a scenario, checking outputs before a run and the progress
+//! bars on standard error.
+
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use nav_sim::output;
+use nav_sim::Scenario;
+
+pub mod benefit;
+pub mod calibrate;
+pub mod design;
+pub mod faults;
+pub mod log;
+pub mod merge;
+pub mod monte_carlo;
+pub mod observability;
+pub mod replay;
+pub mod scenario;
+pub mod target_bench;
+
+/// Why a subcommand failed; `main` prints it with `Display` after `nav-sim: `.
+pub type Failure = Box<dyn std::error::Error>;
+
+/// The scenario at `scenario`, or the built-in one.
+pub fn load(scenario: Option<&Path>) -> Result<Scenario, Failure> {
+    Ok(match scenario {
+        Some(path) => Scenario::load(path)?,
+        None => Scenario::default_scenario()?,
+    })
+}
+
+/// The scenario file as the input list of a command (the built-in one has none).
+pub fn inputs(scenario: Option<&Path>) -> Vec<&Path> {
+    scenario.into_iter().collect()
+}
+
+/// Checks an output directory and the files a command writes into it before the run, so a
+/// bad `--out` fails at once rather than after the flight.
+pub fn prepare_outputs(
+    directory: &Path,
+    files: &[PathBuf],
+    inputs: &[&Path],
+) -> Result<(), Failure> {
+    for file in files {
+        output::refuse_inputs(file, inputs)?;
+    }
+    output::prepare_directory(directory)?;
+    Ok(())
+}
+
+/// A progress bar over the `total` frames of one flight: `{message} [bar] done/total frames
+/// (eta left)`.
+pub fn frame_bar(total: u64, message: &'static str) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    if let Ok(style) =
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames ({eta} left)")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(message);
+    bar
+}
+
+/// A progress bar over `count` items of a parallel campaign (`{message} [elapsed] bar
+/// done/count {unit}`), hidden unless `show`; the campaign advances it through its progress
+/// callback (`&|| bar.inc(1)`).
+pub fn campaign_bar(count: usize, message: &'static str, unit: &str, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(u64::try_from(count).unwrap_or(u64::MAX));
+    let template = format!("{{msg}} [{{elapsed_precise}}] {{wide_bar}} {{pos}}/{{len}} {unit}");
+    if let Ok(style) = ProgressStyle::with_template(&template) {
+        bar.set_style(style);
+    }
+    bar.set_message(message);
+    bar
+}
