@@ -17,7 +17,8 @@ use nav_fsw::telemetry::FrameFusion;
 use crate::logs::sensor_log;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
-use crate::setup::fsw::{configuration_error, fsw_config, replay_setup};
+use crate::setup::fsw::{configuration_error, fsw_config, replay_setup_for};
+use crate::setup::launch::Launch;
 use crate::setup::SetupError;
 use crate::world::sensors::SensorErrorTruth;
 use crate::world::simulation::{Simulation, SimulationError};
@@ -364,9 +365,11 @@ pub fn fly_observed(
     mut inject: impl FnMut(u64, &mut FramePorts),
     mut observe: impl FnMut(u64, &NavigationComputer),
 ) -> Result<FlightResult, FlightError> {
-    let mut simulation = Simulation::new(scenario)?;
+    // The truth, the sensors and the flight software's initial solution share one launch.
+    let launch = Launch::new(scenario)?;
+    let mut simulation = Simulation::with_launch(scenario, &launch)?;
     let start = *simulation.truth().state();
-    let initial = replay_setup(scenario)?.initial;
+    let initial = replay_setup_for(scenario, &launch)?.initial;
     let mut computer = NavigationComputer::new(config, initial)
         .map_err(|error| configuration_error(scenario, error))?;
     let total_frames = scenario.frame_count();

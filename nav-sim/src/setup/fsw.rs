@@ -13,7 +13,7 @@ use nav_fsw::{ConfigField, FswError};
 use rand_distr::{Distribution, StandardNormal};
 
 use crate::scenario::{FilterMode as ScenarioFilterMode, Scenario};
-use crate::setup::launch::{self, TruthState};
+use crate::setup::launch::{Launch, TruthState};
 use crate::setup::streams::{self, Stream};
 use crate::setup::{dispersion, SetupError};
 
@@ -97,10 +97,14 @@ pub fn configuration_error(scenario: &Scenario, error: FswError) -> SetupError {
 /// # Errors
 /// [`SetupError`] if the launch site or the initial state cannot be computed.
 pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, SetupError> {
-    let frame = launch::launch_frame(scenario)
-        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
-    let truth_start = launch::initial_state(scenario, &frame)
-        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+    replay_setup_for(scenario, &Launch::new(scenario)?)
+}
+
+/// [`replay_setup`] for the scenario's `launch`, already computed.
+///
+/// # Errors
+/// [`SetupError::Setting`] if the filter settings are refused.
+pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySetup, SetupError> {
     let settings = &scenario.filter;
     let filter = filter_config(scenario)?;
     let period_s = scenario.imu.frame_period_s();
@@ -110,14 +114,12 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, SetupError> {
         y.to_radians(),
         z.to_radians(),
     ));
-    let ground = launch::scenario_ground_constants(scenario)
-        .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
-    let defaults = FswConfig::paper_defaults(launch::launch_site(scenario), ground.sensor_frames);
+    let defaults = FswConfig::paper_defaults(launch.site, launch.ground.sensor_frames);
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     Ok(ReplaySetup {
-        launch_site: launch::launch_site(scenario),
-        sensor_frames: ground.sensor_frames,
-        initial: initial_navigation(scenario, &truth_start),
+        launch_site: launch.site,
+        sensor_frames: launch.ground.sensor_frames,
+        initial: initial_navigation(scenario, &launch.truth_start),
         mode: filter.mode,
         discretisation_order: filter.discretisation_order,
         initial_sigma: filter.initial,

@@ -1,5 +1,7 @@
 //! Where and when a run starts, computed from its scenario: the launch epoch and the ground
 //! constants, the launch site and its launch-inertial frame, and the truth's initial state.
+//! A run computes them once ([`Launch::new`]) and hands them to the truth, the sensors and the
+//! flight software's configuration.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use nav_core::attitude::exp_rotation_vector;
@@ -13,6 +15,47 @@ use crate::setup::SetupError;
 /// time, seconds since the launch epoch (small times keep 2 ms frame boundaries exact to
 /// ~1e-13 s); the sensors' own time scales are formed at the ports ([`crate::scenario::epoch`]).
 pub const LAUNCH_EPOCH_S: f64 = 0.0;
+
+/// Where and when a run starts, computed once from its scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Launch {
+    /// The launch epoch with the day's Earth orientation.
+    pub epoch: LaunchEpoch,
+    /// The launch site ([`launch_site`]).
+    pub site: LaunchSite,
+    /// The site's launch-inertial frame.
+    pub frame: LaunchFrame,
+    /// The ground constants of the flight software's configuration.
+    pub ground: GroundConstants,
+    /// The truth at the scenario start ([`initial_state`]).
+    pub truth_start: TruthState,
+}
+
+impl Launch {
+    /// Computes the scenario's launch once.
+    ///
+    /// # Errors
+    /// [`SetupError::LaunchSite`] if the epoch or the ground constants are refused,
+    /// [`SetupError::InitialState`] if nav-core refuses the site or a conversion of the initial
+    /// state fails. A validated scenario is never refused.
+    pub fn new(scenario: &Scenario) -> Result<Self, SetupError> {
+        let epoch =
+            scenario_epoch(scenario).map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+        let site = launch_site(scenario);
+        let frame = launch_frame(scenario)?;
+        let ground = epoch
+            .ground_constants(&frame)
+            .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+        let truth_start = initial_state(scenario, &frame)?;
+        Ok(Self {
+            epoch,
+            site,
+            frame,
+            ground,
+            truth_start,
+        })
+    }
+}
 
 /// The scenario's launch epoch (`launch_site.epoch_utc`, `launch_site.earth_orientation`).
 ///
@@ -48,7 +91,7 @@ pub fn launch_site(scenario: &Scenario) -> LaunchSite {
 /// [`SetupError::InitialState`] if nav-core refuses the site.
 pub fn launch_frame(scenario: &Scenario) -> Result<LaunchFrame, SetupError> {
     LaunchFrame::new(&launch_site(scenario))
-        .map_err(|error| SetupError::InitialState(format!("launch site refused: {error:?}")))
+        .map_err(|error| SetupError::InitialState(format!("launch site refused: {error}")))
 }
 
 /// The truth state at the scenario start: the initial orbit's elements (referred to the

@@ -1,8 +1,9 @@
-//! The setup layer: what a run needs, computed from its scenario (the launch epoch and ground
-//! constants, the launch site and frame, the truth's initial state, the flight software's and
-//! the filter's configuration, the initial navigation solution), and every random draw of a run
-//! through one registry of streams ([`streams`]): the prior's draw of the sensor-error truth
-//! ([`prior`]) and the `[dispersion]` table's draws ([`dispersion`]).
+//! The setup layer: what a run needs, computed from its scenario: where and when it starts,
+//! once per run ([`launch::Launch`]: the launch epoch and ground constants, the launch site and
+//! frame, the truth's initial state), the flight software's and the filter's configuration and
+//! the initial navigation solution ([`fsw`]), and every random draw of a run through one
+//! registry of streams ([`streams`]): the prior's draw of the sensor-error truth ([`prior`])
+//! and the `[dispersion]` table's draws ([`dispersion`]).
 
 pub mod dispersion;
 pub mod fsw;

@@ -1,6 +1,7 @@
 //! Truth and sensors together: the scenario's sensor-event stream, frame by frame.
 
 use crate::scenario::Scenario;
+use crate::setup::launch::Launch;
 use crate::world::sensors::{SensorError, SensorErrorTruth, SensorEvent, SensorSimulator};
 use crate::world::truth::{FlightGravity, TruthError, TruthFrame, TruthSimulator};
 
@@ -47,10 +48,20 @@ impl Simulation {
     /// # Errors
     /// [`SimulationError`] if nav-core refuses the launch site or the initial state.
     pub fn new(scenario: &Scenario) -> Result<Self, SimulationError> {
+        let launch = Launch::new(scenario).map_err(TruthError::from)?;
+        Self::with_launch(scenario, &launch)
+    }
+
+    /// [`Simulation::new`] for the scenario's `launch`, already computed (the truth and the
+    /// sensors share it).
+    ///
+    /// # Errors
+    /// [`SimulationError`] if the truth's settings are refused.
+    pub fn with_launch(scenario: &Scenario, launch: &Launch) -> Result<Self, SimulationError> {
         Ok(Self {
-            truth: TruthSimulator::from_scenario(scenario)?,
-            sensors: SensorSimulator::new(scenario)?,
-            frame: crate::setup::launch::launch_frame(scenario).map_err(TruthError::from)?,
+            truth: TruthSimulator::from_launch(scenario, launch)?,
+            sensors: SensorSimulator::with_launch(scenario, launch),
+            frame: launch.frame,
             min_altitude_m: scenario.simulation.min_altitude_m,
             segment_labels: scenario
                 .manoeuvres

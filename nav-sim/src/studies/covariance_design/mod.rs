@@ -63,7 +63,7 @@ use nav_fsw::calibration_manager::CalibrationThresholds;
 
 use crate::scenario::{frames_in, in_outage, Scenario};
 use crate::setup::fsw::{filter_config, scenario_process_noise};
-use crate::setup::launch::launch_frame;
+use crate::setup::launch::Launch;
 use crate::setup::SetupError;
 use crate::world::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
 use crate::world::truth::{TruthError, TruthFrame, TruthSimulator};
@@ -329,11 +329,12 @@ pub fn perigee_apogee_radii_m(
 /// (`r × v`). The default scenario's initial attitude is chosen against these.
 ///
 /// # Errors
-/// [`DesignError::Truth`] if the initial state cannot be built.
+/// [`DesignError::Setup`] if the initial state cannot be built.
 pub fn initial_orbital_axes(scenario: &Scenario) -> Result<[Vector3<f64>; 3], DesignError> {
-    let frame = launch_frame(scenario)?;
-    let state = crate::setup::launch::initial_state(scenario, &frame)?;
-    let radial = frame
+    let launch = Launch::new(scenario)?;
+    let state = launch.truth_start;
+    let radial = launch
+        .frame
         .geocentric_position_launch(&state.position_m)
         .normalize();
     let normal = radial.cross(&state.velocity_mps).normalize();
@@ -626,8 +627,9 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
     if let Some(substeps) = options.truth_substeps_per_frame {
         flown.simulation.truth_substeps_per_frame = substeps;
     }
-    let frame = launch_frame(&flown)?;
-    let mut truth = TruthSimulator::from_scenario(&flown)?;
+    let launch = Launch::new(&flown)?;
+    let frame = launch.frame;
+    let mut truth = TruthSimulator::from_launch(&flown, &launch)?;
     let config = filter_config(scenario)?;
     let start_time_s = scenario.simulation.start_time_s;
     let mut filter = ErrorStateFilter::new(&config).map_err(|error| DesignError::Filter {

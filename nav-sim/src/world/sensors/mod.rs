@@ -40,7 +40,6 @@
 
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude::{canonical, exp_rotation_vector};
-use nav_core::frames::LaunchFrame;
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::sensor_frames::SensorFrames;
 use rand::Rng;
@@ -48,6 +47,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use crate::scenario::{frames_in, Scenario};
+use crate::setup::launch::Launch;
 use crate::setup::streams::{self, Stream};
 use crate::world::truth::TruthFrame;
 
@@ -302,15 +302,16 @@ impl SensorSimulator {
     /// Builds the error models from a (validated) scenario.
     ///
     /// # Errors
-    /// [`SensorError::LaunchSite`] if nav-core refuses the launch site.
+    /// [`SensorError::LaunchSite`] if the scenario's launch is refused ([`Launch::new`]).
     pub fn new(scenario: &Scenario) -> Result<Self, SensorError> {
-        let frame = LaunchFrame::new(&crate::setup::launch::launch_site(scenario))
-            .map_err(|error| SensorError::LaunchSite(format!("{error:?}")))?;
-        let epoch = crate::setup::launch::scenario_epoch(scenario)
-            .map_err(|error| SensorError::LaunchSite(error.to_string()))?;
-        let ground = epoch
-            .ground_constants(&frame)
-            .map_err(|error| SensorError::LaunchSite(error.to_string()))?;
+        let launch =
+            Launch::new(scenario).map_err(|error| SensorError::LaunchSite(error.to_string()))?;
+        Ok(Self::with_launch(scenario, &launch))
+    }
+
+    /// [`SensorSimulator::new`] for the scenario's `launch`, already computed.
+    pub fn with_launch(scenario: &Scenario, launch: &Launch) -> Self {
+        let (frame, epoch, ground) = (&launch.frame, &launch.epoch, &launch.ground);
         let [w, x, y, z] = ground.sensor_frames.gcrf_to_launch_inertial_wxyz;
         let seed = scenario.simulation.seed;
         let period_s = scenario.imu.frame_period_s();
@@ -318,8 +319,8 @@ impl SensorSimulator {
         let accelerometer = &scenario.accelerometer;
         let star = &scenario.star_sensor;
         let [mount_x, mount_y, mount_z] = star.mounting_rotation_vector_deg;
-        Ok(Self {
-            itrf: crate::scenario::epoch::ItrfFromLaunchInertial::new(&epoch, &frame),
+        Self {
+            itrf: crate::scenario::epoch::ItrfFromLaunchInertial::new(epoch, frame),
             sensor_frames: ground.sensor_frames,
             gcrf_from_launch_q: Quaternion::new(w, x, y, z).conjugate(),
             gyro: TriadModel {
@@ -374,7 +375,7 @@ impl SensorSimulator {
             star_blind_until_s: f64::NEG_INFINITY,
             start_time_s: scenario.simulation.start_time_s,
             pending_gnss: std::collections::VecDeque::new(),
-        })
+        }
     }
 
     /// The true sensor errors now (biases change only with a bias random walk).

@@ -31,7 +31,7 @@ use nav_core::frames::LaunchFrame;
 use nav_core::gravity::GravityModel;
 
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
-use crate::setup::launch::{initial_state, launch_frame, TruthState};
+use crate::setup::launch::{Launch, TruthState};
 use crate::setup::SetupError;
 
 /// Why the truth simulation could not be set up or advanced.
@@ -497,13 +497,19 @@ impl TruthSimulator<FlightGravity> {
     /// # Errors
     /// [`TruthError::Setup`] or [`TruthError::Setting`].
     pub fn from_scenario(scenario: &Scenario) -> Result<Self, TruthError> {
-        let frame = launch_frame(scenario)?;
-        let initial = initial_state(scenario, &frame)?;
+        Self::from_launch(scenario, &Launch::new(scenario)?)
+    }
+
+    /// [`TruthSimulator::from_scenario`] for the scenario's `launch`, already computed.
+    ///
+    /// # Errors
+    /// [`TruthError::Setting`].
+    pub fn from_launch(scenario: &Scenario, launch: &Launch) -> Result<Self, TruthError> {
         Self::new(
-            initial,
+            launch.truth_start,
             CommandProfile::from_scenario(scenario),
             FlightGravity {
-                frame,
+                frame: launch.frame,
                 model: GravityModel { j2_enabled: true },
             },
             scenario.imu.frame_period_s(),

@@ -3,7 +3,7 @@
 use super::*;
 
 use crate::scenario::Scenario;
-use crate::setup::launch::orbit_state_from_elements;
+use crate::setup::launch::{initial_state, launch_frame, orbit_state_from_elements};
 use nav_core::attitude::exp_rotation_vector;
 use nav_core::frames::{WGS84_GM_M3_S2, WGS84_J2, WGS84_SEMI_MAJOR_AXIS_M};
 
