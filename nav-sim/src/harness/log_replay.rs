@@ -135,7 +135,7 @@ pub fn replay<R: Read, W: Write>(
 ) -> Result<ReplaySummary, ReplayFailure> {
     let setup = crate::setup::fsw::replay_setup(scenario)?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
-        .map_err(|error| format!("flight software configuration refused: {error:?}"))?;
+        .map_err(|error| format!("flight software configuration refused: {error}"))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())?;
     let mut reader = SensorLogReader::new(log)?;
     let mut output = std::io::BufWriter::new(output);

@@ -120,7 +120,7 @@ pub fn run_on_host(input: &[u8]) -> Result<Vec<u64>, ReplayError> {
         .try_into()
         .map_err(|_| ReplayError::Input("setup size".into()))?;
     let setup = ReplaySetup::from_words(&setup_words)
-        .map_err(|error| ReplayError::Input(format!("setup: {error:?}")))?;
+        .map_err(|error| ReplayError::Input(format!("setup: {error}")))?;
     let log = input.get(SETUP_WORDS * 8..).unwrap_or(&[]);
     let records: Vec<LogRecord> =
         sensor_log::read_binary(log).map_err(|error| ReplayError::Input(error.to_string()))?;
@@ -138,7 +138,7 @@ pub fn run_records_on_host(
     records: impl IntoIterator<Item = LogRecord>,
 ) -> Result<Vec<u64>, ReplayError> {
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
-        .map_err(|error| ReplayError::Input(format!("configuration: {error:?}")))?;
+        .map_err(|error| ReplayError::Input(format!("configuration: {error}")))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())
         .map_err(|error| ReplayError::Input(format!("frame grid: {error}")))?;
     let mut output = Vec::new();

@@ -116,7 +116,7 @@ pub fn initial_state(scenario: &Scenario, frame: &LaunchFrame) -> Result<TruthSt
     // At the launch epoch ECEF and the inertial axes I coincide.
     let position_m = frame
         .ecef_to_launch_inertial(&position_earth_centred_m, LAUNCH_EPOCH_S)
-        .map_err(|error| SetupError::InitialState(format!("initial position: {error:?}")))?;
+        .map_err(|error| SetupError::InitialState(format!("initial position: {error}")))?;
     let velocity_mps = frame.launch_from_ecef() * velocity_earth_centred_mps;
     let [x, y, z] = scenario.initial_attitude.rotation_vector_deg;
     let attitude_q_ib = exp_rotation_vector(&Vector3::new(

@@ -75,7 +75,7 @@ pub enum DesignError {
     #[error(transparent)]
     Truth(#[from] TruthError),
     /// A nav-core call refused its input.
-    #[error("nav-core {operation} failed at t = {time_s} s: {error:?}")]
+    #[error("nav-core {operation} failed at t = {time_s} s: {error}")]
     Filter {
         /// What was being done (e.g. "discretise", "star update").
         operation: &'static str,
