@@ -491,7 +491,7 @@ impl<G: GravityField> TruthSimulator<G> {
 }
 
 impl TruthSimulator<FlightGravity> {
-    /// The scenario's truth: initial state from [`initial_state`], its manoeuvre schedule, the
+    /// The scenario's truth: initial state from [`Launch::new`], its manoeuvre schedule, the
     /// flight code's gravity with J2, at the IMU rate with the configured substeps.
     ///
     /// # Errors
