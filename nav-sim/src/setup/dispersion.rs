@@ -225,3 +225,81 @@ pub fn flight_config(
     }
     Ok(config)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The new IMU entries draw from their own streams: the old entries' draws (the
+    /// latency's stream among them) are bit for bit what they are without them.
+    #[test]
+    fn the_imu_entries_leave_the_other_entries_draws_unchanged() {
+        let normal = Some(Distribution::Normal { sigma: 1.0 });
+        let old = Dispersion {
+            initial_attitude_deg: normal,
+            gyro_noise_percent: normal,
+            star_mounting_deg: Some(Distribution::Uniform { half_width: 0.1 }),
+            gnss_correlation_time_percent: normal,
+            gnss_latency_frames: Some(50),
+            ..Dispersion::default()
+        };
+        let with_imu = Dispersion {
+            gyro_misalignment_rad: Some(Distribution::Normal { sigma: 2.0e-5 }),
+            accelerometer_misalignment_rad: Some(Distribution::Uniform { half_width: 1.0e-4 }),
+            gyro_g_sensitivity_rad_s_per_mps2: Some(Distribution::Normal { sigma: 1.0e-6 }),
+            ..old.clone()
+        };
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.gyro.misalignment_rad[0][1] = 1.0e-5;
+        for seed in [1, 2, 3] {
+            let (before, after) = (draw(&old, seed), draw(&with_imu, seed));
+            let undispersed_imu = Draw {
+                gyro_misalignment_rad: [0.0; 6],
+                accelerometer_misalignment_rad: [0.0; 6],
+                gyro_g_sensitivity_rad_s_per_mps2: [0.0; 3],
+                ..after
+            };
+            assert_eq!(format!("{before:?}"), format!("{undispersed_imu:?}"));
+            assert_eq!(before, undispersed_imu);
+            assert!(after.gyro_misalignment_rad.iter().all(|term| *term != 0.0));
+            assert!(after
+                .accelerometer_misalignment_rad
+                .iter()
+                .all(|term| term.abs() <= 1.0e-4 && *term != 0.0));
+            assert_eq!(before.gyro_misalignment_rad, [0.0; 6]);
+
+            scenario.dispersion = Some(with_imu.clone());
+            let truth = truth_scenario(&scenario, seed);
+            for (index, (row, column)) in OFF_DIAGONAL.into_iter().enumerate() {
+                let base = if (row, column) == (0, 1) { 1.0e-5 } else { 0.0 };
+                assert_eq!(
+                    truth.gyro.misalignment_rad[row][column],
+                    base + after.gyro_misalignment_rad[index]
+                );
+                assert_eq!(
+                    truth.accelerometer.misalignment_rad[row][column],
+                    after.accelerometer_misalignment_rad[index]
+                );
+            }
+            for axis in 0..3 {
+                assert_eq!(truth.gyro.misalignment_rad[axis][axis], 0.0);
+                assert_eq!(
+                    truth.gyro.g_sensitivity_rad_s_per_mps2[axis],
+                    after.gyro_g_sensitivity_rad_s_per_mps2[axis]
+                );
+            }
+            // Without the IMU entries the truth's IMU is the scenario's, bit for bit.
+            scenario.dispersion = Some(old.clone());
+            let truth = truth_scenario(&scenario, seed);
+            assert_eq!(truth.gyro.misalignment_rad, scenario.gyro.misalignment_rad);
+            assert_eq!(
+                truth.gyro.g_sensitivity_rad_s_per_mps2,
+                scenario.gyro.g_sensitivity_rad_s_per_mps2
+            );
+            assert_eq!(
+                truth.accelerometer.misalignment_rad,
+                scenario.accelerometer.misalignment_rad
+            );
+        }
+    }
+}

@@ -606,4 +606,6 @@ impl GaussMarkov {
 
 mod imu_errors;
 #[cfg(test)]
+mod imu_errors_tests;
+#[cfg(test)]
 mod tests;

@@ -23,7 +23,7 @@ fn truth_frame(frame_index: u64, period_s: f64) -> TruthFrame {
 }
 
 /// Runs `frames` synthetic truth frames through the scenario's sensors.
-fn run(scenario: &Scenario, frames: u64) -> (Vec<TruthFrame>, Vec<SensorEvent>) {
+pub(super) fn run(scenario: &Scenario, frames: u64) -> (Vec<TruthFrame>, Vec<SensorEvent>) {
     let period_s = scenario.imu.frame_period_s();
     let mut sensors = SensorSimulator::new(scenario).unwrap();
     let mut events = Vec::new();
@@ -58,7 +58,7 @@ fn star_without_noise(scenario: &Scenario, truth: &TruthFrame) -> Quaternion<f64
 }
 
 /// Per-axis sample mean and standard deviation.
-fn statistics(samples: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
+pub(super) fn statistics(samples: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
     let count = samples.len() as f64;
     let mean = samples.iter().sum::<Vector3<f64>>() / count;
     let variance = samples
