@@ -259,7 +259,9 @@ fn out_of_range_imu_error_terms_are_refused_naming_the_key() {
         "accelerometer.bias_instability_sigma_mps2"
     );
     assert_eq!(
-        accelerometer("bias_instability_sigma_mps2 = 1.0e-5\nbias_instability_correlation_time_s = -3.0"),
+        accelerometer(
+            "bias_instability_sigma_mps2 = 1.0e-5\nbias_instability_correlation_time_s = -3.0"
+        ),
         "accelerometer.bias_instability_correlation_time_s"
     );
     let text = with_lines(

@@ -5,8 +5,9 @@ use nav_fsw::config::FswConfig;
 
 use super::{
     dispersion, gnss_latency_violation, max_imu_rate_hz, number, Scenario, ScenarioError,
-    MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2, MAX_MISALIGNMENT_RAD, MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS,
-    MAX_TRUTH_SUBSTEPS_PER_FRAME, SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
+    MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2, MAX_MISALIGNMENT_RAD,
+    MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS, MAX_TRUTH_SUBSTEPS_PER_FRAME,
+    SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
 };
 
 /// Collects the first violated rule while walking the scenario.
@@ -184,7 +185,13 @@ impl Checker<'_> {
                         ));
                     }
                 } else {
-                    self.magnitude(&key, *term, MAX_MISALIGNMENT_RAD, " rad", MISALIGNMENT_REASON)?;
+                    self.magnitude(
+                        &key,
+                        *term,
+                        MAX_MISALIGNMENT_RAD,
+                        " rad",
+                        MISALIGNMENT_REASON,
+                    )?;
                 }
             }
         }
@@ -201,7 +208,14 @@ impl Checker<'_> {
         reason: &str,
     ) -> Result<(), ScenarioError> {
         let ok = value.is_finite() && value.abs() <= limit;
-        self.limit(ok, key, value.abs(), ("in magnitude is above", limit), unit, reason)
+        self.limit(
+            ok,
+            key,
+            value.abs(),
+            ("in magnitude is above", limit),
+            unit,
+            reason,
+        )
     }
 
     /// A bias instability: the 1σ 0 (off) or in [`SIGMA_RANGE`], and a positive correlation

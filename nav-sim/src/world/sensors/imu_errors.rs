@@ -121,6 +121,8 @@ impl TriadExtras {
 
     /// The Gauss–Markov bias of the current frame, if on.
     pub(super) fn instability_bias(&self) -> Option<Vector3<f64>> {
-        self.instability.as_ref().map(|instability| instability.value)
+        self.instability
+            .as_ref()
+            .map(|instability| instability.value)
     }
 }

@@ -77,7 +77,10 @@ fn misalignment_couples_the_increment_on_axis_j_into_axis_i() {
         &frame(Vector3::new(x_rotation, 0.0, 0.0), Vector3::zeros()),
     );
     assert_eq!(angle.x, x_rotation);
-    assert!((angle.y - (-3.0e-5 * x_rotation)).abs() < 1e-20, "{angle:?}");
+    assert!(
+        (angle.y - (-3.0e-5 * x_rotation)).abs() < 1e-20,
+        "{angle:?}"
+    );
     assert!(angle.y > 0.0);
     assert!((angle.z - 5.0e-5 * x_rotation).abs() < 1e-20, "{angle:?}");
 
@@ -176,14 +179,21 @@ fn bias_instability_has_the_stationary_sigma_and_correlation() {
     // Stationary from the start: the first draws of many seeds have σ too.
     let first: Vec<Vector3<f64>> = (0..4_000)
         .map(|seed| {
-            BiasInstability::new(sigma, tau_s, streams::rng(seed, Stream::GyroBiasInstability))
-                .unwrap()
-                .value
+            BiasInstability::new(
+                sigma,
+                tau_s,
+                streams::rng(seed, Stream::GyroBiasInstability),
+            )
+            .unwrap()
+            .value
         })
         .collect();
     let (_, deviation) = statistics(&first);
     // 12,000 draws: the sample σ's relative standard error is 0.65 % per axis of 4,000.
-    assert!(((deviation / sigma) - Vector3::repeat(1.0)).amax() < 0.05, "{deviation:?}");
+    assert!(
+        ((deviation / sigma) - Vector3::repeat(1.0)).amax() < 0.05,
+        "{deviation:?}"
+    );
 }
 
 /// In the sensor stream the bias instability is the measured-minus-true increment over `T`,
@@ -213,7 +223,10 @@ fn bias_instability_enters_the_increments_and_the_error_truth() {
         };
         let gyro = (delta_angle_rad - truth.delta_angle_rad) / PERIOD_S;
         let accel = (delta_velocity_mps - truth.delta_velocity_mps) / PERIOD_S;
-        assert!((gyro - errors.gyro_bias_rad_per_s).norm() < 1e-12, "{gyro:?}");
+        assert!(
+            (gyro - errors.gyro_bias_rad_per_s).norm() < 1e-12,
+            "{gyro:?}"
+        );
         assert!((accel - errors.accel_bias_mps2).norm() < 1e-12, "{accel:?}");
     }
     // The other streams are the scenario's without the model.

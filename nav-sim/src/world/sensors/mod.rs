@@ -48,10 +48,10 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use crate::scenario::{frames_in, Scenario};
-use imu_errors::TriadExtras;
 use crate::setup::launch::Launch;
 use crate::setup::streams::{self, Stream};
 use crate::world::truth::TruthFrame;
+use imu_errors::TriadExtras;
 
 /// One sensor output, in delivery order.
 #[derive(Debug, Clone, Copy, PartialEq)]
