@@ -176,10 +176,19 @@ fn with_lines(after: &str, extra: &str) -> String {
 fn imu_misalignment_g_sensitivity_and_bias_instability_keys_parse_and_default_to_off() {
     let default = Scenario::default_scenario().unwrap();
     assert_eq!(default.gyro.misalignment_rad, [[0.0; 3]; 3]);
-    assert_eq!(default.gyro.g_sensitivity_rad_s_per_mps2, [0.0; 3]);
-    assert_eq!(default.gyro.bias_instability_sigma_rad_per_s, 0.0);
+    assert_eq!(
+        default.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits),
+        [0.0; 3].map(f64::to_bits)
+    );
+    assert_eq!(
+        f64::to_bits(default.gyro.bias_instability_sigma_rad_per_s),
+        f64::to_bits(0.0)
+    );
     assert_eq!(default.accelerometer.misalignment_rad, [[0.0; 3]; 3]);
-    assert_eq!(default.accelerometer.bias_instability_sigma_mps2, 0.0);
+    assert_eq!(
+        f64::to_bits(default.accelerometer.bias_instability_sigma_mps2),
+        f64::to_bits(0.0)
+    );
     // Absent (or zero) keys leave the Debug rendering, the campaign's scenario hash, as it was.
     let rendering = format!("{default:?}");
     for key in ["misalignment", "g_sensitivity", "bias_instability"] {
@@ -209,12 +218,30 @@ fn imu_misalignment_g_sensitivity_and_bias_instability_keys_parse_and_default_to
          bias_instability_correlation_time_s = 300.0",
     );
     let scenario = Scenario::from_toml_str(&text).unwrap();
-    assert_eq!(scenario.gyro.misalignment_rad[0][2], -2.0e-5);
-    assert_eq!(scenario.gyro.misalignment_rad[1][0], 3.0e-5);
-    assert_eq!(scenario.gyro.g_sensitivity_rad_s_per_mps2[2], -2.0e-6);
-    assert_eq!(scenario.gyro.bias_instability_correlation_time_s, 600.0);
-    assert_eq!(scenario.accelerometer.misalignment_rad[1][2], 1.0e-4);
-    assert_eq!(scenario.accelerometer.bias_instability_sigma_mps2, 1.0e-5);
+    assert_eq!(
+        f64::to_bits(scenario.gyro.misalignment_rad[0][2]),
+        f64::to_bits(-2.0e-5)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.misalignment_rad[1][0]),
+        f64::to_bits(3.0e-5)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.g_sensitivity_rad_s_per_mps2[2]),
+        f64::to_bits(-2.0e-6)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.bias_instability_correlation_time_s),
+        f64::to_bits(600.0)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.accelerometer.misalignment_rad[1][2]),
+        f64::to_bits(1.0e-4)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.accelerometer.bias_instability_sigma_mps2),
+        f64::to_bits(1.0e-5)
+    );
     let rendering = format!("{scenario:?}");
     for key in [
         "misalignment_rad: [[0.0, 1e-5, -2e-5]",

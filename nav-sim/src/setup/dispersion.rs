@@ -266,26 +266,26 @@ mod tests {
                 .accelerometer_misalignment_rad
                 .iter()
                 .all(|term| term.abs() <= 1.0e-4 && *term != 0.0));
-            assert_eq!(before.gyro_misalignment_rad, [0.0; 6]);
+            assert!(before.gyro_misalignment_rad.iter().all(|term| *term == 0.0));
 
             scenario.dispersion = Some(with_imu.clone());
             let truth = truth_scenario(&scenario, seed);
             for (index, (row, column)) in OFF_DIAGONAL.into_iter().enumerate() {
                 let base = if (row, column) == (0, 1) { 1.0e-5 } else { 0.0 };
                 assert_eq!(
-                    truth.gyro.misalignment_rad[row][column],
-                    base + after.gyro_misalignment_rad[index]
+                    truth.gyro.misalignment_rad[row][column].to_bits(),
+                    (base + after.gyro_misalignment_rad[index]).to_bits()
                 );
                 assert_eq!(
-                    truth.accelerometer.misalignment_rad[row][column],
-                    after.accelerometer_misalignment_rad[index]
+                    truth.accelerometer.misalignment_rad[row][column].to_bits(),
+                    after.accelerometer_misalignment_rad[index].to_bits()
                 );
             }
             for axis in 0..3 {
-                assert_eq!(truth.gyro.misalignment_rad[axis][axis], 0.0);
+                assert_eq!(truth.gyro.misalignment_rad[axis][axis].to_bits(), 0);
                 assert_eq!(
-                    truth.gyro.g_sensitivity_rad_s_per_mps2[axis],
-                    after.gyro_g_sensitivity_rad_s_per_mps2[axis]
+                    truth.gyro.g_sensitivity_rad_s_per_mps2[axis].to_bits(),
+                    after.gyro_g_sensitivity_rad_s_per_mps2[axis].to_bits()
                 );
             }
             // Without the IMU entries the truth's IMU is the scenario's, bit for bit.
@@ -293,8 +293,8 @@ mod tests {
             let truth = truth_scenario(&scenario, seed);
             assert_eq!(truth.gyro.misalignment_rad, scenario.gyro.misalignment_rad);
             assert_eq!(
-                truth.gyro.g_sensitivity_rad_s_per_mps2,
-                scenario.gyro.g_sensitivity_rad_s_per_mps2
+                truth.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits),
+                scenario.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits)
             );
             assert_eq!(
                 truth.accelerometer.misalignment_rad,

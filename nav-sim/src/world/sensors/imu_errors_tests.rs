@@ -66,9 +66,9 @@ fn misalignment_couples_the_increment_on_axis_j_into_axis_i() {
         &scenario,
         &frame(Vector3::new(0.0, y_rotation, 0.0), Vector3::zeros()),
     );
-    assert_eq!(angle.y, y_rotation);
+    assert_eq!(f64::to_bits(angle.y), f64::to_bits(y_rotation));
     assert!((angle.x - 2.0e-5 * y_rotation).abs() < 1e-20, "{angle:?}");
-    assert_eq!(angle.z, 0.0);
+    assert_eq!(f64::to_bits(angle.z), f64::to_bits(0.0));
 
     // A pure rotation about body x: a10 into y (negative), a20 into z.
     let x_rotation = -0.02;
@@ -76,7 +76,7 @@ fn misalignment_couples_the_increment_on_axis_j_into_axis_i() {
         &scenario,
         &frame(Vector3::new(x_rotation, 0.0, 0.0), Vector3::zeros()),
     );
-    assert_eq!(angle.x, x_rotation);
+    assert_eq!(f64::to_bits(angle.x), f64::to_bits(x_rotation));
     assert!(
         (angle.y - (-3.0e-5 * x_rotation)).abs() < 1e-20,
         "{angle:?}"
@@ -89,8 +89,8 @@ fn misalignment_couples_the_increment_on_axis_j_into_axis_i() {
         &scenario,
         &frame(Vector3::zeros(), Vector3::new(0.0, 0.1, 0.0)),
     );
-    assert_eq!(velocity.x, 0.0);
-    assert_eq!(velocity.y, 0.1);
+    assert_eq!(f64::to_bits(velocity.x), f64::to_bits(0.0));
+    assert_eq!(f64::to_bits(velocity.y), f64::to_bits(0.1));
     assert!((velocity.z - (-7.0e-4 * 0.1)).abs() < 1e-19, "{velocity:?}");
 }
 
