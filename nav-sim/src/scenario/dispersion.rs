@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 /// The entries' keys, in stream order (entry `i` draws from stream
 /// `DISPERSION_STREAM_BASE` + `i`, the setup layer's dispersion streams).
-pub const ENTRY_KEYS: [&str; 11] = [
+pub const ENTRY_KEYS: [&str; 14] = [
     "initial_attitude_deg",
     "initial_position_m",
     "initial_velocity_mps",
@@ -18,7 +18,13 @@ pub const ENTRY_KEYS: [&str; 11] = [
     "gnss_correlated_sigma_percent",
     "gnss_correlation_time_percent",
     "gnss_latency_frames",
+    "gyro_misalignment_rad",
+    "accelerometer_misalignment_rad",
+    "gyro_g_sensitivity_rad_s_per_mps2",
 ];
+
+/// Index in [`ENTRY_KEYS`] of `gnss_latency_frames` (its stream).
+pub const GNSS_LATENCY_ENTRY: usize = 10;
 
 /// Smallest factor a dispersed correlation time is scaled by: a first-order Gauss–Markov
 /// error needs τ > 0, and a draw at or below −100 % would make it zero or negative.
@@ -79,4 +85,12 @@ pub struct Dispersion {
     pub gnss_correlation_time_percent: Option<Distribution>,
     /// Whole IMU frames added to the receiver's true latency, uniform in `0..=n`.
     pub gnss_latency_frames: Option<u32>,
+    /// Added to each of the six off-diagonal terms of the true gyro misalignment (rad), drawn
+    /// in the order `a01, a02, a10, a12, a20, a21`.
+    pub gyro_misalignment_rad: Option<Distribution>,
+    /// Added to each off-diagonal term of the true accelerometer misalignment (rad), same
+    /// order.
+    pub accelerometer_misalignment_rad: Option<Distribution>,
+    /// Added per axis to the true gyro g-sensitivity (rad/s per m/s²).
+    pub gyro_g_sensitivity_rad_s_per_mps2: Option<Distribution>,
 }

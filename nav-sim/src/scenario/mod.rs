@@ -14,6 +14,7 @@ use nav_core::frames::LaunchSite;
 use nav_fsw::config::FswConfig;
 use serde::Deserialize;
 
+mod debug;
 pub mod dispersion;
 pub mod epoch;
 #[cfg(test)]
@@ -343,8 +344,13 @@ impl ImuSettings {
     }
 }
 
-/// Gyro errors, paper eq. (1): `ω_meas = ω + Λg ω_meas + b_g + η_g`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+/// Gyro errors, paper eq. (1): `ω_meas = ω + Λg ω_meas + b_g + η_g`, extended by the
+/// misalignment, g-sensitivity and bias-instability terms of `docs/model.md` ("IMU
+/// misalignment, g-sensitivity and bias instability"), all optional (0 = off).
+///
+/// Its `Debug` rendering leaves out those optional terms while they are zero, so a scenario
+/// without them renders (and hashes) as it did before they existed.
+#[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GyroErrors {
     /// White rate-noise spectral density ((deg/h)/√Hz), ≥ 0. The paper's "0.2 °/h".
@@ -357,7 +363,34 @@ pub struct GyroErrors {
     pub bias_random_walk_rad_per_s_per_sqrt_s: f64,
     /// Output quantum of the delta angle (rad), ≥ 0; 0 = no quantisation.
     pub quantum_rad: f64,
+    /// Misalignment and non-orthogonality of the triad (rad): the off-diagonal terms `a_ij`
+    /// of `M = I + A`, the increment sensed on axis `i` gains `a_ij Δθ_j` (body axes). The
+    /// diagonal must be 0 (it is `scale_factor`); `|a_ij| ≤` [`MAX_MISALIGNMENT_RAD`].
+    /// Default all 0 (off).
+    #[serde(default)]
+    pub misalignment_rad: [[f64; 3]; 3],
+    /// g-sensitivity per axis (rad/s per m/s²): the rate error on axis `i` is `g_i f_i`, `f`
+    /// the true body specific force; `|g_i| ≤` [`MAX_G_SENSITIVITY_RAD_S_PER_MPS2`].
+    /// Default 0 (off).
+    #[serde(default)]
+    pub g_sensitivity_rad_s_per_mps2: [f64; 3],
+    /// Bias instability: stationary 1σ per axis (rad/s) of a first-order Gauss–Markov bias
+    /// added to `bias_rad_per_s`; 0 (the default) = off.
+    #[serde(default)]
+    pub bias_instability_sigma_rad_per_s: f64,
+    /// Its correlation time τ (s), > 0 when `bias_instability_sigma_rad_per_s` > 0.
+    #[serde(default)]
+    pub bias_instability_correlation_time_s: f64,
 }
+
+/// Largest accepted magnitude of a misalignment term (rad, 10 mrad = 0.57°): far above a
+/// navigation-grade (5–20 µrad) or tactical (≥ 100 µrad) triad, and small enough that the
+/// model's small-angle form `I + A` stays meaningful.
+pub const MAX_MISALIGNMENT_RAD: f64 = 1.0e-2;
+
+/// Largest accepted magnitude of a gyro g-sensitivity (rad/s per m/s², ≈ 2000 °/h/g):
+/// navigation-grade gyros have 0.1–10 °/h/g, MEMS gyros up to a few hundred.
+pub const MAX_G_SENSITIVITY_RAD_S_PER_MPS2: f64 = 1.0e-3;
 
 impl GyroErrors {
     /// Rate-noise density in SI units (rad/s/√Hz = rad/√s).
@@ -372,8 +405,10 @@ impl GyroErrors {
     }
 }
 
-/// Accelerometer errors, paper eq. (3): `f_meas = f + Λa f_meas + b_a + η_a`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+/// Accelerometer errors, paper eq. (3): `f_meas = f + Λa f_meas + b_a + η_a`, extended by
+/// the optional misalignment and bias-instability terms (0 = off; `Debug` leaves them out
+/// while zero, as [`GyroErrors`]'s does).
+#[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AccelerometerErrors {
     /// 1σ of the specific-force noise per IMU sample (m/s²), ≥ 0. The paper's "1e-4 m/s²".
@@ -386,20 +421,18 @@ pub struct AccelerometerErrors {
     pub bias_random_walk_mps2_per_sqrt_s: f64,
     /// Output quantum of the delta velocity (m/s), ≥ 0; 0 = no quantisation.
     pub quantum_mps: f64,
-}
-
-impl AccelerometerErrors {
-    /// 1σ of the delta-velocity noise per increment of length `interval_s` (m/s): the
-    /// per-sample specific-force σ held over the sample, `σ_Δv = σ_f · T`.
-    pub fn delta_velocity_noise_sigma_mps(&self, interval_s: f64) -> f64 {
-        self.noise_per_sample_mps2 * interval_s
-    }
-
-    /// The same noise as a white specific-force density `σ_f · √T` ((m/s²)/√Hz) for a sampling
-    /// interval `interval_s`, the form a continuous-time filter model uses.
-    pub fn noise_density_mps2_per_sqrt_hz(&self, interval_s: f64) -> f64 {
-        self.noise_per_sample_mps2 * interval_s.sqrt()
-    }
+    /// Misalignment and non-orthogonality of the triad (rad), as
+    /// [`GyroErrors::misalignment_rad`]: the increment sensed on axis `i` gains `a_ij Δv_j`.
+    /// Default all 0 (off).
+    #[serde(default)]
+    pub misalignment_rad: [[f64; 3]; 3],
+    /// Bias instability: stationary 1σ per axis (m/s²) of a first-order Gauss–Markov bias
+    /// added to `bias_mps2`; 0 (the default) = off.
+    #[serde(default)]
+    pub bias_instability_sigma_mps2: f64,
+    /// Its correlation time τ (s), > 0 when `bias_instability_sigma_mps2` > 0.
+    #[serde(default)]
+    pub bias_instability_correlation_time_s: f64,
 }
 
 /// Star sensor: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ δq_noise`.

@@ -165,3 +165,156 @@ fn load_names_the_file() {
     );
     std::fs::remove_dir_all(&directory).unwrap();
 }
+
+/// The default scenario with `extra` appended after the `key = value` line `after`.
+fn with_lines(after: &str, extra: &str) -> String {
+    assert_eq!(DEFAULT_SCENARIO_TOML.matches(after).count(), 1, "{after}");
+    DEFAULT_SCENARIO_TOML.replace(after, &format!("{after}\n{extra}"))
+}
+
+#[test]
+fn imu_misalignment_g_sensitivity_and_bias_instability_keys_parse_and_default_to_off() {
+    let default = Scenario::default_scenario().unwrap();
+    assert_eq!(default.gyro.misalignment_rad, [[0.0; 3]; 3]);
+    assert_eq!(
+        default.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits),
+        [0.0; 3].map(f64::to_bits)
+    );
+    assert_eq!(
+        f64::to_bits(default.gyro.bias_instability_sigma_rad_per_s),
+        f64::to_bits(0.0)
+    );
+    assert_eq!(default.accelerometer.misalignment_rad, [[0.0; 3]; 3]);
+    assert_eq!(
+        f64::to_bits(default.accelerometer.bias_instability_sigma_mps2),
+        f64::to_bits(0.0)
+    );
+    // Absent (or zero) keys leave the Debug rendering, the campaign's scenario hash, as it was.
+    let rendering = format!("{default:?}");
+    for key in ["misalignment", "g_sensitivity", "bias_instability"] {
+        assert!(!rendering.contains(key), "{key}");
+    }
+    assert!(rendering.contains(
+        "GyroErrors { rate_noise_density_deg_per_h_per_sqrt_hz: 0.2, bias_rad_per_s: \
+         [0.0001, 0.0002, 0.0003], scale_factor: [3e-5, 3e-5, 3e-5], \
+         bias_random_walk_rad_per_s_per_sqrt_s: 0.0, quantum_rad: 0.0 }"
+    ));
+    assert!(rendering.contains(
+        "AccelerometerErrors { noise_per_sample_mps2: 0.0001, bias_mps2: [0.003, -0.002, \
+         0.001], scale_factor: [5e-5, -4e-5, 6e-5], bias_random_walk_mps2_per_sqrt_s: 0.0, \
+         quantum_mps: 0.0 }"
+    ));
+    let text = with_lines(
+        "quantum_rad = 0.0",
+        "misalignment_rad = [[0.0, 1.0e-5, -2.0e-5], [3.0e-5, 0.0, 0.0], [0.0, 0.0, 0.0]]\n\
+         g_sensitivity_rad_s_per_mps2 = [1.0e-6, 0.0, -2.0e-6]\n\
+         bias_instability_sigma_rad_per_s = 5.0e-8\n\
+         bias_instability_correlation_time_s = 600.0",
+    );
+    let text = text.replace(
+        "quantum_mps = 0.0",
+        "quantum_mps = 0.0\nmisalignment_rad = [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0e-4], \
+         [0.0, 0.0, 0.0]]\nbias_instability_sigma_mps2 = 1.0e-5\n\
+         bias_instability_correlation_time_s = 300.0",
+    );
+    let scenario = Scenario::from_toml_str(&text).unwrap();
+    assert_eq!(
+        f64::to_bits(scenario.gyro.misalignment_rad[0][2]),
+        f64::to_bits(-2.0e-5)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.misalignment_rad[1][0]),
+        f64::to_bits(3.0e-5)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.g_sensitivity_rad_s_per_mps2[2]),
+        f64::to_bits(-2.0e-6)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.gyro.bias_instability_correlation_time_s),
+        f64::to_bits(600.0)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.accelerometer.misalignment_rad[1][2]),
+        f64::to_bits(1.0e-4)
+    );
+    assert_eq!(
+        f64::to_bits(scenario.accelerometer.bias_instability_sigma_mps2),
+        f64::to_bits(1.0e-5)
+    );
+    let rendering = format!("{scenario:?}");
+    for key in [
+        "misalignment_rad: [[0.0, 1e-5, -2e-5]",
+        "g_sensitivity_rad_s_per_mps2: [1e-6, 0.0, -2e-6]",
+        "bias_instability_sigma_rad_per_s: 5e-8, bias_instability_correlation_time_s: 600.0",
+        "bias_instability_sigma_mps2: 1e-5, bias_instability_correlation_time_s: 300.0",
+    ] {
+        assert!(rendering.contains(key), "{key}: {rendering}");
+    }
+}
+
+#[test]
+fn out_of_range_imu_error_terms_are_refused_naming_the_key() {
+    let gyro = |extra: &str| invalid_key(&with_lines("quantum_rad = 0.0", extra));
+    let accelerometer = |extra: &str| invalid_key(&with_lines("quantum_mps = 0.0", extra));
+    assert_eq!(
+        gyro("misalignment_rad = [[0.0, 0.0, 0.0], [0.0, 1.0e-5, 0.0], [0.0, 0.0, 0.0]]"),
+        "gyro.misalignment_rad[1][1]"
+    );
+    assert_eq!(
+        gyro("misalignment_rad = [[0.0, 0.0, 0.02], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]"),
+        "gyro.misalignment_rad[0][2]"
+    );
+    assert_eq!(
+        accelerometer("misalignment_rad = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [nan, 0.0, 0.0]]"),
+        "accelerometer.misalignment_rad[2][0]"
+    );
+    assert_eq!(
+        gyro("g_sensitivity_rad_s_per_mps2 = [0.0, -2.0e-3, 0.0]"),
+        "gyro.g_sensitivity_rad_s_per_mps2[1]"
+    );
+    assert_eq!(
+        gyro("bias_instability_sigma_rad_per_s = -1.0e-6"),
+        "gyro.bias_instability_sigma_rad_per_s"
+    );
+    assert_eq!(
+        gyro("bias_instability_sigma_rad_per_s = 1.0e-6"),
+        "gyro.bias_instability_correlation_time_s"
+    );
+    assert_eq!(
+        accelerometer("bias_instability_sigma_mps2 = 1.0e200"),
+        "accelerometer.bias_instability_sigma_mps2"
+    );
+    assert_eq!(
+        accelerometer(
+            "bias_instability_sigma_mps2 = 1.0e-5\nbias_instability_correlation_time_s = -3.0"
+        ),
+        "accelerometer.bias_instability_correlation_time_s"
+    );
+    let text = with_lines(
+        "quantum_rad = 0.0",
+        "misalignment_rad = [[0.0, 0.0, 0.02], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]",
+    );
+    let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+    assert!(
+        message.contains("= 0.02 rad in magnitude is above the limit 0.01 rad"),
+        "{message}"
+    );
+    // The dispersion entries' widths.
+    let text = format!(
+        "{DEFAULT_SCENARIO_TOML}\n[dispersion]\n\
+         gyro_g_sensitivity_rad_s_per_mps2 = {{ kind = \"normal\", sigma = -1.0e-6 }}\n"
+    );
+    assert_eq!(
+        invalid_key(&text),
+        "dispersion.gyro_g_sensitivity_rad_s_per_mps2.sigma"
+    );
+    let text = format!(
+        "{DEFAULT_SCENARIO_TOML}\n[dispersion]\n\
+         accelerometer_misalignment_rad = {{ kind = \"uniform\", half_width = nan }}\n"
+    );
+    assert_eq!(
+        invalid_key(&text),
+        "dispersion.accelerometer_misalignment_rad.half_width"
+    );
+}

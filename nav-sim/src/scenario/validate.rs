@@ -5,8 +5,9 @@ use nav_fsw::config::FswConfig;
 
 use super::{
     dispersion, gnss_latency_violation, max_imu_rate_hz, number, Scenario, ScenarioError,
-    MAX_DURATION_S, MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS,
-    MAX_TRUTH_SUBSTEPS_PER_FRAME, SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
+    MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2, MAX_MISALIGNMENT_RAD,
+    MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS, MAX_TRUTH_SUBSTEPS_PER_FRAME,
+    SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
 };
 
 /// Collects the first violated rule while walking the scenario.
@@ -167,6 +168,77 @@ impl Checker<'_> {
 }
 
 impl Checker<'_> {
+    /// A triad's misalignment matrix: zero diagonal, off-diagonal terms finite and at most
+    /// [`MAX_MISALIGNMENT_RAD`] in magnitude.
+    fn misalignment(&self, key: &str, matrix: &[[f64; 3]; 3]) -> Result<(), ScenarioError> {
+        for (row, terms) in matrix.iter().enumerate() {
+            for (column, term) in terms.iter().enumerate() {
+                let key = format!("{key}[{row}][{column}]");
+                if row == column {
+                    if *term != 0.0 {
+                        return Err(self.fail(
+                            &key,
+                            &format!(
+                                "= {} must be 0 (the diagonal is the triad's scale_factor)",
+                                number(*term)
+                            ),
+                        ));
+                    }
+                } else {
+                    self.magnitude(
+                        &key,
+                        *term,
+                        MAX_MISALIGNMENT_RAD,
+                        " rad",
+                        MISALIGNMENT_REASON,
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `|value|` (finite) at most `limit`.
+    fn magnitude(
+        &self,
+        key: &str,
+        value: f64,
+        limit: f64,
+        unit: &str,
+        reason: &str,
+    ) -> Result<(), ScenarioError> {
+        let ok = value.is_finite() && value.abs() <= limit;
+        self.limit(
+            ok,
+            key,
+            value.abs(),
+            ("in magnitude is above", limit),
+            unit,
+            reason,
+        )
+    }
+
+    /// A bias instability: the 1σ 0 (off) or in [`SIGMA_RANGE`], and a positive correlation
+    /// time when it is on.
+    fn bias_instability(
+        &self,
+        (sigma_key, sigma): (&str, f64),
+        (time_key, correlation_time_s): (&str, f64),
+    ) -> Result<(), ScenarioError> {
+        self.sigma(sigma_key, sigma, true)?;
+        self.non_negative(time_key, correlation_time_s)?;
+        if sigma > 0.0 {
+            self.positive(time_key, correlation_time_s)?;
+        }
+        Ok(())
+    }
+}
+
+/// Why a misalignment term is at most [`MAX_MISALIGNMENT_RAD`] (the message's wording).
+const MISALIGNMENT_REASON: &str = "the model is the small-angle I + A; navigation-grade \
+                                   triads are 5-20 urad, tactical ones 100 urad and more";
+
+impl Checker<'_> {
     /// Every `[dispersion]` entry: a finite, non-negative width, and the latency within the
     /// flight software's limit together with `gnss.latency_s`.
     fn dispersion(
@@ -193,6 +265,15 @@ impl Checker<'_> {
             (
                 "gnss_correlation_time_percent",
                 dispersion.gnss_correlation_time_percent,
+            ),
+            ("gyro_misalignment_rad", dispersion.gyro_misalignment_rad),
+            (
+                "accelerometer_misalignment_rad",
+                dispersion.accelerometer_misalignment_rad,
+            ),
+            (
+                "gyro_g_sensitivity_rad_s_per_mps2",
+                dispersion.gyro_g_sensitivity_rad_s_per_mps2,
             ),
         ];
         for (name, distribution) in entries {
@@ -347,6 +428,26 @@ impl Scenario {
             true,
         )?;
         check.non_negative("gyro.quantum_rad", gyro.quantum_rad)?;
+        check.misalignment("gyro.misalignment_rad", &gyro.misalignment_rad)?;
+        for (axis, value) in gyro.g_sensitivity_rad_s_per_mps2.iter().enumerate() {
+            check.magnitude(
+                &format!("gyro.g_sensitivity_rad_s_per_mps2[{axis}]"),
+                *value,
+                MAX_G_SENSITIVITY_RAD_S_PER_MPS2,
+                " rad/s per m/s^2",
+                "about 2000 deg/h/g; navigation-grade gyros have 0.1-10 deg/h/g",
+            )?;
+        }
+        check.bias_instability(
+            (
+                "gyro.bias_instability_sigma_rad_per_s",
+                gyro.bias_instability_sigma_rad_per_s,
+            ),
+            (
+                "gyro.bias_instability_correlation_time_s",
+                gyro.bias_instability_correlation_time_s,
+            ),
+        )?;
 
         let accelerometer = &self.accelerometer;
         check.sigma(
@@ -362,6 +463,20 @@ impl Scenario {
             true,
         )?;
         check.non_negative("accelerometer.quantum_mps", accelerometer.quantum_mps)?;
+        check.misalignment(
+            "accelerometer.misalignment_rad",
+            &accelerometer.misalignment_rad,
+        )?;
+        check.bias_instability(
+            (
+                "accelerometer.bias_instability_sigma_mps2",
+                accelerometer.bias_instability_sigma_mps2,
+            ),
+            (
+                "accelerometer.bias_instability_correlation_time_s",
+                accelerometer.bias_instability_correlation_time_s,
+            ),
+        )?;
 
         let star = &self.star_sensor;
         check.positive("star_sensor.rate_hz", star.rate_hz)?;

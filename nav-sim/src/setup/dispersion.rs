@@ -4,7 +4,8 @@
 //! Every entry changes what the simulated vehicle and sensors do, never what the flight
 //! software is configured with, so a dispersion is a model mismatch the campaign measures.
 //! Each entry draws from its own random stream of the run's seed
-//! ([`Stream::Dispersion`] with the entry's index in [`ENTRY_KEYS`]): a run's draws depend
+//! ([`Stream::Dispersion`] with the entry's index in
+//! [`ENTRY_KEYS`](crate::scenario::dispersion::ENTRY_KEYS)): a run's draws depend
 //! only on its seed and the table, so run k alone reproduces run k of a campaign, and adding
 //! or removing one entry leaves the others' draws unchanged.
 
@@ -14,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution as _, StandardNormal};
 
 use crate::scenario::dispersion::{
-    Dispersion, Distribution, ENTRY_KEYS, MIN_CORRELATION_TIME_FACTOR,
+    Dispersion, Distribution, GNSS_LATENCY_ENTRY, MIN_CORRELATION_TIME_FACTOR,
 };
 use crate::scenario::Scenario;
 use crate::setup::streams::{self, Stream};
@@ -45,7 +46,16 @@ pub struct Draw {
     pub gnss_correlation_time_percent: f64,
     /// Added GNSS latency (IMU frames).
     pub gnss_latency_frames: u32,
+    /// Added gyro misalignment terms `a01, a02, a10, a12, a20, a21` (rad).
+    pub gyro_misalignment_rad: [f64; 6],
+    /// Added accelerometer misalignment terms, same order (rad).
+    pub accelerometer_misalignment_rad: [f64; 6],
+    /// Added gyro g-sensitivity per axis (rad/s per m/s²).
+    pub gyro_g_sensitivity_rad_s_per_mps2: [f64; 3],
 }
+
+/// The off-diagonal `(row, column)` pairs of a misalignment matrix, in draw order.
+pub const OFF_DIAGONAL: [(usize, usize); 6] = [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)];
 
 fn stream(seed: u64, entry: usize) -> ChaCha8Rng {
     streams::rng(seed, Stream::Dispersion { entry })
@@ -72,6 +82,13 @@ fn draw3(distribution: Option<&Distribution>, seed: u64, entry: usize) -> [f64; 
     })
 }
 
+fn draw6(distribution: Option<&Distribution>, seed: u64, entry: usize) -> [f64; 6] {
+    distribution.map_or([0.0; 6], |distribution| {
+        let mut rng = stream(seed, entry);
+        [0; 6].map(|_| sample(distribution, &mut rng))
+    })
+}
+
 fn draw1(distribution: Option<&Distribution>, seed: u64, entry: usize) -> f64 {
     distribution.map_or(0.0, |distribution| {
         sample(distribution, &mut stream(seed, entry))
@@ -80,7 +97,6 @@ fn draw1(distribution: Option<&Distribution>, seed: u64, entry: usize) -> f64 {
 
 /// The values the run with `seed` draws from `dispersion`.
 pub fn draw(dispersion: &Dispersion, seed: u64) -> Draw {
-    let latency_entry = ENTRY_KEYS.len() - 1;
     Draw {
         initial_attitude_deg: draw3(dispersion.initial_attitude_deg.as_ref(), seed, 0),
         initial_position_m: draw3(dispersion.initial_position_m.as_ref(), seed, 1),
@@ -105,8 +121,19 @@ pub fn draw(dispersion: &Dispersion, seed: u64) -> Draw {
             9,
         ),
         gnss_latency_frames: dispersion.gnss_latency_frames.map_or(0, |frames| {
-            stream(seed, latency_entry).random_range(0..=frames)
+            stream(seed, GNSS_LATENCY_ENTRY).random_range(0..=frames)
         }),
+        gyro_misalignment_rad: draw6(dispersion.gyro_misalignment_rad.as_ref(), seed, 11),
+        accelerometer_misalignment_rad: draw6(
+            dispersion.accelerometer_misalignment_rad.as_ref(),
+            seed,
+            12,
+        ),
+        gyro_g_sensitivity_rad_s_per_mps2: draw3(
+            dispersion.gyro_g_sensitivity_rad_s_per_mps2.as_ref(),
+            seed,
+            13,
+        ),
     }
 }
 
@@ -116,7 +143,8 @@ fn factor(percent: f64, floor: f64) -> f64 {
 }
 
 /// The truth side of the run with `seed`: `scenario` (already seeded for the run) with the
-/// drawn noise levels, star mounting, correlated GNSS error and latency. The flight software's
+/// drawn noise levels, star mounting, correlated GNSS error, latency, IMU misalignments and
+/// gyro g-sensitivity. The flight software's
 /// configuration is made from the undispersed scenario, so these are model mismatches. Without
 /// a `[dispersion]` table the scenario is returned unchanged.
 pub fn truth_scenario(scenario: &Scenario, seed: u64) -> Scenario {
@@ -143,6 +171,22 @@ pub fn truth_scenario(scenario: &Scenario, seed: u64) -> Scenario {
         MIN_CORRELATION_TIME_FACTOR,
     );
     truth.gnss.latency_s += f64::from(draw.gnss_latency_frames) * scenario.imu.frame_period_s();
+    for ((row, column), (gyro, accelerometer)) in OFF_DIAGONAL.into_iter().zip(
+        draw.gyro_misalignment_rad
+            .into_iter()
+            .zip(draw.accelerometer_misalignment_rad),
+    ) {
+        truth.gyro.misalignment_rad[row][column] += gyro;
+        truth.accelerometer.misalignment_rad[row][column] += accelerometer;
+    }
+    for (sensitivity, added) in truth
+        .gyro
+        .g_sensitivity_rad_s_per_mps2
+        .iter_mut()
+        .zip(draw.gyro_g_sensitivity_rad_s_per_mps2)
+    {
+        *sensitivity += added;
+    }
     truth
 }
 
@@ -180,4 +224,82 @@ pub fn flight_config(
         config.timing.max_latency_s = config.timing.max_latency_s.max(window_s);
     }
     Ok(config)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The new IMU entries draw from their own streams: the old entries' draws (the
+    /// latency's stream among them) are bit for bit what they are without them.
+    #[test]
+    fn the_imu_entries_leave_the_other_entries_draws_unchanged() {
+        let normal = Some(Distribution::Normal { sigma: 1.0 });
+        let old = Dispersion {
+            initial_attitude_deg: normal,
+            gyro_noise_percent: normal,
+            star_mounting_deg: Some(Distribution::Uniform { half_width: 0.1 }),
+            gnss_correlation_time_percent: normal,
+            gnss_latency_frames: Some(50),
+            ..Dispersion::default()
+        };
+        let with_imu = Dispersion {
+            gyro_misalignment_rad: Some(Distribution::Normal { sigma: 2.0e-5 }),
+            accelerometer_misalignment_rad: Some(Distribution::Uniform { half_width: 1.0e-4 }),
+            gyro_g_sensitivity_rad_s_per_mps2: Some(Distribution::Normal { sigma: 1.0e-6 }),
+            ..old.clone()
+        };
+        let mut scenario = Scenario::default_scenario().unwrap();
+        scenario.gyro.misalignment_rad[0][1] = 1.0e-5;
+        for seed in [1, 2, 3] {
+            let (before, after) = (draw(&old, seed), draw(&with_imu, seed));
+            let undispersed_imu = Draw {
+                gyro_misalignment_rad: [0.0; 6],
+                accelerometer_misalignment_rad: [0.0; 6],
+                gyro_g_sensitivity_rad_s_per_mps2: [0.0; 3],
+                ..after
+            };
+            assert_eq!(format!("{before:?}"), format!("{undispersed_imu:?}"));
+            assert_eq!(before, undispersed_imu);
+            assert!(after.gyro_misalignment_rad.iter().all(|term| *term != 0.0));
+            assert!(after
+                .accelerometer_misalignment_rad
+                .iter()
+                .all(|term| term.abs() <= 1.0e-4 && *term != 0.0));
+            assert!(before.gyro_misalignment_rad.iter().all(|term| *term == 0.0));
+
+            scenario.dispersion = Some(with_imu.clone());
+            let truth = truth_scenario(&scenario, seed);
+            for (index, (row, column)) in OFF_DIAGONAL.into_iter().enumerate() {
+                let base = if (row, column) == (0, 1) { 1.0e-5 } else { 0.0 };
+                assert_eq!(
+                    truth.gyro.misalignment_rad[row][column].to_bits(),
+                    (base + after.gyro_misalignment_rad[index]).to_bits()
+                );
+                assert_eq!(
+                    truth.accelerometer.misalignment_rad[row][column].to_bits(),
+                    after.accelerometer_misalignment_rad[index].to_bits()
+                );
+            }
+            for axis in 0..3 {
+                assert_eq!(truth.gyro.misalignment_rad[axis][axis].to_bits(), 0);
+                assert_eq!(
+                    truth.gyro.g_sensitivity_rad_s_per_mps2[axis].to_bits(),
+                    after.gyro_g_sensitivity_rad_s_per_mps2[axis].to_bits()
+                );
+            }
+            // Without the IMU entries the truth's IMU is the scenario's, bit for bit.
+            scenario.dispersion = Some(old.clone());
+            let truth = truth_scenario(&scenario, seed);
+            assert_eq!(truth.gyro.misalignment_rad, scenario.gyro.misalignment_rad);
+            assert_eq!(
+                truth.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits),
+                scenario.gyro.g_sensitivity_rad_s_per_mps2.map(f64::to_bits)
+            );
+            assert_eq!(
+                truth.accelerometer.misalignment_rad,
+                scenario.accelerometer.misalignment_rad
+            );
+        }
+    }
 }

@@ -25,6 +25,10 @@ pub enum Stream {
     GnssCorrelated,
     /// GNSS velocity noise (drawn only when the receiver outputs velocity).
     GnssVelocity,
+    /// The gyro bias instability (first-order Gauss–Markov bias; drawn only when it is on).
+    GyroBiasInstability,
+    /// The accelerometer bias instability (drawn only when it is on).
+    AccelBiasInstability,
     /// The initial navigation error drawn from the filter's initial 1σ.
     InitialError,
     /// The sensor-error truth drawn from the filter's prior for a Monte Carlo run.
@@ -52,6 +56,8 @@ impl Stream {
             Self::Gnss => 6,
             Self::GnssCorrelated => 7,
             Self::GnssVelocity => 8,
+            Self::GyroBiasInstability => 9,
+            Self::AccelBiasInstability => 10,
             Self::InitialError => 100,
             Self::TruthDraw => 101,
             // Entry indices are below ENTRY_KEYS.len(), far inside u64.
@@ -83,6 +89,8 @@ mod tests {
             Stream::Gnss,
             Stream::GnssCorrelated,
             Stream::GnssVelocity,
+            Stream::GyroBiasInstability,
+            Stream::AccelBiasInstability,
             Stream::InitialError,
             Stream::TruthDraw,
         ];

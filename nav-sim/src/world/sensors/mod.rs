@@ -15,7 +15,8 @@
 //! 1e-4 m/s² is a per-sample specific-force σ held over the frame (`σ_Δv = σ_a T`); see the
 //! default scenario for why. Optional: bias random walk `b_{k+1} = b_k + σ_rw √T w_k` (the
 //! bias of frame `k` is `b_k`), and output quantisation with the residual carried to the next
-//! frame (as pulse-output IMUs do), so no error accumulates.
+//! frame (as pulse-output IMUs do), so no error accumulates. Optional too: misalignment,
+//! gyro g-sensitivity and bias instability, entering before the bias (`imu_errors.rs`).
 //!
 //! ## Star sensor
 //! `q_is,m = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(n)`, `n ~ N(0, σ_s² I)` a small rotation in sensor axes,
@@ -50,6 +51,7 @@ use crate::scenario::{frames_in, Scenario};
 use crate::setup::launch::Launch;
 use crate::setup::streams::{self, Stream};
 use crate::world::truth::TruthFrame;
+use imu_errors::TriadExtras;
 
 /// One sensor output, in delivery order.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -235,20 +237,40 @@ struct TriadModel {
     /// carried forward).
     continuous_total: Vector3<f64>,
     quantised_total: Vector3<f64>,
+    /// Misalignment, g-sensitivity and bias instability ([`imu_errors`]); `None` when all
+    /// are off, and then the measurement is the paper's model alone, bit for bit.
+    extras: Option<TriadExtras>,
 }
 
 impl TriadModel {
-    fn measure(&mut self, true_increment: &Vector3<f64>, interval_s: f64) -> Vector3<f64> {
+    /// The measured increment for the true `true_increment` (and, for the gyro's
+    /// g-sensitivity, the true velocity increment `specific_force_increment`).
+    fn measure(
+        &mut self,
+        true_increment: &Vector3<f64>,
+        specific_force_increment: &Vector3<f64>,
+        interval_s: f64,
+    ) -> Vector3<f64> {
         let noise = if self.increment_noise_sigma > 0.0 {
             normal3(&mut self.noise_rng) * self.increment_noise_sigma
         } else {
             Vector3::zeros()
         };
-        let perturbed = true_increment + self.bias * interval_s + noise;
+        let perturbed = match &self.extras {
+            None => true_increment + self.bias * interval_s + noise,
+            Some(extras) => {
+                extras.sensed(true_increment, specific_force_increment, interval_s)
+                    + self.bias * interval_s
+                    + noise
+            }
+        };
         let measured = perturbed.component_div(&(Vector3::repeat(1.0) - self.scale_factor));
         if self.bias_walk_per_sqrt_s > 0.0 {
             self.bias +=
                 normal3(&mut self.bias_walk_rng) * (self.bias_walk_per_sqrt_s * interval_s.sqrt());
+        }
+        if let Some(extras) = &mut self.extras {
+            extras.advance(interval_s);
         }
         if self.quantum > 0.0 {
             self.continuous_total += measured;
@@ -259,6 +281,17 @@ impl TriadModel {
             output
         } else {
             measured
+        }
+    }
+}
+
+impl TriadModel {
+    /// The bias of the next frame: the constant (and random-walk) part plus the bias
+    /// instability's, when that is on.
+    fn total_bias(&self) -> Vector3<f64> {
+        match self.extras.as_ref().and_then(TriadExtras::instability_bias) {
+            Some(instability) => self.bias + instability,
+            None => self.bias,
         }
     }
 }
@@ -333,6 +366,15 @@ impl SensorSimulator {
                 bias_walk_rng: streams::rng(seed, Stream::GyroBiasWalk),
                 continuous_total: Vector3::zeros(),
                 quantised_total: Vector3::zeros(),
+                extras: TriadExtras::new(
+                    &gyro.misalignment_rad,
+                    &gyro.g_sensitivity_rad_s_per_mps2,
+                    (
+                        gyro.bias_instability_sigma_rad_per_s,
+                        gyro.bias_instability_correlation_time_s,
+                    ),
+                    || streams::rng(seed, Stream::GyroBiasInstability),
+                ),
             },
             accelerometer: TriadModel {
                 bias: vector(accelerometer.bias_mps2),
@@ -344,6 +386,15 @@ impl SensorSimulator {
                 bias_walk_rng: streams::rng(seed, Stream::AccelBiasWalk),
                 continuous_total: Vector3::zeros(),
                 quantised_total: Vector3::zeros(),
+                extras: TriadExtras::new(
+                    &accelerometer.misalignment_rad,
+                    &[0.0; 3],
+                    (
+                        accelerometer.bias_instability_sigma_mps2,
+                        accelerometer.bias_instability_correlation_time_s,
+                    ),
+                    || streams::rng(seed, Stream::AccelBiasInstability),
+                ),
             },
             star_mounting_q_bs: exp_rotation_vector(&Vector3::new(
                 mount_x.to_radians(),
@@ -378,12 +429,13 @@ impl SensorSimulator {
         }
     }
 
-    /// The true sensor errors now (biases change only with a bias random walk).
+    /// The true sensor errors now (biases change only with a bias random walk or a bias
+    /// instability; the bias is the sum of both, the one of the next frame).
     pub fn error_truth(&self) -> SensorErrorTruth {
         SensorErrorTruth {
-            gyro_bias_rad_per_s: self.gyro.bias,
+            gyro_bias_rad_per_s: self.gyro.total_bias(),
             gyro_scale_factor: self.gyro.scale_factor,
-            accel_bias_mps2: self.accelerometer.bias,
+            accel_bias_mps2: self.accelerometer.total_bias(),
             accel_scale_factor: self.accelerometer.scale_factor,
             star_installation_q_psi: self.star_installation_q_psi,
             star_mounting_q_bs: self.star_mounting_q_bs,
@@ -405,10 +457,16 @@ impl SensorSimulator {
             frame_index: truth.frame_index,
             time_s: truth.time_s,
             interval_s,
-            delta_angle_rad: self.gyro.measure(&truth.delta_angle_rad, interval_s),
-            delta_velocity_mps: self
-                .accelerometer
-                .measure(&truth.delta_velocity_mps, interval_s),
+            delta_angle_rad: self.gyro.measure(
+                &truth.delta_angle_rad,
+                &truth.delta_velocity_mps,
+                interval_s,
+            ),
+            delta_velocity_mps: self.accelerometer.measure(
+                &truth.delta_velocity_mps,
+                &truth.delta_velocity_mps,
+                interval_s,
+            ),
         });
 
         let frames_elapsed = truth.frame_index + 1;
@@ -546,5 +604,8 @@ impl GaussMarkov {
     }
 }
 
+mod imu_errors;
+#[cfg(test)]
+mod imu_errors_tests;
 #[cfg(test)]
 mod tests;
