@@ -1,8 +1,9 @@
-//! The `Debug` renderings of the IMU triads' settings: the optional misalignment,
-//! g-sensitivity and bias-instability terms are left out while zero, so a scenario without
-//! them renders, and hashes (the campaign's `scenario_hash`), as it did before they existed.
+//! The `Debug` renderings of the IMU triads' settings and of the filter's: the optional
+//! misalignment, g-sensitivity and bias-instability terms are left out while zero, so a
+//! scenario without them renders, and hashes (the campaign's `scenario_hash`), as it did
+//! before they existed.
 
-use super::{AccelerometerErrors, GyroErrors};
+use super::{AccelerometerErrors, FilterSettings, GyroErrors};
 
 /// Adds the optional IMU error terms to a triad's `Debug` rendering, each only when
 /// non-zero (the misalignment matrix, the g-sensitivity, the bias instability's pair).
@@ -97,5 +98,23 @@ impl AccelerometerErrors {
     /// interval `interval_s`, the form a continuous-time filter model uses.
     pub fn noise_density_mps2_per_sqrt_hz(&self, interval_s: f64) -> f64 {
         self.noise_per_sample_mps2 * interval_s.sqrt()
+    }
+}
+
+impl std::fmt::Debug for FilterSettings {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut debug = formatter.debug_struct("FilterSettings");
+        debug
+            .field("mode", &self.mode)
+            .field("discretisation_order", &self.discretisation_order)
+            .field("initial_sigma", &self.initial_sigma)
+            .field("nis_gate", &self.nis_gate)
+            .field("gnss_correlated_sigma_m", &self.gnss_correlated_sigma_m)
+            .field("gnss_correlation_time_s", &self.gnss_correlation_time_s)
+            .field("gnss_noise_m", &self.gnss_noise_m);
+        if self.bias_instability.is_on() {
+            debug.field("bias_instability", &self.bias_instability);
+        }
+        debug.finish()
     }
 }

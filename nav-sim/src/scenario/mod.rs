@@ -537,7 +537,10 @@ pub enum FilterMode {
 }
 
 /// Filter settings (placeholders for the 24-state filter).
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+///
+/// `Debug` is written out in `debug.rs`: `bias_instability` renders only when it is on, so a
+/// scenario without it hashes as before the table existed.
+#[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilterSettings {
     /// Open- or closed-loop.
@@ -560,6 +563,45 @@ pub struct FilterSettings {
     /// simulated receiver's `[gnss] noise_m` (a study of a mis-specified filter sets it).
     #[serde(default)]
     pub gnss_noise_m: Option<f64>,
+    /// The IMU bias instability the filter assumes (`[filter.bias_instability]`); absent =
+    /// constant biases (beside any configured random walk), the paper's model.
+    #[serde(default)]
+    pub bias_instability: FilterBiasInstability,
+}
+
+/// The bias instability the filter accounts for in its process noise: a first-order
+/// Gauss–Markov bias per axis of stationary 1σ `σ` and correlation time `τ`, whose driving
+/// noise density `√(2σ²/τ)` is added to the bias random walk (`setup::fsw`, docs/model.md,
+/// "Bias instability in the filter"). Every key defaults to 0 (off).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterBiasInstability {
+    /// Gyro bias instability, stationary 1σ per axis (rad/s); 0 = off.
+    #[serde(default)]
+    pub gyro_sigma_rad_per_s: f64,
+    /// Its correlation time τ (s), > 0 when the 1σ is on.
+    #[serde(default)]
+    pub gyro_correlation_time_s: f64,
+    /// Accelerometer bias instability, stationary 1σ per axis (m/s²); 0 = off.
+    #[serde(default)]
+    pub accel_sigma_mps2: f64,
+    /// Its correlation time τ (s), > 0 when the 1σ is on.
+    #[serde(default)]
+    pub accel_correlation_time_s: f64,
+}
+
+impl FilterBiasInstability {
+    /// Whether any term is set (the table renders in `Debug` only then).
+    pub fn is_on(&self) -> bool {
+        [
+            self.gyro_sigma_rad_per_s,
+            self.gyro_correlation_time_s,
+            self.accel_sigma_mps2,
+            self.accel_correlation_time_s,
+        ]
+        .iter()
+        .any(|value| *value != 0.0)
+    }
 }
 
 /// Initial 1σ of each error-state block (paper eq. 15 order). All must be > 0.

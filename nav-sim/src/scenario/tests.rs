@@ -318,3 +318,51 @@ fn out_of_range_imu_error_terms_are_refused_naming_the_key() {
         "dispersion.accelerometer_misalignment_rad.half_width"
     );
 }
+
+#[test]
+fn the_filters_bias_instability_parses_renders_only_when_on_and_is_validated() {
+    let default = Scenario::default_scenario().unwrap();
+    assert!(!default.filter.bias_instability.is_on());
+    assert!(!format!("{default:?}").contains("bias_instability:"));
+    let table =
+        |lines: &str| format!("{DEFAULT_SCENARIO_TOML}\n[filter.bias_instability]\n{lines}");
+    let scenario = Scenario::from_toml_str(&table(
+        "gyro_sigma_rad_per_s = 1.0e-6\ngyro_correlation_time_s = 600.0",
+    ))
+    .unwrap();
+    let instability = scenario.filter.bias_instability;
+    assert!(instability.is_on());
+    assert_eq!(
+        [
+            instability.gyro_sigma_rad_per_s,
+            instability.gyro_correlation_time_s,
+            instability.accel_sigma_mps2,
+        ]
+        .map(f64::to_bits),
+        [1.0e-6, 600.0, 0.0].map(f64::to_bits)
+    );
+    assert!(format!("{scenario:?}").contains(
+        "bias_instability: FilterBiasInstability { gyro_sigma_rad_per_s: 1e-6, \
+         gyro_correlation_time_s: 600.0"
+    ));
+    for (lines, key) in [
+        (
+            "gyro_sigma_rad_per_s = 1.0e-6",
+            "filter.bias_instability.gyro_correlation_time_s",
+        ),
+        (
+            "accel_sigma_mps2 = -1.0e-5\naccel_correlation_time_s = 60.0",
+            "filter.bias_instability.accel_sigma_mps2",
+        ),
+        (
+            "accel_correlation_time_s = -60.0",
+            "filter.bias_instability.accel_correlation_time_s",
+        ),
+        (
+            "gyro_sigma_rad_per_s = 1.0e200\ngyro_correlation_time_s = 60.0",
+            "filter.bias_instability.gyro_sigma_rad_per_s",
+        ),
+    ] {
+        assert_eq!(invalid_key(&table(lines)), key, "{lines}");
+    }
+}

@@ -636,6 +636,33 @@ impl Scenario {
         if let Some(noise_m) = filter.gnss_noise_m {
             check.sigma("filter.gnss_noise_m", noise_m, false)?;
         }
+        let instability = &filter.bias_instability;
+        for (sensor, sigma, correlation_time_s) in [
+            (
+                "gyro",
+                instability.gyro_sigma_rad_per_s,
+                instability.gyro_correlation_time_s,
+            ),
+            (
+                "accel",
+                instability.accel_sigma_mps2,
+                instability.accel_correlation_time_s,
+            ),
+        ] {
+            let unit = if sensor == "gyro" {
+                "rad_per_s"
+            } else {
+                "mps2"
+            };
+            let key = format!("filter.bias_instability.{sensor}_sigma_{unit}");
+            check.sigma(&key, sigma, true)?;
+            let key = format!("filter.bias_instability.{sensor}_correlation_time_s");
+            if sigma > 0.0 {
+                check.positive(&key, correlation_time_s)?;
+            } else {
+                check.non_negative(&key, correlation_time_s)?;
+            }
+        }
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }

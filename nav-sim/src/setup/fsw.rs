@@ -187,13 +187,39 @@ fn initial_navigation(scenario: &Scenario, truth_start: &TruthState) -> Navigati
 /// [`crate::scenario::AccelerometerErrors::noise_density_mps2_per_sqrt_hz`]), and the bias
 /// random walks.
 pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
+    let instability = &scenario.filter.bias_instability;
     ProcessNoise {
         gyro_noise_density_rad_s_per_sqrt_hz: scenario.gyro.rate_noise_density_rad_per_sqrt_s(),
         accel_noise_density_mps2_per_sqrt_hz: scenario
             .accelerometer
             .noise_density_mps2_per_sqrt_hz(scenario.imu.frame_period_s()),
-        gyro_bias_walk_rad_s2_per_sqrt_hz: scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
-        accel_bias_walk_mps3_per_sqrt_hz: scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s,
+        gyro_bias_walk_rad_s2_per_sqrt_hz: with_bias_instability(
+            scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
+            instability.gyro_sigma_rad_per_s,
+            instability.gyro_correlation_time_s,
+        ),
+        accel_bias_walk_mps3_per_sqrt_hz: with_bias_instability(
+            scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s,
+            instability.accel_sigma_mps2,
+            instability.accel_correlation_time_s,
+        ),
+    }
+}
+
+/// The bias random-walk density the filter uses for a walk of density `walk` plus a
+/// first-order Gauss–Markov bias of stationary 1σ `sigma` and correlation time `tau_s`:
+/// `√(walk² + 2σ²/τ)`. The Gauss–Markov bias is driven by white noise of density
+/// `√(2σ²/τ)` (`ḃ = −b/τ + w`, stationary variance `qτ/2 = σ²`); a random walk driven by
+/// the same noise grows its variance as `q t = 2σ² t/τ`, never less than the Gauss–Markov
+/// change `2σ²(1 − e^(−t/τ))` over any interval `t`, so the walk bounds the bias's wander
+/// from the prior at every time: conservative, at the cost of an unbounded growth over
+/// flights much longer than `τ` (docs/model.md, "Bias instability in the filter"). With the
+/// instability off the walk is returned unchanged (the paper's model keeps its bits).
+fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
+    if sigma > 0.0 && tau_s > 0.0 {
+        nav_core::float::sqrt(walk * walk + 2.0 * sigma * sigma / tau_s)
+    } else {
+        walk
     }
 }
 
@@ -228,4 +254,56 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
             correlation_time_s: settings.gnss_correlation_time_s,
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Off, the walk keeps its bits; on, the density is `√(walk² + 2σ²/τ)`, and its variance
+    /// growth bounds the Gauss–Markov bias's change over every interval.
+    #[test]
+    fn bias_instability_adds_its_driving_noise_to_the_walk() {
+        for walk in [0.0, 3.0e-9, 1.0e-7] {
+            assert_eq!(
+                with_bias_instability(walk, 0.0, 600.0).to_bits(),
+                walk.to_bits()
+            );
+            assert_eq!(
+                with_bias_instability(walk, 1.0e-6, 0.0).to_bits(),
+                walk.to_bits()
+            );
+        }
+        let (sigma, tau_s) = (1.0e-6, 600.0);
+        let density = with_bias_instability(0.0, sigma, tau_s);
+        assert!((density - (2.0 * 1.0e-12 / 600.0_f64).sqrt()).abs() < 1e-22);
+        let combined = with_bias_instability(3.0e-8, sigma, tau_s);
+        assert!((combined * combined - (9.0e-16 + 2.0e-12 / 600.0)).abs() < 1e-28);
+        for t_s in [1.0, 60.0, 600.0, 6000.0] {
+            let gauss_markov_change = 2.0 * sigma * sigma * (1.0 - (-t_s / tau_s).exp());
+            assert!(density * density * t_s >= gauss_markov_change, "{t_s}");
+        }
+    }
+
+    /// The scenario's `[filter.bias_instability]` reaches the filter's process noise; the
+    /// default scenario's process noise is the truth's random walks (0) unchanged.
+    #[test]
+    fn the_scenarios_bias_instability_reaches_the_process_noise() {
+        let default = Scenario::default_scenario().unwrap();
+        let noise = scenario_process_noise(&default);
+        assert_eq!(
+            noise.gyro_bias_walk_rad_s2_per_sqrt_hz.to_bits(),
+            0.0f64.to_bits()
+        );
+        let mut scenario = default.clone();
+        scenario.filter.bias_instability.accel_sigma_mps2 = 2.0e-5;
+        scenario.filter.bias_instability.accel_correlation_time_s = 300.0;
+        let noise = scenario_process_noise(&scenario);
+        let expected = (2.0 * 4.0e-10 / 300.0_f64).sqrt();
+        assert!((noise.accel_bias_walk_mps3_per_sqrt_hz - expected).abs() < 1e-15 * expected);
+        assert_eq!(
+            noise.gyro_bias_walk_rad_s2_per_sqrt_hz.to_bits(),
+            0.0f64.to_bits()
+        );
+    }
 }
