@@ -58,6 +58,21 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub position_error_m: f64,
     /// The run's consistency over time ([`over_time`]; empty when not recorded).
     pub over_time: Vec<OverTimeSample>,
+    /// The flight software's health counters at the end of the run, the non-zero ones by
+    /// name (`nav_fsw::health::HealthCounters::named`).
+    pub health: std::collections::BTreeMap<String, u32>,
+}
+
+/// The non-zero counters of `health`, by name.
+pub fn non_zero_counters(
+    health: &nav_fsw::health::HealthCounters,
+) -> std::collections::BTreeMap<String, u32> {
+    health
+        .named()
+        .iter()
+        .filter(|(_, value)| *value != 0)
+        .map(|(name, value)| ((*name).to_string(), *value))
+        .collect()
 }
 
 impl RunOutcome {
@@ -74,6 +89,7 @@ impl RunOutcome {
                 nalgebra::Vector3::from(sample.position_error_m).norm()
             }),
             over_time: over_time(&result.samples),
+            health: non_zero_counters(&result.health),
         }
     }
 }
@@ -639,6 +655,7 @@ mod tests {
                     gnss_nis: crate::harness::flight::NisSum::default(),
                     position_error_m: 0.0,
                     over_time: Vec::new(),
+                    health: std::collections::BTreeMap::new(),
                 }
             })
             .collect()

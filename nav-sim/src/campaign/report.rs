@@ -1,6 +1,6 @@
 //! The report of a campaign, flown in one process or merged from shards: the Monte Carlo
-//! summary, percentiles of the final errors and the runs outside 3σ with their re-run
-//! commands, as text and as JSON.
+//! summary, percentiles of the final errors, the runs outside 3σ with their re-run commands
+//! and the health counters the runs raised, as text and as JSON.
 
 use std::fmt::Write as _;
 
@@ -71,6 +71,39 @@ pub struct Outlier {
     pub command: String,
 }
 
+/// One health counter over a campaign's runs (only counters non-zero in some run).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CounterOverRuns {
+    /// The counter's name (`nav_fsw::health::HealthCounters::named`).
+    pub counter: String,
+    /// The runs that ended with it non-zero.
+    pub runs: usize,
+    /// Its largest final value over the runs.
+    pub max: u32,
+    /// The sum of its final values over the runs (saturating).
+    pub total: u64,
+}
+
+/// The health counters non-zero in some run of `outcomes`, by name.
+pub fn counters_over_runs(outcomes: &[RunOutcome]) -> Vec<CounterOverRuns> {
+    let mut counters: std::collections::BTreeMap<&str, CounterOverRuns> = Default::default();
+    for (name, &value) in outcomes.iter().flat_map(|outcome| &outcome.health) {
+        let entry = counters.entry(name).or_insert_with(|| CounterOverRuns {
+            counter: name.clone(),
+            runs: 0,
+            max: 0,
+            total: 0,
+        });
+        entry.runs += usize::from(value != 0);
+        entry.max = entry.max.max(value);
+        entry.total = entry.total.saturating_add(u64::from(value));
+    }
+    counters
+        .into_values()
+        .filter(|entry| entry.runs > 0)
+        .collect()
+}
+
 /// The report of a campaign: the Monte Carlo summary, percentiles of the final errors and the
 /// runs outside 3σ.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,6 +118,8 @@ pub struct CampaignReport {
     pub outlier_nees_bound: f64,
     /// The runs outside 3σ, in run order.
     pub outliers: Vec<Outlier>,
+    /// The health counters non-zero in some run, by name: how many runs raised each.
+    pub health: Vec<CounterOverRuns>,
 }
 
 /// A path for a shell command line: as is if it needs no quoting, else in single quotes.
@@ -172,6 +207,7 @@ impl CampaignReport {
             position_error_percentiles,
             outlier_nees_bound,
             outliers,
+            health: counters_over_runs(&outcomes),
         })
     }
 
@@ -255,15 +291,40 @@ impl CampaignReport {
                 outlier.command
             );
         }
+        let _ = writeln!(text, "{}", self.health_text());
         text
+    }
+
+    /// The health counters over the runs as a table (counter, runs that raised it, largest
+    /// and total final value), or a line saying none was raised.
+    fn health_text(&self) -> String {
+        let runs = self.summary.runs;
+        if self.health.is_empty() {
+            return format!("health counters: none raised in {runs} runs");
+        }
+        let mut table = Table::new();
+        table
+            .load_preset(UTF8_FULL_CONDENSED)
+            .set_header(["counter", "runs", "max", "total"]);
+        let right = |value: String| Cell::new(value).set_alignment(CellAlignment::Right);
+        for entry in &self.health {
+            table.add_row([
+                Cell::new(&entry.counter),
+                right(format!("{} of {runs}", entry.runs)),
+                right(entry.max.to_string()),
+                right(entry.total.to_string()),
+            ]);
+        }
+        format!("health counters raised (final values over {runs} runs):\n{table}")
     }
 
     /// The report as one JSON object: the summary's (`runs`, `nees_mean`,
     /// `nees_interval_95`, `states` with `rms_error` and `mean_sigma`), each state with
     /// `abs_error_percentiles` `{p50, p95, p99}` (report units), `position_error_m_percentiles`,
     /// `star_nis` and `gnss_nis` (`{average, interval_95, updates}` or null),
-    /// `outlier_nees_bound` and `outliers` (`[{run, seed, nees, states: [{parameter, axis,
-    /// error_over_sigma}], command}]`).
+    /// `outlier_nees_bound`, `outliers` (`[{run, seed, nees, states: [{parameter, axis,
+    /// error_over_sigma}], command}]`) and `health` (`[{counter, runs, max, total}]`, the
+    /// counters non-zero in some run).
     ///
     /// # Errors
     /// A serialisation error (none expected).
@@ -328,6 +389,19 @@ impl CampaignReport {
             object.insert("gnss_nis".into(), nis(&self.summary.gnss_nis).into());
             object.insert("outlier_nees_bound".into(), self.outlier_nees_bound.into());
             object.insert("outliers".into(), outliers.into());
+            let health: Vec<serde_json::Value> = self
+                .health
+                .iter()
+                .map(|entry| {
+                    serde_json::json!({
+                        "counter": entry.counter,
+                        "runs": entry.runs,
+                        "max": entry.max,
+                        "total": entry.total,
+                    })
+                })
+                .collect();
+            object.insert("health".into(), health.into());
         }
         serde_json::to_string_pretty(&value)
     }
@@ -358,5 +432,40 @@ mod tests {
         let one = Percentiles::of(vec![2.5]);
         assert_eq!(one.p99.to_bits(), 2.5_f64.to_bits());
         assert!(Percentiles::of(Vec::new()).p50.is_nan());
+    }
+
+    #[test]
+    fn counters_over_runs_count_the_runs_that_raised_each() {
+        let outcome = |counters: &[(&str, u32)]| {
+            let mut outcome = crate::campaign::shards::tests::record(0).outcome;
+            outcome.health = counters
+                .iter()
+                .map(|(name, value)| ((*name).to_string(), *value))
+                .collect();
+            outcome
+        };
+        let outcomes = [
+            outcome(&[("star_declared_faulty", 1), ("star_gate_rejections", 30)]),
+            outcome(&[]),
+            outcome(&[("star_gate_rejections", 12), ("gnss_jump", 0)]),
+        ];
+        let counters = counters_over_runs(&outcomes);
+        assert_eq!(
+            counters,
+            [
+                CounterOverRuns {
+                    counter: "star_declared_faulty".into(),
+                    runs: 1,
+                    max: 1,
+                    total: 1
+                },
+                CounterOverRuns {
+                    counter: "star_gate_rejections".into(),
+                    runs: 2,
+                    max: 30,
+                    total: 42
+                },
+            ]
+        );
     }
 }

@@ -32,7 +32,7 @@ use crate::scenario::Scenario;
 pub const FORMAT: &str = "nav-sim monte-carlo shard";
 
 /// The version of the shard file format.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Why a campaign, a shard file or a merge failed; an error about a file names it.
 #[derive(Debug, thiserror::Error)]
@@ -239,6 +239,8 @@ struct RunLine {
     /// The run's consistency over time (absent in files that do not carry it).
     #[serde(default)]
     over_time: Vec<OverTimeLine>,
+    /// The flight software's non-zero health counters at the end of the run, by name.
+    health: std::collections::BTreeMap<String, u32>,
 }
 
 /// The first line of a shard file.
@@ -278,7 +280,8 @@ fn max_error_over_sigma(outcome: &RunOutcome) -> f64 {
 
 impl RunRecord {
     /// The run as one JSON line (no newline): `{"run", "seed", "nees", "max_error_over_sigma",
-    /// "error", "sigma", "covariance", "star_nis", "gnss_nis", "position_error_m"}`, floats
+    /// "error", "sigma", "covariance", "star_nis", "gnss_nis", "position_error_m", "over_time",
+    /// "health"}`, floats
     /// except `nees` and `max_error_over_sigma` as the hexadecimal digits of their bits.
     ///
     /// # Errors
@@ -315,6 +318,7 @@ impl RunRecord {
                     gnss_nis: nis(&sample.gnss_nis),
                 })
                 .collect(),
+            health: outcome.health.clone(),
         })
     }
 
@@ -373,6 +377,7 @@ impl RunRecord {
                         })
                     })
                     .collect::<Result<Vec<_>, String>>()?,
+                health: parsed.health,
             },
         })
     }
@@ -466,6 +471,9 @@ pub(super) mod tests {
                     },
                     gnss_nis: NisSum::default(),
                 }],
+                health: [("star_gate_rejections".to_string(), 3 + run as u32)]
+                    .into_iter()
+                    .collect(),
             },
         }
     }

@@ -104,6 +104,12 @@ fn three_shards_merged_give_the_unsharded_campaign_and_a_run_alone_its_line() {
             > 0.0
     );
     assert!(report["outliers"].is_array());
+    // The health counters the runs raised, merged as flown.
+    for entry in report["health"].as_array().unwrap() {
+        let runs = entry["runs"].as_u64().unwrap();
+        assert!((1..=7).contains(&runs), "{entry}");
+        assert!(entry["total"].as_u64().unwrap() >= entry["max"].as_u64().unwrap());
+    }
 
     // The shard lines carry each run's consistency over time: the merge draws the same plots
     // as the one-process campaign, bit for bit.
