@@ -12,6 +12,7 @@ mod design;
 mod dispersion;
 mod flight_software;
 mod frames_and_time;
+mod imu_errors;
 mod layers;
 mod model_mismatch;
 mod nees_over_time;
