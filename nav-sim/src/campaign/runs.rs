@@ -5,6 +5,12 @@ use crate::campaign::monte_carlo::{self, MonteCarloError, RunOutcome};
 use crate::harness::flight::FlightError;
 use crate::scenario::Scenario;
 
+/// The most runs one campaign may have: each run's record (final covariance, consistency over
+/// time) takes about 8 KB, so 100,000 runs hold under 1 GB in the process that reports them,
+/// and take about two weeks of one core's time (shard them across a cluster,
+/// docs/monte-carlo.md).
+pub const MAX_RUNS: u64 = 100_000;
+
 /// The seed of run `run`: the scenario's seed plus the run index (wrapping).
 pub fn run_seed(scenario: &Scenario, run: u64) -> u64 {
     scenario.simulation.seed.wrapping_add(run)

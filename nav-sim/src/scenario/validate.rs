@@ -246,37 +246,94 @@ impl Checker<'_> {
         dispersion: &dispersion::Dispersion,
         scenario: &Scenario,
     ) -> Result<(), ScenarioError> {
+        // The largest width of each entry, with why: beyond it a draw no longer disperses
+        // the flight but replaces it (a different orbit, a sensor of another kind).
+        let (noise, angle) = (
+            MAX_DISPERSION_PERCENT,
+            "a rotation of 180° per axis covers every attitude",
+        );
+        let noise_reason = "a factor of 11 on a specification is another sensor";
         let entries = [
-            ("initial_attitude_deg", dispersion.initial_attitude_deg),
-            ("initial_position_m", dispersion.initial_position_m),
-            ("initial_velocity_mps", dispersion.initial_velocity_mps),
-            ("gyro_noise_percent", dispersion.gyro_noise_percent),
+            (
+                "initial_attitude_deg",
+                dispersion.initial_attitude_deg,
+                180.0,
+                angle,
+            ),
+            (
+                "initial_position_m",
+                dispersion.initial_position_m,
+                1.0e6,
+                "1000 km off is another orbit, not a navigation error",
+            ),
+            (
+                "initial_velocity_mps",
+                dispersion.initial_velocity_mps,
+                1.0e3,
+                "1 km/s off is another orbit, not a navigation error",
+            ),
+            (
+                "gyro_noise_percent",
+                dispersion.gyro_noise_percent,
+                noise,
+                noise_reason,
+            ),
             (
                 "accelerometer_noise_percent",
                 dispersion.accelerometer_noise_percent,
+                noise,
+                noise_reason,
             ),
-            ("star_noise_percent", dispersion.star_noise_percent),
-            ("gnss_noise_percent", dispersion.gnss_noise_percent),
-            ("star_mounting_deg", dispersion.star_mounting_deg),
+            (
+                "star_noise_percent",
+                dispersion.star_noise_percent,
+                noise,
+                noise_reason,
+            ),
+            (
+                "gnss_noise_percent",
+                dispersion.gnss_noise_percent,
+                noise,
+                noise_reason,
+            ),
+            (
+                "star_mounting_deg",
+                dispersion.star_mounting_deg,
+                180.0,
+                angle,
+            ),
             (
                 "gnss_correlated_sigma_percent",
                 dispersion.gnss_correlated_sigma_percent,
+                noise,
+                noise_reason,
             ),
             (
                 "gnss_correlation_time_percent",
                 dispersion.gnss_correlation_time_percent,
+                noise,
+                noise_reason,
             ),
-            ("gyro_misalignment_rad", dispersion.gyro_misalignment_rad),
+            (
+                "gyro_misalignment_rad",
+                dispersion.gyro_misalignment_rad,
+                MAX_MISALIGNMENT_RAD,
+                "the misalignment key's own limit",
+            ),
             (
                 "accelerometer_misalignment_rad",
                 dispersion.accelerometer_misalignment_rad,
+                MAX_MISALIGNMENT_RAD,
+                "the misalignment key's own limit",
             ),
             (
                 "gyro_g_sensitivity_rad_s_per_mps2",
                 dispersion.gyro_g_sensitivity_rad_s_per_mps2,
+                MAX_G_SENSITIVITY_RAD_S_PER_MPS2,
+                "the g-sensitivity key's own limit",
             ),
         ];
-        for (name, distribution) in entries {
+        for (name, distribution, max, reason) in entries {
             let Some(distribution) = distribution else {
                 continue;
             };
@@ -284,7 +341,19 @@ impl Checker<'_> {
                 dispersion::Distribution::Normal { .. } => "sigma",
                 dispersion::Distribution::Uniform { .. } => "half_width",
             };
-            self.non_negative(&format!("dispersion.{name}.{field}"), distribution.width())?;
+            let key = format!("dispersion.{name}.{field}");
+            let width = distribution.width();
+            self.non_negative(&key, width)?;
+            if width > max {
+                return Err(self.fail(
+                    &key,
+                    &format!(
+                        "= {} must be at most {} ({reason})",
+                        number(width),
+                        number(max)
+                    ),
+                ));
+            }
         }
         if let Some(frames) = dispersion.gnss_latency_frames {
             let period_s = scenario.imu.frame_period_s();
@@ -299,6 +368,9 @@ impl Checker<'_> {
         Ok(())
     }
 }
+
+/// The largest width of a `[dispersion]` entry in percent (a factor of 11 on the value).
+pub const MAX_DISPERSION_PERCENT: f64 = 1000.0;
 
 /// Why a flight is at most [`MAX_DURATION_S`] long (the error message's wording).
 const DURATION_REASON: &str = "one day of flight: an upper stage's orbital phase lasts \

@@ -1,7 +1,7 @@
 //! The `nav-sim` command line on bad input and bad output paths: an output that is an input is
 //! refused and the input left byte for byte, a failed run leaves an existing output as it was,
 //! a bad `--out` fails before the run naming its path, `--check` turns a missed calibration
-//! figure or an inconsistent NEES into a failure, and `--runs` accepts 1 or more.
+//! figure or an inconsistent NEES into a failure, and `--runs` accepts 1 to 100,000.
 //!
 //! Every flight here is a 2 s scenario (the built-in one with its manoeuvres replaced by one
 //! short coast), so the tests stay fast in a debug build.
@@ -261,14 +261,29 @@ fn monte_carlo_check_fails_when_the_nees_is_outside_its_interval() {
 }
 
 #[test]
-fn runs_must_be_one_or_more() {
+fn runs_must_be_one_to_the_campaign_limit() {
     let directory = tempfile::tempdir().unwrap();
-    for runs in ["-1", "0", "many"] {
-        let output = nav_sim(directory.path(), &["monte-carlo", "--runs", runs]);
-        assert_eq!(output.status.code(), Some(2), "{output:?}");
-        let message = stderr(&output);
-        assert!(message.contains("--runs"), "{message}");
-        assert!(message.contains("1 or more"), "{message}");
-        assert!(!message.contains("'-- -1'"), "{message}");
+    for command in ["monte-carlo", "benefit"] {
+        for runs in [
+            "-1",
+            "0",
+            "many",
+            "1e12",
+            "100001",
+            "18446744073709551615",
+            "18446744073709551616",
+        ] {
+            let output = nav_sim(directory.path(), &[command, "--runs", runs]);
+            assert_eq!(
+                output.status.code(),
+                Some(2),
+                "{command} {runs}: {output:?}"
+            );
+            let message = stderr(&output);
+            assert!(message.contains("--runs"), "{message}");
+            assert!(message.contains("in 1..=100000"), "{message}");
+            assert!(!message.contains("'-- -1'"), "{message}");
+            assert!(!message.contains("panicked"), "{message}");
+        }
     }
 }

@@ -187,6 +187,50 @@ fn a_bad_entry_is_refused_naming_its_key() {
     assert!(Scenario::from_toml_str(&text).unwrap().dispersion.is_some());
 }
 
+/// Every width has an upper bound, named with its reason: σ = 1e300 on the initial position
+/// would give an infinite initial error, and a campaign that fuses nothing.
+#[test]
+fn a_width_beyond_its_bound_is_refused_naming_the_key_and_the_bound() {
+    for (table, key, bound) in [
+        (
+            "initial_position_m = { kind = \"normal\", sigma = 1.0e300 }",
+            "dispersion.initial_position_m.sigma",
+            "at most 1000000 (1000 km off is another orbit",
+        ),
+        (
+            "initial_velocity_mps = { kind = \"uniform\", half_width = 1.0e4 }",
+            "dispersion.initial_velocity_mps.half_width",
+            "at most 1000 (",
+        ),
+        (
+            "initial_attitude_deg = { kind = \"normal\", sigma = 200.0 }",
+            "dispersion.initial_attitude_deg.sigma",
+            "at most 180 (",
+        ),
+        (
+            "gnss_noise_percent = { kind = \"normal\", sigma = 1.0e5 }",
+            "dispersion.gnss_noise_percent.sigma",
+            "at most 1000 (a factor of 11",
+        ),
+        (
+            "gyro_misalignment_rad = { kind = \"normal\", sigma = 0.1 }",
+            "dispersion.gyro_misalignment_rad.sigma",
+            "at most 0.01 (",
+        ),
+    ] {
+        assert_eq!(invalid_key(table), key, "{table}");
+        let text = format!("{DEFAULT_SCENARIO_TOML}\n[dispersion]\n{table}\n");
+        let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+        assert!(message.contains(bound), "{message}");
+    }
+    // At the bound it is accepted.
+    let text = format!(
+        "{DEFAULT_SCENARIO_TOML}\n[dispersion]\n\
+         initial_position_m = {{ kind = \"normal\", sigma = 1.0e6 }}\n"
+    );
+    assert!(Scenario::from_toml_str(&text).is_ok());
+}
+
 #[test]
 fn the_default_scenarios_commented_example_parses_when_uncommented() {
     let start = DEFAULT_SCENARIO_TOML.find("# [dispersion]").unwrap();

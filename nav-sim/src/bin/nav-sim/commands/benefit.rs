@@ -22,8 +22,8 @@ pub struct Args {
     /// Star-tracker outage from the end of the calibration flight (s); 0 = none.
     #[arg(long, default_value_t = OutagePlan::default().star_outage_s)]
     star_outage_s: f64,
-    /// Number of runs (seeds: the scenario's seed, +1, +2, ...).
-    #[arg(long, default_value_t = 1)]
+    /// Number of runs, 1 to 100000 (seeds: the scenario's seed, +1, +2, ...).
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = super::parse_runs)]
     runs: u64,
     /// Draw each run's sensor-error truth from the filter's prior (as `monte-carlo` does)
     /// instead of keeping the scenario's sensor errors.

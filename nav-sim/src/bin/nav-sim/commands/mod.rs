@@ -23,6 +23,16 @@ pub mod target_bench;
 /// Why a subcommand failed; `main` prints it with `Display` after `nav-sim: `.
 pub type Failure = Box<dyn std::error::Error>;
 
+/// `--runs` of `monte-carlo` and `benefit`: a whole number of runs in
+/// 1..=[`nav_sim::campaign::MAX_RUNS`] (clap names the flag and the value).
+pub fn parse_runs(text: &str) -> Result<u64, String> {
+    let max = nav_sim::campaign::MAX_RUNS;
+    text.parse::<u64>()
+        .ok()
+        .filter(|runs| (1..=max).contains(runs))
+        .ok_or_else(|| format!("expected a whole number of runs in 1..={max}"))
+}
+
 /// The scenario at `scenario`, or the built-in one.
 pub fn load(scenario: Option<&Path>) -> Result<Scenario, Failure> {
     Ok(match scenario {

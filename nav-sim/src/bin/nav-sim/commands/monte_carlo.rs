@@ -13,10 +13,10 @@ use super::{campaign_bar, inputs, load, prepare_outputs, Failure};
 pub struct Args {
     /// Scenario TOML (default: the built-in one).
     scenario: Option<PathBuf>,
-    /// Number of runs, 1 or more (run k has the seed: the scenario's seed + k).
+    /// Number of runs, 1 to 100000 (run k has the seed: the scenario's seed + k).
     // Negative numbers reach the parser, which names the flag and the accepted range,
     // rather than being taken for an unknown flag.
-    #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = parse_runs)]
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = super::parse_runs)]
     runs: u64,
     /// Fly only shard K of M (runs k with k mod M = K) and write OUT/shard-K-of-M.jsonl,
     /// one JSON line per run, for `nav-sim merge`.
@@ -36,14 +36,6 @@ pub struct Args {
     /// Exit non-zero if the average NEES is outside its 95 % interval.
     #[arg(long)]
     check: bool,
-}
-
-/// `--runs`: a whole number of runs, 1 or more (clap names the flag and the value).
-fn parse_runs(text: &str) -> Result<u64, String> {
-    text.parse::<u64>()
-        .ok()
-        .filter(|&runs| runs >= 1)
-        .ok_or_else(|| "expected a whole number of runs, 1 or more".to_string())
 }
 
 /// A progress bar over the runs of a campaign, hidden unless `show`.
