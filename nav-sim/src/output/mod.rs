@@ -75,15 +75,68 @@ fn without_temporary_path(error: io::Error) -> io::Error {
 /// Where the bytes go until the commit.
 #[derive(Debug)]
 enum Sink {
-    /// A temporary file beside the target, renamed over it by the commit.
-    Staged(BufWriter<NamedTempFile>),
+    /// A temporary file beside the target, renamed over it by the commit; registered for
+    /// [`remove_staged_files`] while it lives.
+    Staged(BufWriter<NamedTempFile>, Registration),
     /// A target that is not a regular file (a device or a FIFO such as `/dev/null`), written
     /// in place: renaming over it would replace the device node.
     Direct(BufWriter<File>),
 }
 
+/// The temporary files of the [`OutputFile`]s not yet committed or dropped: what
+/// [`remove_staged_files`] removes when the process is interrupted.
+static STAGED_FILES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// The registry of staged files, even if a thread panicked while holding it (a list of paths
+/// cannot be left inconsistent by a push or a retain).
+fn staged_files() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    STAGED_FILES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// A temporary file's entry in the registry of [`remove_staged_files`], removed when dropped
+/// (after the commit's rename, or with the temporary file).
+#[derive(Debug)]
+struct Registration(PathBuf);
+
+impl Registration {
+    fn new(path: &Path) -> Self {
+        staged_files().push(path.to_path_buf());
+        Self(path.to_path_buf())
+    }
+}
+
+impl Drop for Registration {
+    fn drop(&mut self) {
+        staged_files().retain(|path| *path != self.0);
+    }
+}
+
+/// Removes the temporary files of every [`OutputFile`] not yet committed, and returns how many
+/// it removed: for a signal handler (SIGINT, SIGTERM) that ends the process, where no `Drop`
+/// runs. The targets are left as they were.
+///
+/// # Examples
+/// ```
+/// let directory = tempfile::tempdir().unwrap();
+/// let path = directory.path().join("log.csv");
+/// let staged = nav_sim::output::OutputFile::create(&path).unwrap();
+/// assert_eq!(nav_sim::output::remove_staged_files(), 1);
+/// assert!(!staged.staging_path().exists() && !path.exists());
+/// ```
+pub fn remove_staged_files() -> usize {
+    let mut files = staged_files();
+    let removed = files
+        .drain(..)
+        .filter(|path| std::fs::remove_file(path).is_ok())
+        .count();
+    removed
+}
+
 /// An output file written to a temporary file in its directory and renamed over the target by
-/// [`commit`](Self::commit); dropped without a commit, it leaves the target as it was.
+/// [`commit`](Self::commit); dropped without a commit, it leaves the target as it was. The
+/// temporary file is also removed by [`remove_staged_files`] (an interrupted command).
 ///
 /// Write errors name the target path.
 #[derive(Debug)]
@@ -153,10 +206,11 @@ impl OutputFile {
         let file = builder
             .tempfile_in(directory)
             .map_err(|error| OutputError::io("create", path)(without_temporary_path(error)))?;
+        let registration = Registration::new(file.path());
         Ok(Self {
             path: path.to_path_buf(),
             target,
-            sink: Sink::Staged(BufWriter::new(file)),
+            sink: Sink::Staged(BufWriter::new(file), registration),
         })
     }
 
@@ -181,7 +235,7 @@ impl OutputFile {
     /// a device or FIFO.
     pub fn staging_path(&self) -> &Path {
         match &self.sink {
-            Sink::Staged(file) => file.get_ref().path(),
+            Sink::Staged(file, _) => file.get_ref().path(),
             Sink::Direct(_) => &self.target,
         }
     }
@@ -194,7 +248,7 @@ impl OutputFile {
     pub fn commit(self) -> Result<PathBuf, OutputError> {
         let path = self.path;
         match self.sink {
-            Sink::Staged(writer) => {
+            Sink::Staged(writer, _registration) => {
                 let file = writer
                     .into_inner()
                     .map_err(|error| OutputError::io("write", &path)(error.into_error()))?;
@@ -211,7 +265,7 @@ impl OutputFile {
 
     fn writer(&mut self) -> &mut dyn Write {
         match &mut self.sink {
-            Sink::Staged(writer) => writer,
+            Sink::Staged(writer, _) => writer,
             Sink::Direct(writer) => writer,
         }
     }

@@ -287,3 +287,71 @@ fn runs_must_be_one_to_the_campaign_limit() {
         }
     }
 }
+
+/// The files in `directory`, sorted.
+fn files_in(directory: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(directory)
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// A `log` of the built-in flight (a 1.5 million-line CSV) and a Monte Carlo shard, each
+/// interrupted by SIGINT or SIGTERM while its output is staged: the command exits with 130 and
+/// leaves no temporary file, and an existing target as it was.
+#[test]
+fn an_interrupted_command_leaves_no_temporary_file() {
+    for (arguments, signal) in [
+        (&["log", "--out", "out/log.csv"][..], "-INT"),
+        (
+            &[
+                "monte-carlo",
+                "--runs",
+                "4",
+                "--shard",
+                "0/2",
+                "--out",
+                "out",
+            ][..],
+            "-TERM",
+        ),
+    ] {
+        let directory = tempfile::tempdir().unwrap();
+        let out = directory.path().join("out");
+        std::fs::create_dir(&out).unwrap();
+        std::fs::write(out.join("log.csv"), "kept\n").unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_nav-sim"))
+            .args(arguments)
+            .current_dir(directory.path())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until the staged output exists (at most 60 s).
+        let staged = |out: &Path| files_in(out).iter().any(|name| name.starts_with('.'));
+        let start = std::time::Instant::now();
+        while !staged(&out) {
+            assert!(
+                start.elapsed().as_secs() < 60,
+                "{arguments:?}: nothing staged"
+            );
+            assert!(child.try_wait().unwrap().is_none(), "{arguments:?} ended");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let killed = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let output = child.wait_with_output().unwrap();
+        let message = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(130), "{arguments:?}: {message}");
+        assert!(message.contains("interrupted"), "{message}");
+        assert_eq!(files_in(&out), ["log.csv"], "{arguments:?}");
+        assert_eq!(
+            std::fs::read_to_string(out.join("log.csv")).unwrap(),
+            "kept\n"
+        );
+    }
+}

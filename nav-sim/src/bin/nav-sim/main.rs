@@ -64,7 +64,20 @@ enum Command {
     Benefit(benefit::Args),
 }
 
+/// The exit status of a command ended by SIGINT or SIGTERM (128 + SIGINT, as a shell reports
+/// an interrupted command).
+const INTERRUPTED_EXIT_CODE: i32 = 130;
+
 fn main() -> ExitCode {
+    // An interrupted command leaves no temporary output behind: the handler removes every
+    // output not yet committed (their targets stay as they were) and ends the process.
+    if let Err(error) = ctrlc::set_handler(|| {
+        nav_sim::output::remove_staged_files();
+        eprintln!("nav-sim: interrupted; the outputs not yet complete were removed");
+        std::process::exit(INTERRUPTED_EXIT_CODE);
+    }) {
+        eprintln!("nav-sim: warning: cannot handle interruptions ({error})");
+    }
     let cli = Cli::parse();
     let outcome = match cli.command {
         None => calibrate::run(calibrate::Args::default()),
