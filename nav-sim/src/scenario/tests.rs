@@ -366,3 +366,38 @@ fn the_filters_bias_instability_parses_renders_only_when_on_and_is_validated() {
         assert_eq!(invalid_key(&table(lines)), key, "{lines}");
     }
 }
+
+/// A rotation vector is refused beyond one turn, naming its key and size; one turn is
+/// accepted.
+#[test]
+fn rotation_vectors_beyond_one_turn_are_refused_naming_the_key() {
+    let attitude = "rotation_vector_deg = [10.0, -20.0, 30.0]";
+    for (original, replacement, key, size) in [
+        (
+            attitude,
+            "rotation_vector_deg = [1.0e300, -20.0, 30.0]",
+            "initial_attitude.rotation_vector_deg",
+            "a component of magnitude 1e300 deg",
+        ),
+        (
+            attitude,
+            "rotation_vector_deg = [300.0, 0.0, 400.0]",
+            "initial_attitude.rotation_vector_deg",
+            "a norm of 500 deg",
+        ),
+        (
+            "installation_error_rotation_vector_rad = [1.0e-3",
+            "installation_error_rotation_vector_rad = [7.0",
+            "star_sensor.installation_error_rotation_vector_rad",
+            "more than one turn (6.283185307 rad)",
+        ),
+    ] {
+        let text = DEFAULT_SCENARIO_TOML.replacen(original, replacement, 1);
+        assert_eq!(invalid_key(&text), key, "{replacement}");
+        let message = Scenario::from_toml_str(&text).unwrap_err().to_string();
+        assert!(message.contains(size), "{message}");
+    }
+    let one_turn =
+        DEFAULT_SCENARIO_TOML.replacen(attitude, "rotation_vector_deg = [0.0, 360.0, 0.0]", 1);
+    assert!(Scenario::from_toml_str(&one_turn).is_ok());
+}

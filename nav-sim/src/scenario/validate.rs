@@ -103,6 +103,44 @@ impl Checker<'_> {
         }
     }
 
+    /// A rotation vector (`one_turn`: 360 in degrees, 2π in radians): finite, with a norm of
+    /// at most one turn. Beyond it the rotation is the same as a shorter vector's, and a norm
+    /// whose square overflows has no direction at all.
+    fn rotation_vector(
+        &self,
+        key: &str,
+        values: &[f64; 3],
+        one_turn: f64,
+        unit: &str,
+    ) -> Result<(), ScenarioError> {
+        self.finite3(key, values)?;
+        // A component beyond 1e150 turns is beyond one turn by itself; below, the squares of
+        // the components in turns cannot overflow.
+        let turns = values.map(|value| value / one_turn);
+        let norm_turns = if turns.iter().all(|value| value.abs() <= 1.0e150) {
+            turns.iter().map(|value| value * value).sum::<f64>().sqrt()
+        } else {
+            f64::INFINITY
+        };
+        if norm_turns <= 1.0 {
+            return Ok(());
+        }
+        let size = if norm_turns.is_finite() {
+            format!("a norm of {} {unit}", number(norm_turns * one_turn))
+        } else {
+            let largest = values.iter().map(|value| value.abs()).fold(0.0, f64::max);
+            format!("a component of magnitude {} {unit}", number(largest))
+        };
+        Err(self.fail(
+            key,
+            &format!(
+                "has {size}, more than one turn ({} {unit}): give the same rotation as a \
+                 vector of norm at most one turn",
+                number(one_turn)
+            ),
+        ))
+    }
+
     fn positive(&self, key: &str, value: f64) -> Result<(), ScenarioError> {
         if value.is_finite() && value > 0.0 {
             Ok(())
@@ -456,9 +494,11 @@ impl Scenario {
             orbit.argument_of_perigee_deg,
         )?;
         check.finite("initial_orbit.true_anomaly_deg", orbit.true_anomaly_deg)?;
-        check.finite3(
+        check.rotation_vector(
             "initial_attitude.rotation_vector_deg",
             &self.initial_attitude.rotation_vector_deg,
+            360.0,
+            "deg",
         )?;
 
         check.positive("imu.rate_hz", self.imu.rate_hz)?;
@@ -562,13 +602,17 @@ impl Scenario {
         )?;
         check.whole_frames("star_sensor.rate_hz", 1.0 / star.rate_hz, period_s, 1.0)?;
         check.sigma("star_sensor.noise_arcsec", star.noise_arcsec, true)?;
-        check.finite3(
+        check.rotation_vector(
             "star_sensor.mounting_rotation_vector_deg",
             &star.mounting_rotation_vector_deg,
+            360.0,
+            "deg",
         )?;
-        check.finite3(
+        check.rotation_vector(
             "star_sensor.installation_error_rotation_vector_rad",
             &star.installation_error_rotation_vector_rad,
+            std::f64::consts::TAU,
+            "rad",
         )?;
         check.non_negative("star_sensor.max_rate_deg_per_s", star.max_rate_deg_per_s)?;
         check.non_negative("star_sensor.reacquisition_s", star.reacquisition_s)?;

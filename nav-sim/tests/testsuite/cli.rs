@@ -355,3 +355,34 @@ fn an_interrupted_command_leaves_no_temporary_file() {
         );
     }
 }
+
+/// A bad scenario value gets one message, naming the key, whichever subcommand reads the
+/// scenario (a rotation vector of 1e300° once failed four ways in four subcommands).
+#[test]
+fn every_subcommand_refuses_a_bad_rotation_vector_with_the_same_message() {
+    let directory = tempfile::tempdir().unwrap();
+    let scenario = nav_sim::scenario::DEFAULT_SCENARIO_TOML.replacen(
+        "rotation_vector_deg = [10.0, -20.0, 30.0]",
+        "rotation_vector_deg = [1.0e300, -20.0, 30.0]",
+        1,
+    );
+    std::fs::write(directory.path().join("bad.toml"), scenario).unwrap();
+    std::fs::write(directory.path().join("log.csv"), "").unwrap();
+    let expected = "nav-sim: scenario bad.toml: initial_attitude.rotation_vector_deg has a \
+                    component of magnitude 1e300 deg, more than one turn (360 deg)";
+    for arguments in [
+        &["calibrate", "bad.toml"][..],
+        &["monte-carlo", "bad.toml", "--runs", "1"],
+        &["log", "bad.toml", "--out", "out.csv"],
+        &["replay", "log.csv", "--scenario", "bad.toml"],
+        &["observability", "bad.toml"],
+        &["design", "bad.toml"],
+        &["benefit", "bad.toml"],
+        &["faults", "bad.toml"],
+    ] {
+        let output = nav_sim(directory.path(), arguments);
+        assert_eq!(output.status.code(), Some(1), "{arguments:?}: {output:?}");
+        let message = stderr(&output);
+        assert!(message.starts_with(expected), "{arguments:?}: {message}");
+    }
+}
