@@ -386,3 +386,18 @@ fn every_subcommand_refuses_a_bad_rotation_vector_with_the_same_message() {
         assert!(message.starts_with(expected), "{arguments:?}: {message}");
     }
 }
+
+/// `design --thrust-axes` names each axis once, none of them the main engine's.
+#[test]
+fn design_refuses_a_repeated_or_main_engine_thrust_axis() {
+    let directory = tempfile::tempdir().unwrap();
+    for axes in ["y,y", "x,z", "z,y,z"] {
+        let output = nav_sim(directory.path(), &["design", "--thrust-axes", axes]);
+        assert_eq!(output.status.code(), Some(1), "{axes}: {output:?}");
+        let message = stderr(&output);
+        assert!(
+            message.contains("thrust axes must be distinct body axes other than the main"),
+            "{axes}: {message}"
+        );
+    }
+}

@@ -206,14 +206,21 @@ impl Constraints {
         if self.main_engine_axis > 2 {
             return fail("main engine axis", "must be x, y or z");
         }
-        if self
-            .thrust_axes
-            .iter()
-            .any(|axis| *axis > 2 || *axis == self.main_engine_axis)
+        let repeated = self.thrust_axes.iter().enumerate().any(|(position, axis)| {
+            self.thrust_axes
+                .get(..position)
+                .is_some_and(|before| before.contains(axis))
+        });
+        if repeated
+            || self
+                .thrust_axes
+                .iter()
+                .any(|axis| *axis > 2 || *axis == self.main_engine_axis)
         {
             return fail(
                 "thrust axes",
-                "must be body axes other than the main engine's",
+                "must be distinct body axes other than the main engine's (each axis once: \
+                 the lateral Δv budget is shared among the axes listed)",
             );
         }
         Ok(())
