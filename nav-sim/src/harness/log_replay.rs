@@ -121,12 +121,94 @@ fn output_row(
     values.join(",")
 }
 
+/// How many of the log's first GNSS fixes [`EpochCheck`] looks at.
+const EPOCH_CHECK_FIXES: usize = 10;
+
+/// Whether the log's GNSS time tags agree with the scenario's launch epoch: a fix's time of
+/// validity (GPS week and seconds, turned into navigation time with the scenario's epoch)
+/// lies at most `timing.max_latency_s` before its arrival and at most
+/// `timing.future_tolerance_s` after it. A log recorded with another epoch has every fix off
+/// by the same amount, and the flight software would drop each one as stale or from the
+/// future: if none of the first [`EPOCH_CHECK_FIXES`] fixes agrees, the replay is refused.
+/// One glitch among them is the receiver's, not the epoch's.
+struct EpochCheck {
+    sensor_frames: nav_fsw::sensor_frames::SensorFrames,
+    window_s: (f64, f64),
+    /// The first disagreeing fix: its log line and arrival − validity (s); `None` when none
+    /// disagreed or a fix agreed.
+    first_disagreement: Option<(u64, f64)>,
+    fixes_seen: usize,
+    settled: bool,
+}
+
+impl EpochCheck {
+    fn new(config: &nav_fsw::config::FswConfig) -> Self {
+        Self {
+            sensor_frames: config.sensor_frames,
+            window_s: (
+                -config.timing.future_tolerance_s,
+                config.timing.max_latency_s,
+            ),
+            first_disagreement: None,
+            fixes_seen: 0,
+            settled: false,
+        }
+    }
+
+    /// Looks at one record (GNSS fixes only, until one agrees or the count is reached).
+    fn observe(
+        &mut self,
+        record: &nav_fsw::log_record::LogRecord,
+        line: u64,
+    ) -> Result<(), ReplayFailure> {
+        let nav_fsw::log_record::LogRecord::Gnss(fix) = record else {
+            return Ok(());
+        };
+        if self.settled {
+            return Ok(());
+        }
+        let validity_s = self
+            .sensor_frames
+            .navigation_time_s(fix.gps_week, fix.gps_seconds_of_week)
+            .unwrap_or(f64::NAN);
+        let age_s = fix.arrival_time_s - validity_s;
+        if age_s >= self.window_s.0 && age_s <= self.window_s.1 {
+            self.settled = true;
+            self.first_disagreement = None;
+            return Ok(());
+        }
+        self.first_disagreement.get_or_insert((line, age_s));
+        self.fixes_seen += 1;
+        if self.fixes_seen >= EPOCH_CHECK_FIXES {
+            return self.verdict();
+        }
+        Ok(())
+    }
+
+    /// The refusal, if every fix seen disagreed.
+    fn verdict(&mut self) -> Result<(), ReplayFailure> {
+        self.settled = true;
+        let Some((line, age_s)) = self.first_disagreement else {
+            return Ok(());
+        };
+        Err(format!(
+            "line {line}: the GNSS fix arrives {age_s:.3} s after its time of validity by the \
+             scenario's launch epoch (allowed: {:.3} to {:.3} s), as does every one of the \
+             log's first {} fixes: the log was recorded with another launch epoch (replay it \
+             with its scenario, --scenario FILE, whose [launch_site] epoch is the recording's)",
+            self.window_s.0, self.window_s.1, self.fixes_seen
+        )
+        .into())
+    }
+}
+
 /// Replays `log` through the flight software set up by `scenario` and writes the output CSV
 /// (module docs) to `output`.
 ///
 /// # Errors
 /// A log error naming its line (including a log at another IMU rate, on another time base or
-/// with a jump the replay does not bridge, `nav_fsw::replay::FrameAssemblyError`), a refused
+/// with a jump the replay does not bridge, `nav_fsw::replay::FrameAssemblyError`, and a log
+/// whose GNSS time tags disagree with the scenario's launch epoch, [`EpochCheck`]), a refused
 /// configuration, or an I/O error of `output`.
 pub fn replay<R: Read, W: Write>(
     log: R,
@@ -158,13 +240,17 @@ pub fn replay<R: Read, W: Write>(
             }
             Ok(())
         };
+    let mut epoch = EpochCheck::new(&setup.config());
     while let Some(record) = reader.next() {
         let line = reader.line();
+        let record = record?;
+        epoch.observe(&record, line)?;
         assembler
-            .push(&record?)
+            .push(&record)
             .map_err(|error| format!("line {line}: {error}"))?;
         run_ready(&mut assembler, &mut output)?;
     }
+    epoch.verdict()?;
     assembler.finish();
     run_ready(&mut assembler, &mut output)?;
     if let Some(row) = last_row {

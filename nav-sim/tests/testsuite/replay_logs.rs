@@ -305,3 +305,34 @@ proptest! {
         prop_assert_eq!(fusions + counted + queued, counts.measurements_delivered, "{:?}", h);
     }
 }
+
+/// A log replayed with a scenario whose launch epoch is an hour off has every GNSS fix an
+/// hour from its arrival: refused naming the line and the offset, instead of every fix
+/// dropped and the replay "succeeding". One bad time tag among the first fixes is the
+/// receiver's and is replayed (dropped by the flight software as it would be in flight).
+#[test]
+fn a_log_from_another_launch_epoch_is_refused_and_one_bad_tag_is_not() {
+    let scenario = scenario();
+    let log = records(&scenario, 2.0);
+    let mut hour_later = scenario.clone();
+    hour_later.launch_site.epoch_utc = "2024-02-26T05:00:00Z".to_string();
+    hour_later.validate().unwrap();
+    let error = replay(&log, &hour_later).unwrap_err();
+    assert!(error.contains("another launch epoch"), "{error}");
+    assert!(error.contains("3600.0"), "{error}");
+    let first_fix = log
+        .iter()
+        .position(|r| matches!(r, LogRecord::Gnss(_)))
+        .unwrap();
+    assert!(
+        error.contains(&format!("line {}", first_fix + 2)),
+        "{error}"
+    );
+
+    let mut glitch = log.clone();
+    if let Some(LogRecord::Gnss(fix)) = glitch.get_mut(first_fix) {
+        fix.gps_week += 1;
+    }
+    let (summary, _) = replay(&glitch, &scenario).unwrap();
+    assert_eq!(summary.health.measurement_future, 1, "{}", summary.text());
+}
