@@ -401,3 +401,24 @@ fn design_refuses_a_repeated_or_main_engine_thrust_axis() {
         );
     }
 }
+
+/// When no schedule fits, `design` says why the smallest one does not, naming the limit.
+#[test]
+fn design_names_the_limit_when_no_schedule_fits() {
+    let directory = tempfile::tempdir().unwrap();
+    let output = nav_sim(
+        directory.path(),
+        &["design", "--flight-time-s", "100", "--out", "designed.toml"],
+    );
+    assert_eq!(output.status.code(), Some(1), "{output:?}");
+    let message = stderr(&output);
+    assert!(
+        message.contains("the smallest one (1 round of 1-turn slews at 2.800 deg/s"),
+        "{message}"
+    );
+    assert!(
+        message.contains("does not fit the mission's coasts, the longest of which is 100.0 s"),
+        "{message}"
+    );
+    assert!(!directory.path().join("designed.toml").exists());
+}

@@ -109,9 +109,16 @@ pub enum ManoeuvreDesignError {
         /// What it must satisfy.
         requirement: String,
     },
-    /// No schedule of the template fits the windows and passes the checks.
-    #[error("no schedule of the template fits the mission's coasts and passes the checks")]
-    NoFeasibleSchedule,
+    /// No schedule of the template fits the windows and passes the checks; `reason` says
+    /// why the smallest one does not, naming the limit.
+    #[error(
+        "no schedule of the template fits the mission's coasts and passes the checks: the \
+         smallest one {reason}"
+    )]
+    NoFeasibleSchedule {
+        /// Why the smallest schedule fails (the limit it meets).
+        reason: String,
+    },
     /// The scenario file could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
@@ -296,6 +303,12 @@ fn frames_at_least(duration_s: f64, period_s: f64) -> u64 {
 }
 
 impl Mission {
+    /// The longest coast window the design can fill (s).
+    fn longest_window_s(&self) -> f64 {
+        let frames = self.windows.iter().map(|window| window.frames).max();
+        frames.unwrap_or(0) as f64 * self.period_s
+    }
+
     /// The mission of `scenario` (module docs) under `constraints`.
     ///
     /// # Errors

@@ -152,7 +152,8 @@ fn evaluate(
 ///
 /// # Errors
 /// [`ManoeuvreDesignError::Constraint`] for unusable constraints,
-/// [`ManoeuvreDesignError::NoFeasibleSchedule`] if no candidate fits and passes the checks,
+/// [`ManoeuvreDesignError::NoFeasibleSchedule`] if no candidate fits and passes the checks
+/// (naming the limit the smallest schedule meets),
 /// [`ManoeuvreDesignError::Analysis`] if the final analysis fails.
 pub fn design(
     scenario: &Scenario,
@@ -184,7 +185,8 @@ pub fn design(
     let mut cache: Vec<(GridPoint, Option<Evaluation>)> = Vec::new();
     // Start: one round of one turn (the smallest schedule), an even split, the `+` right
     // after the slews, the returns at the end of the last window that can take them.
-    let mut best_index = [0, 0, sizes[2] / 2, 0, sizes[4].saturating_sub(1), 0];
+    let start_index = [0, 0, sizes[2] / 2, 0, sizes[4].saturating_sub(1), 0];
+    let mut best_index = start_index;
     let mut best: Option<Evaluation> = None;
     for _ in 0..MAX_PASSES {
         let mut improved = false;
@@ -230,18 +232,22 @@ pub fn design(
         }
     }
     let search_wall_s = started.elapsed().as_secs_f64();
-    let parameters = space
-        .parameters(&best_index)
-        .filter(|_| best.is_some())
-        .ok_or(ManoeuvreDesignError::NoFeasibleSchedule)?;
+    let infeasible =
+        |parameters: Option<&TemplateParameters>| ManoeuvreDesignError::NoFeasibleSchedule {
+            reason: parameters.map_or_else(
+                || "has no parameters (the search space is empty)".to_string(),
+                |parameters| why_infeasible(scenario, &mission, constraints, parameters),
+            ),
+        };
+    let Some(parameters) = space.parameters(&best_index).filter(|_| best.is_some()) else {
+        let smallest = space.parameters(&start_index);
+        return Err(infeasible(smallest.as_ref()));
+    };
     let final_started = Instant::now();
-    let designed = with_schedule(
-        scenario,
-        mission
-            .schedule(constraints, &parameters)
-            .ok_or(ManoeuvreDesignError::NoFeasibleSchedule)?,
-    )
-    .ok_or(ManoeuvreDesignError::NoFeasibleSchedule)?;
+    let designed = mission
+        .schedule(constraints, &parameters)
+        .and_then(|schedule| with_schedule(scenario, schedule))
+        .ok_or_else(|| infeasible(Some(&parameters)))?;
     let report = analyse(&designed, &FINAL_OPTIONS)?;
     let lateral_delta_v_mps = designed
         .manoeuvres
@@ -265,6 +271,43 @@ pub fn design(
         lateral_delta_v_mps,
         left_out: mission.left_out,
     })
+}
+
+/// Why the schedule of `parameters` is not a candidate, naming the limit it meets: it does
+/// not fit the mission's coasts, the scenario with it is refused, the covariance analysis
+/// fails, or the orbit dips below the scenario's minimum altitude.
+fn why_infeasible(
+    scenario: &Scenario,
+    mission: &Mission,
+    constraints: &Constraints,
+    parameters: &TemplateParameters,
+) -> String {
+    let Some(schedule) = mission.schedule(constraints, parameters) else {
+        return format!(
+            "({} round of {}-turn slews at {:.3} deg/s and the translations of {} m/s of \
+             lateral delta-v at {} m/s^2) does not fit the mission's coasts, the longest of \
+             which is {:.1} s: raise the max body rate or the lateral acceleration, lower the \
+             lateral delta-v, or lengthen the coasts",
+            parameters.slew_rounds,
+            parameters.turns_per_slew,
+            parameters.slew_rate_deg_per_s,
+            constraints.lateral_delta_v_mps,
+            constraints.max_lateral_acceleration_mps2,
+            mission.longest_window_s()
+        );
+    };
+    let mut designed = scenario.clone();
+    designed.manoeuvres = schedule;
+    if let Err(error) = designed.validate() {
+        return format!("is refused as a scenario: {error}");
+    }
+    match analyse(&designed, &SEARCH_OPTIONS) {
+        Err(error) => format!("fails its covariance analysis: {error}"),
+        Ok(report) => format!(
+            "flies down to {:.0} m, below simulation.min_altitude_m = {:.0} m",
+            report.orbit.minimum_altitude_m, designed.simulation.min_altitude_m
+        ),
+    }
 }
 
 /// Analyses `candidates` on up to `threads` threads.
