@@ -228,7 +228,15 @@ fn calibrate_check_fails_when_a_figure_is_not_met() {
     short_scenario(directory.path(), "short.toml", &[]);
     let output = nav_sim(directory.path(), &["calibrate", "short.toml"]);
     assert!(output.status.success(), "{}", stderr(&output));
-    assert!(stdout(&output).contains("0 of 15 parameter axes meet"));
+    let text = stdout(&output);
+    assert!(text.contains("0 of 15 parameter axes meet"));
+    // The health counters: a table of the non-zero ones (or one line), never a Debug struct.
+    assert!(
+        text.contains("health counters (the non-zero ones):")
+            || text.contains("health counters: all zero"),
+        "{text}"
+    );
+    assert!(!text.contains("HealthCounters {"), "{text}");
     let output = nav_sim(directory.path(), &["calibrate", "short.toml", "--check"]);
     assert_failed_saying(
         &output,

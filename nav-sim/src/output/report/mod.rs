@@ -31,7 +31,7 @@ use crate::output::OutputError;
 pub use history::{read_time_histories, write_time_histories};
 pub(crate) use plot::{draw_linear_and_log_panels, draw_panels, Curve, Panel};
 pub use plot::{plot_block, plot_navigation_errors, write_plots};
-pub use table::summary;
+pub use table::{health_table, summary};
 
 /// One block of the error state (nav-core's layout, paper eq. 15).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -161,3 +161,37 @@ pub fn summary(result: &CalibrationResult) -> String {
     );
     text
 }
+
+/// The flight software's health counters as a table of the non-zero ones (counter, value), or
+/// a line saying all are zero.
+///
+/// # Examples
+/// ```
+/// let mut health = nav_fsw::health::HealthCounters::default();
+/// assert_eq!(nav_sim::output::report::health_table(&health), "health counters: all zero");
+/// health.star_gate_rejections = 31;
+/// let text = nav_sim::output::report::health_table(&health);
+/// assert!(text.contains("star_gate_rejections") && text.contains("31"));
+/// assert!(!text.contains("imu_missing"));
+/// ```
+pub fn health_table(health: &nav_fsw::health::HealthCounters) -> String {
+    let raised: Vec<(&str, u32)> = health
+        .named()
+        .into_iter()
+        .filter(|(_, value)| *value != 0)
+        .collect();
+    if raised.is_empty() {
+        return "health counters: all zero".to_string();
+    }
+    let mut table = Table::new();
+    table
+        .load_preset(UTF8_FULL_CONDENSED)
+        .set_header(["health counter", "count"]);
+    for (name, value) in raised {
+        table.add_row([
+            Cell::new(name),
+            Cell::new(value).set_alignment(CellAlignment::Right),
+        ]);
+    }
+    format!("health counters (the non-zero ones):\n{table}")
+}

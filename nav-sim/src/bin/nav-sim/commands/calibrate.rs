@@ -120,7 +120,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
                 "NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below {nees_bound:.1})"
             );
         }
-        println!("health: {:?}", result.health);
+        println!("{}", report::health_table(&result.health));
     }
     if let Some(directory) = out {
         let csv = report::write_time_histories(directory, &history)?;
