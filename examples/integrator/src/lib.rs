@@ -49,23 +49,23 @@ impl GnssPort for Receiver {
     }
 }
 
-/// The launch site of the example (Jiuquan, azimuth 190°).
+mod ground_constants;
+/// The README's integration snippet, compiled here so that it cannot drift
+/// (`scripts/integrator-check.sh` checks that README.md shows this file).
+pub mod readme;
+
+/// The launch site of the example (Jiuquan, azimuth 190°, the launch day's Earth axis), from
+/// `nav-sim ground-constants` ([`ground_constants`]).
 pub fn launch_site() -> LaunchSite {
-    LaunchSite {
-        latitude_rad: 40.958_f64.to_radians(),
-        longitude_rad: 100.291_f64.to_radians(),
-        height_m: 1000.0,
-        azimuth_rad: 190.0_f64.to_radians(),
-        // The day's pole from the ground (docs/frames-and-time.md); here ECEF z.
-        earth_axis_ecef: [0.0, 0.0, 1.0],
-    }
+    ground_constants::LAUNCH_SITE
 }
 
 /// The ground constants of the launch epoch (GCRF → launch-inertial, launch epoch in GPS
-/// time); a flight image carries the values computed for its launch, this example the
-/// aligned ones.
+/// time), from `nav-sim ground-constants` for this launch. Not `SensorFrames::ALIGNED`: that
+/// is a placeholder for tests, and a star tracker read through it is wrong by the launch
+/// frame's whole rotation.
 pub fn sensor_frames() -> SensorFrames {
-    SensorFrames::ALIGNED
+    ground_constants::SENSOR_FRAMES
 }
 
 /// The computer with the paper's configuration at `launch_site`, starting from `initial`.
@@ -85,6 +85,18 @@ pub fn one_frame(computer: &mut NavigationComputer, sample: ImuSample) -> FrameT
         latched: Some(sample),
     };
     computer.run_frame(&mut imu, &mut StarTracker, &mut Receiver)
+}
+
+/// A star tracker driver holding one measurement for the next poll.
+pub struct HeldStarTracker {
+    /// The measurement the driver received since the last poll.
+    pub held: Option<StarMeasurement>,
+}
+
+impl StarSensorPort for HeldStarTracker {
+    fn poll(&mut self) -> Option<StarMeasurement> {
+        self.held.take()
+    }
 }
 
 /// A state in a 500 km circular orbit (launch-inertial axes), for the example's frame.
@@ -120,5 +132,62 @@ mod tests {
         // In free fall the position moves by v·T along x, within a metre of gravity's pull.
         let moved_m = computer.navigation().position_m.x;
         assert!((moved_m - 7600.0 * FRAME_PERIOD_S).abs() < 1.0, "{moved_m}");
+    }
+
+    /// Frames of `frames` with a star measurement of the true attitude (body = launch-inertial
+    /// axes, the sensor mounted along the body) in GCRF, as the tracker reports it, at the
+    /// first frame: the star gate rejections and whether a star update was accepted.
+    fn star_frames(frames: SensorFrames) -> (u32, bool) {
+        let start_s = 600.0;
+        let config = FswConfig::paper_defaults(launch_site(), frames);
+        let mut computer = NavigationComputer::new(config, orbit_state(start_s)).unwrap();
+        // q_gs = q_gi ⊗ q_ib ⊗ q_bs with q_ib and q_bs the identity: the conjugate of the
+        // launch's true GCRF → launch-inertial rotation.
+        let [w, x, y, z] = SENSOR_FRAMES_OF_THE_LAUNCH.gcrf_to_launch_inertial_wxyz;
+        let mut tracker = HeldStarTracker {
+            held: Some(StarMeasurement {
+                time_tag_s: start_s + FRAME_PERIOD_S,
+                attitude_wxyz: [w, -x, -y, -z],
+            }),
+        };
+        let mut accepted = false;
+        let mut last = None;
+        for frame in 1..=50_u32 {
+            let mut imu = Imu {
+                latched: Some(ImuSample {
+                    sequence: frame,
+                    time_s: start_s + f64::from(frame) * FRAME_PERIOD_S,
+                    delta_angle_rad: [0.0; 3],
+                    delta_velocity_mps: [0.0; 3],
+                }),
+            };
+            let telemetry = computer.run_frame(&mut imu, &mut tracker, &mut Receiver);
+            accepted |= telemetry.fusion == nav_fsw::telemetry::FrameFusion::StarAccepted;
+            last = Some(telemetry);
+        }
+        (
+            last.map_or(u32::MAX, |t| t.health.star_gate_rejections),
+            accepted,
+        )
+    }
+
+    const SENSOR_FRAMES_OF_THE_LAUNCH: SensorFrames = ground_constants::SENSOR_FRAMES;
+
+    /// With the ground constants of `nav-sim ground-constants` the tracker's GCRF attitude
+    /// agrees with the navigation attitude and is fused; with the `ALIGNED` placeholder the
+    /// same measurement is off by the launch frame's rotation and gated out.
+    #[test]
+    fn the_launchs_ground_constants_put_the_star_tracker_in_the_right_frame() {
+        assert_eq!(star_frames(sensor_frames()), (0, true));
+        assert_eq!(star_frames(SensorFrames::ALIGNED), (1, false));
+    }
+
+    /// The README's snippet starts the computer and runs a frame (no sample: held, counted).
+    #[test]
+    fn the_readmes_snippet_runs_a_frame() {
+        let mut computer = readme::start(orbit_state(600.0)).expect("the paper's configuration");
+        let mut drivers = (readme::Imu {}, readme::StarTracker {}, readme::Receiver {});
+        let telemetry = readme::every_frame(&mut computer, &mut drivers);
+        assert_eq!(telemetry.health.imu_missing, 1);
     }
 }

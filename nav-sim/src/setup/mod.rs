@@ -1,12 +1,14 @@
 //! The setup layer: what a run needs, computed from its scenario: where and when it starts,
 //! once per run ([`launch::Launch`]: the launch epoch and ground constants, the launch site and
 //! frame, the truth's initial state), the flight software's and the filter's configuration and
-//! the initial navigation solution ([`fsw`]), and every random draw of a run through one
+//! the initial navigation solution ([`fsw`]), the ground constants a flight image carries
+//! ([`ground`]), and every random draw of a run through one
 //! registry of streams ([`streams`]): the prior's draw of the sensor-error truth ([`prior`])
 //! and the `[dispersion]` table's draws ([`dispersion`]).
 
 pub mod dispersion;
 pub mod fsw;
+pub mod ground;
 pub mod launch;
 pub mod prior;
 pub mod streams;

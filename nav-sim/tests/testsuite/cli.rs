@@ -430,3 +430,64 @@ fn design_names_the_limit_when_no_schedule_fits() {
     );
     assert!(!directory.path().join("designed.toml").exists());
 }
+
+/// `ground-constants` prints the built-in launch's constants in each format; the integrator
+/// example's `ground_constants.rs` is its Rust output (up to formatting), so the example flies
+/// the constants the command computes; a bad site value is refused naming its key.
+#[test]
+fn ground_constants_are_the_integrator_examples_and_bad_values_are_named() {
+    let directory = tempfile::tempdir().unwrap();
+    let rust = stdout(&nav_sim(
+        directory.path(),
+        &["ground-constants", "--format", "rust"],
+    ));
+    let example = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../examples/integrator/src/ground_constants.rs"),
+    )
+    .unwrap();
+    let code = |text: &str| -> String {
+        text.lines()
+            .filter(|line| !line.starts_with("//!"))
+            .flat_map(|line| line.chars().filter(|c| !c.is_whitespace()))
+            .collect::<String>()
+            // rustfmt adds a trailing comma after the last element of a broken array.
+            .replace(",]", "]")
+    };
+    assert_eq!(
+        code(&example),
+        code(&rust),
+        "regenerate: nav-sim ground-constants --format rust"
+    );
+    let toml = stdout(&nav_sim(directory.path(), &["ground-constants"]));
+    assert!(
+        toml.contains("[sensor_frames]\ngcrf_to_launch_inertial_wxyz = ["),
+        "{toml}"
+    );
+    assert!(toml.contains("launch_epoch_gps_week = 2303\n"), "{toml}");
+    let json = stdout(&nav_sim(
+        directory.path(),
+        &[
+            "ground-constants",
+            "--format",
+            "json",
+            "--epoch-utc",
+            "2024-02-26T05:00:00Z",
+        ],
+    ));
+    let value: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let seconds = value["sensor_frames"]["launch_epoch_gps_seconds_of_week"]
+        .as_f64()
+        .unwrap();
+    assert!((seconds - 104_418.0).abs() < 1e-6, "{json}");
+    let output = nav_sim(
+        directory.path(),
+        &["ground-constants", "--latitude-deg", "95"],
+    );
+    assert_eq!(output.status.code(), Some(1), "{output:?}");
+    assert!(
+        stderr(&output).contains("launch_site.latitude_deg must be in [-90, 90]"),
+        "{}",
+        stderr(&output)
+    );
+}

@@ -12,8 +12,8 @@ use clap::{Parser, Subcommand};
 mod commands;
 
 use commands::{
-    benefit, calibrate, design, faults, log, merge, monte_carlo, observability, replay, scenario,
-    target_bench,
+    benefit, calibrate, design, faults, ground_constants, log, merge, monte_carlo, observability,
+    replay, scenario, target_bench,
 };
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
@@ -43,6 +43,10 @@ enum Command {
     Replay(replay::Args),
     /// Print the built-in default scenario (TOML) to standard output.
     Scenario(scenario::Args),
+    /// Print the flight configuration's ground constants (launch site with the day's Earth
+    /// axis, GCRF → launch-inertial rotation, launch epoch in GPS time) for a launch, as TOML,
+    /// JSON or Rust constants.
+    GroundConstants(ground_constants::Args),
     /// Fault-injection campaign: one flight per fault class through the flight software,
     /// printed as a table (fault, expected reaction, counters, calibration, met); exits
     /// non-zero if a row is not met.
@@ -87,6 +91,7 @@ fn main() -> ExitCode {
         Some(Command::Log(args)) => log::run(args),
         Some(Command::Replay(args)) => replay::run(args),
         Some(Command::Scenario(args)) => scenario::run(args),
+        Some(Command::GroundConstants(args)) => ground_constants::run(args),
         Some(Command::Faults(args)) => faults::run(args),
         Some(Command::Observability(args)) => observability::run(args),
         Some(Command::Design(args)) => design::run(args),
