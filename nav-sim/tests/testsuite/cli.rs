@@ -9,6 +9,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use proptest::strategy::Strategy as _;
+
 /// The one manoeuvre of the short scenario: 2 s of quiet coast, far too short for any
 /// calibration figure to be met.
 const SHORT_MANOEUVRE: &str = r#"[[manoeuvre]]
@@ -490,4 +492,98 @@ fn ground_constants_are_the_integrator_examples_and_bad_values_are_named() {
         "{}",
         stderr(&output)
     );
+}
+
+/// The numeric flags of every subcommand, each as the arguments before its value.
+const NUMERIC_FLAGS: &[&[&str]] = &[
+    &["monte-carlo", "short.toml", "--runs"],
+    &["monte-carlo", "short.toml", "--run"],
+    &[
+        "monte-carlo",
+        "short.toml",
+        "--runs",
+        "2",
+        "--out",
+        "shards",
+        "--shard",
+    ],
+    &["benefit", "short.toml", "--runs"],
+    &["benefit", "short.toml", "--coast-s"],
+    &["benefit", "short.toml", "--gnss-outage-s"],
+    &["benefit", "short.toml", "--star-outage-s"],
+    &["design", "short.toml", "--max-rate-deg-per-s"],
+    &["design", "short.toml", "--max-lateral-accel-mps2"],
+    &["design", "short.toml", "--lateral-delta-v-mps"],
+    &["design", "short.toml", "--flight-time-s"],
+    &["ground-constants", "--latitude-deg"],
+    &["ground-constants", "--longitude-deg"],
+    &["ground-constants", "--height-m"],
+    &["ground-constants", "--azimuth-deg"],
+    &["ground-constants", "--ut1-minus-utc-s"],
+    &["ground-constants", "--polar-motion-x-arcsec"],
+    &["ground-constants", "--polar-motion-y-arcsec"],
+];
+
+/// Runs `arguments` for at most `limit`: a run still going then is killed (it took the value
+/// and is at work). Returns the exit code (`None` when killed or ended by a signal) and the
+/// standard error.
+fn run_for_at_most(
+    directory: &Path,
+    arguments: &[&str],
+    limit: std::time::Duration,
+) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nav-sim"))
+        .args(arguments)
+        .current_dir(directory)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() && start.elapsed() < limit {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let _ = child.kill();
+    let output = child.wait_with_output().unwrap();
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// No value of a numeric flag panics: each is taken (and the command at work or done),
+    /// or refused with exit 1 or 2 and a message.
+    #[test]
+    fn no_numeric_flag_value_panics(
+        flag in 0..NUMERIC_FLAGS.len(),
+        value in proptest::prop_oneof![
+            proptest::prelude::any::<f64>().prop_map(|v| format!("{v:e}")),
+            proptest::prelude::any::<f64>().prop_map(|v| v.to_string()),
+            proptest::prelude::any::<i64>().prop_map(|v| v.to_string()),
+            proptest::prelude::any::<u64>().prop_map(|v| v.to_string()),
+            proptest::sample::select(vec![
+                "nan", "inf", "-inf", "1e400", "-0", "0", "", "1/0", "3/2", "0/1", "x",
+                "18446744073709551616", "1e-400", "0x10",
+            ])
+            .prop_map(str::to_string),
+        ],
+    ) {
+        let directory = tempfile::tempdir().unwrap();
+        short_scenario(directory.path(), "short.toml", &[]);
+        let mut arguments: Vec<&str> = NUMERIC_FLAGS[flag].to_vec();
+        arguments.push(&value);
+        let (code, message) =
+            run_for_at_most(directory.path(), &arguments, std::time::Duration::from_secs(1));
+        proptest::prop_assert!(!message.contains("panicked"), "{arguments:?}: {message}");
+        proptest::prop_assert!(
+            matches!(code, None | Some(0..=2)),
+            "{arguments:?}: exit {code:?}: {message}"
+        );
+        if matches!(code, Some(1 | 2)) {
+            proptest::prop_assert!(!message.trim().is_empty(), "{arguments:?}");
+        }
+    }
 }

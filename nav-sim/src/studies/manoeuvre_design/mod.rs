@@ -505,11 +505,13 @@ impl Mission {
         constraints: &Constraints,
         parameters: &TemplateParameters,
     ) -> Option<Vec<ManoeuvreSegment>> {
+        // Saturating: a schedule at a vanishing rate or acceleration has segments of ~2^64
+        // frames, which fit no window rather than overflow.
         let frames_of = |segments: &[ManoeuvreSegment]| -> u64 {
             segments
                 .iter()
                 .map(|segment| frames_in(segment.duration_s, self.period_s))
-                .sum()
+                .fold(0, u64::saturating_add)
         };
         let mut leading: Vec<Vec<ManoeuvreSegment>> = vec![Vec::new(); self.windows.len()];
         leading
@@ -542,8 +544,8 @@ impl Mission {
                 .get(index)?
                 .iter()
                 .map(|(_, group)| frames_of(group))
-                .sum();
-            window.checked_sub(frames_of(segments) + translations)
+                .fold(0, u64::saturating_add);
+            window.checked_sub(frames_of(segments).saturating_add(translations))
         };
         for _ in 0..parameters.slew_rounds {
             let index = (0..self.windows.len()).find(|index| {
