@@ -5,7 +5,8 @@
 #    qemu-system-arm (apt-get when root), defmt-print;
 # 2. formatting, clippy (host workspace and firmware workspace) and the workspace's API docs
 #    with warnings as errors;
-# 3. host tests, then the fault-injection campaign with its table;
+# 3. host tests, then the fault-injection campaign with its table, then the docs' Slurm recipe
+#    on a single-node Slurm (munge, slurmctld, slurmd: apt-get when root);
 # 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
 #    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
 # 5. the panic-free flight build, and proof that it rejects a deliberately added panic path;
@@ -65,6 +66,9 @@ cargo test --workspace
 
 step "fault-injection campaign (nav_sim::studies::faults): the table, every row met"
 cargo test -p tests-host --test fault_campaign -- --include-ignored --nocapture
+
+step "the Slurm recipe of docs/monte-carlo.md on a single-node Slurm: sharded campaign merged = one-process campaign"
+bash scripts/slurm-check.sh
 
 step "fuzzing the firmware's input decoders (cargo-fuzz on stable, --sanitizer none, 30 s)"
 # New inputs go to a scratch corpus; the kept corpus (fuzz/corpus/log_decoder) is only read.
