@@ -94,6 +94,12 @@ fn uncertainty_values(uncertainty: &InitialUncertainty) -> [f64; 8] {
     ]
 }
 
+/// Largest magnitude of the initial navigation time (s, since the launch epoch): about 32
+/// years. Time must keep advancing by whole frames: at `|t|` = 1e9 s one ulp of an `f64` is
+/// 1.2e-7 s, a sixteen-thousandth of the 2 ms frame; at 1e17 s it is 16 s and a frame no
+/// longer moves the clock.
+pub const MAX_INITIAL_TIME_S: f64 = 1.0e9;
+
 /// Capacity of the star-sensor measurement queue.
 pub const STAR_QUEUE_CAPACITY: usize = 8;
 

@@ -186,7 +186,8 @@ impl ConfigField {
                 "must name calibration blocks only (no attitude, position or velocity)"
             }
             ConfigField::InitialNavigation => {
-                "must be finite, with a unit attitude quaternion"
+                "must be finite, with a unit attitude quaternion and |time_s| <= 1e9 s \
+                 (MAX_INITIAL_TIME_S)"
             }
         }
     }

@@ -21,7 +21,8 @@ fn check(config: &FswConfig, initial: &NavigationState) -> Result<(), FswError> 
     let attitude_norm = initial.attitude.norm();
     let finite = attitude::all_finite3(&initial.position_m)
         && attitude::all_finite3(&initial.velocity_mps)
-        && initial.time_s.is_finite();
+        && initial.time_s.is_finite()
+        && initial.time_s.abs() <= crate::config::MAX_INITIAL_TIME_S;
     let unit = attitude::is_unit_norm(attitude_norm);
     if finite && attitude_norm.is_finite() && unit {
         Ok(())

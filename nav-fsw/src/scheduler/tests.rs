@@ -221,6 +221,35 @@ fn init_in_place_refuses_as_new_does() {
     assert_eq!(refused, expected);
 }
 
+/// An initial time where a frame no longer advances the clock (1e17 s: one ulp is 16 s) is
+/// refused naming the initial state; the largest allowed time still advances by one frame.
+#[test]
+fn an_initial_time_beyond_the_limit_is_refused() {
+    let config = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
+    for time_s in [1.0e17, -1.0e17, 1.000_000_1e9] {
+        let initial = NavigationState {
+            time_s,
+            ..initial_state()
+        };
+        assert_eq!(
+            NavigationComputer::new(config, initial).err(),
+            Some(FswError::InvalidConfiguration(
+                ConfigField::InitialNavigation
+            )),
+            "{time_s}"
+        );
+    }
+    let initial = NavigationState {
+        time_s: crate::config::MAX_INITIAL_TIME_S,
+        ..initial_state()
+    };
+    let mut computer = NavigationComputer::new(config, initial).unwrap();
+    let start_s = computer.navigation().time_s;
+    one_frame(&mut computer, 1);
+    let advanced_s = computer.navigation().time_s - start_s;
+    assert!((advanced_s - 0.002).abs() < 1e-6, "{advanced_s}");
+}
+
 /// Runs 40 frames with a star measurement tagged at the navigation time in every fourth
 /// frame and two in frame 22 (a burst), under `frame_load`; returns per frame whether it
 /// fused, its navigation time and its covariance's time.
