@@ -30,6 +30,7 @@
 //!     velocity_mps: Vector3::new(7600.0, 0.0, 0.0),
 //!     time_s: 600.0,
 //! };
+//! // PLACEHOLDER ground constants: a flight image uses its launch's, from `nav-sim ground-constants`.
 //! let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED), initial)?;
 //! let mut imu = FrameImu(Some(ImuSample {
 //!     sequence: 1,

@@ -74,6 +74,10 @@ impl SensorFrames {
     /// GCRF axes equal to the launch-inertial axes and the launch epoch at GPS week 1000,
     /// 0 s: for tests and tools whose sensors already speak the launch-inertial frame and
     /// navigation time (a fix at navigation time `t` is [`Self::gps_time`]`(t)`).
+    ///
+    /// **A placeholder, never a launch's constants**: a real star tracker read through it is
+    /// off by the launch frame's whole rotation and every GNSS fix by years. A flight image
+    /// carries its launch's values, which `nav-sim ground-constants --format rust` prints.
     pub const ALIGNED: Self = Self {
         gcrf_to_launch_inertial_wxyz: [1.0, 0.0, 0.0, 0.0],
         launch_epoch_gps_week: 1000,

@@ -46,6 +46,8 @@ impl SchedulerScenario {
             time_s: 600.0,
         };
         let mut computer = NavigationComputer::new(
+            // PLACEHOLDER ground constants (the check's sensors speak the launch frame): a
+            // flight image uses its launch's, from `nav-sim ground-constants --format rust`.
             FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED),
             initial,
         )

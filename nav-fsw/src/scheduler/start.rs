@@ -117,6 +117,7 @@ impl NavigationComputer {
     ///     time_s: 600.0,
     /// };
     /// let mut slot = SLOT.lock().unwrap();
+    /// // PLACEHOLDER ground constants: a flight image uses its launch's (`nav-sim ground-constants`).
     /// let computer =
     ///     NavigationComputer::init_in_place(&mut slot, FswConfig::paper_defaults(site, SensorFrames::ALIGNED), initial)?;
     /// let mut imu = FrameImu(Some(ImuSample {

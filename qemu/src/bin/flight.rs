@@ -57,6 +57,8 @@ fn scheduler_frames() {
     };
     let Ok(computer) = NavigationComputer::init_in_place(
         slot,
+        // PLACEHOLDER ground constants (this image has no star tracker or receiver): a flight
+        // image uses its launch's, from `nav-sim ground-constants --format rust`.
         FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED),
         initial,
     ) else {
