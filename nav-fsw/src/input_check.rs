@@ -213,7 +213,7 @@ pub fn check_star(
     previous: Option<&Quaternion<f64>>,
     unit_norm_tolerance: f64,
 ) -> Result<(Quaternion<f64>, bool), StarFault> {
-    let raw = ports::quaternion(&measurement.attitude_wxyz);
+    let raw = ports::quaternion(&measurement.sensor_to_gcrf_wxyz);
     if !(measurement.time_tag_s.is_finite() && raw.coords.iter().all(|c| c.is_finite())) {
         return Err(StarFault::NonFinite);
     }
@@ -344,24 +344,24 @@ mod tests {
         let previous = Quaternion::new(0.5, 0.5, 0.5, 0.5);
         let flipped = StarMeasurement {
             time_tag_s: 1.0,
-            attitude_wxyz: [-0.5, -0.5, -0.5, -0.5],
+            sensor_to_gcrf_wxyz: [-0.5, -0.5, -0.5, -0.5],
         };
         let (q, was_flipped) = check_star(&flipped, Some(&previous), 1e-3).unwrap();
         assert!(was_flipped);
         assert!((q.coords - previous.coords).norm() < 1e-15);
         let zero = StarMeasurement {
             time_tag_s: 1.0,
-            attitude_wxyz: [0.0; 4],
+            sensor_to_gcrf_wxyz: [0.0; 4],
         };
         assert_eq!(check_star(&zero, None, 1e-3), Err(StarFault::NotUnit));
         let long = StarMeasurement {
             time_tag_s: 1.0,
-            attitude_wxyz: [1.01, 0.0, 0.0, 0.0],
+            sensor_to_gcrf_wxyz: [1.01, 0.0, 0.0, 0.0],
         };
         assert_eq!(check_star(&long, None, 1e-3), Err(StarFault::NotUnit));
         let nan = StarMeasurement {
             time_tag_s: f64::NAN,
-            attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+            sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
         };
         assert_eq!(check_star(&nan, None, 1e-3), Err(StarFault::NonFinite));
     }
@@ -431,13 +431,13 @@ mod tests {
         // previous sample is not a sign change.
         let long = StarMeasurement {
             time_tag_s: 1.0,
-            attitude_wxyz: [1.5, 0.0, 0.0, 0.0],
+            sensor_to_gcrf_wxyz: [1.5, 0.0, 0.0, 0.0],
         };
         assert!(check_star(&long, None, 0.5).is_ok());
         let previous = Quaternion::new(1.0, 0.0, 0.0, 0.0);
         let orthogonal = StarMeasurement {
             time_tag_s: 1.0,
-            attitude_wxyz: [0.0, 1.0, 0.0, 0.0],
+            sensor_to_gcrf_wxyz: [0.0, 1.0, 0.0, 0.0],
         };
         assert_eq!(
             check_star(&orthogonal, Some(&previous), 1e-3).map(|(_, f)| f),

@@ -32,8 +32,9 @@ pub struct StarMeasurement {
     /// computer, as its exposures are commanded on the flight computer's clock).
     pub time_tag_s: f64,
     /// Measured attitude quaternion `q_gs` `[w, x, y, z]` (Hamilton, scalar first), sensor
-    /// frame → GCRF.
-    pub attitude_wxyz: [f64; 4],
+    /// frame → GCRF. The frame is in the name: the flight code turns it into the
+    /// launch-inertial frame with the launch's ground constants (`SensorFrames`).
+    pub sensor_to_gcrf_wxyz: [f64; 4],
 }
 
 /// One GNSS fix: antenna position and, from receivers that output it, antenna velocity, in

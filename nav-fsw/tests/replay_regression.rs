@@ -207,7 +207,7 @@ fn fly_with_load(
                 .0
                 .push_back(StarMeasurement {
                     time_tag_s: tag,
-                    attitude_wxyz: star_in_gcrf(&q),
+                    sensor_to_gcrf_wxyz: star_in_gcrf(&q),
                 })
                 .unwrap();
         }
@@ -218,7 +218,7 @@ fn fly_with_load(
                 .0
                 .push_back(StarMeasurement {
                     time_tag_s: 600.0 - 0.05,
-                    attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+                    sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
                 })
                 .unwrap();
         }
@@ -228,7 +228,7 @@ fn fly_with_load(
                 .0
                 .push_back(StarMeasurement {
                     time_tag_s: navigation.time_s - 0.5,
-                    attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+                    sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
                 })
                 .unwrap();
         }

@@ -82,7 +82,7 @@ impl SchedulerScenario {
             let q = navigation.attitude;
             let _ = ports.star.0.push_back(StarMeasurement {
                 time_tag_s: navigation.time_s,
-                attitude_wxyz: [q.w, q.i, q.j, q.k],
+                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
             });
         }
         if frame == GNSS_FRAME {

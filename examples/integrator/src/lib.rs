@@ -147,7 +147,7 @@ mod tests {
         let mut tracker = HeldStarTracker {
             held: Some(StarMeasurement {
                 time_tag_s: start_s + FRAME_PERIOD_S,
-                attitude_wxyz: [w, -x, -y, -z],
+                sensor_to_gcrf_wxyz: [w, -x, -y, -z],
             }),
         };
         let mut accepted = false;

@@ -461,7 +461,7 @@ impl StarRecord {
     pub fn to_star_measurement(&self) -> StarMeasurement {
         StarMeasurement {
             time_tag_s: self.time_tag_s,
-            attitude_wxyz: self.attitude_wxyz,
+            sensor_to_gcrf_wxyz: self.attitude_wxyz,
         }
     }
 }

@@ -276,7 +276,7 @@ fn flight_with_frame_load(frame_load: crate::config::FrameLoad) -> Vec<(bool, f6
             // The burst's first is 1 ms older (a queue holds one measurement per time tag).
             let measurement = crate::ports::StarMeasurement {
                 time_tag_s: computer.navigation().time_s - 0.001 * f64::from(older),
-                attitude_wxyz: [q.w, q.i, q.j, q.k],
+                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
             };
             ports.star.0.push_back(measurement).unwrap();
         }
@@ -351,7 +351,7 @@ fn fly_star_offset(computer: &mut NavigationComputer, frames: u32, offset_rad: f
             let q = attitude::product(&initial_state().attitude, &turn);
             let measurement = crate::ports::StarMeasurement {
                 time_tag_s: computer.navigation().time_s,
-                attitude_wxyz: [q.w, q.i, q.j, q.k],
+                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
             };
             ports.star.0.push_back(measurement).unwrap();
         }

@@ -172,7 +172,7 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
                 if f >= FAULT_FRAME {
                     if let Some(m) = i.star.0.front_mut() {
                         if f < FAULT_FRAME + 1_000 {
-                            m.attitude_wxyz.iter_mut().for_each(|c| *c *= 1.1);
+                            m.sensor_to_gcrf_wxyz.iter_mut().for_each(|c| *c *= 1.1);
                         }
                     }
                 }
@@ -185,7 +185,7 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
             Box::new(|f, i| {
                 if in_window(f, 500) {
                     if let Some(m) = i.star.0.front_mut() {
-                        m.attitude_wxyz = [0.0; 4];
+                        m.sensor_to_gcrf_wxyz = [0.0; 4];
                     }
                 }
             }),
@@ -197,14 +197,14 @@ fn every_bad_input_class_is_detected_counted_and_survived() {
             Box::new(|f, i| {
                 if in_window(f, 125) {
                     if let Some(m) = i.star.0.front_mut() {
-                        let q = nav_fsw::ports::quaternion(&m.attitude_wxyz);
+                        let q = nav_fsw::ports::quaternion(&m.sensor_to_gcrf_wxyz);
                         let tilt = nav_core::attitude::exp_rotation_vector(&Vector3::new(
                             5f64.to_radians(),
                             0.0,
                             0.0,
                         ));
                         let r = nav_core::attitude::product(&q, &tilt);
-                        m.attitude_wxyz = [r.w, r.i, r.j, r.k];
+                        m.sensor_to_gcrf_wxyz = [r.w, r.i, r.j, r.k];
                     }
                 }
             }),
@@ -301,14 +301,14 @@ fn a_failed_star_sensor_is_declared_faulty_and_navigation_continues_on_gnss() {
             // From 14 s on the sensor reports an attitude 2° off.
             if f >= FAULT_FRAME {
                 if let Some(m) = i.star.0.front_mut() {
-                    let q = nav_fsw::ports::quaternion(&m.attitude_wxyz);
+                    let q = nav_fsw::ports::quaternion(&m.sensor_to_gcrf_wxyz);
                     let tilt = nav_core::attitude::exp_rotation_vector(&Vector3::new(
                         0.0,
                         2f64.to_radians(),
                         0.0,
                     ));
                     let r = nav_core::attitude::product(&q, &tilt);
-                    m.attitude_wxyz = [r.w, r.i, r.j, r.k];
+                    m.sensor_to_gcrf_wxyz = [r.w, r.i, r.j, r.k];
                 }
             }
         },
@@ -461,7 +461,7 @@ fn a_star_sensor_that_keeps_w_positive_changes_nothing_and_is_counted_per_sign_c
         let mut changes = 0_u32;
         let result = fly(&scenario, |_, inputs| {
             for measurement in inputs.star.0.iter_mut() {
-                let q = &mut measurement.attitude_wxyz;
+                let q = &mut measurement.sensor_to_gcrf_wxyz;
                 let dot = |p: &[f64; 4], q: &[f64; 4]| -> f64 {
                     p.iter().zip(q.iter()).map(|(a, b)| a * b).sum()
                 };

@@ -77,7 +77,7 @@ fn scheduler_frames() {
         if frame == 5 {
             let _ = ports.star.0.push_back(black_box(StarMeasurement {
                 time_tag_s: time_s,
-                attitude_wxyz: [1.0, 1e-5, 0.0, 0.0],
+                sensor_to_gcrf_wxyz: [1.0, 1e-5, 0.0, 0.0],
             }));
         }
         if frame == 10 {

@@ -94,11 +94,11 @@ pub(super) fn both(mut a: Injector, mut b: Injector) -> Injector {
 
 /// The star measurement rotated by `angle_deg` about sensor axis `axis`.
 pub(super) fn rotate_star(measurement: &mut StarMeasurement, axis: usize, angle_deg: f64) {
-    let q = nav_fsw::ports::quaternion(&measurement.attitude_wxyz);
+    let q = nav_fsw::ports::quaternion(&measurement.sensor_to_gcrf_wxyz);
     let mut rotation = Vector3::zeros();
     rotation[axis % 3] = angle_deg.to_radians();
     let r = attitude::product(&q, &attitude::exp_rotation_vector(&rotation));
-    measurement.attitude_wxyz = [r.w, r.i, r.j, r.k];
+    measurement.sensor_to_gcrf_wxyz = [r.w, r.i, r.j, r.k];
 }
 
 /// Non-finite values in IMU field `field` (0: Δθ, 1: Δv): NaN, +Inf, −Inf in x, y, z on

@@ -140,7 +140,7 @@ impl SensorEvent {
                 attitude_q_gs,
             } => Some(StarMeasurement {
                 time_tag_s: *time_tag_s,
-                attitude_wxyz: [
+                sensor_to_gcrf_wxyz: [
                     attitude_q_gs.w,
                     attitude_q_gs.i,
                     attitude_q_gs.j,

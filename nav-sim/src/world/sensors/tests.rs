@@ -398,8 +398,8 @@ fn events_convert_to_flight_software_ports() {
         .find_map(SensorEvent::to_star_measurement)
         .unwrap();
     assert!((star.time_tag_s - 600.25).abs() < 1e-9);
-    let norm: f64 = star.attitude_wxyz.iter().map(|c| c * c).sum();
-    assert!((norm - 1.0).abs() < 1e-15 && star.attitude_wxyz[0] >= 0.0);
+    let norm: f64 = star.sensor_to_gcrf_wxyz.iter().map(|c| c * c).sum();
+    assert!((norm - 1.0).abs() < 1e-15 && star.sensor_to_gcrf_wxyz[0] >= 0.0);
     let fix = events.iter().find_map(SensorEvent::to_gnss_fix).unwrap();
     let frames = crate::setup::launch::scenario_ground_constants(&scenario)
         .unwrap()

@@ -97,9 +97,11 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                 on_star(|n, ports| {
                     let Some(m) = star(ports) else { return };
                     match n {
-                        0..12 => m.attitude_wxyz[(n % 4) as usize] = NON_FINITE[(n / 4) as usize],
-                        12..16 => m.attitude_wxyz[(n - 12) as usize] = SUBNORMAL,
-                        16 => m.attitude_wxyz = [SUBNORMAL; 4],
+                        0..12 => {
+                            m.sensor_to_gcrf_wxyz[(n % 4) as usize] = NON_FINITE[(n / 4) as usize]
+                        }
+                        12..16 => m.sensor_to_gcrf_wxyz[(n - 12) as usize] = SUBNORMAL,
+                        16 => m.sensor_to_gcrf_wxyz = [SUBNORMAL; 4],
                         _ => {}
                     }
                 })

@@ -62,7 +62,7 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                 on_star(|n, ports| {
                     if n < 10 && n % 2 == 0 {
                         if let Some(m) = star(ports) {
-                            m.attitude_wxyz.iter_mut().for_each(|c| *c = -*c);
+                            m.sensor_to_gcrf_wxyz.iter_mut().for_each(|c| *c = -*c);
                         }
                     }
                 })
@@ -89,7 +89,7 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                         8 => 1.0005,
                         _ => return,
                     };
-                    m.attitude_wxyz.iter_mut().for_each(|c| *c *= scale);
+                    m.sensor_to_gcrf_wxyz.iter_mut().for_each(|c| *c *= scale);
                 })
             },
         },
