@@ -208,8 +208,8 @@ impl EpochCheck {
 /// # Errors
 /// A log error naming its line (including a log at another IMU rate, on another time base or
 /// with a jump the replay does not bridge, `nav_fsw::replay::FrameAssemblyError`, and a log
-/// whose GNSS time tags disagree with the scenario's launch epoch, [`EpochCheck`]), a refused
-/// configuration, or an I/O error of `output`.
+/// whose GNSS time tags disagree with the scenario's launch epoch: none of its first 10 fixes
+/// within the latency window), a refused configuration, or an I/O error of `output`.
 pub fn replay<R: Read, W: Write>(
     log: R,
     scenario: &Scenario,
