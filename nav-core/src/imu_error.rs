@@ -28,14 +28,15 @@
 //! body frame is fixed by the **accelerometer triad**: `x` along the accelerometer `x`
 //! sensing axis, `y` in the plane of its `x` and `y` axes, so `L_a` is lower triangular; the
 //! gyro keeps all six terms relative to that frame, and the star-sensor installation error
-//! and the attitude absorb the rotation. Why the accelerometer: its terms are excited only
-//! by specific force (`L_a f_m`), which an upper stage produces almost only along its thrust
-//! axis, while every gyro term is excited by a slew about an axis, which attitude control
-//! flies cheaply about all three. Of a full accelerometer matrix, only `a_yx`, `a_zx` are seen
-//! under thrust along `x`; with the gyro-defined frame the accelerometer would keep six terms
-//! of which four stay hidden, with the accelerometer-defined frame only `a_zy` (`f` along `y`)
-//! does, and the thrust axis `x` is the accelerometer's own, so the velocity gained in a burn
-//! is integrated in the frame that measures it.
+//! and the attitude absorb the rotation. Why the accelerometer: the velocity a burn adds is
+//! integrated in the frame that measures it, and of a full accelerometer matrix only `a_yx`,
+//! `a_zx` are seen under thrust along `x`, so a gyro-defined frame would keep four
+//! accelerometer terms nothing excites. The limit of the choice (the 36-state analysis,
+//! `docs/observability.md`): the frame is pinned only where the accelerometer is excited; an
+//! axis never under specific force leaves the frame's rotations that tilt it towards that axis
+//! unobservable (they move only upper terms, which multiply that force), mixed into attitude,
+//! installation and gyro misalignment. Whether a gyro- or star-defined frame serves an upper
+//! stage that thrusts along `x` only is the open decision this analysis hands on.
 //!
 //! ## Error-model columns ([`system_columns`])
 //! With `δ = truth − estimate` and the correction of [`correct_rates`],
