@@ -61,6 +61,7 @@ pub mod float;
 pub mod frames;
 pub mod gnss_error;
 pub mod gravity;
+pub mod imu_error;
 pub mod measurement;
 #[cfg(any(test, feature = "ground-analysis"))]
 pub mod observability;

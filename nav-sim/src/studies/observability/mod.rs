@@ -32,6 +32,7 @@ use serde::Serialize;
 use crate::scenario::{Scenario, ScenarioError};
 
 mod heat_map;
+pub mod imu_errors;
 mod render;
 
 pub use heat_map::write_heat_map;
