@@ -25,6 +25,19 @@ pub struct ImuSample {
 /// (their catalogue is ICRS/J2000; the J2000 ↔ GCRF frame bias, 0.02″, is far below the
 /// tracker's noise). The flight code turns it into launch-inertial with the ground constant
 /// of [`crate::sensor_frames::SensorFrames`].
+///
+/// The frame is in the field's name, so code written when this port took a launch-inertial
+/// attitude (`attitude_wxyz`) no longer compiles:
+/// ```compile_fail
+/// let _ = nav_fsw::ports::StarMeasurement { time_tag_s: 600.0, attitude_wxyz: [1.0, 0.0, 0.0, 0.0] };
+/// ```
+/// ```
+/// let measurement = nav_fsw::ports::StarMeasurement {
+///     time_tag_s: 600.0,
+///     sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+/// };
+/// assert!((measurement.sensor_to_gcrf_wxyz[0] - 1.0).abs() < 1e-15);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct StarMeasurement {

@@ -308,9 +308,9 @@ fn files_in(directory: &Path) -> Vec<String> {
     names
 }
 
-/// A `log` of the built-in flight (a 1.5 million-line CSV) and a Monte Carlo shard, each
-/// interrupted by SIGINT or SIGTERM while its output is staged: the command exits with 130 and
-/// leaves no temporary file, and an existing target as it was.
+/// A `log` of the built-in flight (a 1.5 million-line CSV), a Monte Carlo shard and a `replay`,
+/// each interrupted by SIGINT or SIGTERM while its output is staged: the command exits with 130
+/// and leaves no temporary file, and an existing target as it was.
 #[test]
 fn an_interrupted_command_leaves_no_temporary_file() {
     for (arguments, signal) in [
@@ -327,11 +327,22 @@ fn an_interrupted_command_leaves_no_temporary_file() {
             ][..],
             "-TERM",
         ),
+        // The log is a FIFO no one writes: the replay has staged its output and waits.
+        (
+            &["replay", "sensors.fifo", "--out", "out/log.csv"][..],
+            "-INT",
+        ),
     ] {
         let directory = tempfile::tempdir().unwrap();
         let out = directory.path().join("out");
         std::fs::create_dir(&out).unwrap();
         std::fs::write(out.join("log.csv"), "kept\n").unwrap();
+        let fifo = directory.path().join("sensors.fifo");
+        assert!(Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success());
         let mut child = Command::new(env!("CARGO_BIN_EXE_nav-sim"))
             .args(arguments)
             .current_dir(directory.path())
