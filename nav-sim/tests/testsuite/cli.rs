@@ -298,16 +298,6 @@ fn runs_must_be_one_to_the_campaign_limit() {
     }
 }
 
-/// The files in `directory`, sorted.
-fn files_in(directory: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(directory)
-        .unwrap()
-        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 /// A `log` of the built-in flight (a 1.5 million-line CSV), a Monte Carlo shard and a `replay`,
 /// each interrupted by SIGINT or SIGTERM while its output is staged: the command exits with 130
 /// and leaves no temporary file, and an existing target as it was.
@@ -350,7 +340,7 @@ fn an_interrupted_command_leaves_no_temporary_file() {
             .spawn()
             .unwrap();
         // Wait until the staged output exists (at most 60 s).
-        let staged = |out: &Path| files_in(out).iter().any(|name| name.starts_with('.'));
+        let staged = |out: &Path| names(out).iter().any(|name| name.starts_with('.'));
         let start = std::time::Instant::now();
         while !staged(&out) {
             assert!(
@@ -369,7 +359,7 @@ fn an_interrupted_command_leaves_no_temporary_file() {
         let message = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(130), "{arguments:?}: {message}");
         assert!(message.contains("interrupted"), "{message}");
-        assert_eq!(files_in(&out), ["log.csv"], "{arguments:?}");
+        assert_eq!(names(&out), ["log.csv"], "{arguments:?}");
         assert_eq!(
             std::fs::read_to_string(out.join("log.csv")).unwrap(),
             "kept\n"
