@@ -282,6 +282,9 @@ pub struct FswConfig {
     pub covariance: CovarianceConfig,
     /// The calibration manager.
     pub calibration: CalibrationManagerConfig,
+    /// The innovation consistency monitor of every aid
+    /// ([`crate::consistency::ConsistencyMonitor`]).
+    pub consistency: crate::consistency::ConsistencyConfig,
 }
 
 impl FswConfig {
@@ -361,6 +364,7 @@ impl FswConfig {
                 second_order_attitude: SecondOrderAttitude::Bounded,
             },
             calibration: CalibrationManagerConfig::default(),
+            consistency: crate::consistency::ConsistencyConfig::default(),
         }
     }
 
@@ -516,6 +520,9 @@ impl FswConfig {
         }
         if self.timing.rejections_to_declare_faulty == 0 {
             return invalid(ConfigField::RejectionsToDeclareFaulty);
+        }
+        if !self.consistency.is_valid() {
+            return invalid(ConfigField::Consistency);
         }
         Ok(())
     }

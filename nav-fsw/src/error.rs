@@ -59,6 +59,8 @@ pub enum ConfigField {
     OutageTimeout,
     /// `timing.rejections_to_declare_faulty`
     RejectionsToDeclareFaulty,
+    /// `consistency.time_constant_measurements` / `consistency.mean_nis_bound`
+    Consistency,
     /// `covariance.propagation_interval_frames`
     PropagationInterval,
     /// `covariance.sigma_floor`
@@ -111,6 +113,9 @@ impl ConfigField {
             ConfigField::FutureTolerance => "timing.future_tolerance_s",
             ConfigField::OutageTimeout => "timing.outage_timeout_s",
             ConfigField::RejectionsToDeclareFaulty => "timing.rejections_to_declare_faulty",
+            ConfigField::Consistency => {
+                "consistency.time_constant_measurements / consistency.mean_nis_bound"
+            }
             ConfigField::PropagationInterval => "covariance.propagation_interval_frames",
             ConfigField::SigmaFloor => "covariance.sigma_floor",
             ConfigField::SigmaCeiling => "covariance.sigma_ceiling_factor",
@@ -179,6 +184,9 @@ impl ConfigField {
             }
             ConfigField::FutureTolerance => "must be finite, >= 0 and below one IMU period",
             ConfigField::RejectionsToDeclareFaulty => "must be >= 1",
+            ConfigField::Consistency => {
+                "must have a time constant in 1..=65536 measurements and a mean-NIS bound finite and > 3"
+            }
             ConfigField::PropagationInterval => "must be in 1..=500 frames",
             ConfigField::SigmaCeiling => "must be finite and >= 1",
             ConfigField::CalibrationWindow => "must be finite and >= 0",

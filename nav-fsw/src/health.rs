@@ -66,10 +66,25 @@ pub struct HealthCounters {
     /// receiver's errors are correlated beyond what the filter models, so its covariance is
     /// no longer to be trusted.
     pub gnss_innovations_correlated: u32,
+    /// Episodes of star innovations inconsistent with their covariance
+    /// ([`crate::consistency::ConsistencyMonitor`]): counted when the aid starts failing
+    /// the test.
+    pub star_inconsistent: u32,
+    /// Episodes of inconsistent GNSS position innovations, as
+    /// [`HealthCounters::star_inconsistent`].
+    pub gnss_inconsistent: u32,
+    /// Episodes of inconsistent GNSS velocity innovations, as
+    /// [`HealthCounters::star_inconsistent`].
+    pub gnss_velocity_inconsistent: u32,
+    /// Runs of `timing.rejections_to_declare_faulty` gate rejections blamed on the inertial
+    /// solution, not on the aiding sensor: its innovations were already inconsistent when
+    /// the run began, or the other sensor's are now. The sensor is kept, and the uncertainty
+    /// of the states it observes is widened (`scheduler::aid`).
+    pub inertial_suspect: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 28;
+pub const HEALTH_COUNTER_COUNT: usize = 32;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -121,6 +136,13 @@ impl HealthCounters {
                 "gnss_innovations_correlated",
                 self.gnss_innovations_correlated,
             ),
+            ("star_inconsistent", self.star_inconsistent),
+            ("gnss_inconsistent", self.gnss_inconsistent),
+            (
+                "gnss_velocity_inconsistent",
+                self.gnss_velocity_inconsistent,
+            ),
+            ("inertial_suspect", self.inertial_suspect),
         ]
     }
 }

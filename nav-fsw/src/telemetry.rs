@@ -52,6 +52,12 @@ pub struct FrameTelemetry {
     pub star_faulty: bool,
     /// The GNSS receiver is declared faulty.
     pub gnss_faulty: bool,
+    /// Whether the star consistency monitor's last window failed.
+    pub star_inconsistent: bool,
+    /// Whether the GNSS position consistency monitor's last window failed.
+    pub gnss_inconsistent: bool,
+    /// Whether the GNSS velocity consistency monitor's last window failed.
+    pub gnss_velocity_inconsistent: bool,
     /// Calibration blocks converged so far.
     pub converged_blocks: u32,
     /// Blocks frozen now ([`nav_core::state::BlockMask`] bits).

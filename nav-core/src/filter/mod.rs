@@ -579,15 +579,7 @@ impl ErrorStateFilter {
             ) else {
                 continue;
             };
-            let scale = crate::float::sqrt(ceiling / variance);
-            self.gnss_error.scale_cross_row(index, scale);
-            for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
-                if column_index == index {
-                    column.iter_mut().for_each(|value| *value *= scale);
-                } else if let Some(value) = column.get_mut(index) {
-                    *value *= scale;
-                }
-            }
+            self.scale_state_uncertainty(index, crate::float::sqrt(ceiling / variance));
             // The diagonal takes s² (row and column): exactly the ceiling.
             if let Some(entry) = self
                 .covariance
@@ -600,6 +592,65 @@ impl ErrorStateFilter {
             }
         }
         clamped
+    }
+
+    /// Widens the uncertainty of `block` by `variance_factor`: `P' = S P S` with
+    /// `S = diag(1, …, √f I₃, …, 1)` on the block's rows and columns (its cross-covariance
+    /// with the receiver's correlated error included). Every correlation coefficient and
+    /// positive definiteness are kept, and the block's variances grow by `f`: the reaction to
+    /// innovations larger than the filter claims, when the error they show is the inertial
+    /// solution's (nav-fsw's fault logic).
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a factor below 1 or non-finite; nothing changes then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::state::GYRO_BIAS;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
+    /// filter.widen_block_uncertainty(GYRO_BIAS, 4.0).unwrap();
+    /// let index = GYRO_BIAS.index();
+    /// assert!((filter.covariance()[(index, index)] - 4e-6).abs() < 1e-18);
+    /// assert!(filter.widen_block_uncertainty(GYRO_BIAS, 0.5).is_err());
+    /// ```
+    pub fn widen_block_uncertainty(
+        &mut self,
+        block: StateBlock,
+        variance_factor: f64,
+    ) -> Result<(), NavError> {
+        if !(variance_factor.is_finite() && variance_factor >= 1.0) {
+            return Err(NavError::NonFiniteInput);
+        }
+        let scale = crate::float::sqrt(variance_factor);
+        for index in block.index()..block.index().saturating_add(block.dimension()) {
+            self.scale_state_uncertainty(index, scale);
+        }
+        Ok(())
+    }
+
+    /// Multiplies row and column `index` of `P` (and the state's cross-covariance with the
+    /// receiver's correlated error) by `scale`: `P' = S P S` for one state, so the variance
+    /// takes `scale²`.
+    fn scale_state_uncertainty(&mut self, index: usize, scale: f64) {
+        self.gnss_error.scale_cross_row(index, scale);
+        for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
+            if column_index == index {
+                column.iter_mut().for_each(|value| *value *= scale);
+            }
+            // The row's entry: in the state's own column this is the diagonal, scaled twice.
+            if let Some(value) = column.get_mut(index) {
+                *value *= scale;
+            }
+        }
     }
 
     /// Innovation, its covariance and NIS for `measurement`, without changing the filter.

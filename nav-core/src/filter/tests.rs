@@ -402,6 +402,40 @@ fn protection_puts_a_variance_at_its_ceiling_and_keeps_correlations() {
     assert!(!filter.protect_variances(&floor, &ceiling));
 }
 
+/// Widening a block is `P' = S P S` with `S = √f` on the block: compared with the product
+/// formed densely, on a full covariance; a factor below 1 or non-finite changes nothing.
+#[test]
+fn widening_a_block_is_the_congruence_with_the_block_scaled() {
+    let mut filter = ErrorStateFilter::new(&config(FilterMode::ClosedLoop)).unwrap();
+    let mixing = CovarianceMatrix::from_fn(|row, column| {
+        let (row, column) = (row as f64, column as f64);
+        libm::sin(1.0 + 0.37 * row + 0.11 * column * column)
+    });
+    let covariance = mixing * mixing.transpose() + CovarianceMatrix::identity();
+    filter.set_covariance(&covariance).unwrap();
+    let factor = 6.25;
+    filter.widen_block_uncertainty(GYRO_BIAS, factor).unwrap();
+    let scaling = CovarianceMatrix::from_fn(|row, column| {
+        let in_block = (GYRO_BIAS.index()..GYRO_BIAS.index() + 3).contains(&row);
+        match (row == column, in_block) {
+            (false, _) => 0.0,
+            (true, true) => 2.5,
+            (true, false) => 1.0,
+        }
+    });
+    let expected = scaling * covariance * scaling;
+    let p = filter.covariance();
+    let worst = (p - expected).abs().max();
+    assert!(worst <= 1e-15 * expected.abs().max(), "{worst}");
+    let index = GYRO_BIAS.index();
+    assert!((p[(index, index)] / covariance[(index, index)] - factor).abs() < 1e-14);
+    let widened = *p;
+    for refused in [0.99, f64::NAN, f64::INFINITY] {
+        assert!(filter.widen_block_uncertainty(ATTITUDE, refused).is_err());
+        assert_eq!(filter.covariance(), &widened);
+    }
+}
+
 /// A variance below its floor is raised to it (only the diagonal changes); one exactly
 /// at its floor or ceiling is inside the bounds and reported as unchanged.
 #[test]

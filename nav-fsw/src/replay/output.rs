@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 77;
+pub const OUTPUT_WORDS: usize = 82;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -86,6 +86,11 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "imu_held_frames",
     "gnss_innovations_correlated",
     "imu_records_dropped",
+    "star_inconsistent",
+    "gnss_inconsistent",
+    "gnss_velocity_inconsistent",
+    "inconsistent_aids",
+    "inertial_suspect",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -176,5 +181,13 @@ pub fn output_words(
     put(u64::from(h.imu_held_frames));
     put(u64::from(h.gnss_innovations_correlated));
     put(u64::from(counts.imu_records_dropped));
+    put(u64::from(h.star_inconsistent));
+    put(u64::from(h.gnss_inconsistent));
+    put(u64::from(h.gnss_velocity_inconsistent));
+    // The aids' current verdicts, one bit each: star 1, GNSS position 2, GNSS velocity 4.
+    put(u64::from(t.star_inconsistent)
+        | (u64::from(t.gnss_inconsistent) << 1)
+        | (u64::from(t.gnss_velocity_inconsistent) << 2));
+    put(u64::from(h.inertial_suspect));
     words
 }

@@ -14,6 +14,28 @@ pub(super) enum Sensor {
     Gnss,
 }
 
+impl Sensor {
+    /// The other aiding sensor: the independent witness of the inertial solution.
+    pub(super) const fn other(self) -> Sensor {
+        match self {
+            Sensor::Star => Sensor::Gnss,
+            Sensor::Gnss => Sensor::Star,
+        }
+    }
+
+    /// The error-state blocks the sensor observes directly and the inertial error that
+    /// drives them: the states whose uncertainty is widened when its disagreement is blamed
+    /// on the inertial solution. The star sensor sees the attitude, driven by the gyro bias
+    /// (a g-sensitivity or a gyro misalignment acts as one); the receiver sees position and
+    /// velocity, driven by the accelerometer bias (a non-orthogonal triad acts as one).
+    pub(super) const fn inertial_blocks(self) -> &'static [StateBlock] {
+        match self {
+            Sensor::Star => &[ATTITUDE, GYRO_BIAS],
+            Sensor::Gnss => &[POSITION, VELOCITY, ACCEL_BIAS],
+        }
+    }
+}
+
 /// The aiding measurements, one routine each for forming them and one shared path for
 /// referral, update and fault handling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,6 +80,10 @@ pub(super) struct AidingSensor {
     pub(super) consecutive_rejections: u32,
     pub(super) faulty: bool,
     pub(super) last_nis: f64,
+    /// Whether the sensor's innovations were already failing the consistency test when its
+    /// current run of gate rejections began (a gradual onset: the inertial solution drifting
+    /// away, not a step in the sensor).
+    pub(super) run_began_inconsistent: bool,
     /// Whether the filter has accepted a measurement of the aid since start-up, the aid's
     /// last outage, the filter's last re-initialisation or its sensor's last cleared fault:
     /// until then its gate is the acquisition gate ([`crate::config::ACQUISITION_GATE_NIS`]).
@@ -134,24 +160,81 @@ impl NavigationComputer {
         }
     }
 
-    /// One more rejection of `aid`'s sensor; after `timing.rejections_to_declare_faulty` in a
-    /// row the sensor is declared faulty (counted once per declaration).
+    /// One more rejection of `aid`'s sensor. After `timing.rejections_to_declare_faulty` in
+    /// a row the run is blamed ([`NavigationComputer::blames_inertial_solution`]): on the
+    /// inertial solution, the sensor is kept and the uncertainty of the states it observes
+    /// widened ([`NavigationComputer::widen_inertial_uncertainty`], counted in
+    /// `inertial_suspect`), and a new run begins; on the sensor, it is declared faulty
+    /// (counted once per declaration).
     pub(super) fn note_rejection(&mut self, aid: Aid) {
         let limit = self.config.timing.rejections_to_declare_faulty;
-        let (sensor, declarations) = match aid.sensor() {
-            Sensor::Star => (
-                &mut self.aids.star,
-                &mut self.health.counters.star_declared_faulty,
-            ),
-            Sensor::Gnss => (
-                &mut self.aids.gnss,
-                &mut self.health.counters.gnss_declared_faulty,
-            ),
+        let sensor = aid.sensor();
+        let inconsistent = self.inconsistent(sensor);
+        let state = self.fault_state(sensor);
+        if state.consecutive_rejections == 0 {
+            state.run_began_inconsistent = inconsistent;
+        }
+        state.consecutive_rejections = state.consecutive_rejections.saturating_add(1);
+        if state.faulty || state.consecutive_rejections < limit {
+            return;
+        }
+        if self.blames_inertial_solution(sensor) {
+            self.fault_state(sensor).consecutive_rejections = 0;
+            count(&mut self.health.counters.inertial_suspect);
+            self.widen_inertial_uncertainty(sensor);
+        } else {
+            self.fault_state(sensor).faulty = true;
+            count(match sensor {
+                Sensor::Star => &mut self.health.counters.star_declared_faulty,
+                Sensor::Gnss => &mut self.health.counters.gnss_declared_faulty,
+            });
+        }
+    }
+
+    /// Whether `sensor`'s run of rejections is the inertial solution's doing: a sensor fault
+    /// (a step, a frozen output) starts while its innovations are consistent and leaves the
+    /// other sensor consistent; an inertial error unmodelled by the filter (an IMU
+    /// misalignment, a g-sensitivity) grows, so the sensor's innovations fail the
+    /// consistency test before they fail the gate, or the other sensor's fail it too.
+    pub(super) fn blames_inertial_solution(&mut self, sensor: Sensor) -> bool {
+        self.fault_state(sensor).run_began_inconsistent || self.inconsistent(sensor.other())
+    }
+
+    /// Whether any aid of `sensor` fails its consistency test now.
+    pub(super) fn inconsistent(&self, sensor: Sensor) -> bool {
+        match sensor {
+            Sensor::Star => self.aids.star_consistency.failing(),
+            Sensor::Gnss => {
+                self.aids.gnss_consistency.failing()
+                    || self.aids.gnss_velocity_consistency.failing()
+            }
+        }
+    }
+
+    /// The inertial solution is blamed for `sensor`'s rejections: the uncertainty of the
+    /// states it observes ([`Sensor::inertial_blocks`]) is widened by the ratio of its
+    /// innovations' average NIS to the consistent 3 (`f = m / 3`, at least 1), so the
+    /// filter's σ grows to the size of the error its innovations show (nav-core
+    /// `widen_block_uncertainty`, `P' = S P S`, correlations kept).
+    pub(super) fn widen_inertial_uncertainty(&mut self, sensor: Sensor) {
+        let mean_nis = match sensor {
+            Sensor::Star => self.aids.star_consistency.mean_nis(),
+            Sensor::Gnss => self
+                .aids
+                .gnss_consistency
+                .mean_nis()
+                .max(self.aids.gnss_velocity_consistency.mean_nis()),
         };
-        sensor.consecutive_rejections = sensor.consecutive_rejections.saturating_add(1);
-        if !sensor.faulty && sensor.consecutive_rejections >= limit {
-            sensor.faulty = true;
-            count(declarations);
+        let factor = (mean_nis / CONSISTENT_MEAN_NIS).max(1.0);
+        for block in sensor.inertial_blocks() {
+            if self
+                .covariance
+                .filter
+                .widen_block_uncertainty(*block, factor)
+                .is_err()
+            {
+                count(&mut self.health.counters.filter_errors);
+            }
         }
     }
 

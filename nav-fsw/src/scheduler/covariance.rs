@@ -189,6 +189,10 @@ impl NavigationComputer {
         // The filter is back at its prior: each aid's first acceptance is an acquisition.
         self.reacquire(Sensor::Star);
         self.reacquire(Sensor::Gnss);
+        // Its innovations are tested afresh.
+        self.aids.star_consistency.clear();
+        self.aids.gnss_consistency.clear();
+        self.aids.gnss_velocity_consistency.clear();
     }
 
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless

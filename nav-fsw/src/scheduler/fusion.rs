@@ -182,7 +182,38 @@ impl NavigationComputer {
             count(self.gate_rejections(aid));
             self.note_rejection(aid);
         }
+        // After the fault logic, which reads the verdict the run of rejections began under.
+        self.observe_consistency(aid, &report);
         aid.fusion(report.accepted)
+    }
+
+    /// Feeds a tested measurement's NIS to its aid's consistency monitor (counted per
+    /// episode).
+    pub(super) fn observe_consistency(
+        &mut self,
+        aid: Aid,
+        report: &nav_core::filter::InnovationReport,
+    ) {
+        let gate = self.gate_nis(aid);
+        let config = self.config.consistency;
+        let (monitor, counter) = match aid {
+            Aid::Star => (
+                &mut self.aids.star_consistency,
+                &mut self.health.counters.star_inconsistent,
+            ),
+            Aid::GnssPosition => (
+                &mut self.aids.gnss_consistency,
+                &mut self.health.counters.gnss_inconsistent,
+            ),
+            Aid::GnssVelocity => (
+                &mut self.aids.gnss_velocity_consistency,
+                &mut self.health.counters.gnss_velocity_inconsistent,
+            ),
+        };
+        let nis = report.normalised_innovation_squared;
+        if monitor.observe(nis, report.accepted, gate, &config) {
+            count(counter);
+        }
     }
 
     /// Feeds a GNSS position innovation to the whiteness monitor (counted per episode).

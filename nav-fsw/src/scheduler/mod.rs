@@ -56,7 +56,7 @@ use nav_core::frames::LaunchFrame;
 use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
-use nav_core::state::{BlockMask, StateBlock, ATTITUDE, POSITION, VELOCITY};
+use nav_core::state::{BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
@@ -71,6 +71,7 @@ use crate::calibration_manager::{
 };
 use crate::config::HeldSampleUncertainty;
 use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE_CAPACITY};
+use crate::consistency::{ConsistencyMonitor, CONSISTENT_MEAN_NIS};
 use crate::error::{ConfigField, FswError};
 use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
@@ -239,6 +240,9 @@ struct Aids {
     star_outage: OutageMonitor,
     gnss_outage: OutageMonitor,
     gnss_whiteness: WhitenessMonitor,
+    star_consistency: ConsistencyMonitor,
+    gnss_consistency: ConsistencyMonitor,
+    gnss_velocity_consistency: ConsistencyMonitor,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.

@@ -369,6 +369,17 @@ fn offset_for_nis(computer: &NavigationComputer, base_rad: f64, nis: f64) -> f64
     probe_rad * (nis / probed).sqrt()
 }
 
+/// The star gate, the acquisition gate, an NIS halfway between them and the offset about
+/// body x whose first star measurement has that NIS for `computer`.
+fn between_the_gates(computer: &NavigationComputer) -> (f64, f64, f64, f64) {
+    let (gate, acquisition) = (
+        computer.config.star.gate_nis,
+        computer.config.star.acquisition_gate_nis,
+    );
+    let nis = 0.5 * (gate + acquisition);
+    (gate, acquisition, nis, offset_for_nis(computer, 0.0, nis))
+}
+
 /// A healthy star sensor whose first measurements disagree with the prior beyond the steady
 /// gate (a tail draw of the installation or attitude error, which every measurement repeats)
 /// is acquired under the acquisition gate, not declared faulty. Once acquired, a
@@ -377,12 +388,7 @@ fn offset_for_nis(computer: &NavigationComputer, base_rad: f64, nis: f64) -> f64
 #[test]
 fn a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one() {
     let mut computer = computer();
-    let (gate, acquisition) = (
-        computer.config.star.gate_nis,
-        computer.config.star.acquisition_gate_nis,
-    );
-    let nis = 0.5 * (gate + acquisition);
-    let offset_rad = offset_for_nis(&computer, 0.0, nis);
+    let (gate, acquisition, nis, offset_rad) = between_the_gates(&computer);
     let first_nis = fly_star_offset(&mut computer, 2, offset_rad);
     assert!(first_nis > gate && first_nis < acquisition, "{first_nis}");
     assert!(computer.aids.star.acquired);
@@ -413,4 +419,47 @@ fn without_the_acquisition_gate_a_tail_draw_of_the_prior_is_declared_a_fault() {
     fly_star_offset(&mut computer, 2 * limit, offset_rad);
     assert_eq!(computer.health().star_gate_rejections, limit);
     assert_eq!(computer.health().star_declared_faulty, 1);
+}
+
+/// The run of rejections of the test above, begun while the star sensor's innovations
+/// already fail the consistency test (a gradual onset: the inertial solution drifting away),
+/// or while the receiver's fail it, is blamed on the inertial solution: the star sensor is
+/// kept, the run counted in `inertial_suspect`, and the attitude and gyro-bias variances
+/// widened by the average NIS over 3.
+#[test]
+fn a_run_of_rejections_with_inconsistent_innovations_is_blamed_on_the_inertial_solution() {
+    for witness in [Sensor::Star, Sensor::Gnss] {
+        let mut computer = computer();
+        let (gate, _, nis, offset_rad) = between_the_gates(&computer);
+        fly_star_offset(&mut computer, 42, offset_rad);
+        let consistency = computer.config.consistency;
+        let monitor = match witness {
+            Sensor::Star => &mut computer.aids.star_consistency,
+            Sensor::Gnss => &mut computer.aids.gnss_consistency,
+        };
+        for _ in 0..2 * consistency.time_constant_measurements {
+            monitor.observe(12.0, true, gate, &consistency);
+        }
+        assert!(computer.inconsistent(witness));
+        let limit = computer.config.timing.rejections_to_declare_faulty;
+        let steady_offset_rad = offset_rad + offset_for_nis(&computer, offset_rad, nis);
+        let variance = |computer: &NavigationComputer, block: StateBlock| {
+            computer.filter().covariance()[(block.index(), block.index())]
+        };
+        let before = [ATTITUDE, GYRO_BIAS].map(|block| variance(&computer, block));
+        fly_star_offset(&mut computer, 2 * limit, steady_offset_rad);
+        let health = computer.health();
+        assert_eq!(health.star_gate_rejections, limit, "{witness:?}");
+        assert_eq!(health.star_declared_faulty, 0, "{witness:?}");
+        assert_eq!(health.inertial_suspect, 1, "{witness:?}");
+        assert!(!computer.aids.star.faulty);
+        let after = [ATTITUDE, GYRO_BIAS].map(|block| variance(&computer, block));
+        // m ≈ 12 (the star's own test) or ≈ 3.6 (its last rejections): widened by m / 3.
+        let least = if witness == Sensor::Star { 3.0 } else { 1.1 };
+        assert!(
+            after[1] > least * before[1],
+            "{witness:?} {before:?} {after:?}"
+        );
+        assert!(after[0] > before[0], "{witness:?} {before:?} {after:?}");
+    }
 }

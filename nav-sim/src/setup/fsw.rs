@@ -54,6 +54,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         | F::HeldSampleUncertainty
         | F::OutageTimeout
         | F::RejectionsToDeclareFaulty
+        | F::Consistency
         | F::PropagationInterval
         | F::SigmaFloor
         | F::SigmaCeiling

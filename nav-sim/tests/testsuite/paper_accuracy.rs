@@ -48,6 +48,15 @@ fn assert_paper_accuracy(result: &FlightResult, case: &str) {
     assert_eq!(result.health.gnss_declared_faulty, 0, "{case}");
     // White receiver errors, as the filter assumes: the innovations stay white.
     assert_eq!(result.health.gnss_innovations_correlated, 0, "{case}");
+    // The model is the truth's: the consistency monitor stays quiet, nothing is blamed.
+    let health = &result.health;
+    let quiet = [
+        health.star_inconsistent,
+        health.gnss_inconsistent,
+        health.gnss_velocity_inconsistent,
+        health.inertial_suspect,
+    ];
+    assert_eq!(quiet, [0; 4], "{case}");
 }
 
 #[test]

@@ -199,3 +199,20 @@ fn table_and_plot() {
         std::fs::copy(&path, Path::new(&keep).join("monte_carlo.png")).unwrap();
     }
 }
+
+/// The consistency monitor's default bound is `3 χ²⁻¹(1 − 1e-9; ν) / ν`, `ν = 3 (2N − 1)`,
+/// for the default time constant `N` (nav-fsw `consistency`, Patnaik's moment match of the
+/// fading average), to the 3 digits it is given; and the bound of nav-fsw's false-alarm test
+/// is `χ²⁻¹(0.99; 93)`.
+#[test]
+fn the_consistency_monitors_default_bound_is_the_chi_square_quantile() {
+    use nav_fsw::consistency::{DEFAULT_MEAN_NIS_BOUND, DEFAULT_TIME_CONSTANT_MEASUREMENTS};
+    let degrees = 3.0 * (2.0 * f64::from(DEFAULT_TIME_CONSTANT_MEASUREMENTS) - 1.0);
+    let exact = 3.0 * ChiSquared::new(degrees).unwrap().inverse_cdf(1.0 - 1e-9) / degrees;
+    assert!(
+        (exact - DEFAULT_MEAN_NIS_BOUND).abs() < 5e-3,
+        "{exact} vs {DEFAULT_MEAN_NIS_BOUND}"
+    );
+    let test_bound = ChiSquared::new(93.0).unwrap().inverse_cdf(0.99);
+    assert!((test_bound - 127.63).abs() < 5e-3, "{test_bound}");
+}

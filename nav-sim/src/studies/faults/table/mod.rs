@@ -1,11 +1,13 @@
 //! The campaign's rows, one file per family in row order: the control and non-finite rows,
-//! the IMU, star-sensor, GNSS and timing rows, the correlated GNSS drift and the manoeuvres.
+//! the IMU, star-sensor, GNSS and timing rows, the correlated GNSS drift, the manoeuvres and
+//! the IMU errors the filter does not model.
 //! Each row gives its injection times in seconds from the fault start, turned into frames by
 //! the [`FrameSchedule`] of the flight's IMU rate.
 
 mod drift;
 mod gnss;
 mod imu;
+mod imu_model;
 mod manoeuvre;
 mod non_finite;
 mod star;
@@ -20,7 +22,7 @@ use super::injection::{
     NON_FINITE, SUBNORMAL,
 };
 use super::monitor::{counter, Counter, Criterion, Expected};
-use super::{FaultClass, FAULT_START_S};
+use super::{FaultClass, COUNT_MARGIN_S, FAULT_START_S, LONG_FLIGHT_S};
 use crate::scenario::Scenario;
 
 /// The campaign's fault classes, in row order, at the default scenario's IMU rate (the rows,
@@ -49,6 +51,7 @@ pub fn campaign_at(frames: FrameSchedule) -> Vec<FaultClass> {
         timing::rows,
         drift::rows,
         manoeuvre::rows,
+        imu_model::rows,
     ]
     .into_iter()
     .flat_map(|rows| rows(frames))
