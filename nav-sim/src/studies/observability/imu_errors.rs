@@ -130,6 +130,56 @@ fn ungauged_system(
     a
 }
 
+/// Ungauged states kept by the gyro-defined gauge, in order: the 24, the gyro's
+/// lower-triangular terms (yx, zx, zy), all six accelerometer terms, the g-sensitivity.
+const GYRO_GAUGE_KEPT: [usize; AUGMENTED_DIMENSION] = {
+    let mut kept = [0; AUGMENTED_DIMENSION];
+    let mut k = 0;
+    while k < STATE_DIMENSION {
+        kept[k] = k;
+        k += 1;
+    }
+    let gyro_lower = [2, 4, 5];
+    let mut j = 0;
+    while j < 3 {
+        kept[STATE_DIMENSION + j] = STATE_DIMENSION + gyro_lower[j];
+        j += 1;
+    }
+    while j < 12 {
+        kept[STATE_DIMENSION + j] = STATE_DIMENSION + 3 + j;
+        j += 1;
+    }
+    kept
+};
+
+/// The 36×36 system matrix of the gyro-defined gauge: the gyro triad lower-triangular (its
+/// x axis and xy plane define the body frame), the accelerometer with all six terms, then
+/// the g-sensitivity (the rows and columns [`GYRO_GAUGE_KEPT`] of the ungauged system).
+fn gyro_gauged_system(
+    point: &LinearisationPoint,
+) -> SMatrix<f64, AUGMENTED_DIMENSION, AUGMENTED_DIMENSION> {
+    let ungauged = ungauged_system(point);
+    SMatrix::from_fn(
+        |row, column| match (GYRO_GAUGE_KEPT.get(row), GYRO_GAUGE_KEPT.get(column)) {
+            (Some(r), Some(c)) => ungauged[(*r, *c)],
+            _ => 0.0,
+        },
+    )
+}
+
+/// Names of the gyro-defined gauge's 36 states ([`gyro_gauged_system`]).
+pub fn gyro_gauge_state_name(k: usize) -> String {
+    const TERMS: [&str; 6] = ["xy", "xz", "yx", "yz", "zx", "zy"];
+    let new = k.saturating_sub(STATE_DIMENSION);
+    match (k < STATE_DIMENSION, new) {
+        (true, _) => state_name(k),
+        (false, 0..3) => format!("gyro_misalignment.{}", ["yx", "zx", "zy"][new]),
+        (false, 3..9) => format!("accel_misalignment.{}", TERMS[new - 3]),
+        (false, 9..12) => format!("gyro_g_sensitivity.{}", ["x", "y", "z"][new - 9]),
+        _ => "?".to_string(),
+    }
+}
+
 /// Typical magnitudes of the `N` states (nav-core's 24, then misalignments, g-sensitivity).
 fn state_magnitudes<const N: usize>() -> SVector<f64, N> {
     let typical = Scaling::typical().state_magnitudes;
@@ -254,6 +304,21 @@ pub fn analyse_ungauged(
     mounting: &Quaternion<f64>,
 ) -> Result<AugmentedObservability<UNGAUGED_DIMENSION>, NavError> {
     let factor = stripped_factor(segments, mounting, ungauged_system)?;
+    let svd = SVD::try_new(factor, false, true, 1e-15, 10_000).ok_or(NavError::SingularMatrix)?;
+    let v_t = svd.v_t.ok_or(NavError::SingularMatrix)?;
+    Ok(verdicts(&svd.singular_values, &v_t))
+}
+
+/// The 36-state analysis of `segments` in the gyro-defined gauge ([`gyro_gauged_system`],
+/// names by [`gyro_gauge_state_name`]).
+///
+/// # Errors
+/// As [`analyse`].
+pub fn analyse_gyro_gauged(
+    segments: &[MotionSegment],
+    mounting: &Quaternion<f64>,
+) -> Result<AugmentedObservability<AUGMENTED_DIMENSION>, NavError> {
+    let factor = stripped_factor(segments, mounting, gyro_gauged_system)?;
     let svd = SVD::try_new(factor, false, true, 1e-15, 10_000).ok_or(NavError::SingularMatrix)?;
     let v_t = svd.v_t.ok_or(NavError::SingularMatrix)?;
     Ok(verdicts(&svd.singular_values, &v_t))
@@ -401,6 +466,62 @@ mod tests {
         assert_eq!(
             ungauged.rank + 3,
             gauged.rank + (UNGAUGED_DIMENSION - AUGMENTED_DIMENSION)
+        );
+    }
+
+    /// The gauge for a vehicle whose specific force is along body x only (the upper-stage
+    /// sequence: coast, +x thrust, slews about x, y, z, a pitch during thrust). In the
+    /// accelerometer-defined gauge the frame itself is not pinned (attitude, installation
+    /// and every gyro term are hidden); in the gyro-defined one the slews pin it, and the
+    /// eight hidden states are exactly those that multiply the absent y and z force (which
+    /// then do not act on the navigation).
+    #[test]
+    fn for_thrust_along_x_only_the_gyro_defined_gauge_hides_only_what_multiplies_no_force() {
+        let cases = study_cases(&attitude());
+        let (_, upper_stage) = cases
+            .iter()
+            .find(|(label, _)| label == "upper stage to pitch during thrust")
+            .unwrap();
+        let accelerometer = analyse(upper_stage, &mounting()).unwrap();
+        let gyro = analyse_gyro_gauged(upper_stage, &mounting()).unwrap();
+        let hidden = |result: &AugmentedObservability<AUGMENTED_DIMENSION>,
+                      name: fn(usize) -> String| {
+            (0..AUGMENTED_DIMENSION)
+                .filter(|k| !result.observable[*k])
+                .map(name)
+                .collect::<Vec<_>>()
+        };
+        let (hidden_accelerometer, hidden_gyro) = (
+            hidden(&accelerometer, state_name),
+            hidden(&gyro, gyro_gauge_state_name),
+        );
+        println!(
+            "accelerometer gauge rank {}: hidden {hidden_accelerometer:?}",
+            accelerometer.rank
+        );
+        println!("gyro gauge rank {}: hidden {hidden_gyro:?}", gyro.rank);
+        assert!(hidden_accelerometer.contains(&"attitude.x".to_string()));
+        let multiplies_no_force = |name: &String| {
+            [
+                "accel_scale_factor.y",
+                "accel_scale_factor.z",
+                "accel_misalignment.xy",
+                "accel_misalignment.xz",
+                "accel_misalignment.yz",
+                "accel_misalignment.zy",
+                "gyro_g_sensitivity.y",
+                "gyro_g_sensitivity.z",
+            ]
+            .contains(&name.as_str())
+        };
+        // The same eight null directions either way (a gauge is a reparametrisation); only
+        // what they hold differs.
+        assert_eq!(gyro.rank, accelerometer.rank);
+        assert_eq!(gyro.rank, AUGMENTED_DIMENSION - 8);
+        assert_eq!(hidden_gyro.len(), 8, "{hidden_gyro:?}");
+        assert!(
+            hidden_gyro.iter().all(multiplies_no_force),
+            "{hidden_gyro:?}"
         );
     }
 
