@@ -35,8 +35,11 @@
 //! `docs/observability.md`): the frame is pinned only where the accelerometer is excited; an
 //! axis never under specific force leaves the frame's rotations that tilt it towards that axis
 //! unobservable (they move only upper terms, which multiply that force), mixed into attitude,
-//! installation and gyro misalignment. Whether a gyro- or star-defined frame serves an upper
-//! stage that thrusts along `x` only is the open decision this analysis hands on.
+//! installation and gyro misalignment. For an upper stage that thrusts along `x` only, the
+//! analysis repeated in the gyro-defined gauge (gyro lower triangular, all six accelerometer
+//! terms) leaves hidden only the terms that multiply the absent `y` and `z` force, while the
+//! slews pin the frame: the flight blocks take that gauge, and this layout changes with them
+//! (`docs/observability.md`, "The gauge for the flight").
 //!
 //! ## Error-model columns ([`system_columns`])
 //! With `δ = truth − estimate` and the correction of [`correct_rates`],
