@@ -579,10 +579,18 @@ mod tests {
         let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         assert_eq!(good.validate(), Ok(()));
         type Corruption = (fn(&mut FswConfig), ConfigField);
-        let cases: [Corruption; 8] = [
+        let cases: [Corruption; 10] = [
             (
                 |c| c.star.mounting_wxyz = [0.9, 0.0, 0.0, 0.0],
                 ConfigField::StarMounting,
+            ),
+            (
+                |c| c.consistency.mean_nis_bound = 2.9,
+                ConfigField::Consistency,
+            ),
+            (
+                |c| c.consistency.time_constant_measurements = 0,
+                ConfigField::Consistency,
             ),
             (|c| c.star.noise_rad = f64::NAN, ConfigField::StarNoise),
             (|c| c.gnss.gate_nis = -1.0, ConfigField::GnssGate),

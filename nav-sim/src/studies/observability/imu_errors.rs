@@ -167,7 +167,8 @@ fn gyro_gauged_system(
     )
 }
 
-/// Names of the gyro-defined gauge's 36 states ([`gyro_gauged_system`]).
+/// Names of the gyro-defined gauge's 36 states: the 24, the gyro's lower-triangular terms
+/// (yx, zx, zy), the six accelerometer terms, the g-sensitivity.
 pub fn gyro_gauge_state_name(k: usize) -> String {
     const TERMS: [&str; 6] = ["xy", "xz", "yx", "yz", "zx", "zy"];
     let new = k.saturating_sub(STATE_DIMENSION);
@@ -309,8 +310,8 @@ pub fn analyse_ungauged(
     Ok(verdicts(&svd.singular_values, &v_t))
 }
 
-/// The 36-state analysis of `segments` in the gyro-defined gauge ([`gyro_gauged_system`],
-/// names by [`gyro_gauge_state_name`]).
+/// The 36-state analysis of `segments` in the gyro-defined gauge (gyro lower triangular, all
+/// six accelerometer terms; names by [`gyro_gauge_state_name`]).
 ///
 /// # Errors
 /// As [`analyse`].
