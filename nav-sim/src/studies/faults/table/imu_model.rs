@@ -89,8 +89,8 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                        at 0 s",
             reaction: "mostly averaged out by the whole turns (the body-fixed rate error \
                        rotates with the body), the rest absorbed by the gyro bias and scale \
-                       factors: the monitor stays quiet here (it fires in half the full \
-                       flights, docs/imu-errors.md); no sensor declared faulty",
+                       factors: the monitor stays quiet here (whole flights: \
+                       docs/imu-errors.md); no sensor declared faulty",
             counts: nobody_blamed(),
             injection_s: to_the_end_s,
             declared_faulty: none,
