@@ -1,10 +1,10 @@
 //! Tests of the systematic IMU error model: layout, columns against the nonlinear strapdown
-//! (second-order residual), correction, and the gauge map.
+//! (second-order residual), the equivalent biases, correction, and the gauge map.
 
 use super::*;
 use crate::attitude::{exp_rotation_vector, rotation_matrix, skew};
 use crate::error_model::system_matrix;
-use crate::state::POSITION;
+use crate::state::{ACCEL_BIAS, GYRO_BIAS, POSITION};
 use nalgebra::SVector;
 
 type Full = SVector<f64, STATE_DIMENSION>;
@@ -26,23 +26,65 @@ fn blocks_are_contiguous_after_the_24() {
 }
 
 #[test]
+fn layout_names_and_offsets() {
+    let names: Vec<String> = ImuErrorBlock::ALL
+        .iter()
+        .flat_map(|b| {
+            (0..b.dimension()).map(move |k| format!("{}.{}", b.name(), b.component_name(k)))
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "gyro_non_orthogonality.yx",
+            "gyro_non_orthogonality.zx",
+            "gyro_non_orthogonality.zy",
+            "accel_misalignment.xy",
+            "accel_misalignment.xz",
+            "accel_misalignment.yx",
+            "accel_misalignment.yz",
+            "accel_misalignment.zx",
+            "accel_misalignment.zy",
+            "gyro_g_sensitivity.x",
+            "gyro_g_sensitivity.y",
+            "gyro_g_sensitivity.z",
+        ]
+    );
+    let offsets = ImuErrorBlock::ALL.map(ImuErrorBlock::offset);
+    assert_eq!(offsets, [0, 3, 9]);
+    // Each term's name is its (row, column) in the matrix.
+    let axis = ["x", "y", "z"];
+    for (k, (row, column)) in GYRO_NON_ORTHOGONALITY_TERMS.iter().enumerate() {
+        let name = format!("{}{}", axis[*row], axis[*column]);
+        assert_eq!(ImuErrorBlock::GyroNonOrthogonality.component_name(k), name);
+        assert!(row > column);
+    }
+    for (k, (row, column)) in ACCEL_MISALIGNMENT_TERMS.iter().enumerate() {
+        let name = format!("{}{}", axis[*row], axis[*column]);
+        assert_eq!(ImuErrorBlock::AccelMisalignment.component_name(k), name);
+    }
+}
+
+#[test]
 fn sensitivities_reproduce_the_matrices() {
     let e = ImuErrorEstimate {
-        gyro_misalignment_rad: SVector::from([1.0, -2.0, 3.0, -4.0, 5.0, -6.0]) * 1e-4,
-        accel_non_orthogonality_rad: Vector3::new(7.0, -8.0, 9.0) * 1e-4,
+        gyro_non_orthogonality_rad: Vector3::new(7.0, -8.0, 9.0) * 1e-4,
+        accel_misalignment_rad: SVector::from([1.0, -2.0, 3.0, -4.0, 5.0, -6.0]) * 1e-4,
         gyro_g_sensitivity_rad_s_per_mps2: Vector3::zeros(),
     };
     let v = Vector3::new(0.3, -1.1, 2.7);
-    let a = e.gyro_matrix();
-    assert!((a * v - gyro_misalignment_sensitivity(&v) * e.gyro_misalignment_rad).norm() < 1e-18);
-    assert!(a.diagonal().norm() < 1e-300);
-    let l = e.accel_matrix();
+    let l = e.gyro_matrix();
     assert!(
-        (l * v - accel_non_orthogonality_sensitivity(&v) * e.accel_non_orthogonality_rad).norm()
+        (l * v - gyro_non_orthogonality_sensitivity(&v) * e.gyro_non_orthogonality_rad).norm()
             < 1e-18
     );
-    // Strictly lower triangular.
+    // Strictly lower triangular, every term placed.
     assert!(l.upper_triangle().norm() < 1e-300);
+    assert!((l.lower_triangle().norm() - e.gyro_non_orthogonality_rad.norm()).abs() < 1e-18);
+    let a = e.accel_matrix();
+    assert!((a * v - accel_misalignment_sensitivity(&v) * e.accel_misalignment_rad).norm() < 1e-18);
+    assert!(a.diagonal().norm() < 1e-300);
+    assert!((a.norm() - e.accel_misalignment_rad.norm()).abs() < 1e-18);
 }
 
 #[test]
@@ -102,8 +144,8 @@ fn initial_attitude() -> Quaternion<f64> {
 /// Truth parameters as an [`ImuErrorEstimate`] from the 12-vector.
 fn estimate_of(p: &Params) -> ImuErrorEstimate {
     ImuErrorEstimate {
-        gyro_misalignment_rad: p.fixed_rows::<6>(0).into(),
-        accel_non_orthogonality_rad: p.fixed_rows::<3>(6).into(),
+        gyro_non_orthogonality_rad: p.fixed_rows::<3>(0).into(),
+        accel_misalignment_rad: p.fixed_rows::<6>(3).into(),
         gyro_g_sensitivity_rad_s_per_mps2: p.fixed_rows::<3>(9).into(),
     }
 }
@@ -239,9 +281,14 @@ fn columns_predict_the_nonlinear_strapdown_to_second_order() {
         );
         assert!(size > 1e-6, "state {k} has no effect");
         // One accelerometer term alone enters δv exactly linearly: it does not move the
-        // attitude, and `f = (I + L)⁻¹ f_m = f_m − L f_m` when `L² = 0`. Its mismatch is
-        // the integrator's round-off.
+        // attitude, and `f = (I + A)⁻¹ f_m = f_m − A f_m` when `A² = 0` (a single
+        // off-diagonal term). Its mismatch is the integrator's round-off.
         let at_round_off = first <= 1e-9 * size;
+        let accel = ImuErrorBlock::AccelMisalignment;
+        assert!(
+            !at_round_off || (accel.offset()..accel.offset() + accel.dimension()).contains(&k),
+            "state {k}: a gyro term cannot be exactly linear"
+        );
         assert!(
             at_round_off || (3.5..4.5).contains(&ratio),
             "state {k}: ratio {ratio}"
@@ -252,7 +299,7 @@ fn columns_predict_the_nonlinear_strapdown_to_second_order() {
 
 #[test]
 fn a_flipped_column_sign_is_caught() {
-    for k in [0, 6, 9] {
+    for k in [0, 3, 9] {
         let (first, _, size) = mismatch_ratio(&unit_parameter(k), Some(k));
         assert!(first > 0.5 * size, "state {k}: {first} vs {size}");
     }
@@ -333,12 +380,12 @@ fn gauge_map_leaves_the_corrected_measurements_invariant_up_to_the_frame_rotatio
 }
 
 #[test]
-fn gauge_frame_is_the_accelerometer_s() {
+fn gauge_frame_is_the_gyro_s() {
     let truth = truth();
     let gauge = to_filter_gauge(&truth).unwrap();
     let r = rotation_matrix(&gauge.body_rotation).transpose();
-    // x' along the accelerometer x sensing axis, z' normal to the x and y sensing axes.
-    let sensing = Matrix3::identity() + truth.accel_misalignment_rad;
+    // x' along the gyro x sensing axis, z' normal to the x and y sensing axes.
+    let sensing = Matrix3::identity() + truth.gyro_misalignment_rad;
     let s_x: Vector3<f64> = sensing.row(0).transpose();
     let s_y: Vector3<f64> = sensing.row(1).transpose();
     let x: Vector3<f64> = r.row(0).transpose();
@@ -346,23 +393,37 @@ fn gauge_frame_is_the_accelerometer_s() {
     assert!(x.cross(&s_x).norm() < 1e-15);
     assert!(z.dot(&s_x).abs() < 1e-15 && z.dot(&s_y).abs() < 1e-15);
     assert!(r.determinant() > 0.0);
+    // So R (I + A_g)⁻¹ is lower triangular: the gyro's correction needs no upper term.
+    let k_g = r * sensing.try_inverse().unwrap();
+    let strictly_upper = (k_g - Matrix3::from_diagonal(&k_g.diagonal())).upper_triangle();
+    assert!(strictly_upper.amax() < 1e-15, "{strictly_upper}");
+    assert!(k_g.lower_triangle().amax() > 1e-5);
+    // The accelerometer's is full: with the truth's misalignments every term is non-zero.
+    assert!(gauge
+        .imu
+        .accel_misalignment_rad
+        .iter()
+        .all(|a| a.abs() > 1e-5));
 }
 
 #[test]
 fn gauge_map_to_first_order() {
-    // Small terms: the accelerometer keeps twice its symmetric lower part, the gyro gains
-    // the frame rotation ρ = (a_yz, −a_xz, a_xy) of the accelerometer: A'_g = A_g + [ρ×].
+    // Small terms: R ≈ I − [ρ×] with ρ = (a_yz, −a_xz, a_xy) of the gyro (the rotation that
+    // zeroes its upper terms), so the gyro keeps twice its symmetric lower part and the
+    // accelerometer gains the frame rotation: A'_a = A_a + [ρ×].
     let mut truth = truth();
     truth.gyro_misalignment_rad *= 0.05;
     truth.accel_misalignment_rad *= 0.05;
     let gauge = to_filter_gauge(&truth).unwrap();
-    let a = truth.accel_misalignment_rad;
-    let expected_accel = Vector3::new(a.m21 + a.m12, a.m31 + a.m13, a.m32 + a.m23);
+    let a = truth.gyro_misalignment_rad;
+    let expected_gyro = Vector3::new(a.m21 + a.m12, a.m31 + a.m13, a.m32 + a.m23);
     let rho = Vector3::new(a.m23, -a.m13, a.m12);
-    let expected_gyro = truth.gyro_misalignment_rad + skew(&rho);
+    let expected_accel = truth.accel_misalignment_rad + skew(&rho);
     let second_order = 1e-8;
-    assert!((gauge.imu.accel_non_orthogonality_rad - expected_accel).amax() < second_order);
-    assert!((gauge.imu.gyro_matrix() - expected_gyro).amax() < second_order);
+    // The first-order terms are 1e-5 in size: the tolerance separates them.
+    assert!(expected_gyro.amax() > 1e-5 && rho.amax() > 1e-5);
+    assert!((gauge.imu.gyro_non_orthogonality_rad - expected_gyro).amax() < second_order);
+    assert!((gauge.imu.accel_matrix() - expected_accel).amax() < second_order);
     // The installation error rotates by the frame rotation, in sensor axes.
     let rotated = (gauge.star_installation * conjugate(&truth.star_installation)).imag();
     let in_sensor = rotation_matrix(&truth.star_mounting).transpose() * rho * -0.5;
@@ -380,7 +441,8 @@ fn gauge_map_without_misalignment_is_the_identity() {
     assert!((gauge.gyro_scale_factor - truth.gyro_scale_factor).amax() < 1e-15);
     assert!((gauge.accel_bias_mps2 - truth.accel_bias_mps2).amax() < 1e-18);
     assert!((gauge.star_installation.coords - truth.star_installation.coords).amax() < 1e-15);
-    assert!(gauge.imu.gyro_misalignment_rad.amax() < 1e-300);
+    assert!(gauge.imu.gyro_non_orthogonality_rad.amax() < 1e-300);
+    assert!(gauge.imu.accel_misalignment_rad.amax() < 1e-300);
 }
 
 #[test]
@@ -388,4 +450,90 @@ fn gauge_map_refuses_non_finite_input() {
     let mut truth = truth();
     truth.accel_misalignment_rad.m12 = f64::NAN;
     assert!(to_filter_gauge(&truth).is_err());
+    let mut truth = self::truth();
+    truth.gyro_misalignment_rad.m21 = f64::NAN;
+    assert!(to_filter_gauge(&truth).is_err());
+}
+
+// ---- The equivalent biases -----------------------------------------------------------------
+
+/// A deterministic pseudo-random value in (−1, 1) (xorshift; the tests need no crate).
+fn pseudo_random(state: &mut u64) -> f64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+#[test]
+fn equivalent_biases_reproduce_the_sensor_model_and_the_columns() {
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    for _ in 0..20 {
+        let draw =
+            |seed: &mut u64, scale: f64| Vector3::from_fn(|_, _| pseudo_random(seed) * scale);
+        let rate = draw(&mut seed, 0.5);
+        let force = draw(&mut seed, 30.0);
+        let epsilon = Params::from_fn(|_, _| pseudo_random(&mut seed) * 1e-3);
+        let e = estimate_of(&epsilon);
+        let terms = equivalent_bias_terms(&rate, &force);
+        let mut gyro = Vector3::zeros();
+        let mut accel = Vector3::zeros();
+        for (term, value) in terms.iter().zip(epsilon.iter()) {
+            match term.sensor {
+                BiasSensor::Gyro => gyro[term.axis] += term.multiplier * value,
+                BiasSensor::Accel => accel[term.axis] += term.multiplier * value,
+            }
+        }
+        let expected_gyro =
+            e.gyro_matrix() * rate + e.gyro_g_sensitivity_rad_s_per_mps2.component_mul(&force);
+        let expected_accel = e.accel_matrix() * force;
+        assert!(expected_gyro.amax() > 1e-5 && expected_accel.amax() > 1e-3);
+        assert!(
+            (gyro - expected_gyro).amax() < 1e-15,
+            "{gyro} {expected_gyro}"
+        );
+        assert!(
+            (accel - expected_accel).amax() < 1e-13,
+            "{accel} {expected_accel}"
+        );
+
+        // Column k of B is the bias column of A times m_k.
+        let point = LinearisationPoint {
+            corrected_rate_rad_s: rate * 0.9,
+            corrected_specific_force_mps2: force * 1.1,
+            measured_rate_rad_s: rate,
+            measured_specific_force_mps2: force,
+            body_to_inertial: rotation_matrix(&exp_rotation_vector(&draw(&mut seed, 2.0))),
+            gravity_gradient_per_s2: Matrix3::identity() * 1e-6,
+        };
+        let a = system_matrix(&point);
+        let b = system_columns(&point);
+        for (k, term) in terms.iter().enumerate() {
+            let block = match term.sensor {
+                BiasSensor::Gyro => GYRO_BIAS,
+                BiasSensor::Accel => ACCEL_BIAS,
+            };
+            let expected = a.column(block.index() + term.axis) * term.multiplier;
+            assert!(expected.amax() > 0.0, "state {k}");
+            let column = b.column(k);
+            assert!((column - expected).amax() < 1e-15, "state {k}");
+        }
+    }
+    // Pure x rate and x force: only the terms that multiply x survive.
+    let terms = equivalent_bias_terms(&Vector3::new(0.2, 0.0, 0.0), &Vector3::new(20.0, 0.0, 0.0));
+    let live: Vec<(BiasSensor, usize, f64)> = terms
+        .iter()
+        .filter(|t| t.multiplier != 0.0)
+        .map(|t| (t.sensor, t.axis, t.multiplier))
+        .collect();
+    assert_eq!(
+        live,
+        [
+            (BiasSensor::Gyro, 1, 0.2),   // non-orthogonality yx
+            (BiasSensor::Gyro, 2, 0.2),   // non-orthogonality zx
+            (BiasSensor::Accel, 1, 20.0), // misalignment yx
+            (BiasSensor::Accel, 2, 20.0), // misalignment zx
+            (BiasSensor::Gyro, 0, 20.0),  // g-sensitivity x
+        ]
+    );
 }
