@@ -62,6 +62,7 @@ pub mod frames;
 pub mod gnss_error;
 pub mod gravity;
 pub mod imu_error;
+pub mod imu_error_states;
 pub mod measurement;
 #[cfg(any(test, feature = "ground-analysis"))]
 pub mod observability;

@@ -115,6 +115,7 @@ impl FilterPathFixture {
                 accel_scale_factor: 1e-4,
             },
             gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
+            imu_error: crate::imu_error_states::ImuErrorModel::DISABLED,
         };
         let launch_frame = LaunchFrame::new(&LaunchSite {
             latitude_rad: 0.342,

@@ -310,6 +310,7 @@ impl FswConfig {
                     accel_scale_factor: 2e-4,
                 },
                 gnss_error: nav_core::gnss_error::GnssErrorModel::WHITE,
+                imu_error: nav_core::imu_error_states::ImuErrorModel::DISABLED,
             },
             process_noise: ProcessNoise::PAPER,
             imu: ImuLimits::default(),
@@ -381,6 +382,12 @@ impl FswConfig {
         self.validate_squared_sigmas()?;
         if self.filter.gnss_error.validate().is_err() {
             return invalid(ConfigField::GnssCorrelatedError);
+        }
+        let imu_error = &self.filter.imu_error;
+        if imu_error.validate().is_err()
+            || (imu_error.is_enabled() && self.filter.gnss_error.is_enabled())
+        {
+            return invalid(ConfigField::ImuSystematicError);
         }
         if self.filter.validate().is_err() {
             return invalid(ConfigField::FilterInitialUncertainty);
@@ -760,6 +767,31 @@ mod tests {
                 }
             ),
             Some(F::GnssCorrelatedError)
+        );
+        // The systematic IMU error states: all 1σ zero or all positive, not with the
+        // correlated GNSS error states.
+        let imu_error = nav_core::imu_error_states::ImuErrorModel {
+            gyro_non_orthogonality_sigma_rad: 2e-5,
+            accel_misalignment_sigma_rad: 2e-5,
+            gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
+        };
+        assert_eq!(refused(|c| c.filter.imu_error = imu_error), None);
+        assert_eq!(
+            refused(|c| {
+                c.filter.imu_error = imu_error;
+                c.filter.imu_error.accel_misalignment_sigma_rad = 0.0;
+            }),
+            Some(F::ImuSystematicError)
+        );
+        assert_eq!(
+            refused(|c| {
+                c.filter.imu_error = imu_error;
+                c.filter.gnss_error = nav_core::gnss_error::GnssErrorModel {
+                    sigma_m: 8.0,
+                    correlation_time_s: 300.0,
+                };
+            }),
+            Some(F::ImuSystematicError)
         );
         assert_eq!(
             refused(|c| c.covariance.held_sample.rate_rad_s = f64::NAN),

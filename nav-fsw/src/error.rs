@@ -51,6 +51,9 @@ pub enum ConfigField {
     GnssWhiteness,
     /// `filter.gnss_error` (correlated GNSS error σ or correlation time).
     GnssCorrelatedError,
+    /// `filter.imu_error` (the systematic IMU error states' prior 1σ), or both it and
+    /// `filter.gnss_error` in use (not combined yet).
+    ImuSystematicError,
     /// `covariance.held_sample` (uncertainty of a held IMU sample).
     HeldSampleUncertainty,
     /// `timing.future_tolerance_s`
@@ -109,6 +112,7 @@ impl ConfigField {
             }
             ConfigField::GnssWhiteness => "gnss.whiteness_window_fixes / gnss.whiteness_threshold",
             ConfigField::GnssCorrelatedError => "filter.gnss_error",
+            ConfigField::ImuSystematicError => "filter.imu_error",
             ConfigField::HeldSampleUncertainty => "covariance.held_sample",
             ConfigField::FutureTolerance => "timing.future_tolerance_s",
             ConfigField::OutageTimeout => "timing.outage_timeout_s",
@@ -181,6 +185,10 @@ impl ConfigField {
             ConfigField::GnssCorrelatedError => {
                 "must have a 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \
                  finite and > 0 when the 1-sigma is > 0"
+            }
+            ConfigField::ImuSystematicError => {
+                "must have every 1-sigma 0 (off) or every one finite and > 0, and is not \
+                 combined with filter.gnss_error yet"
             }
             ConfigField::FutureTolerance => "must be finite, >= 0 and below one IMU period",
             ConfigField::RejectionsToDeclareFaulty => "must be >= 1",

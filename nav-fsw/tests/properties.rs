@@ -248,6 +248,7 @@ fn reference_setup() -> ReplaySetup {
         gnss_velocity_noise_mps: config.gnss.velocity_noise_mps,
         imu_max_rate_rad_s: config.imu.max_rate_rad_s,
         imu_max_specific_force_mps2: config.imu.max_specific_force_mps2,
+        imu_error: config.filter.imu_error,
     }
 }
 

@@ -20,8 +20,14 @@ impl ErrorStateFilter {
     /// Time update with a discretised model.
     ///
     /// # Errors
-    /// [`NavError::NonFiniteState`] if the result is not finite (filter unchanged).
+    /// [`NavError::NonFiniteState`] if the result is not finite (filter unchanged);
+    /// [`NavError::InvalidConfiguration`] with the systematic IMU error states in use (their
+    /// dense reference is in `crate::imu_error_states`' tests).
     pub fn predict(&mut self, model: &DiscreteModel) -> Result<(), NavError> {
+        // The 36-state reference lives in the border's tests (crate::imu_error_states).
+        if self.imu_error.is_enabled() {
+            return Err(NavError::InvalidConfiguration);
+        }
         let f = &model.transition;
         let covariance = symmetrised(&(f * self.covariance * f.transpose() + model.process_noise));
         let state = match self.mode {
@@ -64,7 +70,8 @@ impl ErrorStateFilter {
     /// §7.5). The calibration manager freezes converged blocks this way.
     ///
     /// # Errors
-    /// As [`ErrorStateFilter::update`].
+    /// As [`ErrorStateFilter::update`]; [`NavError::InvalidConfiguration`] with the
+    /// systematic IMU error states in use.
     pub fn update_with_frozen_blocks(
         &mut self,
         measurement: &LinearMeasurement,
@@ -72,6 +79,9 @@ impl ErrorStateFilter {
         frozen: &BlockMask,
     ) -> Result<InnovationReport, NavError> {
         check_update_inputs(measurement, gate_nis)?;
+        if self.imu_error.is_enabled() {
+            return Err(NavError::InvalidConfiguration);
+        }
         if self.gnss_error.is_enabled() {
             return self.update_bordered_dense(measurement, gate_nis, frozen);
         }
@@ -209,6 +219,12 @@ impl ErrorStateFilter {
             &block_of_jacobian(ATTITUDE),
             &block_of_jacobian(STAR_INSTALLATION),
         );
+        if self.imu_error.is_enabled() {
+            self.imu_error.reset(
+                &block_of_jacobian(ATTITUDE),
+                &block_of_jacobian(STAR_INSTALLATION),
+            );
+        }
         self.state = ErrorState::zeros();
         error
     }

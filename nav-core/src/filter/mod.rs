@@ -23,6 +23,7 @@ use crate::block;
 use crate::discretise::CovarianceMatrix;
 use crate::error_model::set_block;
 use crate::gnss_error::{GnssErrorModel, GnssErrorStates};
+use crate::imu_error_states::{ImuErrorModel, ImuErrorStates};
 use crate::measurement::LinearMeasurement;
 use crate::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
@@ -79,6 +80,9 @@ pub struct FilterConfig {
     /// The GNSS receiver's correlated position error ([`crate::gnss_error`]);
     /// [`GnssErrorModel::WHITE`] for the paper's 24 states.
     pub gnss_error: GnssErrorModel,
+    /// The systematic IMU error states ([`crate::imu_error_states`]);
+    /// [`ImuErrorModel::DISABLED`] for the paper's 24 states.
+    pub imu_error: ImuErrorModel,
 }
 
 impl FilterConfig {
@@ -92,6 +96,11 @@ impl FilterConfig {
             return Err(NavError::InvalidDiscretisationOrder);
         }
         self.gnss_error.validate()?;
+        self.imu_error.validate()?;
+        // The two borders are not combined (crate::imu_error_states).
+        if self.gnss_error.is_enabled() && self.imu_error.is_enabled() {
+            return Err(NavError::InvalidConfiguration);
+        }
         let sigmas = self.initial_sigmas();
         if sigmas
             .iter()
@@ -113,6 +122,7 @@ impl FilterConfig {
     /// ```
     /// use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::{ATTITUDE, POSITION};
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
@@ -120,7 +130,7 @@ impl FilterConfig {
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let variances = config.initial_variances()?;
     /// assert_eq!(variances[POSITION.index()], 100.0);
     /// // The attitude states are half-angles: (½ · 1 mrad)².
@@ -211,6 +221,9 @@ pub struct ErrorStateFilter {
     /// The correlated GNSS error states (the border of a 27-state filter), inert under
     /// [`GnssErrorModel::WHITE`].
     gnss_error: GnssErrorStates,
+    /// The systematic IMU error states (the border of a 36-state filter), inert under
+    /// [`ImuErrorModel::DISABLED`].
+    imu_error: ImuErrorStates,
 }
 
 /// The three states of `block`. Read with checked indices, so no panic path is compiled; the
@@ -300,6 +313,7 @@ impl ErrorStateFilter {
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
             gnss_error: GnssErrorStates::new(config.gnss_error)?,
+            imu_error: ImuErrorStates::new(config.imu_error)?,
         };
         filter.set_initial_covariance(config);
         Ok(filter)
@@ -316,13 +330,14 @@ impl ErrorStateFilter {
     /// use core::mem::MaybeUninit;
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let mut slot = MaybeUninit::uninit();
     /// let filter = ErrorStateFilter::init_in_place(&mut slot, &config)?;
     /// assert_eq!(filter.covariance(), ErrorStateFilter::new(&config)?.covariance());
@@ -334,11 +349,13 @@ impl ErrorStateFilter {
     ) -> Result<&'slot mut Self, NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        let imu_error = ImuErrorStates::new(config.imu_error)?;
         let filter = slot.write(Self {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
             gnss_error,
+            imu_error,
         });
         filter.set_initial_covariance(config);
         Ok(filter)
@@ -354,6 +371,7 @@ impl ErrorStateFilter {
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::VELOCITY;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
@@ -361,7 +379,7 @@ impl ErrorStateFilter {
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let mut filter = ErrorStateFilter::new(&config)?;
     /// filter.add_block_variance(VELOCITY, 0.03)?;
     /// filter.restart(&config)?;
@@ -371,10 +389,12 @@ impl ErrorStateFilter {
     pub fn restart(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        let imu_error = ImuErrorStates::new(config.imu_error)?;
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
         self.gnss_error = gnss_error;
+        self.imu_error = imu_error;
         self.set_initial_covariance(config);
         Ok(())
     }
@@ -394,6 +414,18 @@ impl ErrorStateFilter {
     /// The correlated GNSS error states ([`crate::gnss_error`]).
     pub fn gnss_error(&self) -> &GnssErrorStates {
         &self.gnss_error
+    }
+
+    /// The systematic IMU error states ([`crate::imu_error_states`]): in closed loop, read
+    /// `ε̂` before [`ErrorStateFilter::reset`] to feed it into the sensor corrections.
+    pub fn imu_error(&self) -> &ImuErrorStates {
+        &self.imu_error
+    }
+
+    /// The systematic IMU error states, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) fn imu_error_mut(&mut self) -> &mut ImuErrorStates {
+        &mut self.imu_error
     }
 
     /// The correlated GNSS error states, for the crate's tests.
@@ -439,6 +471,7 @@ impl ErrorStateFilter {
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::VELOCITY;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
@@ -446,7 +479,7 @@ impl ErrorStateFilter {
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// filter.add_block_variance(VELOCITY, 0.03).unwrap();
     /// assert!((filter.covariance()[(VELOCITY.index(), VELOCITY.index())] - 0.04).abs() < 1e-15);
@@ -482,6 +515,7 @@ impl ErrorStateFilter {
     /// use nalgebra::Matrix3;
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::ATTITUDE;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
@@ -489,7 +523,7 @@ impl ErrorStateFilter {
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// let along_x_and_y = Matrix3::new(1e-8, 1e-8, 0.0, 1e-8, 1e-8, 0.0, 0.0, 0.0, 0.0);
     /// filter.add_block_covariance(ATTITUDE, &along_x_and_y).unwrap();
@@ -608,6 +642,7 @@ impl ErrorStateFilter {
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
     /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::GYRO_BIAS;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
@@ -615,7 +650,7 @@ impl ErrorStateFilter {
     ///     accel_scale_factor: 1e-4,
     /// };
     /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE };
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// filter.widen_block_uncertainty(GYRO_BIAS, 4.0).unwrap();
     /// let index = GYRO_BIAS.index();
@@ -642,6 +677,7 @@ impl ErrorStateFilter {
     /// takes `scale²`.
     fn scale_state_uncertainty(&mut self, index: usize, scale: f64) {
         self.gnss_error.scale_cross_row(index, scale);
+        self.imu_error.scale_cross_row(index, scale);
         for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
             if column_index == index {
                 column.iter_mut().for_each(|value| *value *= scale);
@@ -692,6 +728,9 @@ impl ErrorStateFilter {
         if self.gnss_error.is_enabled() {
             return self.predict_structured_bordered(model, state);
         }
+        if self.imu_error.is_enabled() {
+            return self.predict_structured_imu_error(model, state);
+        }
         if !model.propagate_covariance(&mut self.covariance) {
             return Err(NavError::NonFiniteState);
         }
@@ -722,6 +761,41 @@ impl ErrorStateFilter {
             self.state = state;
         }
         self.gnss_error.commit_propagation(&propagated);
+        Ok(())
+    }
+
+    /// [`ErrorStateFilter::predict_structured`] with the systematic IMU error states
+    /// ([`crate::imu_error_states`]): the border's new `C` is computed first (from the border
+    /// alone), so nothing changes if it or the 24-state kernel fails; the increment of `P_xx`
+    /// follows the kernel (a failure there, an overflow of finite values, leaves `P` written
+    /// and is reported for the caller's recovery).
+    #[inline(never)]
+    fn predict_structured_imu_error(
+        &mut self,
+        model: &StructuredModel,
+        state: Option<ErrorState>,
+    ) -> Result<(), NavError> {
+        if !self.imu_error.prepare_propagation(model) {
+            return Err(NavError::NonFiniteState);
+        }
+        if !model.propagate_covariance(&mut self.covariance) {
+            return Err(NavError::NonFiniteState);
+        }
+        // Overflow of finite covariances only (the caller's recovery restarts the filter).
+        if !self
+            .imu_error
+            .add_propagation_increment(&mut self.covariance)
+        {
+            return Err(NavError::NonFiniteState);
+        }
+        if let Some(mut state) = state {
+            // Open loop: x_d += E M ε̂.
+            for (value, delta) in state.iter_mut().zip(self.imu_error.state_increment()) {
+                *value += delta;
+            }
+            self.state = state;
+        }
+        self.imu_error.commit_propagation();
         Ok(())
     }
 
@@ -797,6 +871,16 @@ impl ErrorStateFilter {
         if let Some(border) = &border {
             let solved = (&cholesky, &s, frozen);
             self.update_border_and_covariance(border, &gains, &observed, solved, &innovation)?;
+        } else if self.imu_error.is_enabled() {
+            let jacobian = (h, &observed_blocks);
+            let solved = (&cholesky, &s, frozen);
+            self.update_imu_border_and_covariance(
+                jacobian,
+                &gains,
+                &observed,
+                solved,
+                &innovation,
+            )?;
         } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &s) {
             return Err(NavError::NonFiniteState);
         }
@@ -841,6 +925,40 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// The covariance part of [`ErrorStateFilter::update_structured`] with the systematic IMU
+    /// error states: the border's new values first (its new `C` into its spare buffer), then
+    /// the 24-state Joseph kernel (unchanged: `H_ε = 0`), then the border committed; nothing
+    /// changes on an error.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if a result is not finite.
+    #[inline(never)]
+    fn update_imu_border_and_covariance(
+        &mut self,
+        jacobian: (
+            &crate::measurement::MeasurementJacobian,
+            &[bool; STATE_DIMENSION / 3],
+        ),
+        gains: &structured::StateRows,
+        observed: &structured::ObservedCovariance,
+        (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
+        innovation: &Vector3<f64>,
+    ) -> Result<(), NavError> {
+        if !self.imu_error.prepare_update(
+            jacobian,
+            (gains, observed.products(), frozen),
+            |row| cholesky.solve(row),
+            block::from_vector(innovation),
+        ) {
+            return Err(NavError::NonFiniteState);
+        }
+        if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.imu_error.commit_update();
+        Ok(())
+    }
+
     /// Closed-loop reset: returns the error state to feed back (see [`apply_error_state`]),
     /// zeroes `x` and applies the reset Jacobian to `P` (module docs), by blocks and in
     /// place: only the attitude and installation block rows and columns change
@@ -859,6 +977,12 @@ impl ErrorStateFilter {
         structured::reset_covariance(&mut self.covariance, &attitude, &installation);
         if self.gnss_error.is_enabled() {
             self.gnss_error.reset(
+                &block::from_matrix(&attitude),
+                &block::from_matrix(&installation),
+            );
+        }
+        if self.imu_error.is_enabled() {
+            self.imu_error.reset(
                 &block::from_matrix(&attitude),
                 &block::from_matrix(&installation),
             );

@@ -19,6 +19,7 @@ fn config(mode: FilterMode) -> FilterConfig {
             accel_scale_factor: 1e-4,
         },
         gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
+        imu_error: crate::imu_error_states::ImuErrorModel::DISABLED,
     }
 }
 

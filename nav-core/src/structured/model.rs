@@ -378,6 +378,21 @@ impl StructuredModel {
     pub fn interval_s(&self) -> f64 {
         self.interval_s
     }
+
+    /// `ω_m` of the linearisation point (rad/s).
+    pub(crate) fn measured_rate(&self) -> crate::block::Row {
+        self.measured_rate_rad_s
+    }
+
+    /// `f_m` of the linearisation point (m/s²).
+    pub(crate) fn measured_force(&self) -> crate::block::Row {
+        self.measured_specific_force_mps2
+    }
+
+    /// The bias columns of `F`: `E_g` (rows ϑ, δp, δv) and `E_a` (rows δp, δv).
+    pub(crate) fn bias_columns(&self) -> (&[Block; 3], &[Block; 2]) {
+        (&self.gyro_bias_column, &self.accel_bias_column)
+    }
 }
 
 /// The checks of [`StructuredModel::rebuild`]'s inputs, and the noise intensities `q/Δ` of

@@ -144,6 +144,7 @@ pub(crate) fn filter_with(mode: FilterMode, p: &CovarianceMatrix) -> ErrorStateF
             accel_scale_factor: 1.0,
         },
         gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
+        imu_error: crate::imu_error_states::ImuErrorModel::DISABLED,
     })
     .unwrap();
     filter.set_covariance(p).unwrap();

@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 54;
+pub const SETUP_WORDS: usize = 57;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -56,6 +56,8 @@ pub struct ReplaySetup {
     pub imu_max_rate_rad_s: f64,
     /// The accelerometer's measurement range per axis (m/s²).
     pub imu_max_specific_force_mps2: f64,
+    /// The systematic IMU error states' prior (`filter.imu_error`).
+    pub imu_error: nav_core::imu_error_states::ImuErrorModel,
 }
 
 impl ReplaySetup {
@@ -77,6 +79,7 @@ impl ReplaySetup {
         config.gnss.velocity_noise_mps = self.gnss_velocity_noise_mps;
         config.imu.max_rate_rad_s = self.imu_max_rate_rad_s;
         config.imu.max_specific_force_mps2 = self.imu_max_specific_force_mps2;
+        config.filter.imu_error = self.imu_error;
         config
     }
 
@@ -159,6 +162,9 @@ impl ReplaySetup {
             self.gnss_velocity_noise_mps,
             self.imu_max_rate_rad_s,
             self.imu_max_specific_force_mps2,
+            self.imu_error.gyro_non_orthogonality_sigma_rad,
+            self.imu_error.accel_misalignment_sigma_rad,
+            self.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -197,7 +203,7 @@ impl ReplaySetup {
         let order = u8::try_from(*order).map_err(|_| bad)?;
         let week = u32::try_from(*week).map_err(|_| bad)?;
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -250,6 +256,11 @@ impl ReplaySetup {
             gnss_velocity_noise_mps: velocity_noise,
             imu_max_rate_rad_s: max_rate,
             imu_max_specific_force_mps2: max_force,
+            imu_error: nav_core::imu_error_states::ImuErrorModel {
+                gyro_non_orthogonality_sigma_rad: imu_non_orthogonality,
+                accel_misalignment_sigma_rad: imu_misalignment,
+                gyro_g_sensitivity_sigma_rad_s_per_mps2: imu_g_sensitivity,
+            },
         })
     }
 }

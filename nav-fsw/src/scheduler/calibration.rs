@@ -10,6 +10,19 @@ impl NavigationComputer {
         // nav-core's `apply_error_state` changes nothing on error, so the correction is
         // applied to the navigation solution and calibration in place (no copies of them to
         // roll back), and the large filter is reset in place only once it succeeded.
+        // The systematic IMU errors' sum first: nothing is changed if it fails.
+        let imu_error = self.covariance.filter.imu_error();
+        let imu_errors = if imu_error.is_enabled() {
+            match imu_error.fed_back(&self.calibration.imu_errors) {
+                Ok(sum) => Some(sum),
+                Err(_) => {
+                    self.recover_filter();
+                    return;
+                }
+            }
+        } else {
+            None
+        };
         let error = self.covariance.filter.state();
         let applied = apply_error_state(
             error,
@@ -23,6 +36,9 @@ impl NavigationComputer {
             // as it was and re-initialise the filter (documented recovery).
             self.recover_filter();
             return;
+        }
+        if let Some(sum) = imu_errors {
+            self.calibration.imu_errors = sum;
         }
         let attitude_correction = attitude::from_vector_part(&block_of(error, ATTITUDE));
         let position_correction = block_of(error, POSITION);
@@ -85,6 +101,21 @@ impl NavigationComputer {
         self.calibration
             .manager
             .evaluate(self.navigation.solution.time_s, &values, &variances);
+    }
+
+    /// The systematic IMU errors' estimate (`filter.imu_error` in use; zero otherwise), in
+    /// the filter's gauge (nav-core `imu_error`): in closed loop the fed-back corrections,
+    /// in open loop the filter's estimate `ε̂`.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if the open-loop sum is not finite.
+    pub fn imu_error_estimate(&self) -> Result<ImuErrorEstimate, NavError> {
+        let filter = &self.covariance.filter;
+        if filter.mode() == FilterMode::OpenLoop && filter.imu_error().is_enabled() {
+            filter.imu_error().fed_back(&self.calibration.imu_errors)
+        } else {
+            Ok(self.calibration.imu_errors)
+        }
     }
 
     /// The sensor-error estimate: in closed loop the fed-back corrections; in open loop the

@@ -53,6 +53,7 @@ use nav_core::filter::{
     FilterMode,
 };
 use nav_core::frames::LaunchFrame;
+use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
@@ -256,6 +257,8 @@ struct Health {
 #[derive(Debug, Clone)]
 struct Calibration {
     estimate: CalibrationEstimate,
+    /// The systematic IMU errors fed back (closed loop, `filter.imu_error` in use).
+    imu_errors: ImuErrorEstimate,
     manager: CalibrationManager,
 }
 

@@ -36,9 +36,16 @@ impl NavigationComputer {
                 interval_s: period_s,
             }),
         };
-        let corrections = match self.covariance.filter.mode() {
-            FilterMode::ClosedLoop => sensor_corrections(&self.calibration.estimate),
-            FilterMode::OpenLoop => SensorCorrections::default(),
+        let closed_loop = self.covariance.filter.mode() == FilterMode::ClosedLoop;
+        let corrections = if closed_loop {
+            sensor_corrections(&self.calibration.estimate)
+        } else {
+            SensorCorrections::default()
+        };
+        let increment = if closed_loop && self.covariance.filter.imu_error().is_enabled() {
+            self.compensate_systematic(&increment)
+        } else {
+            increment
         };
         match self.navigation.strapdown.step(
             &mut self.navigation.solution,
@@ -53,6 +60,22 @@ impl NavigationComputer {
                 self.navigation.solution.time_s += period_s;
             }
         }
+    }
+
+    /// The increment with the fed-back systematic IMU errors removed (nav-core
+    /// `imu_error::correct_increment` with no bias or scale factor): `Δθ − L̂_g Δθ − ĝ∘Δv`,
+    /// `Δv − Â_a Δv`, before the strapdown's bias and scale-factor corrections. The filter's
+    /// model applies both to the raw increment; the difference, `λ̂∘(L̂_g Δθ)` and the like,
+    /// is second order (1e-4 × 2e-5 of the increment). A non-finite result keeps the raw
+    /// increment (the corrections are finite by construction, so only a raw value can be).
+    #[inline(never)]
+    fn compensate_systematic(&self, raw: &ImuIncrement) -> ImuIncrement {
+        nav_core::imu_error::correct_increment(
+            raw,
+            &SensorCorrections::default(),
+            &self.calibration.imu_errors,
+        )
+        .unwrap_or(*raw)
     }
 
     /// The frame's sample after its input check (counted by fault): `Ok` to use it, `Err`

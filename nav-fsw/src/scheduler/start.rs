@@ -232,6 +232,7 @@ impl Calibration {
                 CalibrationManager::new(config.calibration)
             })?;
             addr_of_mut!((*part).estimate).write(CalibrationEstimate::default());
+            addr_of_mut!((*part).imu_errors).write(ImuErrorEstimate::default());
         }
         Ok(())
     }

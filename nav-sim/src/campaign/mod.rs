@@ -6,6 +6,7 @@
 //! `progress: &(dyn Fn() + Sync)`, called once per finished run from the rayon workers
 //! (`&|| {}` for none).
 
+pub mod imu_error_report;
 pub mod merge;
 pub mod monte_carlo;
 pub mod plots;
@@ -13,6 +14,7 @@ pub mod report;
 pub mod runs;
 pub mod shards;
 
+pub use imu_error_report::ImuErrorCampaign;
 pub use merge::*;
 pub use report::*;
 pub use runs::*;

@@ -58,6 +58,9 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub position_error_m: f64,
     /// The run's consistency over time ([`over_time`]; empty when not recorded).
     pub over_time: Vec<OverTimeSample>,
+    /// The systematic IMU error states' final error and covariance, when the filter
+    /// estimates them (`[filter.imu_errors]`).
+    pub imu_error: Option<crate::harness::filter_gauge::ImuErrorOutcome>,
     /// The flight software's health counters at the end of the run, the non-zero ones by
     /// name (`nav_fsw::health::HealthCounters::named`).
     pub health: std::collections::BTreeMap<String, u32>,
@@ -90,6 +93,7 @@ impl RunOutcome {
             }),
             over_time: over_time(&result.samples),
             health: non_zero_counters(&result.health),
+            imu_error: result.imu_error.clone(),
         }
     }
 }

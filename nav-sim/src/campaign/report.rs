@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use crate::campaign::imu_error_report::ImuErrorCampaign;
 use crate::campaign::monte_carlo::{
     self, MonteCarloError, MonteCarloSummary, RunOutcome, CALIBRATION_STATES,
 };
@@ -116,6 +117,8 @@ pub struct CampaignReport {
     pub position_error_percentiles: Percentiles,
     /// The NEES above which a run is an outlier.
     pub outlier_nees_bound: f64,
+    /// The systematic IMU error states' statistics, when the filter estimates them.
+    pub imu_error: Option<ImuErrorCampaign>,
     /// The runs outside 3σ, in run order.
     pub outliers: Vec<Outlier>,
     /// The health counters non-zero in some run, by name: how many runs raised each.
@@ -202,6 +205,7 @@ impl CampaignReport {
             })
             .collect();
         Ok(Self {
+            imu_error: ImuErrorCampaign::of(records)?,
             summary,
             error_percentiles,
             position_error_percentiles,
@@ -290,6 +294,9 @@ impl CampaignReport {
                 },
                 outlier.command
             );
+        }
+        if let Some(imu_error) = &self.imu_error {
+            let _ = write!(text, "{}", imu_error.text());
         }
         let _ = writeln!(text, "{}", self.health_text());
         text
@@ -402,18 +409,30 @@ impl CampaignReport {
                 })
                 .collect();
             object.insert("health".into(), health.into());
+            if let Some(imu_error) = &self.imu_error {
+                object.insert("imu_error".into(), imu_error.json_value());
+            }
         }
         serde_json::to_string_pretty(&value)
     }
 
-    /// What `--check` refuses: the average NEES outside its 95 % interval (`None` if inside).
+    /// What `--check` refuses: the average NEES (of the calibration states, and of the
+    /// systematic IMU error states when estimated) outside its 95 % interval (`None` if
+    /// inside).
     pub fn check_failure(&self) -> Option<String> {
-        let nees = &self.summary.nees;
-        (!nees.consistent()).then(|| {
-            format!(
-                "the average NEES {:.3} over {} runs is outside its 95 % interval [{:.3}, {:.3}]",
-                nees.average, self.summary.runs, nees.lower_bound, nees.upper_bound
-            )
+        let outside = |nees: &monte_carlo::NeesTest, what: &str| {
+            (!nees.consistent()).then(|| {
+                format!(
+                    "the average NEES {:.3} of the {what} over {} runs is outside its 95 % \
+                     interval [{:.3}, {:.3}]",
+                    nees.average, self.summary.runs, nees.lower_bound, nees.upper_bound
+                )
+            })
+        };
+        outside(&self.summary.nees, "calibration states").or_else(|| {
+            self.imu_error.as_ref().and_then(|imu_error| {
+                outside(&imu_error.summary.nees, "systematic IMU error states")
+            })
         })
     }
 }

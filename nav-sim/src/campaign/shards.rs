@@ -241,6 +241,20 @@ struct RunLine {
     over_time: Vec<OverTimeLine>,
     /// The flight software's non-zero health counters at the end of the run, by name.
     health: std::collections::BTreeMap<String, u32>,
+    /// The systematic IMU error states' final error and covariance (absent when the filter
+    /// does not estimate them, so such lines read as before the field existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    imu_error: Option<ImuErrorLine>,
+}
+
+/// The twelve systematic IMU error states of a run, as hexadecimal bits.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ImuErrorLine {
+    /// Final error, truth in the filter's gauge − estimate.
+    error: Vec<String>,
+    /// Final covariance, column by column.
+    covariance: Vec<String>,
 }
 
 /// The first line of a shard file.
@@ -319,6 +333,10 @@ impl RunRecord {
                 })
                 .collect(),
             health: outcome.health.clone(),
+            imu_error: outcome.imu_error.as_ref().map(|imu| ImuErrorLine {
+                error: imu.error.iter().copied().map(hex).collect(),
+                covariance: imu.covariance.iter().copied().map(hex).collect(),
+            }),
         })
     }
 
@@ -378,6 +396,25 @@ impl RunRecord {
                     })
                     .collect::<Result<Vec<_>, String>>()?,
                 health: parsed.health,
+                imu_error: parsed
+                    .imu_error
+                    .as_ref()
+                    .map(|line| {
+                        let states = nav_core::imu_error::IMU_ERROR_DIMENSION;
+                        Ok::<_, String>(crate::harness::filter_gauge::ImuErrorOutcome {
+                            error: SVector::from_iterator(floats(
+                                "imu_error.error",
+                                &line.error,
+                                states,
+                            )?),
+                            covariance: SMatrix::from_iterator(floats(
+                                "imu_error.covariance",
+                                &line.covariance,
+                                states * states,
+                            )?),
+                        })
+                    })
+                    .transpose()?,
             },
         })
     }
@@ -474,6 +511,16 @@ pub(super) mod tests {
                 health: [("star_gate_rejections".to_string(), 3 + run as u32)]
                     .into_iter()
                     .collect(),
+                imu_error: (run % 2 == 1).then(|| crate::harness::filter_gauge::ImuErrorOutcome {
+                    error: SVector::from_fn(|state, _| (state as f64 - 5.0) * 1.0e-6 / 7.0),
+                    covariance: SMatrix::from_fn(|row, column| {
+                        if row == column {
+                            1e-10 * (row as f64 + 1.0)
+                        } else {
+                            1e-13 / (3.0 + row as f64 + column as f64)
+                        }
+                    }),
+                }),
             },
         }
     }
@@ -523,10 +570,30 @@ pub(super) mod tests {
                     sample.star_nis.updates,
                 ]);
             }
+            if let Some(imu) = &outcome.imu_error {
+                bits.extend(
+                    imu.error
+                        .iter()
+                        .chain(imu.covariance.iter())
+                        .map(|v| v.to_bits()),
+                );
+            }
             bits
         };
+        assert!(original.outcome.imu_error.is_some());
         assert_eq!(bits(&parsed), bits(&original));
+        assert!(parsed.outcome.imu_error.is_some());
         assert_eq!(parsed.json_line().unwrap(), line);
+        // Without the systematic states the line has no such field.
+        let without = record(4);
+        assert!(!without.json_line().unwrap().contains("imu_error"));
+        assert_eq!(
+            RunRecord::parse(&without.json_line().unwrap())
+                .unwrap()
+                .outcome
+                .imu_error,
+            None
+        );
         assert!(RunRecord::parse(&line.replace("\"run\":5", "\"run\":5,\"x\":1")).is_err());
     }
 }

@@ -6,6 +6,7 @@
 use nalgebra::{Quaternion, SMatrix, SVector, Vector3};
 use nav_core::attitude;
 use nav_core::filter::CalibrationEstimate;
+use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::state::StateBlock;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
 use nav_fsw::config::FswConfig;
@@ -14,6 +15,7 @@ use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
 
+use crate::harness::filter_gauge::{imu_error_vector, in_filter_gauge, ImuErrorOutcome};
 use crate::logs::sensor_log;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
@@ -36,6 +38,10 @@ pub enum FlightError {
     /// The run could not be set up from its scenario (launch site, configuration).
     #[error(transparent)]
     Setup(#[from] SetupError),
+    /// The truth's IMU errors could not be mapped into the filter's gauge, or the flight
+    /// software's systematic estimate is not finite.
+    #[error("the systematic IMU errors in the filter's gauge: {0}")]
+    Gauge(nav_core::NavError),
 }
 
 /// Values of the five calibration blocks, per axis, in [`StateBlock::CALIBRATION`] order (gyro
@@ -97,6 +103,38 @@ pub struct FlightResult {
     pub star_nis: NisSum,
     /// NIS of every GNSS fix the gate tested.
     pub gnss_nis: NisSum,
+    /// The systematic IMU error states' final error and covariance (`[filter.imu_errors]`
+    /// on; the calibration error is then in the filter's gauge too, [`filter_gauge`]).
+    pub imu_error: Option<ImuErrorOutcome>,
+}
+
+/// The sensor errors as the filter sees them: in its gauge when it estimates the systematic
+/// IMU errors ([`filter_gauge`]), as they are otherwise.
+fn filter_view(
+    computer: &NavigationComputer,
+    errors: &SensorErrorTruth,
+) -> Result<(SensorErrorTruth, Option<ImuErrorEstimate>), FlightError> {
+    if computer.filter().imu_error().is_enabled() {
+        let (mapped, imu) = in_filter_gauge(errors).map_err(FlightError::Gauge)?;
+        Ok((mapped, Some(imu)))
+    } else {
+        Ok((*errors, None))
+    }
+}
+
+/// The systematic states' final error (truth in the gauge − estimate) and covariance.
+fn imu_error_outcome(
+    computer: &NavigationComputer,
+    truth: Option<&ImuErrorEstimate>,
+) -> Result<Option<ImuErrorOutcome>, FlightError> {
+    let Some(truth) = truth else {
+        return Ok(None);
+    };
+    let estimate = computer.imu_error_estimate().map_err(FlightError::Gauge)?;
+    Ok(Some(ImuErrorOutcome {
+        error: imu_error_vector(truth) - imu_error_vector(&estimate),
+        covariance: computer.filter().imu_error().covariance(),
+    }))
 }
 
 /// Sum of the normalised innovation squared over the updates of one sensor (the gate's
@@ -443,10 +481,11 @@ pub fn fly_observed(
         frames += 1;
         let errors = simulation.error_truth();
         if frame.time_s >= next_record_s - 1e-9 {
+            let (seen, _) = filter_view(&computer, &errors)?;
             samples.push(record(
                 &computer,
                 &frame,
-                &errors,
+                &seen,
                 std::mem::take(&mut interval_nis),
             ));
             next_record_s += options.record_interval_s;
@@ -457,13 +496,15 @@ pub fn fly_observed(
         last = Some((frame, errors));
     }
     if let Some((frame, errors)) = last {
-        let final_sample = record(&computer, &frame, &errors, interval_nis);
+        let (seen, _) = filter_view(&computer, &errors)?;
+        let final_sample = record(&computer, &frame, &seen, interval_nis);
         if samples.last().map(|s| s.time_s) != Some(final_sample.time_s) {
             samples.push(final_sample);
         }
     }
     progress(frames, total_frames);
-    let errors = simulation.error_truth();
+    let (errors, imu_truth) = filter_view(&computer, &simulation.error_truth())?;
+    let imu_error = imu_error_outcome(&computer, imu_truth.as_ref())?;
     Ok(FlightResult {
         samples,
         table: *computer.calibration_table(),
@@ -474,5 +515,6 @@ pub fn fly_observed(
         dropped_measurements: dropped,
         star_nis,
         gnss_nis,
+        imu_error,
     })
 }

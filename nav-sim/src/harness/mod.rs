@@ -3,6 +3,7 @@
 //! Cortex-M7 firmware under QEMU ([`target_replay`]) and over its serial lines
 //! ([`uart_replay`]), compared bit for bit with the host.
 
+pub mod filter_gauge;
 pub mod flight;
 pub mod log_replay;
 pub mod target_replay;

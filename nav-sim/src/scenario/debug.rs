@@ -115,6 +115,9 @@ impl std::fmt::Debug for FilterSettings {
         if self.bias_instability.is_on() {
             debug.field("bias_instability", &self.bias_instability);
         }
+        if self.imu_errors.is_on() {
+            debug.field("imu_errors", &self.imu_errors);
+        }
         debug.finish()
     }
 }

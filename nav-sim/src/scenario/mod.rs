@@ -567,6 +567,53 @@ pub struct FilterSettings {
     /// constant biases (beside any configured random walk), the paper's model.
     #[serde(default)]
     pub bias_instability: FilterBiasInstability,
+    /// The systematic IMU error states the filter estimates (`[filter.imu_errors]`); absent
+    /// = none, the paper's 24 states.
+    #[serde(default)]
+    pub imu_errors: FilterImuErrors,
+}
+
+/// The prior 1σ of the filter's systematic IMU error states (nav-core `imu_error_states`,
+/// docs/imu-errors.md): gyro non-orthogonality (3 terms), accelerometer misalignment (6) and
+/// gyro g-sensitivity (3), in the gyro-defined gauge. All 0 (the default) = off; when on,
+/// every 1σ is > 0, and `gnss_correlated_sigma_m` is 0 (the two are not combined yet).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterImuErrors {
+    /// Gyro non-orthogonality, 1σ per term (rad).
+    #[serde(default)]
+    pub gyro_non_orthogonality_sigma_rad: f64,
+    /// Accelerometer misalignment, 1σ per term (rad).
+    #[serde(default)]
+    pub accel_misalignment_sigma_rad: f64,
+    /// Gyro g-sensitivity, 1σ per axis (rad/s per m/s²).
+    #[serde(default)]
+    pub gyro_g_sensitivity_sigma_rad_s_per_mps2: f64,
+}
+
+impl FilterImuErrors {
+    /// Whether any 1σ is set (the table renders in `Debug` only then).
+    pub fn is_on(&self) -> bool {
+        self.values().iter().any(|(_, value)| *value != 0.0)
+    }
+
+    /// `(key, value)` of each 1σ, the key under `filter.imu_errors`.
+    pub fn values(&self) -> [(&'static str, f64); 3] {
+        [
+            (
+                "gyro_non_orthogonality_sigma_rad",
+                self.gyro_non_orthogonality_sigma_rad,
+            ),
+            (
+                "accel_misalignment_sigma_rad",
+                self.accel_misalignment_sigma_rad,
+            ),
+            (
+                "gyro_g_sensitivity_sigma_rad_s_per_mps2",
+                self.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+            ),
+        ]
+    }
 }
 
 /// The bias instability the filter accounts for in its process noise: a first-order

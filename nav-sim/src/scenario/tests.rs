@@ -367,6 +367,40 @@ fn the_filters_bias_instability_parses_renders_only_when_on_and_is_validated() {
     }
 }
 
+/// `[filter.imu_errors]`: absent is off (and absent from `Debug`, so the scenario hash is
+/// unchanged); a partial table, a bad value or the correlated GNSS error states beside it are
+/// refused naming the key.
+#[test]
+fn the_filters_imu_error_states_parse_render_only_when_on_and_are_validated() {
+    let default = Scenario::default_scenario().unwrap();
+    assert!(!default.filter.imu_errors.is_on());
+    assert!(!format!("{default:?}").contains("imu_errors"));
+    let table = |lines: &str| format!("{DEFAULT_SCENARIO_TOML}\n[filter.imu_errors]\n{lines}");
+    let on = "gyro_non_orthogonality_sigma_rad = 2.83e-5\naccel_misalignment_sigma_rad = 2.83e-5\n\
+              gyro_g_sensitivity_sigma_rad_s_per_mps2 = 2.47e-7";
+    let scenario = Scenario::from_toml_str(&table(on)).unwrap();
+    assert!(scenario.filter.imu_errors.is_on());
+    assert!(format!("{scenario:?}").contains("imu_errors: FilterImuErrors"));
+    for (lines, key) in [
+        (
+            "gyro_non_orthogonality_sigma_rad = 2.83e-5",
+            "filter.imu_errors.accel_misalignment_sigma_rad",
+        ),
+        (
+            "gyro_non_orthogonality_sigma_rad = 2.83e-5\naccel_misalignment_sigma_rad = -1e-5\n\
+             gyro_g_sensitivity_sigma_rad_s_per_mps2 = 2.47e-7",
+            "filter.imu_errors.accel_misalignment_sigma_rad",
+        ),
+    ] {
+        assert_eq!(invalid_key(&table(lines)), key, "{lines}");
+    }
+    let with_gnss = table(on).replace(
+        "# gnss_correlated_sigma_m = 0.0",
+        "gnss_correlated_sigma_m = 8.0\ngnss_correlation_time_s = 300.0",
+    );
+    assert_eq!(invalid_key(&with_gnss), "filter.imu_errors");
+}
+
 /// A rotation vector is refused beyond one turn, naming its key and size; one turn is
 /// accepted.
 #[test]

@@ -779,9 +779,14 @@ impl Scenario {
                 check.non_negative(&key, correlation_time_s)?;
             }
         }
+        check.filter_imu_errors(filter)?;
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }
         Ok(())
     }
 }
+
+/// The checks of `[filter.imu_errors]`.
+#[path = "validate_filter.rs"]
+mod filter;

@@ -43,6 +43,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         F::GnssCorrelatedError => {
             Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
         }
+        F::ImuSystematicError => Some("filter.imu_errors"),
         F::InitialNavigation => Some("initial_orbit / initial_attitude"),
         F::ImuPeriodTolerance
         | F::StarAcquisitionGate
@@ -144,6 +145,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
         imu_max_rate_rad_s: max_rate_rad_s,
         imu_max_specific_force_mps2: max_force_mps2,
+        imu_error: filter.imu_error,
     })
 }
 
@@ -254,6 +256,13 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
             sigma_m: settings.gnss_correlated_sigma_m,
             correlation_time_s: settings.gnss_correlation_time_s,
         },
+        imu_error: nav_core::imu_error_states::ImuErrorModel {
+            gyro_non_orthogonality_sigma_rad: settings.imu_errors.gyro_non_orthogonality_sigma_rad,
+            accel_misalignment_sigma_rad: settings.imu_errors.accel_misalignment_sigma_rad,
+            gyro_g_sensitivity_sigma_rad_s_per_mps2: settings
+                .imu_errors
+                .gyro_g_sensitivity_sigma_rad_s_per_mps2,
+        },
     })
 }
 
@@ -284,6 +293,34 @@ mod tests {
             let gauss_markov_change = 2.0 * sigma * sigma * (1.0 - (-t_s / tau_s).exp());
             assert!(density * density * t_s >= gauss_markov_change, "{t_s}");
         }
+    }
+
+    /// The scenario's `[filter.imu_errors]` reaches the filter (and the replay setup, so the
+    /// target flies the same filter); absent, the filter has no systematic states.
+    #[test]
+    fn the_filters_imu_error_states_reach_the_flight_software() {
+        let default = Scenario::default_scenario().unwrap();
+        assert!(!filter_config(&default).unwrap().imu_error.is_enabled());
+        let mut scenario = default.clone();
+        scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
+            gyro_non_orthogonality_sigma_rad: 2.83e-5,
+            accel_misalignment_sigma_rad: 3.0e-5,
+            gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.47e-7,
+        };
+        let config = filter_config(&scenario).unwrap();
+        assert_eq!(
+            [
+                config.imu_error.gyro_non_orthogonality_sigma_rad,
+                config.imu_error.accel_misalignment_sigma_rad,
+                config.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+            ]
+            .map(f64::to_bits),
+            [2.83e-5, 3.0e-5, 2.47e-7].map(f64::to_bits)
+        );
+        let launch = crate::setup::launch::Launch::new(&scenario).unwrap();
+        let setup = replay_setup_for(&scenario, &launch).unwrap();
+        assert_eq!(setup.imu_error, config.imu_error);
+        assert_eq!(setup.config().filter.imu_error, config.imu_error);
     }
 
     /// The scenario's `[filter.bias_instability]` reaches the filter's process noise; the

@@ -47,6 +47,7 @@ fn synthetic_runs(
                 position_error_m: 0.0,
                 over_time: Vec::new(),
                 health: std::collections::BTreeMap::new(),
+                imu_error: None,
             }
         })
         .collect()

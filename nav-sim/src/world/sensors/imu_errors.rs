@@ -119,6 +119,16 @@ impl TriadExtras {
         }
     }
 
+    /// `A` (zero when off).
+    pub(super) fn misalignment(&self) -> Matrix3<f64> {
+        self.misalignment.unwrap_or_else(Matrix3::zeros)
+    }
+
+    /// The diagonal of `G` (zero when off).
+    pub(super) fn g_sensitivity(&self) -> Vector3<f64> {
+        self.g_sensitivity.unwrap_or_else(Vector3::zeros)
+    }
+
     /// The Gauss–Markov bias of the current frame, if on.
     pub(super) fn instability_bias(&self) -> Option<Vector3<f64>> {
         self.instability

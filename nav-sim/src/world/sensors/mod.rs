@@ -39,7 +39,7 @@
 //! the stream bit for bit on any platform (`rand_distr::StandardNormal` is pure IEEE arithmetic
 //! plus `ln`/`exp` from the platform's libm; the host builds agree).
 
-use nalgebra::{Quaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, Vector3};
 use nav_core::attitude::{canonical, exp_rotation_vector};
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::sensor_frames::SensorFrames;
@@ -202,6 +202,12 @@ pub struct SensorErrorTruth {
     pub star_installation_q_psi: Quaternion<f64>,
     /// Nominal mounting `q_bs` (known to the flight code).
     pub star_mounting_q_bs: Quaternion<f64>,
+    /// Gyro misalignment and non-orthogonality `A_g` (rad, zero diagonal; zero when off).
+    pub gyro_misalignment_rad: Matrix3<f64>,
+    /// Accelerometer misalignment and non-orthogonality `A_a` (rad; zero when off).
+    pub accel_misalignment_rad: Matrix3<f64>,
+    /// Gyro g-sensitivity, the diagonal of `G` (rad/s per m/s²; zero when off).
+    pub gyro_g_sensitivity_rad_s_per_mps2: Vector3<f64>,
 }
 
 impl SensorErrorTruth {
@@ -286,6 +292,20 @@ impl TriadModel {
 }
 
 impl TriadModel {
+    /// The misalignment `A` (zero when off).
+    fn misalignment(&self) -> Matrix3<f64> {
+        self.extras
+            .as_ref()
+            .map_or_else(Matrix3::zeros, TriadExtras::misalignment)
+    }
+
+    /// The g-sensitivity `g` (zero when off).
+    fn g_sensitivity(&self) -> Vector3<f64> {
+        self.extras
+            .as_ref()
+            .map_or_else(Vector3::zeros, TriadExtras::g_sensitivity)
+    }
+
     /// The bias of the next frame: the constant (and random-walk) part plus the bias
     /// instability's, when that is on.
     fn total_bias(&self) -> Vector3<f64> {
@@ -439,6 +459,9 @@ impl SensorSimulator {
             accel_scale_factor: self.accelerometer.scale_factor,
             star_installation_q_psi: self.star_installation_q_psi,
             star_mounting_q_bs: self.star_mounting_q_bs,
+            gyro_misalignment_rad: self.gyro.misalignment(),
+            accel_misalignment_rad: self.accelerometer.misalignment(),
+            gyro_g_sensitivity_rad_s_per_mps2: self.gyro.g_sensitivity(),
         }
     }
 

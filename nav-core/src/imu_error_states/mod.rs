@@ -1,0 +1,418 @@
+//! The systematic IMU error states ([`crate::imu_error`]: gyro non-orthogonality 3,
+//! accelerometer misalignment 6, gyro g-sensitivity 3) as the border of a 36-state filter:
+//! the 24-state kernels stay as they are, and only the border `ε̂`, `P_εε` (12×12) and
+//! `C = P_xε` (24×12) is added, as [`crate::gnss_error`] adds its three states.
+//!
+//! ## Model
+//! The twelve states are random constants (`ε̇ = 0`). Each acts on the navigation exactly as
+//! an equivalent sensor bias ([`crate::imu_error::equivalent_bias_terms`]): with `u = M ε`
+//! (`M`, 6×12, one non-zero per column: the measured rate or force component `m_k` on the
+//! gyro or accelerometer axis the state disturbs), the continuous columns of `ε` are the
+//! bias columns times `M`, `B_ε = B_b M`. The calibration rows of the 24-state system
+//! matrix are zero, so the discrete transition of the same order is
+//! `F₃₆ = [[F, Γ], [0, I]]` with `Γ = Σ_{n≥1} A^{n−1} B_b M Δⁿ/n! = E M`, `E = [E_g E_a]`
+//! the bias columns of `F` ([`crate::structured`]: rows ϑ, δp, δv; zero elsewhere): no new
+//! series. The noise enters `x` only, and `A₃₆ⁿ G = [Aⁿ G; 0]`, so `Qd₃₆ = diag(Qd, 0)`.
+//!
+//! ## Propagation
+//! With `Y = F C` (its dynamic rows by `StructuredModel::propagate_rows`, the calibration
+//! rows those of `C`):
+//! * `C ← Y + Γ P_εε` (only the dynamic rows change: `Γ` has no others);
+//! * `P_xx ← F P_xx Fᵀ + Qd` (the 24-state kernel, unchanged) `+ Y Γᵀ + Γ Yᵀ + Γ P_εε Γᵀ`,
+//!   which adds only to the dynamic columns (and rows) of `P_xx`: with `y_j = M Y_jᵀ` (the
+//!   row's equivalent-bias 6-vector) and `E_i` row `i` of `E`, `ΔP_ji = y_j·E_i` for the
+//!   dynamic `i`, plus its transpose and `E_i Π E_jᵀ` (`Π = M P_εε Mᵀ`) in the dynamic block;
+//! * `P_εε` unchanged; in open loop `x_d ← (F x)_d + E (M ε̂)`.
+//!
+//! ## Update
+//! No measurement sees `ε` directly (`H_ε = 0`), so `S`, `M_x = P_xx H_xᵀ` and the 24-state
+//! Joseph kernel are unchanged; the border adds `G = H_x C`, `M_ε = Gᵀ`, `K_ε = M_ε S⁻¹` and,
+//! by the expanded Joseph form of [`crate::gnss_error`], `C⁺_ia = C_ia − K_i·M_εa` for a
+//! row the update moves and `C_ia − M_i·K_εa` for a frozen one (`K_i = 0`),
+//! `P⁺_εε = P_εε − K_ε M_εᵀ`, `ε̂ ← ε̂ + K_ε ν`.
+//!
+//! ## Reset
+//! In closed loop the caller feeds `ε̂` into its sensor corrections with the 24 states
+//! (`crate::imu_error::correct_increment`), the estimate is zeroed (the corrections are
+//! additive: the reset Jacobian of `ε` is the identity) and `C ← J C` on the attitude and
+//! installation rows.
+//!
+//! The correlated GNSS error border and this one are not yet combined (their cross term
+//! `P_εε'` is not carried): [`crate::filter::FilterConfig::validate`] refuses both at once.
+
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use crate::block::{self, Block, Row};
+use crate::imu_error::{ImuErrorEstimate, IMU_ERROR_DIMENSION};
+use crate::state::{ATTITUDE, STAR_INSTALLATION, STATE_DIMENSION};
+use crate::structured::StateRows;
+use crate::NavError;
+
+mod propagate;
+mod update;
+
+/// Number of 3-column groups of the border (`C` is kept as four 24×3 matrices, the shape
+/// the structured propagation takes).
+const GROUPS: usize = IMU_ERROR_DIMENSION / 3;
+const _: () = assert!(GROUPS * 3 == IMU_ERROR_DIMENSION);
+
+/// Number of dynamic states (ϑ, δp, δv).
+const DYNAMIC: usize = 9;
+
+/// `C = P_xε` as four groups of three columns (`groups[g][j][c] = cov(x_j, ε_{3g+c})`).
+type CrossCovariance = [StateRows; GROUPS];
+/// A 12×12 matrix by rows.
+type BorderMatrix = [[f64; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+
+/// The prior 1σ of each systematic IMU error block (configuration); all zero: the paper's
+/// 24 states only.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ImuErrorModel {
+    /// Gyro non-orthogonality, per term (rad).
+    pub gyro_non_orthogonality_sigma_rad: f64,
+    /// Accelerometer misalignment, per term (rad).
+    pub accel_misalignment_sigma_rad: f64,
+    /// Gyro g-sensitivity, per axis (rad/s per m/s²).
+    pub gyro_g_sensitivity_sigma_rad_s_per_mps2: f64,
+}
+
+impl ImuErrorModel {
+    /// No systematic IMU error states (the paper's model).
+    pub const DISABLED: Self = Self {
+        gyro_non_orthogonality_sigma_rad: 0.0,
+        accel_misalignment_sigma_rad: 0.0,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 0.0,
+    };
+
+    fn sigmas(&self) -> [f64; 3] {
+        [
+            self.gyro_non_orthogonality_sigma_rad,
+            self.accel_misalignment_sigma_rad,
+            self.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+        ]
+    }
+
+    /// Whether the states are in use (any 1σ above zero).
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::imu_error_states::ImuErrorModel;
+    /// assert!(!ImuErrorModel::DISABLED.is_enabled());
+    /// let imu = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    ///     accel_misalignment_sigma_rad: 2e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
+    /// assert!(imu.is_enabled());
+    /// assert_eq!(imu.validate(), Ok(()));
+    /// ```
+    pub fn is_enabled(&self) -> bool {
+        self.sigmas().iter().any(|sigma| *sigma > 0.0)
+    }
+
+    /// Checks the values: all zero, or all finite and above zero (a state with a zero prior
+    /// would never move and only cost time).
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] otherwise.
+    pub fn validate(&self) -> Result<(), NavError> {
+        let sigmas = self.sigmas();
+        let all_zero = sigmas.iter().all(|sigma| *sigma == 0.0);
+        let all_positive = sigmas.iter().all(|sigma| sigma.is_finite() && *sigma > 0.0);
+        if all_zero || all_positive {
+            Ok(())
+        } else {
+            Err(NavError::InvalidConfiguration)
+        }
+    }
+
+    /// The prior 1σ of each of the twelve states, in [`crate::imu_error::ImuErrorBlock`]
+    /// order.
+    pub fn state_sigmas(&self) -> [f64; IMU_ERROR_DIMENSION] {
+        core::array::from_fn(|k| match k {
+            0..3 => self.gyro_non_orthogonality_sigma_rad,
+            3..9 => self.accel_misalignment_sigma_rad,
+            _ => self.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+        })
+    }
+}
+
+/// The border of the 36-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
+#[derive(Debug, Clone, Copy)]
+pub struct ImuErrorStates {
+    model: ImuErrorModel,
+    /// `ε̂`, in [`crate::imu_error::ImuErrorBlock`] order.
+    estimate: [f64; IMU_ERROR_DIMENSION],
+    /// `P_εε`.
+    covariance: BorderMatrix,
+    /// Two buffers of `C`: an update writes the new `C` into the inactive one and a commit
+    /// makes it active, so nothing changes if the update fails.
+    buffers: [CrossCovariance; 2],
+    /// Whether `buffers[1]` holds `C`.
+    second_active: bool,
+    /// What a propagation or an update keeps between its steps (kept here, so nothing large
+    /// is returned or copied on the flight path; not part of the filter's state).
+    scratch: Scratch,
+}
+
+impl PartialEq for ImuErrorStates {
+    /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
+    fn eq(&self, other: &Self) -> bool {
+        self.model == other.model
+            && self.estimate == other.estimate
+            && self.covariance == other.covariance
+            && self.cross() == other.cross()
+    }
+}
+
+/// The four groups' equivalent-bias maps at a linearisation point: the sensor a group's
+/// three states enter (one per group by the layout) and, per state, the axis and multiplier
+/// `m_k` (module docs, `M`).
+#[derive(Debug, Clone, Copy)]
+struct GroupMap {
+    /// Index of the sensor: 0 gyro, 1 accelerometer.
+    sensor: usize,
+    axes: [usize; 3],
+    multipliers: Row,
+}
+
+impl GroupMap {
+    const EMPTY: Self = Self {
+        sensor: 0,
+        axes: [0, 1, 2],
+        multipliers: [0.0; 3],
+    };
+}
+
+/// The border split for a kernel: `ε̂` and `P_εε` to read, the active `C` to read, the spare
+/// buffer to write and the scratch.
+struct Parts<'a> {
+    estimate: &'a [f64; IMU_ERROR_DIMENSION],
+    covariance: &'a BorderMatrix,
+    old: &'a CrossCovariance,
+    spare: &'a mut CrossCovariance,
+    scratch: &'a mut Scratch,
+}
+
+/// What a propagation or an update keeps between its steps.
+#[derive(Debug, Clone, Copy)]
+struct Scratch {
+    /// The groups' maps of the propagation's linearisation point.
+    maps: [GroupMap; GROUPS],
+    /// The bias columns `E` per sensor (rows ϑ, δp, δv; the accelerometer's ϑ row zero).
+    bias_columns: [[Block; 3]; 2],
+    /// `Π = M P_εε Mᵀ` by sensor pairs.
+    projected: [[Block; 2]; 2],
+    /// `Z_{i,s} = C⁺_i M_sᵀ` of the dynamic row blocks.
+    dynamic_projected: [[Block; 2]; 3],
+    /// `E M ε̂` on the dynamic rows (the open-loop state's increment).
+    state_increment: [f64; DYNAMIC],
+    /// An update's `M_ε` and `K_ε` by groups (row `c` of group `g`: state `3g + c`), and `ν`.
+    border_products: [[Row; 3]; GROUPS],
+    border_gains: [[Row; 3]; GROUPS],
+    innovation: Row,
+}
+
+impl Scratch {
+    const EMPTY: Self = Self {
+        maps: [GroupMap::EMPTY; GROUPS],
+        bias_columns: [[block::ZERO; 3]; 2],
+        projected: [[block::ZERO; 2]; 2],
+        dynamic_projected: [[block::ZERO; 2]; 3],
+        state_increment: [0.0; DYNAMIC],
+        border_products: [[[0.0; 3]; 3]; GROUPS],
+        border_gains: [[[0.0; 3]; 3]; GROUPS],
+        innovation: [0.0; 3],
+    };
+}
+
+impl ImuErrorStates {
+    /// The prior: `ε̂ = 0`, `P_εε = diag(σ²)`, `C = 0` (all zero when disabled).
+    ///
+    /// # Errors
+    /// As [`ImuErrorModel::validate`].
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::imu_error_states::{ImuErrorModel, ImuErrorStates};
+    /// let model = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    ///     accel_misalignment_sigma_rad: 3e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
+    /// let states = ImuErrorStates::new(model)?;
+    /// assert!((states.covariance()[(3, 3)] - 9e-10).abs() < 1e-24);
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn new(model: ImuErrorModel) -> Result<Self, NavError> {
+        model.validate()?;
+        let sigmas = model.state_sigmas();
+        let mut covariance = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+        for (k, (row, sigma)) in covariance.iter_mut().zip(sigmas).enumerate() {
+            if let Some(entry) = row.get_mut(k) {
+                *entry = sigma * sigma;
+            }
+        }
+        Ok(Self {
+            model,
+            estimate: [0.0; IMU_ERROR_DIMENSION],
+            covariance,
+            buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
+            second_active: false,
+            scratch: Scratch::EMPTY,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &ImuErrorModel {
+        &self.model
+    }
+
+    /// Whether the states are in use.
+    pub fn is_enabled(&self) -> bool {
+        self.model.is_enabled()
+    }
+
+    /// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order).
+    pub fn estimate(&self) -> SVector<f64, IMU_ERROR_DIMENSION> {
+        SVector::from(self.estimate)
+    }
+
+    /// `P_εε`.
+    pub fn covariance(&self) -> SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION> {
+        SMatrix::from_fn(|a, b| {
+            self.covariance
+                .get(a)
+                .and_then(|row| row.get(b))
+                .copied()
+                .unwrap_or(f64::NAN)
+        })
+    }
+
+    /// `C = P_xε` (24×12).
+    pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION> {
+        SMatrix::from_fn(|j, a| self.cross_at(j, a))
+    }
+
+    fn cross_at(&self, j: usize, a: usize) -> f64 {
+        self.cross()
+            .get(a / 3)
+            .and_then(|group| group.get(j))
+            .and_then(|row| row.get(a % 3))
+            .copied()
+            .unwrap_or(f64::NAN)
+    }
+
+    /// `C`, by groups.
+    pub(super) fn cross(&self) -> &CrossCovariance {
+        let [first, second] = &self.buffers;
+        if self.second_active {
+            second
+        } else {
+            first
+        }
+    }
+
+    /// The border split for a kernel ([`Parts`]).
+    fn parts(&mut self) -> Parts<'_> {
+        let [first, second] = &mut self.buffers;
+        let (old, spare) = if self.second_active {
+            (&*second, first)
+        } else {
+            (&*first, second)
+        };
+        Parts {
+            estimate: &self.estimate,
+            covariance: &self.covariance,
+            old,
+            spare,
+            scratch: &mut self.scratch,
+        }
+    }
+
+    fn cross_mut(&mut self) -> &mut CrossCovariance {
+        let [first, second] = &mut self.buffers;
+        if self.second_active {
+            second
+        } else {
+            first
+        }
+    }
+
+    /// The closed-loop reset: `C ← J C` on the attitude and installation rows, `ε̂ = 0` (the
+    /// caller has fed it into its corrections).
+    pub(crate) fn reset(&mut self, attitude: &Block, installation: &Block) {
+        for group in self.cross_mut().iter_mut() {
+            for (offset, jacobian) in [
+                (ATTITUDE.index(), attitude),
+                (STAR_INSTALLATION.index(), installation),
+            ] {
+                if let Some(rows) = group.get_mut(offset..offset + 3) {
+                    let old: Block = [0, 1, 2].map(|i| rows.get(i).copied().unwrap_or([0.0; 3]));
+                    for (row, value) in rows.iter_mut().zip(block::mul(jacobian, &old)) {
+                        *row = value;
+                    }
+                }
+            }
+        }
+        self.estimate = [0.0; IMU_ERROR_DIMENSION];
+    }
+
+    /// `corrections + ε̂`: the systematic corrections after the closed-loop feedback of the
+    /// estimate (module docs, "Reset"); the caller resets the filter afterwards.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if the sum is not finite (nothing is changed).
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::imu_error::ImuErrorEstimate;
+    /// use nav_core::imu_error_states::{ImuErrorModel, ImuErrorStates};
+    /// let model = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    ///     accel_misalignment_sigma_rad: 2e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
+    /// let states = ImuErrorStates::new(model)?;
+    /// let corrections = ImuErrorEstimate::default();
+    /// // A fresh filter's estimate is zero: nothing to feed back.
+    /// assert_eq!(states.fed_back(&corrections)?, corrections);
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn fed_back(&self, corrections: &ImuErrorEstimate) -> Result<ImuErrorEstimate, NavError> {
+        let e = &self.estimate;
+        let at = |k: usize| e.get(k).copied().unwrap_or(f64::NAN);
+        let sum = ImuErrorEstimate {
+            gyro_non_orthogonality_rad: corrections.gyro_non_orthogonality_rad
+                + Vector3::from_fn(|k, _| at(k)),
+            accel_misalignment_rad: corrections.accel_misalignment_rad
+                + SVector::<f64, 6>::from_fn(|k, _| at(3 + k)),
+            gyro_g_sensitivity_rad_s_per_mps2: corrections.gyro_g_sensitivity_rad_s_per_mps2
+                + Vector3::from_fn(|k, _| at(9 + k)),
+        };
+        if sum.is_finite() {
+            Ok(sum)
+        } else {
+            Err(NavError::NonFiniteState)
+        }
+    }
+
+    /// Row `index` of `C` times `scale` (the state's uncertainty was scaled).
+    pub(crate) fn scale_cross_row(&mut self, index: usize, scale: f64) {
+        for group in self.cross_mut().iter_mut() {
+            if let Some(row) = group.get_mut(index) {
+                *row = block::row_scale(*row, scale);
+            }
+        }
+    }
+
+    /// Replaces `ε̂`, `P_εε` and `C` (tests: a random prior).
+    #[cfg(test)]
+    pub(crate) fn set(
+        &mut self,
+        estimate: &SVector<f64, IMU_ERROR_DIMENSION>,
+        covariance: &SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
+        cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
+    ) {
+        self.estimate = core::array::from_fn(|a| estimate[a]);
+        self.covariance = core::array::from_fn(|a| core::array::from_fn(|b| covariance[(a, b)]));
+        *self.cross_mut() = core::array::from_fn(|g| {
+            core::array::from_fn(|j| core::array::from_fn(|c| cross[(j, 3 * g + c)]))
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,133 @@
+//! The border's part of a measurement update, in two steps around the 24-state Joseph kernel
+//! (module docs of [`crate::imu_error_states`]): `M_ε`, `K_ε` and the new `C` (into the spare
+//! buffer) with the new `P_εε` and `ε̂` checked, then all of them committed in place.
+
+use super::propagate::rows_block;
+use super::{ImuErrorStates, Parts, GROUPS};
+use crate::block::{self, dot, FiniteCheck, Row};
+use crate::imu_error::IMU_ERROR_DIMENSION;
+use crate::measurement::MeasurementJacobian;
+use crate::state::{BlockMask, STATE_DIMENSION};
+use crate::structured::StateRows;
+
+/// Row `a` (state `a` of the twelve) of a by-groups matrix.
+#[inline(always)]
+fn state_row(rows: &[[Row; 3]; GROUPS], a: usize) -> Row {
+    rows.get(a / 3)
+        .and_then(|group| group.get(a % 3))
+        .copied()
+        .unwrap_or([f64::NAN; 3])
+}
+
+impl ImuErrorStates {
+    /// The first step of the border's update with `H_x` (`observed` its non-zero 3×3
+    /// blocks), the 24 gains `K_x` (zero on the `frozen` rows), `M_x = P_xx H_xᵀ`, `S⁻¹`
+    /// (`solve`) and the innovation `ν` (module docs): `M_ε = (H_x C)ᵀ`, `K_ε = M_ε S⁻¹`, the
+    /// new `C` into the spare buffer (`C⁺_ia = C_ia − K_i·M_εa`, `− M_i·K_εa` on a frozen
+    /// row); `false` if it, the new `P_εε` or the new `ε̂` is not finite (nothing the filter
+    /// reads has changed). [`ImuErrorStates::commit_update`] writes them.
+    pub(crate) fn prepare_update(
+        &mut self,
+        (jacobian, observed): (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
+        (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
+        solve: impl Fn(Row) -> Row,
+        innovation: Row,
+    ) -> bool {
+        let Parts {
+            estimate,
+            covariance,
+            old,
+            spare,
+            scratch,
+        } = self.parts();
+        // M_ε by groups: row c of group g = Σ_j H[:, j] C_g[j][c] over the observed blocks.
+        scratch.border_products = [[[0.0; 3]; 3]; GROUPS];
+        let columns = jacobian.data.0.chunks_exact(3).zip(observed).enumerate();
+        for (state_block, (h_columns, _)) in columns.filter(|(_, (_, seen))| **seen) {
+            for (group, products) in old.iter().zip(scratch.border_products.iter_mut()) {
+                let c_rows = rows_block(group, state_block);
+                for (h_column, c_row) in h_columns.iter().zip(&c_rows) {
+                    for (product, c) in products.iter_mut().zip(c_row) {
+                        *product = block::row_add_scaled(*product, *h_column, *c);
+                    }
+                }
+            }
+        }
+        for (gains_group, products_group) in scratch
+            .border_gains
+            .iter_mut()
+            .zip(&scratch.border_products)
+        {
+            for (gain, product) in gains_group.iter_mut().zip(products_group) {
+                *gain = solve(*product);
+            }
+        }
+        scratch.innovation = innovation;
+        let mut sum = 0.0;
+        let groups = spare.iter_mut().zip(old.iter());
+        for ((new_group, old_group), (k_g, m_g)) in groups.zip(
+            scratch
+                .border_gains
+                .iter()
+                .zip(scratch.border_products.iter()),
+        ) {
+            let rows = new_group
+                .iter_mut()
+                .zip(old_group)
+                .zip(gains.iter().zip(products));
+            for (j, ((new, [c0, c1, c2]), (k, m))) in rows.enumerate() {
+                // N_j = 0 where the update moves row j, −M_j on a frozen row (K_j = 0).
+                let (left, [r0, r1, r2]) = if frozen.contains_state(j) {
+                    (*m, *k_g)
+                } else {
+                    (*k, *m_g)
+                };
+                *new = [c0 - dot(left, r0), c1 - dot(left, r1), c2 - dot(left, r2)];
+                let [a, b, c] = *new;
+                sum += a + b + c;
+            }
+        }
+        // The new P_εε and ε̂, summed only: written by the commit.
+        for a in 0..IMU_ERROR_DIMENSION {
+            let k_a = state_row(&scratch.border_gains, a);
+            let row = covariance.get(a);
+            for b in a..IMU_ERROR_DIMENSION {
+                let old = row.and_then(|r| r.get(b)).copied().unwrap_or(f64::NAN);
+                sum += old - dot(k_a, state_row(&scratch.border_products, b));
+            }
+            sum += estimate.get(a).copied().unwrap_or(f64::NAN) + dot(k_a, innovation);
+        }
+        let mut check = FiniteCheck::new();
+        check.value(sum);
+        check.all_finite()
+    }
+
+    /// The second step, after the 24-state kernel: `P_εε ← P_εε − K_ε M_εᵀ` (upper
+    /// triangle, mirrored), `ε̂ ← ε̂ + K_ε ν`, and the new `C` made active.
+    pub(crate) fn commit_update(&mut self) {
+        let Self {
+            estimate,
+            covariance,
+            scratch,
+            ..
+        } = self;
+        for a in 0..IMU_ERROR_DIMENSION {
+            let k_a = state_row(&scratch.border_gains, a);
+            for b in a..IMU_ERROR_DIMENSION {
+                let Some(old) = covariance.get(a).and_then(|r| r.get(b)).copied() else {
+                    continue;
+                };
+                let value = old - dot(k_a, state_row(&scratch.border_products, b));
+                for (r, c) in [(a, b), (b, a)] {
+                    if let Some(entry) = covariance.get_mut(r).and_then(|row| row.get_mut(c)) {
+                        *entry = value;
+                    }
+                }
+            }
+            if let Some(value) = estimate.get_mut(a) {
+                *value += dot(k_a, scratch.innovation);
+            }
+        }
+        self.second_active = !self.second_active;
+    }
+}
