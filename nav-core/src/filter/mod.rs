@@ -784,7 +784,7 @@ impl ErrorStateFilter {
         // Overflow of finite covariances only (the caller's recovery restarts the filter).
         if !self
             .imu_error
-            .add_propagation_increment(&mut self.covariance)
+            .add_propagation_increment(model, &mut self.covariance)
         {
             return Err(NavError::NonFiniteState);
         }

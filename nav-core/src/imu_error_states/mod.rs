@@ -135,14 +135,22 @@ impl ImuErrorModel {
     }
 }
 
+/// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order) and `P_εε`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Estimate {
+    estimate: [f64; IMU_ERROR_DIMENSION],
+    covariance: BorderMatrix,
+}
+
 /// The border of the 36-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
 #[derive(Debug, Clone, Copy)]
 pub struct ImuErrorStates {
     model: ImuErrorModel,
-    /// `ε̂`, in [`crate::imu_error::ImuErrorBlock`] order.
-    estimate: [f64; IMU_ERROR_DIMENSION],
-    /// `P_εε`.
-    covariance: BorderMatrix,
+    /// `ε̂` and `P_εε`, twice: an update writes the new ones into the inactive half and its
+    /// commit makes it active (with the new `C`).
+    halves: [Estimate; 2],
+    /// Whether `halves[1]` holds `ε̂` and `P_εε`.
+    second_half: bool,
     /// Two buffers of `C`: an update writes the new `C` into the inactive one and a commit
     /// makes it active, so nothing changes if the update fails.
     buffers: [CrossCovariance; 2],
@@ -156,30 +164,8 @@ pub struct ImuErrorStates {
 impl PartialEq for ImuErrorStates {
     /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
     fn eq(&self, other: &Self) -> bool {
-        self.model == other.model
-            && self.estimate == other.estimate
-            && self.covariance == other.covariance
-            && self.cross() == other.cross()
+        self.model == other.model && self.half() == other.half() && self.cross() == other.cross()
     }
-}
-
-/// The four groups' equivalent-bias maps at a linearisation point: the sensor a group's
-/// three states enter (one per group by the layout) and, per state, the axis and multiplier
-/// `m_k` (module docs, `M`).
-#[derive(Debug, Clone, Copy)]
-struct GroupMap {
-    /// Index of the sensor: 0 gyro, 1 accelerometer.
-    sensor: usize,
-    axes: [usize; 3],
-    multipliers: Row,
-}
-
-impl GroupMap {
-    const EMPTY: Self = Self {
-        sensor: 0,
-        axes: [0, 1, 2],
-        multipliers: [0.0; 3],
-    };
 }
 
 /// The border split for a kernel: `ε̂` and `P_εε` to read, the active `C` to read, the spare
@@ -187,6 +173,8 @@ impl GroupMap {
 struct Parts<'a> {
     estimate: &'a [f64; IMU_ERROR_DIMENSION],
     covariance: &'a BorderMatrix,
+    /// The inactive `ε̂` and `P_εε`, for an update to write.
+    spare_half: &'a mut Estimate,
     old: &'a CrossCovariance,
     spare: &'a mut CrossCovariance,
     scratch: &'a mut Scratch,
@@ -195,32 +183,24 @@ struct Parts<'a> {
 /// What a propagation or an update keeps between its steps.
 #[derive(Debug, Clone, Copy)]
 struct Scratch {
-    /// The groups' maps of the propagation's linearisation point.
-    maps: [GroupMap; GROUPS],
-    /// The bias columns `E` per sensor (rows ϑ, δp, δv; the accelerometer's ϑ row zero).
-    bias_columns: [[Block; 3]; 2],
+    /// The propagation's measured rate (rad/s) and specific force (m/s²).
+    motion: (Row, Row),
     /// `Π = M P_εε Mᵀ` by sensor pairs.
     projected: [[Block; 2]; 2],
-    /// `Z_{i,s} = C⁺_i M_sᵀ` of the dynamic row blocks.
-    dynamic_projected: [[Block; 2]; 3],
     /// `E M ε̂` on the dynamic rows (the open-loop state's increment).
     state_increment: [f64; DYNAMIC],
-    /// An update's `M_ε` and `K_ε` by groups (row `c` of group `g`: state `3g + c`), and `ν`.
+    /// An update's `M_ε` and `K_ε` by groups (row `c` of group `g`: state `3g + c`).
     border_products: [[Row; 3]; GROUPS],
     border_gains: [[Row; 3]; GROUPS],
-    innovation: Row,
 }
 
 impl Scratch {
     const EMPTY: Self = Self {
-        maps: [GroupMap::EMPTY; GROUPS],
-        bias_columns: [[block::ZERO; 3]; 2],
+        motion: ([0.0; 3], [0.0; 3]),
         projected: [[block::ZERO; 2]; 2],
-        dynamic_projected: [[block::ZERO; 2]; 3],
         state_increment: [0.0; DYNAMIC],
         border_products: [[[0.0; 3]; 3]; GROUPS],
         border_gains: [[[0.0; 3]; 3]; GROUPS],
-        innovation: [0.0; 3],
     };
 }
 
@@ -250,8 +230,11 @@ impl ImuErrorStates {
         }
         Ok(Self {
             model,
-            estimate: [0.0; IMU_ERROR_DIMENSION],
-            covariance,
+            halves: [Estimate {
+                estimate: [0.0; IMU_ERROR_DIMENSION],
+                covariance,
+            }; 2],
+            second_half: false,
             buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
             second_active: false,
             scratch: Scratch::EMPTY,
@@ -270,13 +253,14 @@ impl ImuErrorStates {
 
     /// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order).
     pub fn estimate(&self) -> SVector<f64, IMU_ERROR_DIMENSION> {
-        SVector::from(self.estimate)
+        SVector::from(self.half().estimate)
     }
 
     /// `P_εε`.
     pub fn covariance(&self) -> SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION> {
         SMatrix::from_fn(|a, b| {
-            self.covariance
+            self.half()
+                .covariance
                 .get(a)
                 .and_then(|row| row.get(b))
                 .copied()
@@ -308,6 +292,25 @@ impl ImuErrorStates {
         }
     }
 
+    /// The active `ε̂` and `P_εε`.
+    fn half(&self) -> &Estimate {
+        let [first, second] = &self.halves;
+        if self.second_half {
+            second
+        } else {
+            first
+        }
+    }
+
+    fn half_mut(&mut self) -> &mut Estimate {
+        let [first, second] = &mut self.halves;
+        if self.second_half {
+            second
+        } else {
+            first
+        }
+    }
+
     /// The border split for a kernel ([`Parts`]).
     fn parts(&mut self) -> Parts<'_> {
         let [first, second] = &mut self.buffers;
@@ -316,9 +319,16 @@ impl ImuErrorStates {
         } else {
             (&*first, second)
         };
+        let [first_half, second_half] = &mut self.halves;
+        let (half, spare_half) = if self.second_half {
+            (&*second_half, first_half)
+        } else {
+            (&*first_half, second_half)
+        };
         Parts {
-            estimate: &self.estimate,
-            covariance: &self.covariance,
+            estimate: &half.estimate,
+            covariance: &half.covariance,
+            spare_half,
             old,
             spare,
             scratch: &mut self.scratch,
@@ -350,7 +360,7 @@ impl ImuErrorStates {
                 }
             }
         }
-        self.estimate = [0.0; IMU_ERROR_DIMENSION];
+        self.half_mut().estimate = [0.0; IMU_ERROR_DIMENSION];
     }
 
     /// `corrections + ε̂`: the systematic corrections after the closed-loop feedback of the
@@ -372,7 +382,7 @@ impl ImuErrorStates {
     /// # Ok::<(), nav_core::NavError>(())
     /// ```
     pub fn fed_back(&self, corrections: &ImuErrorEstimate) -> Result<ImuErrorEstimate, NavError> {
-        let e = &self.estimate;
+        let e = &self.half().estimate;
         let at = |k: usize| e.get(k).copied().unwrap_or(f64::NAN);
         let sum = ImuErrorEstimate {
             gyro_non_orthogonality_rad: corrections.gyro_non_orthogonality_rad
@@ -406,8 +416,9 @@ impl ImuErrorStates {
         covariance: &SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
         cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
     ) {
-        self.estimate = core::array::from_fn(|a| estimate[a]);
-        self.covariance = core::array::from_fn(|a| core::array::from_fn(|b| covariance[(a, b)]));
+        let half = self.half_mut();
+        half.estimate = core::array::from_fn(|a| estimate[a]);
+        half.covariance = core::array::from_fn(|a| core::array::from_fn(|b| covariance[(a, b)]));
         *self.cross_mut() = core::array::from_fn(|g| {
             core::array::from_fn(|j| core::array::from_fn(|c| cross[(j, 3 * g + c)]))
         });

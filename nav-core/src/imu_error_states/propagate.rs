@@ -3,18 +3,34 @@
 //! the new `C` made active. By 3×3 blocks; `M` has one non-zero per column, so a product
 //! with it is three scaled rows or columns.
 
-use super::{
-    BorderMatrix, CrossCovariance, GroupMap, ImuErrorStates, Parts, Scratch, DYNAMIC, GROUPS,
-};
-use crate::block::{self, Block, FiniteCheck};
+use super::{CrossCovariance, ImuErrorStates, Parts, DYNAMIC};
+use crate::block::{self, Block, FiniteCheck, Row};
 use crate::discretise::CovarianceMatrix;
-use crate::imu_error::{equivalent_bias_terms, BiasSensor};
+use crate::imu_error::IMU_ERROR_DIMENSION;
 use crate::state::STATE_DIMENSION;
 use crate::structured::{StateRows, StructuredModel};
-use nalgebra::Vector3;
+#[cfg(test)]
+use {
+    super::GROUPS,
+    crate::imu_error::{equivalent_bias_terms, BiasSensor},
+    nalgebra::Vector3,
+};
+
+/// The four groups' equivalent-bias maps at a linearisation point: the sensor a group's
+/// three states enter (one per group by the layout) and, per state, the axis and multiplier
+/// `m_k` (module docs, `M`).
+#[cfg(test)]
+#[derive(Debug, Clone, Copy)]
+pub(super) struct GroupMap {
+    /// Index of the sensor: 0 gyro, 1 accelerometer.
+    pub(super) sensor: usize,
+    pub(super) axes: [usize; 3],
+    pub(super) multipliers: Row,
+}
 
 /// The groups' maps at `model`'s linearisation point.
-fn group_maps(model: &StructuredModel) -> [GroupMap; GROUPS] {
+#[cfg(test)]
+pub(super) fn group_maps(model: &StructuredModel) -> [GroupMap; GROUPS] {
     let terms = equivalent_bias_terms(
         &Vector3::from(model.measured_rate()),
         &Vector3::from(model.measured_force()),
@@ -33,47 +49,81 @@ fn group_maps(model: &StructuredModel) -> [GroupMap; GROUPS] {
     })
 }
 
-/// `acc += B Mᵀ` for a block `B` with the group's three states as columns: column `k` of
-/// `B` times `m_k` lands in column `axis_k`.
-#[inline(always)]
-pub(super) fn add_times_map_transpose(acc: &mut Block, b: &Block, map: &GroupMap) {
-    for (acc_row, b_row) in acc.iter_mut().zip(b) {
-        for ((axis, multiplier), value) in map.axes.iter().zip(map.multipliers).zip(b_row) {
-            if let Some(slot) = acc_row.get_mut(*axis) {
-                *slot += multiplier * value;
-            }
-        }
-    }
-}
-
-/// `acc += M B` for a block `B` with the group's three states as rows: row `k` times `m_k`
-/// lands in row `axis_k`.
-#[inline(always)]
-fn add_map_times(acc: &mut Block, map: &GroupMap, b: &Block) {
-    for ((axis, multiplier), row) in map.axes.iter().zip(map.multipliers).zip(b) {
-        if let Some(slot) = acc.get_mut(*axis) {
-            *slot = block::row_add_scaled(*slot, *row, multiplier);
-        }
-    }
-}
-
 /// Row block `b` (states `3b..3b+3`) of a 24×3 matrix by rows.
 #[inline(always)]
 pub(super) fn rows_block(rows: &StateRows, b: usize) -> Block {
     [0, 1, 2].map(|i| rows.get(3 * b + i).copied().unwrap_or([f64::NAN; 3]))
 }
 
-/// Block `(g, h)` of `P_εε`.
+/// `M v` for a 12-vector `v` of the states' values, by sensor (gyro, accelerometer), written
+/// out for the layout: gyro `[f_x g_x, ω_x a_yx + f_y g_y, ω_x a_zx + ω_y a_zy + f_z g_z]`,
+/// accelerometer `[f_y a_xy + f_z a_xz, f_x a_yx + f_z a_yz, f_x a_zx + f_y a_zy]`.
+fn to_bias(v: &[f64; IMU_ERROR_DIMENSION], (rate, force): (Row, Row)) -> [Row; 2] {
+    let [w_x, w_y, _] = rate;
+    let [f_x, f_y, f_z] = force;
+    let [yx, zx, zy, xy, xz, ayx, yz, azx, azy, gx, gy, gz] = *v;
+    [
+        [
+            f_x * gx,
+            w_x * yx + f_y * gy,
+            w_x * zx + w_y * zy + f_z * gz,
+        ],
+        [
+            f_y * xy + f_z * xz,
+            f_x * ayx + f_z * yz,
+            f_x * azx + f_y * azy,
+        ],
+    ]
+}
+
+/// `E_{s,b}`: block `b` (ϑ, δp, δv) of sensor `s`'s bias column of `F`; `None` where it is
+/// zero (the accelerometer's ϑ block), so products with it are skipped.
 #[inline(always)]
-fn border_block(covariance: &BorderMatrix, g: usize, h: usize) -> Block {
-    [0, 1, 2].map(|i| {
-        let row = covariance.get(3 * g + i);
-        [0, 1, 2].map(|j| {
-            row.and_then(|r| r.get(3 * h + j))
-                .copied()
-                .unwrap_or(f64::NAN)
-        })
-    })
+fn bias_block(model: &StructuredModel, s: usize, b: usize) -> Option<&Block> {
+    let (gyro, accel) = model.bias_columns();
+    match s {
+        0 => gyro.get(b),
+        _ => b.checked_sub(1).and_then(|k| accel.get(k)),
+    }
+}
+
+/// `M C_jᵀ` for row `j` of a cross-covariance: the row's equivalent-bias 6-vector (gyro,
+/// accelerometer), written out for the layout as [`to_bias`] is (the test
+/// `explicit_projection_equals_the_maps` holds it to `imu_error::equivalent_bias_terms`).
+#[inline(always)]
+pub(super) fn equivalent_row(cross: &CrossCovariance, motion: (Row, Row), j: usize) -> [f64; 6] {
+    let row = |g: usize| cross.get(g).and_then(|group| group.get(j)).copied();
+    let (Some([yx, zx, zy]), Some([xy, xz, ayx]), Some([yz, azx, azy]), Some([gx, gy, gz])) =
+        (row(0), row(1), row(2), row(3))
+    else {
+        return [f64::NAN; 6];
+    };
+    let [[g0, g1, g2], [a0, a1, a2]] =
+        to_bias(&[yx, zx, zy, xy, xz, ayx, yz, azx, azy, gx, gy, gz], motion);
+    [g0, g1, g2, a0, a1, a2]
+}
+
+/// `Z_{j,s} = Σ_{g∈s} C⁺_{j,g} M_gᵀ` of row block `j`, into `z`: [`equivalent_row`] of its
+/// three rows.
+fn project_rows(new: &CrossCovariance, motion: (Row, Row), j: usize, z: &mut [Block; 2]) {
+    let [gyro, accel] = z;
+    for (r, (gyro_row, accel_row)) in gyro.iter_mut().zip(accel.iter_mut()).enumerate() {
+        let [g0, g1, g2, a0, a1, a2] = equivalent_row(new, motion, 3 * j + r);
+        *gyro_row = [g0, g1, g2];
+        *accel_row = [a0, a1, a2];
+    }
+}
+
+/// `Σ_s Z_s E_{s,i}ᵀ`.
+#[inline(always)]
+fn times_bias_transpose(model: &StructuredModel, z: &[Block; 2], i: usize) -> Block {
+    let mut product = block::ZERO;
+    for (s, z_s) in z.iter().enumerate() {
+        if let Some(e) = bias_block(model, s, i) {
+            product = block::mul_transpose_add(&product, z_s, e);
+        }
+    }
+    product
 }
 
 /// `P(r₀ + i, c₀ + j) += value[i][j]` and, when `mirror`, `P(c₀ + j, r₀ + i)` too (the
@@ -101,27 +151,6 @@ fn add_block(
     }
 }
 
-/// `Z_{j,s} = Σ_{g∈s} C⁺_{j,g} M_gᵀ` of row block `j`, into `z`.
-fn project_rows(new: &CrossCovariance, maps: &[GroupMap; GROUPS], j: usize, z: &mut [Block; 2]) {
-    *z = [block::ZERO; 2];
-    for (group, map) in new.iter().zip(maps) {
-        if let Some(target) = z.get_mut(map.sensor) {
-            add_times_map_transpose(target, &rows_block(group, j), map);
-        }
-    }
-}
-
-/// `E_{s,b}`: block `b` (ϑ, δp, δv) of sensor `s`'s bias column.
-#[inline(always)]
-fn bias_block(scratch: &Scratch, s: usize, b: usize) -> Block {
-    scratch
-        .bias_columns
-        .get(s)
-        .and_then(|column| column.get(b))
-        .copied()
-        .unwrap_or(block::ZERO)
-}
-
 impl ImuErrorStates {
     /// The first step of a propagation (module docs): the new `C` (`F C + Γ P_εε`) into the
     /// spare buffer, computed from the border alone; `false` if it is not finite (nothing the
@@ -135,51 +164,62 @@ impl ImuErrorStates {
             old,
             spare,
             scratch,
+            ..
         } = self.parts();
-        scratch.maps = group_maps(model);
-        let (gyro, [accel_position, accel_velocity]) = model.bias_columns();
-        scratch.bias_columns = [*gyro, [block::ZERO, *accel_position, *accel_velocity]];
-        // Q_{s,h} = Σ_{g∈s} M_g P_gh, Π_{s,s'} = Σ_{h∈s'} Q_{s,h} M_hᵀ, and M ε̂ by sensor.
-        let mut q = [[block::ZERO; GROUPS]; 2];
-        let mut bias = [[0.0; 3]; 2];
-        for (g, (map, values)) in scratch
-            .maps
-            .iter()
-            .zip(estimate.chunks_exact(3))
-            .enumerate()
-        {
-            if let (Some(q_row), Some(u)) = (q.get_mut(map.sensor), bias.get_mut(map.sensor)) {
-                for (h, q_block) in q_row.iter_mut().enumerate() {
-                    add_map_times(q_block, map, &border_block(covariance, g, h));
-                }
-                for ((axis, multiplier), value) in map.axes.iter().zip(map.multipliers).zip(values)
-                {
-                    if let Some(slot) = u.get_mut(*axis) {
-                        *slot += multiplier * value;
+        let motion = (model.measured_rate(), model.measured_force());
+        scratch.motion = motion;
+        // M P_εε by columns (P_εε is symmetric: column c is row c), then
+        // Π_{s,s'} = (M P_εε Mᵀ) by sensor pairs, row by row.
+        let mut m_p = [[[0.0; 3]; 2]; IMU_ERROR_DIMENSION];
+        for (column, row) in m_p.iter_mut().zip(covariance.iter()) {
+            *column = to_bias(row, motion);
+        }
+        for (s, projected_row) in scratch.projected.iter_mut().enumerate() {
+            for u in 0..3 {
+                let row: [f64; IMU_ERROR_DIMENSION] = core::array::from_fn(|k| {
+                    m_p.get(k)
+                        .and_then(|c| c.get(s))
+                        .and_then(|r| r.get(u))
+                        .copied()
+                        .unwrap_or(f64::NAN)
+                });
+                let [gyro, accel] = to_bias(&row, motion);
+                for (projected, values) in projected_row.iter_mut().zip([gyro, accel]) {
+                    if let Some(target) = projected.get_mut(u) {
+                        *target = values;
                     }
                 }
             }
         }
-        scratch.projected = [[block::ZERO; 2]; 2];
-        for (q_row, projected_row) in q.iter().zip(scratch.projected.iter_mut()) {
-            for (q_block, map) in q_row.iter().zip(&scratch.maps) {
-                if let Some(target) = projected_row.get_mut(map.sensor) {
-                    add_times_map_transpose(target, q_block, map);
-                }
-            }
-        }
+        let bias = to_bias(estimate, motion);
         let mut state_increment = [0.0; DYNAMIC];
         for (b, increment) in state_increment.chunks_exact_mut(3).enumerate() {
             let mut row = [0.0; 3];
             for (s, u) in bias.iter().enumerate() {
-                row = block::mul_vector_add(row, &bias_block(scratch, s, b), *u);
+                if let Some(e) = bias_block(model, s, b) {
+                    row = block::mul_vector_add(row, e, *u);
+                }
             }
             increment.copy_from_slice(&row);
         }
         scratch.state_increment = state_increment;
-        // C⁺: dynamic rows F C + E Q, calibration rows those of C.
+        // C⁺: dynamic rows F C + E Q (Q_{s,h}: the columns of group h of M P_εε), calibration
+        // rows those of C.
         let mut sum = 0.0;
-        for (h, (new_group, old_group)) in spare.iter_mut().zip(old.iter()).enumerate() {
+        let groups = spare.iter_mut().zip(old.iter()).zip(m_p.chunks_exact(3));
+        for ((new_group, old_group), m_p_group) in groups {
+            let q: [Block; 2] = core::array::from_fn(|s| {
+                core::array::from_fn(|u| {
+                    core::array::from_fn(|c| {
+                        m_p_group
+                            .get(c)
+                            .and_then(|column| column.get(s))
+                            .and_then(|r| r.get(u))
+                            .copied()
+                            .unwrap_or(f64::NAN)
+                    })
+                })
+            });
             let dynamic = model.propagate_rows(old_group);
             for (b, (y, new_rows)) in dynamic
                 .iter()
@@ -187,9 +227,9 @@ impl ImuErrorStates {
                 .enumerate()
             {
                 let mut value = *y;
-                for (s, q_row) in q.iter().enumerate() {
-                    if let Some(q_block) = q_row.get(h) {
-                        value = block::mul_add(&value, &bias_block(scratch, s, b), q_block);
+                for (s, q_block) in q.iter().enumerate() {
+                    if let Some(e) = bias_block(model, s, b) {
+                        value = block::mul_add(&value, e, q_block);
                     }
                 }
                 for (slot, row) in new_rows.iter_mut().zip(value) {
@@ -213,38 +253,52 @@ impl ImuErrorStates {
     }
 
     /// The second step, after the 24-state kernel: `P_xx += ΔP` on the dynamic columns and
-    /// rows (module docs, written with the new `C⁺ = Y + Γ P_εε`: `ΔP_ji = C⁺_j Γ_iᵀ` for a
-    /// calibration row `j`, `C⁺_j Γ_iᵀ + Γ_j C⁺_iᵀ − Γ_j P_εε Γ_iᵀ` in the dynamic block),
-    /// symmetric by construction. `false` if the result is not finite: the kernel has
-    /// written `P` then (finite covariances that overflow), and the caller restarts the
-    /// filter.
-    pub(crate) fn add_propagation_increment(&mut self, covariance: &mut CovarianceMatrix) -> bool {
-        let Self {
-            buffers: [first, second],
-            second_active,
-            scratch,
-            ..
-        } = self;
-        let new: &CrossCovariance = if *second_active { first } else { second };
-        for (b, z) in scratch.dynamic_projected.iter_mut().enumerate() {
-            project_rows(new, &scratch.maps, b, z);
-        }
-        let scratch: &Scratch = scratch;
-        let mut z = [block::ZERO; 2];
-        let mut sum = 0.0;
-        for j in 0..STATE_DIMENSION / 3 {
-            let dynamic_row = scratch.dynamic_projected.get(j);
-            match dynamic_row {
-                Some(projected) => z = *projected,
-                None => project_rows(new, &scratch.maps, j, &mut z),
-            }
-            for i in 0..3 {
-                if dynamic_row.is_some() && j > i {
-                    continue;
+    /// rows (module docs, written with the new `C⁺ = Y + Γ P_εε`), by 3×3 blocks: with
+    /// `Z_{j,s} = C⁺_j M_sᵀ` (row block `j`'s equivalent-bias columns) and `E_{s,i}` block
+    /// `i` of `E`, `ΔP_ji = Σ_s Z_{j,s} E_{s,i}ᵀ` for a calibration row block `j`, and in
+    /// the dynamic block `ΔP_ji = A_ji + A_ijᵀ`, `A_ji = Σ_s Z'_{j,s} E_{s,i}ᵀ`,
+    /// `Z'_{j,s} = Z_{j,s} − ½ Σ_{s'} E_{s',j} Π_{s',s}` (`Π = M P_εε Mᵀ`: the
+    /// `−Γ P_εε Γᵀ` term split between the two halves). Symmetric by construction. `false`
+    /// if the result is not finite: the kernel has written `P` then (finite covariances that
+    /// overflow), and the caller restarts the filter.
+    pub(crate) fn add_propagation_increment(
+        &mut self,
+        model: &StructuredModel,
+        covariance: &mut CovarianceMatrix,
+    ) -> bool {
+        let Parts { spare, scratch, .. } = self.parts();
+        // After prepare_propagation the spare buffer holds C⁺.
+        let new: &CrossCovariance = spare;
+        let mut dynamic = [[block::ZERO; 2]; 3];
+        for (b, z) in dynamic.iter_mut().enumerate() {
+            project_rows(new, scratch.motion, b, z);
+            for (s, z_s) in z.iter_mut().enumerate() {
+                for (s2, projected_row) in scratch.projected.iter().enumerate() {
+                    if let (Some(e), Some(projected)) =
+                        (bias_block(model, s2, b), projected_row.get(s))
+                    {
+                        *z_s = block::add_scaled(z_s, &block::mul(e, projected), -0.5);
+                    }
                 }
-                let delta = increment_block(scratch, &z, j, i);
+            }
+        }
+        let mut sum = 0.0;
+        for (j, z_j) in dynamic.iter().enumerate() {
+            for (i, z_i) in dynamic.iter().enumerate().skip(j) {
+                let a_ji = times_bias_transpose(model, z_j, i);
+                let a_ij = times_bias_transpose(model, z_i, j);
+                let delta = block::add(&a_ji, &block::transpose(&a_ij));
                 sum += delta.iter().flatten().sum::<f64>();
                 add_block(covariance, (3 * j, 3 * i), &delta, j != i);
+            }
+        }
+        let mut z = [block::ZERO; 2];
+        for j in 3..STATE_DIMENSION / 3 {
+            project_rows(new, scratch.motion, j, &mut z);
+            for i in 0..3 {
+                let delta = times_bias_transpose(model, &z, i);
+                sum += delta.iter().flatten().sum::<f64>();
+                add_block(covariance, (3 * j, 3 * i), &delta, true);
             }
         }
         sum.is_finite()
@@ -260,36 +314,4 @@ impl ImuErrorStates {
     pub(crate) fn state_increment(&self) -> &[f64; DYNAMIC] {
         &self.scratch.state_increment
     }
-}
-
-/// `ΔP` block (`j`, `i`), `i` dynamic, from `z = Z_{j,·}` (module docs); a diagonal block
-/// from its upper triangle, mirrored, so it is exactly symmetric.
-fn increment_block(scratch: &Scratch, z: &[Block; 2], j: usize, i: usize) -> Block {
-    // Σ_s Z_{j,s} E_{s,i}ᵀ.
-    let mut delta = block::ZERO;
-    for (s, z_s) in z.iter().enumerate() {
-        delta = block::mul_transpose_add(&delta, z_s, &bias_block(scratch, s, i));
-    }
-    if let (Some(_), Some(z_i)) = (
-        scratch.dynamic_projected.get(j),
-        scratch.dynamic_projected.get(i),
-    ) {
-        // + Σ_s E_{s,j} Z_{i,s}ᵀ − Σ_{s,s'} E_{s,j} Π_{s,s'} E_{s',i}ᵀ.
-        for (s, z_is) in z_i.iter().enumerate() {
-            delta = block::mul_transpose_add(&delta, &bias_block(scratch, s, j), z_is);
-        }
-        for (s, projected_row) in scratch.projected.iter().enumerate() {
-            let e_j = bias_block(scratch, s, j);
-            for (s2, projected) in projected_row.iter().enumerate() {
-                let left = block::mul(&e_j, projected);
-                let term = block::mul_transpose(&left, &bias_block(scratch, s2, i));
-                delta = block::add_scaled(&delta, &term, -1.0);
-            }
-        }
-    }
-    if j == i {
-        let [[d00, d01, d02], [_, d11, d12], [_, _, d22]] = delta;
-        delta = [[d00, d01, d02], [d01, d11, d12], [d02, d12, d22]];
-    }
-    delta
 }

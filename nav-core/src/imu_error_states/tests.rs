@@ -360,3 +360,33 @@ fn the_model_is_validated_and_not_combined_with_the_gnss_border() {
         Err(NavError::InvalidConfiguration)
     );
 }
+
+/// The written-out equivalent-bias rows of the propagation equal the ones the
+/// equivalent-bias maps (`imu_error::equivalent_bias_terms`) give, for random `C` and
+/// motion: the layout and the maps cannot drift apart.
+#[test]
+fn explicit_projection_equals_the_maps() {
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    for _ in 0..20 {
+        let point = random_point(&mut rng);
+        let noise = random_noise(&mut rng, false);
+        let model = StructuredModel::new(&point, &noise, 0.01, 3).unwrap();
+        let cross: CrossCovariance = core::array::from_fn(|_| {
+            core::array::from_fn(|_| core::array::from_fn(|_| rng.random_range(-1.0..1.0)))
+        });
+        let maps = propagate::group_maps(&model);
+        let motion = (model.measured_rate(), model.measured_force());
+        for j in 0..STATE_DIMENSION {
+            let explicit = propagate::equivalent_row(&cross, motion, j);
+            let mut generic = [0.0; 6];
+            for (group, map) in cross.iter().zip(&maps) {
+                for (k, value) in group[j].iter().enumerate() {
+                    generic[3 * map.sensor + map.axes[k]] += map.multipliers[k] * value;
+                }
+            }
+            for (a, b) in explicit.iter().zip(&generic) {
+                assert!((a - b).abs() <= 1e-15 * (1.0 + b.abs()), "row {j}");
+            }
+        }
+    }
+}

@@ -5,19 +5,9 @@
 use super::propagate::rows_block;
 use super::{ImuErrorStates, Parts, GROUPS};
 use crate::block::{self, dot, FiniteCheck, Row};
-use crate::imu_error::IMU_ERROR_DIMENSION;
 use crate::measurement::MeasurementJacobian;
 use crate::state::{BlockMask, STATE_DIMENSION};
 use crate::structured::StateRows;
-
-/// Row `a` (state `a` of the twelve) of a by-groups matrix.
-#[inline(always)]
-fn state_row(rows: &[[Row; 3]; GROUPS], a: usize) -> Row {
-    rows.get(a / 3)
-        .and_then(|group| group.get(a % 3))
-        .copied()
-        .unwrap_or([f64::NAN; 3])
-}
 
 impl ImuErrorStates {
     /// The first step of the border's update with `H_x` (`observed` its non-zero 3×3
@@ -36,6 +26,7 @@ impl ImuErrorStates {
         let Parts {
             estimate,
             covariance,
+            spare_half,
             old,
             spare,
             scratch,
@@ -62,8 +53,9 @@ impl ImuErrorStates {
                 *gain = solve(*product);
             }
         }
-        scratch.innovation = innovation;
         let mut sum = 0.0;
+        let frozen_blocks: [bool; STATE_DIMENSION / 3] =
+            core::array::from_fn(|b| frozen.contains_state(3 * b));
         let groups = spare.iter_mut().zip(old.iter());
         for ((new_group, old_group), (k_g, m_g)) in groups.zip(
             scratch
@@ -77,7 +69,7 @@ impl ImuErrorStates {
                 .zip(gains.iter().zip(products));
             for (j, ((new, [c0, c1, c2]), (k, m))) in rows.enumerate() {
                 // N_j = 0 where the update moves row j, −M_j on a frozen row (K_j = 0).
-                let (left, [r0, r1, r2]) = if frozen.contains_state(j) {
+                let (left, [r0, r1, r2]) = if frozen_blocks.get(j / 3).copied().unwrap_or(false) {
                     (*m, *k_g)
                 } else {
                     (*k, *m_g)
@@ -87,47 +79,36 @@ impl ImuErrorStates {
                 sum += a + b + c;
             }
         }
-        // The new P_εε and ε̂, summed only: written by the commit.
-        for a in 0..IMU_ERROR_DIMENSION {
-            let k_a = state_row(&scratch.border_gains, a);
-            let row = covariance.get(a);
-            for b in a..IMU_ERROR_DIMENSION {
-                let old = row.and_then(|r| r.get(b)).copied().unwrap_or(f64::NAN);
-                sum += old - dot(k_a, state_row(&scratch.border_products, b));
+        // The new P_εε (upper triangle, mirrored) and ε̂ into the spare half.
+        let (gains_flat, products_flat) = (
+            scratch.border_gains.as_flattened(),
+            scratch.border_products.as_flattened(),
+        );
+        for (a, (k_a, row)) in gains_flat.iter().zip(covariance.iter()).enumerate() {
+            let upper = row.iter().zip(products_flat).enumerate().skip(a);
+            for (b, (old, m_b)) in upper {
+                let value = old - dot(*k_a, *m_b);
+                sum += value;
+                for (r, c) in [(a, b), (b, a)] {
+                    if let Some(entry) = spare_half.covariance.get_mut(r).and_then(|x| x.get_mut(c))
+                    {
+                        *entry = value;
+                    }
+                }
             }
-            sum += estimate.get(a).copied().unwrap_or(f64::NAN) + dot(k_a, innovation);
+            if let Some(value) = spare_half.estimate.get_mut(a) {
+                *value = estimate.get(a).copied().unwrap_or(f64::NAN) + dot(*k_a, innovation);
+                sum += *value;
+            }
         }
         let mut check = FiniteCheck::new();
         check.value(sum);
         check.all_finite()
     }
 
-    /// The second step, after the 24-state kernel: `P_εε ← P_εε − K_ε M_εᵀ` (upper
-    /// triangle, mirrored), `ε̂ ← ε̂ + K_ε ν`, and the new `C` made active.
+    /// The second step, after the 24-state kernel: the new `C`, `P_εε` and `ε̂` made active.
     pub(crate) fn commit_update(&mut self) {
-        let Self {
-            estimate,
-            covariance,
-            scratch,
-            ..
-        } = self;
-        for a in 0..IMU_ERROR_DIMENSION {
-            let k_a = state_row(&scratch.border_gains, a);
-            for b in a..IMU_ERROR_DIMENSION {
-                let Some(old) = covariance.get(a).and_then(|r| r.get(b)).copied() else {
-                    continue;
-                };
-                let value = old - dot(k_a, state_row(&scratch.border_products, b));
-                for (r, c) in [(a, b), (b, a)] {
-                    if let Some(entry) = covariance.get_mut(r).and_then(|row| row.get_mut(c)) {
-                        *entry = value;
-                    }
-                }
-            }
-            if let Some(value) = estimate.get_mut(a) {
-                *value += dot(k_a, scratch.innovation);
-            }
-        }
         self.second_active = !self.second_active;
+        self.second_half = !self.second_half;
     }
 }
