@@ -2,13 +2,14 @@
 //! instability the flight software is told of keeps it consistent (the average NEES of the 15
 //! calibration states inside its two-sided 95 % χ² interval, no run's state beyond 4σ); the
 //! errors it does not model (misalignment, g-sensitivity) are flagged by the consistency
-//! monitor in every run, and no healthy sensor is declared faulty for them.
+//! monitor in every run, and no healthy sensor is declared faulty for them; a flight software
+//! that estimates them stays consistent in every state it estimates.
 //!
 //! `NAV_MC_RUNS` sets the runs (default 6, the test command's size; the docs' campaigns use
 //! `nav-sim monte-carlo … --runs 20`); `NAV_MC_FIRST_RUN` offsets the seeds.
 
-use crate::realistic_campaign::{fly, print, scenario, seeds};
-use nav_sim::campaign::monte_carlo::fly_campaign;
+use crate::realistic_campaign::{fly, print, scenario, seeds, worst_sigma};
+use nav_sim::campaign::monte_carlo::{fly_campaign, summarise, RunOutcome};
 
 /// Largest |error| / σ any run's calibration state may end at.
 const WORST_SIGMA_BOUND: f64 = 4.0;
@@ -60,6 +61,69 @@ fn unmodelled_imu_errors_are_flagged_in_every_run_and_no_sensor_is_blamed() {
                 counter("gnss_declared_faulty"),
                 0,
                 "{name} seed {}",
+                outcome.seed
+            );
+        }
+    }
+}
+
+/// With the same errors and a flight software that estimates them (`imu_errors_estimated.toml`,
+/// four runs of the default flight): the 15 calibration states (against the truth in the
+/// filter's gauge) and the 12 systematic states each keep their average NEES inside the
+/// two-sided 95 % χ² interval, no state of any run ends beyond 4σ, no consistency counter is
+/// raised and no sensor is declared faulty.
+#[test]
+fn estimated_imu_errors_keep_the_filter_consistent() {
+    let name = "imu_errors_estimated";
+    let scenario = scenario(name);
+    let mut seeds = seeds(&scenario);
+    seeds.truncate(4);
+    let outcomes = fly_campaign(&scenario, &seeds, &|| {}).unwrap();
+    let calibration = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
+    println!("{name}: {}", calibration.nees_line());
+    assert!(calibration.nees.consistent(), "{}", calibration.nees_line());
+    let systematic: Vec<RunOutcome<12>> = outcomes
+        .iter()
+        .map(|outcome| {
+            let imu = outcome.imu_error.as_ref().expect("the states are on");
+            RunOutcome {
+                seed: outcome.seed,
+                error: imu.error,
+                covariance: imu.covariance,
+                star_nis: outcome.star_nis,
+                gnss_nis: outcome.gnss_nis,
+                position_error_m: outcome.position_error_m,
+                over_time: Vec::new(),
+                health: Default::default(),
+                imu_error: None,
+            }
+        })
+        .collect();
+    let summary = summarise::<12, nav_sim::harness::flight::FlightError>(&systematic).unwrap();
+    println!("{name}, systematic states: {}", summary.nees_line());
+    assert!(summary.nees.consistent(), "{}", summary.nees_line());
+    for (outcome, imu) in outcomes.iter().zip(&systematic) {
+        let worst = (0..12)
+            .map(|k| imu.error[k].abs() / imu.covariance[(k, k)].sqrt())
+            .fold(worst_sigma(outcome), f64::max);
+        assert!(
+            worst <= WORST_SIGMA_BOUND,
+            "seed {}: {worst:.2} sigma",
+            outcome.seed
+        );
+        println!("{name} seed {}: {:?}", outcome.seed, outcome.health);
+        for key in [
+            "star_inconsistent",
+            "gnss_inconsistent",
+            "gnss_velocity_inconsistent",
+            "star_declared_faulty",
+            "gnss_declared_faulty",
+            "inertial_suspect",
+        ] {
+            assert_eq!(
+                outcome.health.get(key),
+                None,
+                "seed {}: {key}",
                 outcome.seed
             );
         }
