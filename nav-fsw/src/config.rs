@@ -383,10 +383,7 @@ impl FswConfig {
         if self.filter.gnss_error.validate().is_err() {
             return invalid(ConfigField::GnssCorrelatedError);
         }
-        let imu_error = &self.filter.imu_error;
-        if imu_error.validate().is_err()
-            || (imu_error.is_enabled() && self.filter.gnss_error.is_enabled())
-        {
+        if self.filter.imu_error.validate().is_err() {
             return invalid(ConfigField::ImuSystematicError);
         }
         if self.filter.validate().is_err() {
@@ -768,8 +765,8 @@ mod tests {
             ),
             Some(F::GnssCorrelatedError)
         );
-        // The systematic IMU error states: all 1σ zero or all positive, not with the
-        // correlated GNSS error states.
+        // The systematic IMU error states: all 1σ zero or all positive; with the correlated
+        // GNSS error states too.
         let imu_error = nav_core::imu_error_states::ImuErrorModel {
             gyro_non_orthogonality_sigma_rad: 2e-5,
             accel_misalignment_sigma_rad: 2e-5,
@@ -791,7 +788,7 @@ mod tests {
                     correlation_time_s: 300.0,
                 };
             }),
-            Some(F::ImuSystematicError)
+            None
         );
         assert_eq!(
             refused(|c| c.covariance.held_sample.rate_rad_s = f64::NAN),

@@ -51,8 +51,7 @@ pub enum ConfigField {
     GnssWhiteness,
     /// `filter.gnss_error` (correlated GNSS error σ or correlation time).
     GnssCorrelatedError,
-    /// `filter.imu_error` (the systematic IMU error states' prior 1σ), or both it and
-    /// `filter.gnss_error` in use (not combined yet).
+    /// `filter.imu_error` (the systematic IMU error states' prior 1σ).
     ImuSystematicError,
     /// `covariance.held_sample` (uncertainty of a held IMU sample).
     HeldSampleUncertainty,
@@ -187,8 +186,7 @@ impl ConfigField {
                  finite and > 0 when the 1-sigma is > 0"
             }
             ConfigField::ImuSystematicError => {
-                "must have every 1-sigma 0 (off) or every one finite and > 0, and is not \
-                 combined with filter.gnss_error yet"
+                "must have every 1-sigma 0 (off) or every one finite and > 0"
             }
             ConfigField::FutureTolerance => "must be finite, >= 0 and below one IMU period",
             ConfigField::RejectionsToDeclareFaulty => "must be >= 1",

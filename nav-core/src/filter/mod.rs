@@ -97,10 +97,6 @@ impl FilterConfig {
         }
         self.gnss_error.validate()?;
         self.imu_error.validate()?;
-        // The two borders are not combined (crate::imu_error_states).
-        if self.gnss_error.is_enabled() && self.imu_error.is_enabled() {
-            return Err(NavError::InvalidConfiguration);
-        }
         let sigmas = self.initial_sigmas();
         if sigmas
             .iter()
@@ -729,7 +725,7 @@ impl ErrorStateFilter {
             return self.predict_structured_bordered(model, state);
         }
         if self.imu_error.is_enabled() {
-            return self.predict_structured_imu_error(model, state);
+            return self.predict_structured_imu_error(model, state, None);
         }
         if !model.propagate_covariance(&mut self.covariance) {
             return Err(NavError::NonFiniteState);
@@ -749,7 +745,15 @@ impl ErrorStateFilter {
         model: &StructuredModel,
         state: Option<ErrorState>,
     ) -> Result<(), NavError> {
-        let dynamic = model.propagate_rows(self.gnss_error.cross_rows());
+        let mut dynamic = model.propagate_rows(self.gnss_error.cross_rows());
+        if self.imu_error.is_enabled() {
+            // C_GNSS ← φ (F C_GNSS + Γ Bᵀ) (crate::imu_error_states).
+            let coupling = self.imu_error.gnss_coupling(model);
+            for (rows, extra) in dynamic.iter_mut().zip(&coupling) {
+                *rows = block::add(rows, extra);
+            }
+            return self.predict_structured_both_borders(model, state, &dynamic);
+        }
         let propagated = self
             .gnss_error
             .propagated(model.interval_s(), &dynamic)
@@ -764,6 +768,26 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// [`ErrorStateFilter::predict_structured`] with both borders: the GNSS border's new
+    /// values (from `dynamic`, its coupled `F C_GNSS + Γ Bᵀ`) and the IMU border's new `C`
+    /// first, then the kernel, the IMU border's increment of `P_xx` and the commits.
+    #[inline(never)]
+    fn predict_structured_both_borders(
+        &mut self,
+        model: &StructuredModel,
+        state: Option<ErrorState>,
+        dynamic: &[block::Block; 3],
+    ) -> Result<(), NavError> {
+        let propagated = self
+            .gnss_error
+            .propagated(model.interval_s(), dynamic)
+            .ok_or(NavError::NonFiniteState)?;
+        let decay = self.gnss_error.model().decay(model.interval_s());
+        self.predict_structured_imu_error(model, state, Some(decay))?;
+        self.gnss_error.commit_propagation(&propagated);
+        Ok(())
+    }
+
     /// [`ErrorStateFilter::predict_structured`] with the systematic IMU error states
     /// ([`crate::imu_error_states`]): the border's new `C` is computed first (from the border
     /// alone), so nothing changes if it or the 24-state kernel fails; the increment of `P_xx`
@@ -774,6 +798,7 @@ impl ErrorStateFilter {
         &mut self,
         model: &StructuredModel,
         state: Option<ErrorState>,
+        gnss_decay: Option<f64>,
     ) -> Result<(), NavError> {
         if !self.imu_error.prepare_propagation(model) {
             return Err(NavError::NonFiniteState);
@@ -795,7 +820,7 @@ impl ErrorStateFilter {
             }
             self.state = state;
         }
-        self.imu_error.commit_propagation();
+        self.imu_error.commit_propagation(gnss_decay);
         Ok(())
     }
 
@@ -870,7 +895,15 @@ impl ErrorStateFilter {
         let s = covariance;
         if let Some(border) = &border {
             let solved = (&cholesky, &s, frozen);
-            self.update_border_and_covariance(border, &gains, &observed, solved, &innovation)?;
+            let jacobian = (h, &observed_blocks);
+            self.update_border_and_covariance(
+                border,
+                jacobian,
+                &gains,
+                &observed,
+                solved,
+                &innovation,
+            )?;
         } else if self.imu_error.is_enabled() {
             let jacobian = (h, &observed_blocks);
             let solved = (&cholesky, &s, frozen);
@@ -904,6 +937,10 @@ impl ErrorStateFilter {
     fn update_border_and_covariance(
         &mut self,
         border: &crate::gnss_error::Border,
+        jacobian: (
+            &crate::measurement::MeasurementJacobian,
+            &[bool; STATE_DIMENSION / 3],
+        ),
         gains: &structured::StateRows,
         observed: &structured::ObservedCovariance,
         (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
@@ -918,10 +955,27 @@ impl ErrorStateFilter {
                 block::from_vector(innovation),
             )
             .ok_or(NavError::NonFiniteState)?;
+        let imu_error = self.imu_error.is_enabled();
+        // The IMU border with the GNSS one (crate::imu_error_states): its new values into its
+        // spare buffers, committed with the GNSS border's.
+        if imu_error
+            && !self.imu_error.prepare_update(
+                jacobian,
+                (gains, observed.products(), frozen),
+                |row| cholesky.solve(row),
+                block::from_vector(innovation),
+                Some((border.coefficient, &border.products)),
+            )
+        {
+            return Err(NavError::NonFiniteState);
+        }
         if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
             return Err(NavError::NonFiniteState);
         }
         self.gnss_error.commit(estimate, &border_covariance);
+        if imu_error {
+            self.imu_error.commit_update();
+        }
         Ok(())
     }
 
@@ -949,6 +1003,7 @@ impl ErrorStateFilter {
             (gains, observed.products(), frozen),
             |row| cholesky.solve(row),
             block::from_vector(innovation),
+            None,
         ) {
             return Err(NavError::NonFiniteState);
         }

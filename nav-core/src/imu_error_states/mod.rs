@@ -37,8 +37,13 @@
 //! additive: the reset Jacobian of `ε` is the identity) and `C ← J C` on the attitude and
 //! installation rows.
 //!
-//! The correlated GNSS error border and this one are not yet combined (their cross term
-//! `P_εε'` is not carried): [`crate::filter::FilterConfig::validate`] refuses both at once.
+//! ## With the correlated GNSS error states
+//! With both borders the covariance also holds `B = cov(ε_GNSS, ε)` (3×12). `x` gains `Γ ε`
+//! and `ε_GNSS` decays by `φ`, so the GNSS border's cross-covariance propagates as
+//! `C_GNSS ← φ (F C_GNSS + Γ Bᵀ)` (its dynamic rows gain `E M Bᵀ`,
+//! [`ImuErrorStates::gnss_coupling`]) and `B ← φ B`. A GNSS position fix has `H_GNSS = h I`,
+//! so `M_ε` gains `h Bᵀ`, and `B ← B − K_GNSS M_εᵀ` at every update (`K_GNSS` the GNSS
+//! border's gains, any measurement); the rest is as above.
 
 use nalgebra::{SMatrix, SVector, Vector3};
 
@@ -140,6 +145,9 @@ impl ImuErrorModel {
 struct Estimate {
     estimate: [f64; IMU_ERROR_DIMENSION],
     covariance: BorderMatrix,
+    /// `B = cov(ε_GNSS, ε)` (3×12), with the correlated GNSS error states in use (zero
+    /// otherwise; module docs, "With the correlated GNSS error states").
+    gnss_cross: [[f64; IMU_ERROR_DIMENSION]; 3],
 }
 
 /// The border of the 36-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
@@ -173,6 +181,7 @@ impl PartialEq for ImuErrorStates {
 struct Parts<'a> {
     estimate: &'a [f64; IMU_ERROR_DIMENSION],
     covariance: &'a BorderMatrix,
+    gnss_cross: &'a [[f64; IMU_ERROR_DIMENSION]; 3],
     /// The inactive `ε̂` and `P_εε`, for an update to write.
     spare_half: &'a mut Estimate,
     old: &'a CrossCovariance,
@@ -233,6 +242,7 @@ impl ImuErrorStates {
             halves: [Estimate {
                 estimate: [0.0; IMU_ERROR_DIMENSION],
                 covariance,
+                gnss_cross: [[0.0; IMU_ERROR_DIMENSION]; 3],
             }; 2],
             second_half: false,
             buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
@@ -263,6 +273,18 @@ impl ImuErrorStates {
                 .covariance
                 .get(a)
                 .and_then(|row| row.get(b))
+                .copied()
+                .unwrap_or(f64::NAN)
+        })
+    }
+
+    /// `B = cov(ε_GNSS, ε)` (3×12; zero without the correlated GNSS error states).
+    pub fn gnss_cross_covariance(&self) -> SMatrix<f64, 3, IMU_ERROR_DIMENSION> {
+        SMatrix::from_fn(|m, a| {
+            self.half()
+                .gnss_cross
+                .get(m)
+                .and_then(|row| row.get(a))
                 .copied()
                 .unwrap_or(f64::NAN)
         })
@@ -328,6 +350,7 @@ impl ImuErrorStates {
         Parts {
             estimate: &half.estimate,
             covariance: &half.covariance,
+            gnss_cross: &half.gnss_cross,
             spare_half,
             old,
             spare,
@@ -408,6 +431,13 @@ impl ImuErrorStates {
         }
     }
 
+    /// Replaces `B` (tests: a random prior with both borders).
+    #[cfg(test)]
+    pub(crate) fn set_gnss_cross(&mut self, cross: &SMatrix<f64, 3, IMU_ERROR_DIMENSION>) {
+        self.half_mut().gnss_cross =
+            core::array::from_fn(|m| core::array::from_fn(|a| cross[(m, a)]));
+    }
+
     /// Replaces `ε̂`, `P_εε` and `C` (tests: a random prior).
     #[cfg(test)]
     pub(crate) fn set(
@@ -417,6 +447,7 @@ impl ImuErrorStates {
         cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
     ) {
         let half = self.half_mut();
+        half.gnss_cross = [[0.0; IMU_ERROR_DIMENSION]; 3];
         half.estimate = core::array::from_fn(|a| estimate[a]);
         half.covariance = core::array::from_fn(|a| core::array::from_fn(|b| covariance[(a, b)]));
         *self.cross_mut() = core::array::from_fn(|g| {

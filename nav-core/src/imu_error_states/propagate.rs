@@ -304,9 +304,39 @@ impl ImuErrorStates {
         sum.is_finite()
     }
 
-    /// The third step: the new `C` made active.
-    pub(crate) fn commit_propagation(&mut self) {
+    /// The third step: the new `C` made active, and `B ← φ B` with the correlated GNSS error
+    /// states' decay `φ` over the interval (`None` without them).
+    pub(crate) fn commit_propagation(&mut self, gnss_decay: Option<f64>) {
         self.second_active = !self.second_active;
+        if let Some(phi) = gnss_decay {
+            for value in self.half_mut().gnss_cross.iter_mut().flatten() {
+                *value *= phi;
+            }
+        }
+    }
+
+    /// `Γ Bᵀ = E M Bᵀ` on the dynamic rows (ϑ, δp, δv; columns: the three GNSS error
+    /// states): what the GNSS border's `F C_GNSS` gains from the coupling (module docs).
+    pub(crate) fn gnss_coupling(&self, model: &StructuredModel) -> [Block; 3] {
+        let motion = (model.measured_rate(), model.measured_force());
+        let bias = self.half().gnss_cross.map(|row| to_bias(&row, motion));
+        core::array::from_fn(|b| {
+            let mut rows = block::ZERO;
+            for (m, [gyro, accel]) in bias.iter().enumerate() {
+                let mut column = [0.0; 3];
+                for (s, u) in [gyro, accel].into_iter().enumerate() {
+                    if let Some(e) = bias_block(model, s, b) {
+                        column = block::mul_vector_add(column, e, *u);
+                    }
+                }
+                for (row, value) in rows.iter_mut().zip(column) {
+                    if let Some(slot) = row.get_mut(m) {
+                        *slot = value;
+                    }
+                }
+            }
+            rows
+        })
     }
 
     /// `E M ε̂` on the dynamic rows, the open-loop state's increment of the propagation

@@ -307,7 +307,7 @@ fn widening_scales_the_cross_covariance() {
 }
 
 #[test]
-fn the_model_is_validated_and_not_combined_with_the_gnss_border() {
+fn the_model_is_validated_and_combines_with_the_gnss_border() {
     assert_eq!(ImuErrorModel::DISABLED.validate(), Ok(()));
     assert_eq!(MODEL.validate(), Ok(()));
     for bad in [
@@ -349,16 +349,10 @@ fn the_model_is_validated_and_not_combined_with_the_gnss_border() {
     };
     assert!(ErrorStateFilter::new(&config).is_ok());
     let both = FilterConfig {
-        gnss_error: crate::gnss_error::GnssErrorModel {
-            sigma_m: 8.0,
-            correlation_time_s: 300.0,
-        },
+        gnss_error: RECEIVER,
         ..config
     };
-    assert_eq!(
-        ErrorStateFilter::new(&both),
-        Err(NavError::InvalidConfiguration)
-    );
+    assert!(ErrorStateFilter::new(&both).is_ok());
 }
 
 /// The written-out equivalent-bias rows of the propagation equal the ones the
@@ -389,4 +383,215 @@ fn explicit_projection_equals_the_maps() {
             }
         }
     }
+}
+
+/// Both borders: 24 + 3 correlated GNSS error states + 12 systematic IMU error states.
+const M: usize = STATE_DIMENSION + 3 + IMU_ERROR_DIMENSION;
+type Both = SMatrix<f64, M, M>;
+
+const RECEIVER: crate::gnss_error::GnssErrorModel = crate::gnss_error::GnssErrorModel {
+    sigma_m: 8.0,
+    correlation_time_s: 300.0,
+};
+
+/// A filter with both borders and a random positive-definite 39-state covariance
+/// `D (R Rᵀ/39 + 0.05 I) D` at physical scales, and random estimates.
+fn filter_with_both_borders(rng: &mut ChaCha8Rng, mode: FilterMode) -> ErrorStateFilter {
+    let p24 = random_covariance(rng);
+    let sigmas = MODEL.state_sigmas();
+    let scale = SVector::<f64, M>::from_fn(|i, _| match i {
+        0..24 => p24[(i, i)].sqrt(),
+        24..27 => RECEIVER.sigma_m,
+        _ => sigmas[i - 27],
+    });
+    let r = Both::from_fn(|_, _| rng.random_range(-1.0..1.0));
+    let d = Both::from_diagonal(&scale);
+    let p = d * (r * r.transpose() / (M as f64) + Both::identity() * 0.05) * d;
+    let p = (p + p.transpose()) * 0.5;
+    let mut filter = filter_with(mode, &p.fixed_view::<24, 24>(0, 0).into_owned());
+    *filter.gnss_error_mut() = crate::gnss_error::GnssErrorStates::new(RECEIVER).unwrap();
+    *filter.imu_error_mut() = ImuErrorStates::new(MODEL).unwrap();
+    let gnss_estimate = nalgebra::Vector3::from_fn(|_, _| rng.random_range(-5.0..5.0));
+    filter.gnss_error_mut().set(
+        &gnss_estimate,
+        &p.fixed_view::<3, 3>(24, 24).into_owned(),
+        &p.fixed_view::<24, 3>(0, 24).into_owned(),
+    );
+    let imu_estimate = SVector::<f64, IMU_ERROR_DIMENSION>::from_fn(|a, _| {
+        sigmas[a] * rng.random_range(-1.0..1.0)
+    });
+    filter.imu_error_mut().set(
+        &imu_estimate,
+        &p.fixed_view::<12, 12>(27, 27).into_owned(),
+        &p.fixed_view::<24, 12>(0, 27).into_owned(),
+    );
+    filter
+        .imu_error_mut()
+        .set_gnss_cross(&p.fixed_view::<3, 12>(24, 27).into_owned());
+    filter
+}
+
+fn both_covariance(filter: &ErrorStateFilter) -> Both {
+    let mut p = Both::zeros();
+    p.fixed_view_mut::<24, 24>(0, 0)
+        .copy_from(filter.covariance());
+    let (c_g, p_gg) = (
+        filter.gnss_error().cross_covariance(),
+        filter.gnss_error().covariance(),
+    );
+    let imu = filter.imu_error();
+    let (c_i, p_ii, b) = (
+        imu.cross_covariance(),
+        imu.covariance(),
+        imu.gnss_cross_covariance(),
+    );
+    p.fixed_view_mut::<24, 3>(0, 24).copy_from(&c_g);
+    p.fixed_view_mut::<3, 24>(24, 0).copy_from(&c_g.transpose());
+    p.fixed_view_mut::<24, 12>(0, 27).copy_from(&c_i);
+    p.fixed_view_mut::<12, 24>(27, 0)
+        .copy_from(&c_i.transpose());
+    p.fixed_view_mut::<3, 3>(24, 24).copy_from(&p_gg);
+    p.fixed_view_mut::<12, 12>(27, 27).copy_from(&p_ii);
+    p.fixed_view_mut::<3, 12>(24, 27).copy_from(&b);
+    p.fixed_view_mut::<12, 3>(27, 24).copy_from(&b.transpose());
+    p
+}
+
+fn both_state(filter: &ErrorStateFilter) -> SVector<f64, M> {
+    let (x, g, e) = (
+        filter.state(),
+        filter.gnss_error().estimate_m(),
+        filter.imu_error().estimate(),
+    );
+    SVector::from_fn(|i, _| match i {
+        0..24 => x[i],
+        24..27 => g[i - 24],
+        _ => e[i - 27],
+    })
+}
+
+fn relative_both(a: &Both, b: &Both, scale: &Both) -> f64 {
+    let mut worst = 0.0f64;
+    for i in 0..M {
+        for j in 0..M {
+            let s = (scale[(i, i)] * scale[(j, j)]).sqrt();
+            worst = worst.max((a[(i, j)] - b[(i, j)]).abs() / s);
+        }
+    }
+    worst
+}
+
+/// With both borders the structured propagation equals the dense 39-state
+/// `F P Fᵀ + Qd` (`F = [[F, 0, Γ], [0, φI, 0], [0, 0, I]]`, the GNSS states' noise
+/// `σ²(1 − φ²) I`), and the structured update the dense 39-state Joseph update with
+/// `H = [H, h I, 0]`, for star, GNSS and referred GNSS measurements, with frozen blocks.
+#[test]
+fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
+    let mut rng = ChaCha8Rng::seed_from_u64(43);
+    let mut worst = 0.0f64;
+    for case in 0..80 {
+        let mode = if case % 3 == 0 {
+            FilterMode::OpenLoop
+        } else {
+            FilterMode::ClosedLoop
+        };
+        let prior = filter_with_both_borders(&mut rng, mode);
+        let scale = both_covariance(&prior);
+        // Propagation.
+        let point = random_point(&mut rng);
+        let noise = random_noise(&mut rng, case % 2 == 0);
+        let interval_s = rng.random_range(0.002..0.5);
+        let model = StructuredModel::new(&point, &noise, interval_s, 3).unwrap();
+        let dense_24 = discretise(
+            &system_matrix(&point),
+            &noise_input_matrix(&point),
+            &noise.spectral_density_diagonal(),
+            interval_s,
+            3,
+        )
+        .unwrap();
+        let f36 = dense_transition(&point, interval_s, 3);
+        let phi = RECEIVER.decay(interval_s);
+        let mut f = Both::zeros();
+        f.fixed_view_mut::<24, 24>(0, 0)
+            .copy_from(&f36.fixed_view::<24, 24>(0, 0));
+        f.fixed_view_mut::<24, 12>(0, 27)
+            .copy_from(&f36.fixed_view::<24, 12>(0, 24));
+        for k in 24..27 {
+            f[(k, k)] = phi;
+        }
+        for k in 27..M {
+            f[(k, k)] = 1.0;
+        }
+        let mut q = Both::zeros();
+        q.fixed_view_mut::<24, 24>(0, 0)
+            .copy_from(&dense_24.process_noise);
+        for k in 24..27 {
+            q[(k, k)] = RECEIVER.sigma_m.powi(2) * (1.0 - phi * phi);
+        }
+        let expected = f * scale * f.transpose() + q;
+        let mut propagated = prior;
+        propagated.predict_structured(&model).unwrap();
+        let error = relative_both(&both_covariance(&propagated), &expected, &scale);
+        assert!(error < 1e-12, "case {case}: propagation {error:e}");
+        if mode == FilterMode::OpenLoop {
+            let x = f * both_state(&prior);
+            let got = both_state(&propagated);
+            for i in 0..M {
+                assert!(
+                    (got[i] - x[i]).abs() < 1e-12 * scale[(i, i)].sqrt(),
+                    "case {case}: x {i}"
+                );
+            }
+        }
+        worst = worst.max(error);
+        // Update.
+        let star = case % 3 == 1;
+        let mut measurement = random_measurement(&mut rng, star, case % 2 == 1);
+        if !star {
+            measurement.gnss_error_coefficient =
+                RECEIVER.position_coefficient(rng.random_range(0.0..0.1));
+        }
+        let frozen = if case % 4 == 0 {
+            random_mask(&mut rng)
+        } else {
+            BlockMask::NONE
+        };
+        let mut h = SMatrix::<f64, 3, M>::zeros();
+        h.fixed_view_mut::<3, 24>(0, 0)
+            .copy_from(&measurement.jacobian);
+        for k in 0..3 {
+            h[(k, 24 + k)] = measurement.gnss_error_coefficient;
+        }
+        let x = both_state(&prior);
+        let innovation = measurement.residual - h * x;
+        let s = h * scale * h.transpose() + measurement.noise_covariance;
+        let mut gain: SMatrix<f64, M, 3> =
+            Cholesky::new(s).unwrap().solve(&(h * scale)).transpose();
+        for (i, mut row) in gain.row_iter_mut().enumerate() {
+            if i < 24 && frozen.contains_state(i) {
+                row.fill(0.0);
+            }
+        }
+        let i_kh = Both::identity() - gain * h;
+        let p = i_kh * scale * i_kh.transpose()
+            + gain * measurement.noise_covariance * gain.transpose();
+        let p = (p + p.transpose()) * 0.5;
+        let x = x + gain * innovation;
+        let mut updated = prior;
+        updated
+            .update_structured(&measurement, f64::INFINITY, &frozen)
+            .unwrap();
+        let error = relative_both(&both_covariance(&updated), &p, &scale);
+        assert!(error < 1e-11, "case {case}: update {error:e}");
+        let got = both_state(&updated);
+        for i in 0..M {
+            assert!(
+                (got[i] - x[i]).abs() < 1e-11 * scale[(i, i)].sqrt(),
+                "case {case}: x {i}"
+            );
+        }
+        worst = worst.max(error);
+    }
+    println!("structured vs dense 39-state filter: worst {worst:.2e}");
 }

@@ -22,10 +22,12 @@ impl ImuErrorStates {
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
+        gnss: Option<(f64, &[Row; 3])>,
     ) -> bool {
         let Parts {
             estimate,
             covariance,
+            gnss_cross,
             spare_half,
             old,
             spare,
@@ -42,6 +44,20 @@ impl ImuErrorStates {
                         *product = block::row_add_scaled(*product, *h_column, *c);
                     }
                 }
+            }
+        }
+        // With the GNSS border: M_ε gains h Bᵀ (H_GNSS = h I).
+        if let Some((coefficient, _)) = gnss.filter(|(h, _)| *h != 0.0) {
+            let products = scratch.border_products.as_flattened_mut().iter_mut();
+            for (a, product) in products.enumerate() {
+                let column = [0, 1, 2].map(|m| {
+                    gnss_cross
+                        .get(m)
+                        .and_then(|row| row.get(a))
+                        .copied()
+                        .unwrap_or(f64::NAN)
+                });
+                *product = block::row_add_scaled(*product, column, coefficient);
             }
         }
         for (gains_group, products_group) in scratch
@@ -100,6 +116,23 @@ impl ImuErrorStates {
                 *value = estimate.get(a).copied().unwrap_or(f64::NAN) + dot(*k_a, innovation);
                 sum += *value;
             }
+        }
+        // B ← B − K_GNSS M_εᵀ into the spare half.
+        if let Some((_, gnss_products)) = gnss {
+            let rows = spare_half
+                .gnss_cross
+                .iter_mut()
+                .zip(gnss_cross)
+                .zip(gnss_products);
+            for ((new_row, old_row), gnss_product) in rows {
+                let gain = solve(*gnss_product);
+                for ((new, old), m_a) in new_row.iter_mut().zip(old_row).zip(products_flat) {
+                    *new = old - dot(gain, *m_a);
+                    sum += *new;
+                }
+            }
+        } else {
+            spare_half.gnss_cross = *gnss_cross;
         }
         let mut check = FiniteCheck::new();
         check.value(sum);

@@ -368,8 +368,8 @@ fn the_filters_bias_instability_parses_renders_only_when_on_and_is_validated() {
 }
 
 /// `[filter.imu_errors]`: absent is off (and absent from `Debug`, so the scenario hash is
-/// unchanged); a partial table, a bad value or the correlated GNSS error states beside it are
-/// refused naming the key.
+/// unchanged); a partial table or a bad value is refused naming the key; beside the
+/// correlated GNSS error states it is accepted.
 #[test]
 fn the_filters_imu_error_states_parse_render_only_when_on_and_are_validated() {
     let default = Scenario::default_scenario().unwrap();
@@ -398,7 +398,12 @@ fn the_filters_imu_error_states_parse_render_only_when_on_and_are_validated() {
         "# gnss_correlated_sigma_m = 0.0",
         "gnss_correlated_sigma_m = 8.0\ngnss_correlation_time_s = 300.0",
     );
-    assert_eq!(invalid_key(&with_gnss), "filter.imu_errors");
+    // With the correlated GNSS error states too.
+    assert!(Scenario::from_toml_str(&with_gnss)
+        .unwrap()
+        .filter
+        .imu_errors
+        .is_on());
 }
 
 /// A rotation vector is refused beyond one turn, naming its key and size; one turn is
