@@ -68,18 +68,28 @@ fn unmodelled_imu_errors_are_flagged_in_every_run_and_no_sensor_is_blamed() {
 }
 
 /// With the same errors and a flight software that estimates them (`imu_errors_estimated.toml`,
-/// four runs of the default flight): the 15 calibration states (against the truth in the
-/// filter's gauge) and the 12 systematic states each keep their average NEES inside the
-/// two-sided 95 % χ² interval, no state of any run ends beyond 4σ, no consistency counter is
-/// raised and no sensor is declared faulty.
+/// four runs of the default flight; `upper_stage_imu_errors_estimated.toml`, two of the upper
+/// stage, where the states sit beside the receiver's correlated error states): the 15
+/// calibration states (against the truth in the filter's gauge) and the 12 systematic states
+/// each keep their average NEES inside the two-sided 95 % χ² interval, no state of any run
+/// ends beyond 4σ, no consistency counter is raised and no sensor is declared faulty.
 #[test]
 fn estimated_imu_errors_keep_the_filter_consistent() {
-    let name = "imu_errors_estimated";
-    let scenario = scenario(name);
-    let mut seeds = seeds(&scenario);
-    seeds.truncate(4);
-    let outcomes = fly_campaign(&scenario, &seeds, &|| {}).unwrap();
-    let calibration = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
+    for (name, runs) in [
+        ("imu_errors_estimated", 4),
+        ("upper_stage_imu_errors_estimated", 2),
+    ] {
+        let scenario = scenario(name);
+        let mut seeds = seeds(&scenario);
+        seeds.truncate(runs);
+        let outcomes = fly_campaign(&scenario, &seeds, &|| {}).unwrap();
+        assert_estimated_consistent(name, &outcomes);
+    }
+}
+
+/// The assertions of [`estimated_imu_errors_keep_the_filter_consistent`] on one campaign.
+fn assert_estimated_consistent(name: &str, outcomes: &[RunOutcome]) {
+    let calibration = summarise::<15, nav_sim::harness::flight::FlightError>(outcomes).unwrap();
     println!("{name}: {}", calibration.nees_line());
     assert!(calibration.nees.consistent(), "{}", calibration.nees_line());
     let systematic: Vec<RunOutcome<12>> = outcomes
@@ -108,7 +118,7 @@ fn estimated_imu_errors_keep_the_filter_consistent() {
             .fold(worst_sigma(outcome), f64::max);
         assert!(
             worst <= WORST_SIGMA_BOUND,
-            "seed {}: {worst:.2} sigma",
+            "{name} seed {}: {worst:.2} sigma",
             outcome.seed
         );
         println!("{name} seed {}: {:?}", outcome.seed, outcome.health);
@@ -123,7 +133,7 @@ fn estimated_imu_errors_keep_the_filter_consistent() {
             assert_eq!(
                 outcome.health.get(key),
                 None,
-                "seed {}: {key}",
+                "{name} seed {}: {key}",
                 outcome.seed
             );
         }
