@@ -41,7 +41,7 @@
 //! With both borders the covariance also holds `B = cov(ε_GNSS, ε)` (3×12). `x` gains `Γ ε`
 //! and `ε_GNSS` decays by `φ`, so the GNSS border's cross-covariance propagates as
 //! `C_GNSS ← φ (F C_GNSS + Γ Bᵀ)` (its dynamic rows gain `E M Bᵀ`,
-//! [`ImuErrorStates::gnss_coupling`]) and `B ← φ B`. A GNSS position fix has `H_GNSS = h I`,
+//! `ImuErrorStates::gnss_coupling`) and `B ← φ B`. A GNSS position fix has `H_GNSS = h I`,
 //! so `M_ε` gains `h Bᵀ`, and `B ← B − K_GNSS M_εᵀ` at every update (`K_GNSS` the GNSS
 //! border's gains, any measurement); the rest is as above.
 

@@ -104,12 +104,12 @@ pub struct FlightResult {
     /// NIS of every GNSS fix the gate tested.
     pub gnss_nis: NisSum,
     /// The systematic IMU error states' final error and covariance (`[filter.imu_errors]`
-    /// on; the calibration error is then in the filter's gauge too, [`filter_gauge`]).
+    /// on; the calibration error is then in the filter's gauge too, [`crate::harness::filter_gauge`]).
     pub imu_error: Option<ImuErrorOutcome>,
 }
 
 /// The sensor errors as the filter sees them: in its gauge when it estimates the systematic
-/// IMU errors ([`filter_gauge`]), as they are otherwise.
+/// IMU errors ([`crate::harness::filter_gauge`]), as they are otherwise.
 fn filter_view(
     computer: &NavigationComputer,
     errors: &SensorErrorTruth,
