@@ -25,9 +25,19 @@ fi
 
 work="$(mktemp -d)"
 started=()
+# Stops the daemons and waits for each to exit before removing the work directory: slurmctld
+# writes its state on SIGTERM, and removing the directory under it fails. The script's own exit
+# status is kept; a directory that still cannot be removed is reported, not failed on.
 cleanup() {
+  local status=$?
   for pid in "${started[@]}"; do kill "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
+  for pid in "${started[@]}"; do
+    for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -9 "$pid" 2>/dev/null || true
+  done
+  rm -rf "$work" 2>/dev/null || { sleep 1; rm -rf "$work" 2>/dev/null; } \
+    || echo "note: could not remove $work" >&2
+  exit "$status"
 }
 trap cleanup EXIT
 
