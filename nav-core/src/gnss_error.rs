@@ -30,8 +30,8 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::block::{self, dot, row_add, row_scale, Block, FiniteCheck, Row, ZERO};
 use crate::measurement::MeasurementJacobian;
-use crate::state::{BlockMask, STATE_DIMENSION};
-use crate::structured::StateRows;
+use crate::state::{BlockMask, DYNAMIC_DIMENSION as DYNAMIC_ROWS, STATE_DIMENSION};
+use crate::structured::{StateRows, StructuredModel};
 use crate::NavError;
 
 /// The receiver's correlated position-error specification (configuration).
@@ -122,6 +122,9 @@ pub struct GnssErrorStates {
     buffers: [StateRows; 2],
     /// Whether `buffers[1]` holds `C`.
     second_active: bool,
+    /// A prepared propagation's `P_εε` and `ε̂`, until it is committed (its `C` is in the
+    /// inactive buffer).
+    pending: (Block, Row),
 }
 
 impl PartialEq for GnssErrorStates {
@@ -145,16 +148,6 @@ pub(crate) struct Border {
     pub(crate) products: [Row; 3],
 }
 
-/// The border after a propagation, computed before anything is written: the new dynamic
-/// rows of `C` (ϑ, δp, δv), `φ` for its calibration rows, `P_εε` and `ε̂`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct PropagatedBorder {
-    dynamic: [Block; 3],
-    phi: f64,
-    covariance: Block,
-    estimate: Row,
-}
-
 impl GnssErrorStates {
     /// The prior: `ε̂ = 0`, `P_εε = σ² I`, `C = 0` (all zero when the model is white).
     ///
@@ -169,6 +162,7 @@ impl GnssErrorStates {
             covariance: block::scale(&block::IDENTITY, variance),
             buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
             second_active: false,
+            pending: (block::ZERO, [0.0; 3]),
         })
     }
 
@@ -281,49 +275,46 @@ impl GnssErrorStates {
         true
     }
 
-    /// The structured propagation (flight path): [`GnssErrorStates::propagate`] with the
-    /// dynamic rows of `F C` given (`StructuredModel::propagate_rows`); `None` if not finite.
-    /// The calibration rows are scaled by `φ` when committed.
-    pub(crate) fn propagated(
-        &self,
-        interval_s: f64,
-        dynamic: &[Block; 3],
-    ) -> Option<PropagatedBorder> {
-        let phi = self.model.decay(interval_s);
+    /// The structured propagation (flight path), [`GnssErrorStates::propagate`] in two
+    /// steps: the new `C = φ (F C + E X)` (`X` the optional `bias_inputs` of
+    /// `StructuredModel::propagate_rows`: the IMU border's `M Bᵀ`), `P_εε` and `ε̂` into
+    /// the inactive buffer and the pending values, written in place (nothing returned by
+    /// value: a copy costs the target thousands of instructions); `false` if not finite,
+    /// nothing the filter reads changed. [`GnssErrorStates::commit_propagation`] makes them
+    /// current.
+    pub(crate) fn prepare_propagation(
+        &mut self,
+        model: &StructuredModel,
+        bias_inputs: Option<&[Block; 2]>,
+    ) -> bool {
+        let phi = self.model.decay(model.interval_s());
         let variance = self.model.sigma_m * self.model.sigma_m;
         let covariance = block::add(
             &block::scale(&self.covariance, phi * phi),
             &block::scale(&block::IDENTITY, variance * (1.0 - phi * phi)),
         );
-        let dynamic = dynamic.map(|b| block::scale(&b, phi));
         let estimate = row_scale(self.estimate, phi);
         let mut check = FiniteCheck::new();
-        dynamic.iter().for_each(|b| check.block(b));
         check.block(&covariance);
         check.row(&estimate);
         check.value(phi);
-        check.all_finite().then_some(PropagatedBorder {
-            dynamic,
-            phi,
-            covariance,
-            estimate,
-        })
+        let (old, spare) = self.rows_and_spare();
+        let dynamic = model.propagate_rows(old, bias_inputs);
+        for (slot, row) in spare.iter_mut().zip(dynamic.iter().flatten()) {
+            *slot = row_scale(*row, phi);
+            check.row(slot);
+        }
+        for (slot, row) in spare.iter_mut().zip(old.iter()).skip(DYNAMIC_ROWS) {
+            *slot = row_scale(*row, phi);
+        }
+        self.pending = (covariance, estimate);
+        check.all_finite()
     }
 
-    /// Writes a propagation computed by [`GnssErrorStates::propagated`], in place.
-    pub(crate) fn commit_propagation(&mut self, propagated: &PropagatedBorder) {
-        let (dynamic_rows, calibration_rows) = self.rows_mut().split_at_mut(9);
-        for (row, value) in dynamic_rows
-            .iter_mut()
-            .zip(propagated.dynamic.iter().flatten())
-        {
-            *row = *value;
-        }
-        for row in calibration_rows {
-            *row = row_scale(*row, propagated.phi);
-        }
-        self.covariance = propagated.covariance;
-        self.estimate = propagated.estimate;
+    /// Makes the propagation prepared last current.
+    pub(crate) fn commit_propagation(&mut self) {
+        self.second_active = !self.second_active;
+        (self.covariance, self.estimate) = self.pending;
     }
 
     /// The border's part of an update with Jacobian `H_x` and coefficient `h_ε` (module

@@ -727,7 +727,7 @@ impl ErrorStateFilter {
         if self.imu_error.is_enabled() {
             return self.predict_structured_imu_error(model, state, None);
         }
-        if !model.propagate_covariance(&mut self.covariance) {
+        if !model.propagate_covariance(&mut self.covariance, None) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(state) = state {
@@ -745,54 +745,46 @@ impl ErrorStateFilter {
         model: &StructuredModel,
         state: Option<ErrorState>,
     ) -> Result<(), NavError> {
-        let mut dynamic = model.propagate_rows(self.gnss_error.cross_rows());
         if self.imu_error.is_enabled() {
-            // C_GNSS ← φ (F C_GNSS + Γ Bᵀ) (crate::imu_error_states).
-            let coupling = self.imu_error.gnss_coupling(model);
-            for (rows, extra) in dynamic.iter_mut().zip(&coupling) {
-                *rows = block::add(rows, extra);
-            }
-            return self.predict_structured_both_borders(model, state, &dynamic);
+            return self.predict_structured_both_borders(model, state);
         }
-        let propagated = self
-            .gnss_error
-            .propagated(model.interval_s(), &dynamic)
-            .ok_or(NavError::NonFiniteState)?;
-        if !model.propagate_covariance(&mut self.covariance) {
+        if !self.gnss_error.prepare_propagation(model, None) {
+            return Err(NavError::NonFiniteState);
+        }
+        if !model.propagate_covariance(&mut self.covariance, None) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(state) = state {
             self.state = state;
         }
-        self.gnss_error.commit_propagation(&propagated);
+        self.gnss_error.commit_propagation();
         Ok(())
     }
 
     /// [`ErrorStateFilter::predict_structured`] with both borders: the GNSS border's new
-    /// values (from `dynamic`, its coupled `F C_GNSS + Γ Bᵀ`) and the IMU border's new `C`
-    /// first, then the kernel, the IMU border's increment of `P_xx` and the commits.
+    /// values (`C_GNSS ← φ (F C_GNSS + Γ Bᵀ)`, `Γ Bᵀ = E M Bᵀ` through the bias inputs,
+    /// [`crate::imu_error_states`]) and the IMU border's new `C` first, then the kernel with
+    /// the IMU border's bias inputs, and the commits.
     #[inline(never)]
     fn predict_structured_both_borders(
         &mut self,
         model: &StructuredModel,
         state: Option<ErrorState>,
-        dynamic: &[block::Block; 3],
     ) -> Result<(), NavError> {
-        let propagated = self
-            .gnss_error
-            .propagated(model.interval_s(), dynamic)
-            .ok_or(NavError::NonFiniteState)?;
+        let inputs = self.imu_error.gnss_bias_inputs(model);
+        if !self.gnss_error.prepare_propagation(model, Some(&inputs)) {
+            return Err(NavError::NonFiniteState);
+        }
         let decay = self.gnss_error.model().decay(model.interval_s());
         self.predict_structured_imu_error(model, state, Some(decay))?;
-        self.gnss_error.commit_propagation(&propagated);
+        self.gnss_error.commit_propagation();
         Ok(())
     }
 
     /// [`ErrorStateFilter::predict_structured`] with the systematic IMU error states
-    /// ([`crate::imu_error_states`]): the border's new `C` is computed first (from the border
-    /// alone), so nothing changes if it or the 24-state kernel fails; the increment of `P_xx`
-    /// follows the kernel (a failure there, an overflow of finite values, leaves `P` written
-    /// and is reported for the caller's recovery).
+    /// ([`crate::imu_error_states`]): the border's new `C` and the kernel's bias inputs are
+    /// computed first (from the border alone), then the 24-state kernel with them, so
+    /// nothing changes if either fails.
     #[inline(never)]
     fn predict_structured_imu_error(
         &mut self,
@@ -803,14 +795,8 @@ impl ErrorStateFilter {
         if !self.imu_error.prepare_propagation(model) {
             return Err(NavError::NonFiniteState);
         }
-        if !model.propagate_covariance(&mut self.covariance) {
-            return Err(NavError::NonFiniteState);
-        }
-        // Overflow of finite covariances only (the caller's recovery restarts the filter).
-        if !self
-            .imu_error
-            .add_propagation_increment(model, &mut self.covariance)
-        {
+        let border = Some(self.imu_error.propagation_inputs());
+        if !model.propagate_covariance(&mut self.covariance, border) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(mut state) = state {

@@ -17,11 +17,12 @@
 //! ## Propagation
 //! With `Y = F C` (its dynamic rows by `StructuredModel::propagate_rows`, the calibration
 //! rows those of `C`):
-//! * `C ← Y + Γ P_εε` (only the dynamic rows change: `Γ` has no others);
-//! * `P_xx ← F P_xx Fᵀ + Qd` (the 24-state kernel, unchanged) `+ Y Γᵀ + Γ Yᵀ + Γ P_εε Γᵀ`,
-//!   which adds only to the dynamic columns (and rows) of `P_xx`: with `y_j = M Y_jᵀ` (the
-//!   row's equivalent-bias 6-vector) and `E_i` row `i` of `E`, `ΔP_ji = y_j·E_i` for the
-//!   dynamic `i`, plus its transpose and `E_i Π E_jᵀ` (`Π = M P_εε Mᵀ`) in the dynamic block;
+//! * `C ← C⁺ = Y + Γ P_εε` (only the dynamic rows change: `Γ` has no others);
+//! * `P_xx ← F P_xx Fᵀ + Γ Cᵀ Fᵀ + F C Γᵀ + Γ P_εε Γᵀ + Qd = U [Φ E]ᵀ + C⁺_d Γ_dᵀ + Qd` with
+//!   `U = F P_xx + Γ Cᵀ`: since `Γ = E M`, the 24-state kernel computes it with
+//!   `M C_jᵀ` added to column `j`'s folded bias inputs and `M C⁺_rᵀ` to row `r` of `U`'s
+//!   folded bias columns ([`crate::structured::BorderBiasInputs`], derivation in
+//!   [`crate::structured`]);
 //! * `P_εε` unchanged; in open loop `x_d ← (F x)_d + E (M ε̂)`.
 //!
 //! ## Update
@@ -50,7 +51,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use crate::block::{self, Block, Row};
 use crate::imu_error::{ImuErrorEstimate, IMU_ERROR_DIMENSION};
 use crate::state::{ATTITUDE, STAR_INSTALLATION, STATE_DIMENSION};
-use crate::structured::StateRows;
+use crate::structured::{BorderBiasInputs, StateRows};
 use crate::NavError;
 
 mod propagate;
@@ -192,10 +193,8 @@ struct Parts<'a> {
 /// What a propagation or an update keeps between its steps.
 #[derive(Debug, Clone, Copy)]
 struct Scratch {
-    /// The propagation's measured rate (rad/s) and specific force (m/s²).
-    motion: (Row, Row),
-    /// `Π = M P_εε Mᵀ` by sensor pairs.
-    projected: [[Block; 2]; 2],
+    /// The bias inputs the 24-state kernel folds in (module docs, "Propagation").
+    kernel_inputs: BorderBiasInputs,
     /// `E M ε̂` on the dynamic rows (the open-loop state's increment).
     state_increment: [f64; DYNAMIC],
     /// An update's `M_ε` and `K_ε` by groups (row `c` of group `g`: state `3g + c`).
@@ -205,8 +204,7 @@ struct Scratch {
 
 impl Scratch {
     const EMPTY: Self = Self {
-        motion: ([0.0; 3], [0.0; 3]),
-        projected: [[block::ZERO; 2]; 2],
+        kernel_inputs: BorderBiasInputs::ZERO,
         state_increment: [0.0; DYNAMIC],
         border_products: [[[0.0; 3]; 3]; GROUPS],
         border_gains: [[[0.0; 3]; 3]; GROUPS],

@@ -1,14 +1,13 @@
 //! The border's propagation in three steps around the 24-state kernel (module docs of
-//! [`crate::imu_error_states`]): the new `C` into the spare buffer, then `P_xx += ΔP`, then
-//! the new `C` made active. By 3×3 blocks; `M` has one non-zero per column, so a product
-//! with it is three scaled rows or columns.
+//! [`crate::imu_error_states`]): the new `C` and the kernel's bias inputs into the spare
+//! buffer and the scratch, then the kernel with them, then the new `C` made active. By 3×3
+//! blocks; `M` has one non-zero per column, so a product with it is three scaled rows or
+//! columns.
 
 use super::{CrossCovariance, ImuErrorStates, Parts, DYNAMIC};
 use crate::block::{self, Block, FiniteCheck, Row};
-use crate::discretise::CovarianceMatrix;
 use crate::imu_error::IMU_ERROR_DIMENSION;
-use crate::state::STATE_DIMENSION;
-use crate::structured::{StateRows, StructuredModel};
+use crate::structured::{BorderBiasInputs, StateRows, StructuredModel};
 #[cfg(test)]
 use {
     super::GROUPS,
@@ -103,60 +102,50 @@ pub(super) fn equivalent_row(cross: &CrossCovariance, motion: (Row, Row), j: usi
     [g0, g1, g2, a0, a1, a2]
 }
 
-/// `Z_{j,s} = Σ_{g∈s} C⁺_{j,g} M_gᵀ` of row block `j`, into `z`: [`equivalent_row`] of its
-/// three rows.
-fn project_rows(new: &CrossCovariance, motion: (Row, Row), j: usize, z: &mut [Block; 2]) {
-    let [gyro, accel] = z;
-    for (r, (gyro_row, accel_row)) in gyro.iter_mut().zip(accel.iter_mut()).enumerate() {
-        let [g0, g1, g2, a0, a1, a2] = equivalent_row(new, motion, 3 * j + r);
-        *gyro_row = [g0, g1, g2];
-        *accel_row = [a0, a1, a2];
-    }
-}
-
-/// `Σ_s Z_s E_{s,i}ᵀ`.
-#[inline(always)]
-fn times_bias_transpose(model: &StructuredModel, z: &[Block; 2], i: usize) -> Block {
-    let mut product = block::ZERO;
-    for (s, z_s) in z.iter().enumerate() {
-        if let Some(e) = bias_block(model, s, i) {
-            product = block::mul_transpose_add(&product, z_s, e);
-        }
-    }
-    product
-}
-
-/// `P(r₀ + i, c₀ + j) += value[i][j]` and, when `mirror`, `P(c₀ + j, r₀ + i)` too (the
-/// column-major storage: column by column).
-fn add_block(
-    covariance: &mut CovarianceMatrix,
-    (r0, c0): (usize, usize),
-    value: &Block,
-    mirror: bool,
+/// `C⁺ = F C + Γ P_εε` into `new`: the dynamic rows `F C + E Q` (`Q_{s,h}`: the columns of
+/// group `h` of `M P_εε`, `m_p`, folded into the bias inputs), the calibration rows those
+/// of `old`.
+fn propagate_cross(
+    model: &StructuredModel,
+    old: &CrossCovariance,
+    m_p: &[[Row; 2]; IMU_ERROR_DIMENSION],
+    new: &mut CrossCovariance,
 ) {
-    let columns = &mut covariance.data.0;
-    for (j, column) in columns.iter_mut().skip(c0).take(3).enumerate() {
-        for (slot, row) in column.iter_mut().skip(r0).zip(value) {
-            if let Some(x) = row.get(j) {
-                *slot += x;
+    let groups = new.iter_mut().zip(old.iter()).zip(m_p.chunks_exact(3));
+    for ((new_group, old_group), m_p_group) in groups {
+        let q: [Block; 2] = core::array::from_fn(|s| {
+            core::array::from_fn(|u| {
+                core::array::from_fn(|c| {
+                    m_p_group
+                        .get(c)
+                        .and_then(|column| column.get(s))
+                        .and_then(|r| r.get(u))
+                        .copied()
+                        .unwrap_or(f64::NAN)
+                })
+            })
+        });
+        let dynamic = model.propagate_rows(old_group, Some(&q));
+        for (value, new_rows) in dynamic.iter().zip(new_group.chunks_exact_mut(3)) {
+            for (slot, row) in new_rows.iter_mut().zip(value) {
+                *slot = *row;
             }
         }
-    }
-    if mirror {
-        for (row, column) in value.iter().zip(columns.iter_mut().skip(r0)) {
-            for (slot, x) in column.iter_mut().skip(c0).zip(row) {
-                *slot += x;
-            }
+        for (new, old) in new_group.iter_mut().zip(old_group).skip(DYNAMIC) {
+            *new = *old;
         }
     }
 }
 
 impl ImuErrorStates {
     /// The first step of a propagation (module docs): the new `C` (`F C + Γ P_εε`) into the
-    /// spare buffer, computed from the border alone; `false` if it is not finite (nothing the
-    /// filter reads has changed). Then the 24-state kernel runs,
-    /// [`ImuErrorStates::add_propagation_increment`] adds `ΔP` and
-    /// [`ImuErrorStates::commit_propagation`] makes the new `C` active.
+    /// spare buffer and the bias inputs the 24-state kernel folds in
+    /// ([`crate::structured::BorderBiasInputs`]: `M C_jᵀ` of the old `C`, `M C⁺_rᵀ` of the
+    /// new one's dynamic rows), computed from the border alone; `false` if the open-loop
+    /// state increment is not finite (nothing the filter reads has changed; the rest the
+    /// kernel checks, see the body). Then the kernel runs with
+    /// [`ImuErrorStates::propagation_inputs`] and [`ImuErrorStates::commit_propagation`]
+    /// makes the new `C` active.
     pub(crate) fn prepare_propagation(&mut self, model: &StructuredModel) -> bool {
         let Parts {
             estimate,
@@ -167,33 +156,13 @@ impl ImuErrorStates {
             ..
         } = self.parts();
         let motion = (model.measured_rate(), model.measured_force());
-        scratch.motion = motion;
-        // M P_εε by columns (P_εε is symmetric: column c is row c), then
-        // Π_{s,s'} = (M P_εε Mᵀ) by sensor pairs, row by row.
+        // M P_εε by columns (P_εε is symmetric: column c is row c).
         let mut m_p = [[[0.0; 3]; 2]; IMU_ERROR_DIMENSION];
         for (column, row) in m_p.iter_mut().zip(covariance.iter()) {
             *column = to_bias(row, motion);
         }
-        for (s, projected_row) in scratch.projected.iter_mut().enumerate() {
-            for u in 0..3 {
-                let row: [f64; IMU_ERROR_DIMENSION] = core::array::from_fn(|k| {
-                    m_p.get(k)
-                        .and_then(|c| c.get(s))
-                        .and_then(|r| r.get(u))
-                        .copied()
-                        .unwrap_or(f64::NAN)
-                });
-                let [gyro, accel] = to_bias(&row, motion);
-                for (projected, values) in projected_row.iter_mut().zip([gyro, accel]) {
-                    if let Some(target) = projected.get_mut(u) {
-                        *target = values;
-                    }
-                }
-            }
-        }
         let bias = to_bias(estimate, motion);
-        let mut state_increment = [0.0; DYNAMIC];
-        for (b, increment) in state_increment.chunks_exact_mut(3).enumerate() {
+        for (b, increment) in scratch.state_increment.chunks_exact_mut(3).enumerate() {
             let mut row = [0.0; 3];
             for (s, u) in bias.iter().enumerate() {
                 if let Some(e) = bias_block(model, s, b) {
@@ -202,106 +171,29 @@ impl ImuErrorStates {
             }
             increment.copy_from_slice(&row);
         }
-        scratch.state_increment = state_increment;
-        // C⁺: dynamic rows F C + E Q (Q_{s,h}: the columns of group h of M P_εε), calibration
-        // rows those of C.
-        let mut sum = 0.0;
-        let groups = spare.iter_mut().zip(old.iter()).zip(m_p.chunks_exact(3));
-        for ((new_group, old_group), m_p_group) in groups {
-            let q: [Block; 2] = core::array::from_fn(|s| {
-                core::array::from_fn(|u| {
-                    core::array::from_fn(|c| {
-                        m_p_group
-                            .get(c)
-                            .and_then(|column| column.get(s))
-                            .and_then(|r| r.get(u))
-                            .copied()
-                            .unwrap_or(f64::NAN)
-                    })
-                })
-            });
-            let dynamic = model.propagate_rows(old_group);
-            for (b, (y, new_rows)) in dynamic
-                .iter()
-                .zip(new_group.chunks_exact_mut(3))
-                .enumerate()
-            {
-                let mut value = *y;
-                for (s, q_block) in q.iter().enumerate() {
-                    if let Some(e) = bias_block(model, s, b) {
-                        value = block::mul_add(&value, e, q_block);
-                    }
-                }
-                for (slot, row) in new_rows.iter_mut().zip(value) {
-                    *slot = row;
-                    sum += row.iter().sum::<f64>();
-                }
-            }
-            for (new, old) in new_group.iter_mut().zip(old_group).skip(DYNAMIC) {
-                *new = *old;
-            }
+        propagate_cross(model, old, &m_p, spare);
+        let inputs = &mut scratch.kernel_inputs;
+        for (j, input) in inputs.state_columns.iter_mut().enumerate() {
+            *input = equivalent_row(old, motion, j);
         }
+        for (r, input) in inputs.dynamic_rows.iter_mut().enumerate() {
+            *input = equivalent_row(spare, motion, r);
+        }
+        // The new C and the bias inputs are checked by the kernel: every value of C⁺'s
+        // dynamic rows (the only new ones) enters a bias input of `dynamic_rows` (`to_bias`
+        // multiplies each by its m_k, and a non-finite value times zero is NaN), and every
+        // bias input enters the kernel's checked output (U or the upper triangle of P_dd,
+        // through E: NaN again even where E is zero), so a non-finite one makes the kernel
+        // refuse. Only the state increment, which the kernel never sees, is checked here.
         let mut check = FiniteCheck::new();
-        check.value(sum);
-        scratch
-            .projected
-            .iter()
-            .flatten()
-            .for_each(|b| check.block(b));
         scratch.state_increment.iter().for_each(|v| check.value(*v));
         check.all_finite()
     }
 
-    /// The second step, after the 24-state kernel: `P_xx += ΔP` on the dynamic columns and
-    /// rows (module docs, written with the new `C⁺ = Y + Γ P_εε`), by 3×3 blocks: with
-    /// `Z_{j,s} = C⁺_j M_sᵀ` (row block `j`'s equivalent-bias columns) and `E_{s,i}` block
-    /// `i` of `E`, `ΔP_ji = Σ_s Z_{j,s} E_{s,i}ᵀ` for a calibration row block `j`, and in
-    /// the dynamic block `ΔP_ji = A_ji + A_ijᵀ`, `A_ji = Σ_s Z'_{j,s} E_{s,i}ᵀ`,
-    /// `Z'_{j,s} = Z_{j,s} − ½ Σ_{s'} E_{s',j} Π_{s',s}` (`Π = M P_εε Mᵀ`: the
-    /// `−Γ P_εε Γᵀ` term split between the two halves). Symmetric by construction. `false`
-    /// if the result is not finite: the kernel has written `P` then (finite covariances that
-    /// overflow), and the caller restarts the filter.
-    pub(crate) fn add_propagation_increment(
-        &mut self,
-        model: &StructuredModel,
-        covariance: &mut CovarianceMatrix,
-    ) -> bool {
-        let Parts { spare, scratch, .. } = self.parts();
-        // After prepare_propagation the spare buffer holds C⁺.
-        let new: &CrossCovariance = spare;
-        let mut dynamic = [[block::ZERO; 2]; 3];
-        for (b, z) in dynamic.iter_mut().enumerate() {
-            project_rows(new, scratch.motion, b, z);
-            for (s, z_s) in z.iter_mut().enumerate() {
-                for (s2, projected_row) in scratch.projected.iter().enumerate() {
-                    if let (Some(e), Some(projected)) =
-                        (bias_block(model, s2, b), projected_row.get(s))
-                    {
-                        *z_s = block::add_scaled(z_s, &block::mul(e, projected), -0.5);
-                    }
-                }
-            }
-        }
-        let mut sum = 0.0;
-        for (j, z_j) in dynamic.iter().enumerate() {
-            for (i, z_i) in dynamic.iter().enumerate().skip(j) {
-                let a_ji = times_bias_transpose(model, z_j, i);
-                let a_ij = times_bias_transpose(model, z_i, j);
-                let delta = block::add(&a_ji, &block::transpose(&a_ij));
-                sum += delta.iter().flatten().sum::<f64>();
-                add_block(covariance, (3 * j, 3 * i), &delta, j != i);
-            }
-        }
-        let mut z = [block::ZERO; 2];
-        for j in 3..STATE_DIMENSION / 3 {
-            project_rows(new, scratch.motion, j, &mut z);
-            for i in 0..3 {
-                let delta = times_bias_transpose(model, &z, i);
-                sum += delta.iter().flatten().sum::<f64>();
-                add_block(covariance, (3 * j, 3 * i), &delta, true);
-            }
-        }
-        sum.is_finite()
+    /// The bias inputs of the 24-state kernel prepared last
+    /// ([`ImuErrorStates::prepare_propagation`]).
+    pub(crate) fn propagation_inputs(&self) -> &BorderBiasInputs {
+        &self.scratch.kernel_inputs
     }
 
     /// The third step: the new `C` made active, and `B ← φ B` with the correlated GNSS error
@@ -315,27 +207,22 @@ impl ImuErrorStates {
         }
     }
 
-    /// `Γ Bᵀ = E M Bᵀ` on the dynamic rows (ϑ, δp, δv; columns: the three GNSS error
-    /// states): what the GNSS border's `F C_GNSS` gains from the coupling (module docs).
-    pub(crate) fn gnss_coupling(&self, model: &StructuredModel) -> [Block; 3] {
+    /// `M Bᵀ` (gyro, accelerometer; columns the three GNSS error states): the bias inputs
+    /// through which the GNSS border's `F C_GNSS` gains `Γ Bᵀ = E M Bᵀ` (module docs;
+    /// `StructuredModel::propagate_rows`).
+    pub(crate) fn gnss_bias_inputs(&self, model: &StructuredModel) -> [Block; 2] {
         let motion = (model.measured_rate(), model.measured_force());
         let bias = self.half().gnss_cross.map(|row| to_bias(&row, motion));
-        core::array::from_fn(|b| {
-            let mut rows = block::ZERO;
-            for (m, [gyro, accel]) in bias.iter().enumerate() {
-                let mut column = [0.0; 3];
-                for (s, u) in [gyro, accel].into_iter().enumerate() {
-                    if let Some(e) = bias_block(model, s, b) {
-                        column = block::mul_vector_add(column, e, *u);
-                    }
-                }
-                for (row, value) in rows.iter_mut().zip(column) {
-                    if let Some(slot) = row.get_mut(m) {
-                        *slot = value;
-                    }
-                }
-            }
-            rows
+        core::array::from_fn(|s| {
+            core::array::from_fn(|u| {
+                core::array::from_fn(|m| {
+                    bias.get(m)
+                        .and_then(|sensors| sensors.get(s))
+                        .and_then(|axes| axes.get(u))
+                        .copied()
+                        .unwrap_or(f64::NAN)
+                })
+            })
         })
     }
 

@@ -159,6 +159,67 @@ fn border_propagation_equals_the_dense_36_state_transition() {
 }
 
 /// The dense 36-state Joseph update with `H₃₆ = [H 0]` and the frozen rows' gain zero.
+/// A non-finite value anywhere in the border (`C`'s dynamic or calibration rows, `P_εε`)
+/// makes the propagation refuse, in either mode, with nothing changed: the kernel's check
+/// covers the new `C` and the bias inputs (`prepare_propagation`'s comment says why).
+#[test]
+fn a_non_finite_border_is_refused_by_the_propagation_and_changes_nothing() {
+    let mut rng = ChaCha8Rng::seed_from_u64(37);
+    let mut refused = 0;
+    for case in 0..24 {
+        let mode = [FilterMode::ClosedLoop, FilterMode::OpenLoop][case % 2];
+        let mut filter = bordered_filter(&mut rng, mode);
+        let (estimate, mut border, mut cross) = (
+            filter.imu_error().estimate(),
+            filter.imu_error().covariance(),
+            filter.imu_error().cross_covariance(),
+        );
+        let bad = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY][case % 3];
+        let state = rng.random_range(0..IMU_ERROR_DIMENSION);
+        match case % 4 {
+            0 => cross[(rng.random_range(0..9), state)] = bad,
+            1 => cross[(rng.random_range(9..STATE_DIMENSION), state)] = bad,
+            _ => {
+                let other = rng.random_range(0..IMU_ERROR_DIMENSION);
+                border[(state, other)] = bad;
+                border[(other, state)] = bad;
+            }
+        }
+        filter.imu_error_mut().set(&estimate, &border, &cross);
+        // What the filter reads (NaN prints alike; the spare buffers and scratch may change).
+        let readable = |f: &ErrorStateFilter| {
+            let imu = f.imu_error();
+            format!(
+                "{:?}",
+                (
+                    f.state(),
+                    f.covariance(),
+                    imu.estimate(),
+                    imu.covariance(),
+                    imu.cross_covariance(),
+                    imu.gnss_cross_covariance(),
+                )
+            )
+        };
+        let before = readable(&filter);
+        let model = StructuredModel::new(
+            &random_point(&mut rng),
+            &random_noise(&mut rng, case % 3 == 0),
+            0.002,
+            3,
+        )
+        .unwrap();
+        assert_eq!(
+            filter.predict_structured(&model),
+            Err(NavError::NonFiniteState),
+            "case {case}"
+        );
+        assert!(readable(&filter) == before, "case {case}: changed");
+        refused += 1;
+    }
+    assert_eq!(refused, 24);
+}
+
 fn dense_update(
     prior: &ErrorStateFilter,
     measurement: &LinearMeasurement,

@@ -10,12 +10,14 @@
 //! product added in the term order ϑ, δp, δv, bg, ba and `k` order, so the bits equal those
 //! of `block::mul`/`block::mul_add` and of the row kernel (`super::rows`).
 //!
+//! With a border ([`BorderBiasInputs`]) the folded rows of each column gain its `M C_jᵀ`.
+//!
 //! The calibration columns of `U` (the new `P_dc`) are written straight into the lower
 //! triangle of `P` (rows 9..24 of columns 0..9), whose old values, by symmetry a copy of the
 //! upper triangle, no later column block reads (the dynamic column blocks, which read them,
 //! come first): the upper triangle keeps the old `P_dc` as the roll-back copy.
 
-use super::{StructuredModel, BIAS_A, BIAS_G, SCALE_A, SCALE_G};
+use super::{BiasInput, BorderBiasInputs, StructuredModel, BIAS_A, BIAS_G, SCALE_A, SCALE_G};
 use crate::block::{Block, FiniteCheck, Row};
 use crate::state::{BLOCK_DIMENSION, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
 
@@ -182,20 +184,29 @@ impl StructuredModel {
     }
 
     /// The folded calibration rows of a column block (module docs of [`super`]):
-    /// `P_bg,j + ω_k P_λg,j` and `P_ba,j + f_k P_λa,j` (as `block::add_scaled_rows`). Not
+    /// `P_bg,j + ω_k P_λg,j` and `P_ba,j + f_k P_λa,j` (as `block::add_scaled_rows`), plus
+    /// the border's `M C_jᵀ` when there is one (then added, as the row kernel does). Not
     /// inlined: its result goes straight into the caller's frame (inlined, the compiler
     /// keeps the values in registers across the kernel calls and then copies them).
     #[inline(never)]
-    fn fold_inputs(&self, columns: &Columns) -> Folded {
+    fn fold_inputs(&self, columns: &Columns, border: Option<&[BiasInput; 3]>) -> Folded {
         let (rate, force) = (self.measured_rate_rad_s, self.measured_specific_force_mps2);
-        columns.each_ref().map(|column| {
+        let mut folded = columns.each_ref().map(|column| {
             let at = |index: usize| column.get(index).copied().unwrap_or(f64::NAN);
             let [g0, g1, g2] =
                 [0, 1, 2].map(|k| at(BIAS_G + k) + at(SCALE_G + k) * element(rate, k));
             let [a0, a1, a2] =
                 [0, 1, 2].map(|k| at(BIAS_A + k) + at(SCALE_A + k) * element(force, k));
             [g0, g1, g2, a0, a1, a2]
-        })
+        });
+        if let Some(border) = border {
+            for (values, extra) in folded.iter_mut().zip(border) {
+                for (value, x) in values.iter_mut().zip(extra) {
+                    *value += x;
+                }
+            }
+        }
+        folded
     }
 
     /// `U`'s dynamic column block at `C` (ϑ, δp or δv): its blocks `(ϑ, C)`, `(δp, C)`,
@@ -205,11 +216,12 @@ impl StructuredModel {
         &self,
         rows: &KernelRows,
         p: &[[f64; STATE_DIMENSION]; STATE_DIMENSION],
+        border: Option<&BorderBiasInputs>,
     ) -> [Block; 3] {
         let Some(columns) = column_block::<C>(p) else {
             return [[[f64::NAN; 3]; 3]; 3];
         };
-        let folded = self.fold_inputs(columns);
+        let folded = self.fold_inputs(columns, border_block::<C>(border));
         [
             attitude_block(&rows.attitude, columns, &folded),
             dynamic_block(&rows.position, columns, &folded),
@@ -226,6 +238,7 @@ impl StructuredModel {
         rows: &KernelRows,
         dynamic: &mut [[f64; STATE_DIMENSION]; DYNAMIC_DIMENSION],
         calibration: &[[f64; STATE_DIMENSION]; CALIBRATION_DIMENSION],
+        border: Option<&BorderBiasInputs>,
     ) -> FiniteCheck {
         let mut check = FiniteCheck::new();
         let Some(columns) = calibration
@@ -235,7 +248,7 @@ impl StructuredModel {
             check.value(f64::NAN);
             return check;
         };
-        let folded = self.fold_inputs(columns);
+        let folded = self.fold_inputs(columns, border_block::<C>(border));
         let (attitude, rest) = dynamic.split_at_mut(3);
         let (position, velocity) = rest.split_at_mut(3);
         let (Ok(attitude), Ok(position), Ok(velocity)) = (
@@ -263,4 +276,17 @@ fn element(row: Row, k: usize) -> f64 {
 #[inline(always)]
 fn column_block<const C: usize>(p: &[[f64; STATE_DIMENSION]; STATE_DIMENSION]) -> Option<&Columns> {
     p.get(C..C + 3).and_then(|c| <&Columns>::try_from(c).ok())
+}
+
+/// The border's `M C_jᵀ` for the column block at `C` (`None` without a border; a NaN block
+/// if out of range, which constant `C` never is).
+#[inline(always)]
+fn border_block<const C: usize>(border: Option<&BorderBiasInputs>) -> Option<&[BiasInput; 3]> {
+    const NAN_BLOCK: [BiasInput; 3] = [[f64::NAN; 6]; 3];
+    border.map(|b| {
+        b.state_columns
+            .get(C..C + 3)
+            .and_then(|values| <&[BiasInput; 3]>::try_from(values).ok())
+            .unwrap_or(&NAN_BLOCK)
+    })
 }

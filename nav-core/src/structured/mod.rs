@@ -48,6 +48,13 @@
 //! formed: `P_dd` gets `(U_{d,bg} + q_g E_g) E_gᵀ`, which is `U_{d,bg} E_gᵀ + q_g E_g E_gᵀ`
 //! (`U_{d,bg}` folded with the scale factor as above), likewise for the accelerometer. Only
 //! the bias random walks' `Qd` is formed block by block.
+//! States beside the 24 whose transition columns are `E M` (the systematic IMU error states,
+//! [`crate::imu_error_states`]: `ε`, cross-covariance `C = P_xε`) fold in the same way. In
+//! the bordered product `[F, E M] [[P, C], [Cᵀ, P_εε]]` the 24 columns are
+//! `U = [Φ E] P + E M Cᵀ`: column `j`'s folded bias rows gain `M C_jᵀ`; the border's columns
+//! are the new `C⁺_d`; and the new `P_dd = U [Φ E]ᵀ + C⁺_d Mᵀ E_dᵀ + Qd_dd`: row `r` of `U`'s
+//! folded bias columns gains `M C⁺_rᵀ` ([`BorderBiasInputs`]). Without such states nothing
+//! is added (the same operations as before, the same bits).
 //!
 //! ## Update
 //! For any gain `K` the Joseph form expands exactly (Bucy & Joseph 1968) to
@@ -83,8 +90,8 @@
 
 use crate::block::{Block, Row};
 use crate::state::{
-    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,
-    STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
+    StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, DYNAMIC_DIMENSION, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
 
 #[cfg(any(test, not(target_arch = "arm")))]
@@ -221,6 +228,32 @@ pub struct StructuredModel {
 
 /// One 3-vector per state: row `j` of a 24×3 matrix such as `P Hᵀ` or `K`.
 pub(crate) type StateRows = [Row; STATE_DIMENSION];
+
+/// An equivalent-bias 6-vector: gyro axes x, y, z (values 0..3), then accelerometer axes
+/// (values 3..6).
+pub(crate) type BiasInput = [f64; 6];
+
+/// What states beside the 24 whose transition columns are `E M` (bias columns of `F` times a
+/// map `M`: the systematic IMU error states, [`crate::imu_error_states`]) add to the
+/// propagation (module docs, "Propagation"): with `C` their cross-covariance and `C⁺` its
+/// propagated value, `U` gains `E M Cᵀ` and the new `P_dd` gains `C⁺_d Mᵀ E_dᵀ`. Both are
+/// additions to the folded bias inputs the kernels already multiply by `E`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BorderBiasInputs {
+    /// `M C_jᵀ` for each state `j` (the old `C`): added to column `j`'s folded bias rows.
+    pub(crate) state_columns: [BiasInput; STATE_DIMENSION],
+    /// `M C⁺_rᵀ` for each dynamic row `r` (the new `C`): added to row `r` of `U`'s folded
+    /// bias columns.
+    pub(crate) dynamic_rows: [BiasInput; DYNAMIC_DIMENSION],
+}
+
+impl BorderBiasInputs {
+    /// All zero.
+    pub(crate) const ZERO: Self = Self {
+        state_columns: [[0.0; 6]; STATE_DIMENSION],
+        dynamic_rows: [[0.0; 6]; DYNAMIC_DIMENSION],
+    };
+}
 
 /// `P Hᵀ` and `H P Hᵀ` of a measurement, summed over the non-zero 3×3 blocks of `H` only
 /// (module docs).

@@ -5,7 +5,9 @@
 use super::columns;
 #[cfg(any(test, not(target_arch = "arm")))]
 use super::rows;
-use super::{StateRows, StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL};
+use super::{
+    BorderBiasInputs, StateRows, StructuredModel, ATT, BIAS_A, BIAS_G, POS, SCALE_A, SCALE_G, VEL,
+};
 use nalgebra::SMatrix;
 
 #[cfg(any(test, target_arch = "arm"))]
@@ -82,21 +84,32 @@ impl StructuredModel {
         propagated
     }
 
-    /// Rows (ϑ, δp, δv) of `F C` for a 24×3 matrix `C` given by its rows (the calibration
-    /// rows of `F C` are those of `C`): `Φ C_d + E_g (C_bg + diag(ω_m) C_λg) + E_a (C_ba +
-    /// diag(f_m) C_λa)`, [`StructuredModel::propagate_state`] for three columns at once, by
-    /// blocks (the correlated-error border's cross-covariance, [`crate::gnss_error`]).
-    pub(crate) fn propagate_rows(&self, rows: &StateRows) -> [Block; 3] {
+    /// Rows (ϑ, δp, δv) of `F C + E X` for a 24×3 matrix `C` given by its rows (the
+    /// calibration rows of `F C` are those of `C`): `Φ C_d + E_g (C_bg + diag(ω_m) C_λg +
+    /// X_g) + E_a (C_ba + diag(f_m) C_λa + X_a)`, [`StructuredModel::propagate_state`] for
+    /// three columns at once, by blocks (the borders' cross-covariances,
+    /// [`crate::gnss_error`], [`crate::imu_error_states`]). `bias_inputs`, `X = (X_g, X_a)`
+    /// (rows the sensor axes, columns those of `C`), is the part `E X` of columns driven
+    /// through the bias columns (a border's `Γ = E M`); `None` is `X = 0` (nothing added).
+    pub(crate) fn propagate_rows(
+        &self,
+        rows: &StateRows,
+        bias_inputs: Option<&[Block; 2]>,
+    ) -> [Block; 3] {
         let block = |offset: usize| -> Block {
             [0, 1, 2].map(|i| rows.get(offset + i).copied().unwrap_or([f64::NAN; 3]))
         };
-        let gyro =
+        let mut gyro =
             block::add_scaled_rows(&block(BIAS_G), &block(SCALE_G), self.measured_rate_rad_s);
-        let accel = block::add_scaled_rows(
+        let mut accel = block::add_scaled_rows(
             &block(BIAS_A),
             &block(SCALE_A),
             self.measured_specific_force_mps2,
         );
+        if let Some([gyro_input, accel_input]) = bias_inputs {
+            gyro = add(&gyro, gyro_input);
+            accel = add(&accel, accel_input);
+        }
         let (attitude, position, velocity) = (block(ATT), block(POS), block(VEL));
         let t = &self.transition;
         let [gyro_attitude, gyro_position, gyro_velocity] = &self.gyro_bias_column;
@@ -174,7 +187,9 @@ impl StructuredModel {
     }
 
     /// `P ← F P Fᵀ + Qd` in place, by blocks (module docs); `false` (and `P` unchanged) if
-    /// the result is not finite. Every new block is computed from the old `P` into locals
+    /// the result is not finite. With `border` (states whose transition columns are `E M`,
+    /// [`BorderBiasInputs`]) the 24-state part of the bordered propagation, `P ← F P Fᵀ +
+    /// E M Cᵀ Fᵀ + F C Mᵀ Eᵀ + E M P_εε Mᵀ Eᵀ + Qd`, by the same kernels (module docs). Every new block is computed from the old `P` into locals
     /// first (`U` is 9×24, the new `P_dd` six blocks), checked, then written with its mirror.
     ///
     /// Two kernels compute `U` and the new `P_dd`, chosen by the target: 3×3 blocks with the
@@ -185,28 +200,37 @@ impl StructuredModel {
     /// the host/target comparisons). The folding of the scale-factor columns, the noise of
     /// `P_dd`, the walk diagonal, the finite check of `P_dd` and its writes are shared; the
     /// new `P_dc` stays in blocks in one tail and in the rows of `U` in the other.
-    pub(crate) fn propagate_covariance(&self, p: &mut CovarianceMatrix) -> bool {
+    pub(crate) fn propagate_covariance(
+        &self,
+        p: &mut CovarianceMatrix,
+        border: Option<&BorderBiasInputs>,
+    ) -> bool {
         #[cfg(target_arch = "arm")]
-        return self.propagate_covariance_by_blocks(p);
+        return self.propagate_covariance_by_blocks(p, border);
         #[cfg(not(target_arch = "arm"))]
-        return self.propagate_covariance_by_rows(p);
+        return self.propagate_covariance_by_rows(p, border);
     }
 
     /// [`StructuredModel::propagate_covariance`] with the 3×3 block kernel (the target's,
     /// [`columns`]): `U`'s dynamic column blocks into locals, its calibration column blocks
     /// (the new `P_dc`) into the lower triangle of `P`, then the new `P_dd` from them.
     #[cfg(any(test, target_arch = "arm"))]
-    pub(super) fn propagate_covariance_by_blocks(&self, p: &mut CovarianceMatrix) -> bool {
+    pub(super) fn propagate_covariance_by_blocks(
+        &self,
+        p: &mut CovarianceMatrix,
+        border: Option<&BorderBiasInputs>,
+    ) -> bool {
         let rows = self.kernel_rows();
-        let u_attitude_columns = self.dynamic_column_block::<ATT>(&rows, &p.data.0);
-        let u_position_columns = self.dynamic_column_block::<POS>(&rows, &p.data.0);
-        let u_velocity_columns = self.dynamic_column_block::<VEL>(&rows, &p.data.0);
-        let check = self.calibration_column_blocks(&rows, p);
+        let u_attitude_columns = self.dynamic_column_block::<ATT>(&rows, &p.data.0, border);
+        let u_position_columns = self.dynamic_column_block::<POS>(&rows, &p.data.0, border);
+        let u_velocity_columns = self.dynamic_column_block::<VEL>(&rows, &p.data.0, border);
+        let check = self.calibration_column_blocks(&rows, p, border);
         let (folded_gyro, folded_accel) = self.fold_calibration_columns(
             &written_column::<BIAS_G>(p),
             &written_column::<SCALE_G>(p),
             &written_column::<BIAS_A>(p),
             &written_column::<SCALE_A>(p),
+            border,
         );
         let [u_aa, u_pa, u_va] = &u_attitude_columns;
         let [u_ap, u_pp, u_vp] = &u_position_columns;
@@ -251,6 +275,7 @@ impl StructuredModel {
         &self,
         rows: &columns::KernelRows,
         p: &mut CovarianceMatrix,
+        border: Option<&BorderBiasInputs>,
     ) -> FiniteCheck {
         let (dynamic, calibration) = p.data.0.split_at_mut(DYNAMIC_DIMENSION);
         let (Ok(dynamic), Ok(calibration)) = (
@@ -261,25 +286,31 @@ impl StructuredModel {
             check.value(f64::NAN);
             return check;
         };
-        let mut check = self.calibration_column_block::<BIAS_G>(rows, dynamic, calibration);
-        check.merge(self.calibration_column_block::<BIAS_A>(rows, dynamic, calibration));
-        check.merge(self.calibration_column_block::<INSTALL>(rows, dynamic, calibration));
-        check.merge(self.calibration_column_block::<SCALE_G>(rows, dynamic, calibration));
-        check.merge(self.calibration_column_block::<SCALE_A>(rows, dynamic, calibration));
+        let (d, c) = (dynamic, calibration);
+        let mut check = self.calibration_column_block::<BIAS_G>(rows, d, c, border);
+        check.merge(self.calibration_column_block::<BIAS_A>(rows, d, c, border));
+        check.merge(self.calibration_column_block::<INSTALL>(rows, d, c, border));
+        check.merge(self.calibration_column_block::<SCALE_G>(rows, d, c, border));
+        check.merge(self.calibration_column_block::<SCALE_A>(rows, d, c, border));
         check
     }
 
     /// [`StructuredModel::propagate_covariance`] with the row kernel ([`rows`]; the host's).
     #[cfg(any(test, not(target_arch = "arm")))]
-    pub(super) fn propagate_covariance_by_rows(&self, p: &mut CovarianceMatrix) -> bool {
+    pub(super) fn propagate_covariance_by_rows(
+        &self,
+        p: &mut CovarianceMatrix,
+        border: Option<&BorderBiasInputs>,
+    ) -> bool {
         // Every element is written by `projected_rows` (the zeros are never read).
         let mut u = [[0.0; STATE_DIMENSION]; DYNAMIC_DIMENSION];
-        rows::projected_rows(self, p, &mut u);
+        rows::projected_rows(self, p, &mut u, border);
         let (folded_gyro, folded_accel) = self.fold_calibration_columns(
             &rows::column_block(&u, BIAS_G),
             &rows::column_block(&u, SCALE_G),
             &rows::column_block(&u, BIAS_A),
             &rows::column_block(&u, SCALE_A),
+            border,
         );
         let mut dynamic = rows::dynamic_blocks(self, &u, &folded_gyro, &folded_accel);
         self.write_propagated_rows(p, &mut u, &mut dynamic)
@@ -287,9 +318,39 @@ impl StructuredModel {
 
     /// `U`'s calibration columns folded (module docs), rows ϑ, δp, δv: the gyro's
     /// `U_bg + U_λg diag(ω_m) + q_g E_g` and the accelerometer's
-    /// `U_ba + U_λa diag(f_m) + q_a E_a` (white noise folded in; `E_a` has no attitude row).
+    /// `U_ba + U_λa diag(f_m) + q_a E_a` (white noise folded in; `E_a` has no attitude row),
+    /// then the border's `M C⁺_rᵀ` added to row `r` when there is one.
     #[inline(always)]
     fn fold_calibration_columns(
+        &self,
+        gyro_bias: &[Block; 3],
+        gyro_scale: &[Block; 3],
+        accel_bias: &[Block; 3],
+        accel_scale: &[Block; 3],
+        border: Option<&BorderBiasInputs>,
+    ) -> ([Block; 3], [Block; 3]) {
+        let (mut gyro, mut accel) =
+            self.fold_bias_columns(gyro_bias, gyro_scale, accel_bias, accel_scale);
+        if let Some(border) = border {
+            let rows = border.dynamic_rows.chunks_exact(3);
+            for ((gyro_block, accel_block), inputs) in gyro.iter_mut().zip(&mut accel).zip(rows) {
+                for ((gyro_row, accel_row), input) in gyro_block
+                    .iter_mut()
+                    .zip(accel_block.iter_mut())
+                    .zip(inputs)
+                {
+                    let [g0, g1, g2, a0, a1, a2] = *input;
+                    *gyro_row = block::row_add(*gyro_row, [g0, g1, g2]);
+                    *accel_row = block::row_add(*accel_row, [a0, a1, a2]);
+                }
+            }
+        }
+        (gyro, accel)
+    }
+
+    /// [`StructuredModel::fold_calibration_columns`] without a border.
+    #[inline(always)]
+    fn fold_bias_columns(
         &self,
         gyro_bias: &[Block; 3],
         gyro_scale: &[Block; 3],

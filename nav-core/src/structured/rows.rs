@@ -15,7 +15,9 @@
 
 use core::borrow::Borrow;
 
-use super::{StructuredModel, ATT, BIAS_A, BIAS_G, F_ROW_TERMS, POS, SCALE_A, SCALE_G, VEL};
+use super::{
+    BorderBiasInputs, StructuredModel, ATT, BIAS_A, BIAS_G, F_ROW_TERMS, POS, SCALE_A, SCALE_G, VEL,
+};
 use crate::block::{Block, Row};
 use crate::discretise::CovarianceMatrix;
 use crate::state::{BLOCK_DIMENSION, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
@@ -186,13 +188,41 @@ fn attitude_row_of_f(model: &StructuredModel, i: usize) -> [f64; 6] {
     [f0, f1, f2, e0, e1, e2]
 }
 
+/// The border's `M C_jᵀ` added to the folded rows: gyro row `k` of column `j` gains
+/// value `k` of state `j`'s bias input, accelerometer row `k` value `3 + k` (the block
+/// kernel adds them after folding, in the same order).
+#[inline(always)]
+fn add_border(gyro: &mut [StateRow; 3], accel: &mut [StateRow; 3], border: &BorderBiasInputs) {
+    for (j, input) in border.state_columns.iter().enumerate() {
+        let [g0, g1, g2, a0, a1, a2] = *input;
+        for (rows, values) in [(&mut *gyro, [g0, g1, g2]), (&mut *accel, [a0, a1, a2])] {
+            for (row, value) in rows.iter_mut().zip(values) {
+                if let Some(slot) = row.get_mut(j) {
+                    *slot += value;
+                }
+            }
+        }
+    }
+}
+
 /// `U = [Φ E] P` (module docs of [`super`]): attitude rows `Φ_ϑϑ P_ϑ + E_gϑ G`, position
 /// and velocity rows over `P_ϑ, P_p, P_v, G, A` (`G`, `A` the folded gyro and
-/// accelerometer rows), in the block kernel's term order.
+/// accelerometer rows, with the border's `M Cᵀ` when there is one), in the block kernel's
+/// term order.
 #[inline(never)]
-pub(super) fn projected_rows(model: &StructuredModel, p: &CovarianceMatrix, u: &mut ProjectedRows) {
-    let [g0, g1, g2] = folded_rows(p, BIAS_G, SCALE_G, model.measured_rate_rad_s);
-    let [a0, a1, a2] = folded_rows(p, BIAS_A, SCALE_A, model.measured_specific_force_mps2);
+pub(super) fn projected_rows(
+    model: &StructuredModel,
+    p: &CovarianceMatrix,
+    u: &mut ProjectedRows,
+    border: Option<&BorderBiasInputs>,
+) {
+    let mut gyro = folded_rows(p, BIAS_G, SCALE_G, model.measured_rate_rad_s);
+    let mut accel = folded_rows(p, BIAS_A, SCALE_A, model.measured_specific_force_mps2);
+    if let Some(border) = border {
+        add_border(&mut gyro, &mut accel, border);
+    }
+    let [g0, g1, g2] = gyro;
+    let [a0, a1, a2] = accel;
     let (t0, t1, t2) = (row(p, ATT), row(p, ATT + 1), row(p, ATT + 2));
     let dynamic_rows = [
         t0,

@@ -289,9 +289,11 @@ fn the_row_kernel_equals_the_block_kernel_bit_for_bit() {
             } else {
                 random_covariance(&mut rng)
             };
+            // Half the cases with a border's bias inputs (crate::imu_error_states).
+            let border = (case % 2 == 0).then(|| random_border(&mut rng));
             let (mut by_blocks, mut by_rows) = (p, p);
-            assert!(model.propagate_covariance_by_blocks(&mut by_blocks));
-            assert!(model.propagate_covariance_by_rows(&mut by_rows));
+            assert!(model.propagate_covariance_by_blocks(&mut by_blocks, border.as_ref()));
+            assert!(model.propagate_covariance_by_rows(&mut by_rows, border.as_ref()));
             assert_eq!(
                 bits(&by_rows),
                 bits(&by_blocks),
@@ -314,8 +316,8 @@ fn the_row_kernel_equals_the_block_kernel_bit_for_bit() {
         p[(row, column)] = f64::INFINITY;
         p[(column, row)] = f64::INFINITY;
         let (mut by_blocks, mut by_rows) = (p, p);
-        assert!(!model.propagate_covariance_by_blocks(&mut by_blocks));
-        assert!(!model.propagate_covariance_by_rows(&mut by_rows));
+        assert!(!model.propagate_covariance_by_blocks(&mut by_blocks, None));
+        assert!(!model.propagate_covariance_by_rows(&mut by_rows, None));
         assert_eq!(bits(&by_blocks), bits(&p));
         assert_eq!(bits(&by_rows), bits(&p));
     }
@@ -324,10 +326,20 @@ fn the_row_kernel_equals_the_block_kernel_bit_for_bit() {
     let model = StructuredModel::new(&random_point(&mut rng), &noise, 0.1, 3).unwrap();
     let p = CovarianceMatrix::from_element(f64::MAX);
     let (mut by_blocks, mut by_rows) = (p, p);
-    assert!(!model.propagate_covariance_by_blocks(&mut by_blocks));
-    assert!(!model.propagate_covariance_by_rows(&mut by_rows));
+    assert!(!model.propagate_covariance_by_blocks(&mut by_blocks, None));
+    assert!(!model.propagate_covariance_by_rows(&mut by_rows, None));
     assert_eq!(bits(&by_blocks), bits(&p));
     assert_eq!(bits(&by_rows), bits(&p));
+}
+
+/// Random bias inputs of a border ([`super::BorderBiasInputs`]), of the size a 24×12
+/// cross-covariance times a measured rate or force gives.
+fn random_border(rng: &mut ChaCha8Rng) -> super::BorderBiasInputs {
+    let mut value = || rng.random_range(-1e-3..1e-3);
+    super::BorderBiasInputs {
+        state_columns: core::array::from_fn(|_| core::array::from_fn(|_| value())),
+        dynamic_rows: core::array::from_fn(|_| core::array::from_fn(|_| value())),
+    }
 }
 
 pub(crate) fn random_quaternion(rng: &mut ChaCha8Rng, largest_angle_rad: f64) -> Quaternion<f64> {
