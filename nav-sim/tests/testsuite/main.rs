@@ -9,6 +9,7 @@ mod common;
 mod conditioning;
 mod consistency;
 mod design;
+mod design_imu_errors;
 mod dispersion;
 mod flight_software;
 mod frames_and_time;

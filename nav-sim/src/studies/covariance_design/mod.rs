@@ -53,8 +53,9 @@ use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoin
 use nav_core::filter::{ErrorState, ErrorStateFilter, FilterMode};
 use nav_core::frames::{LaunchFrame, WGS84_GM_M3_S2, WGS84_SEMI_MAJOR_AXIS_M};
 use nav_core::gravity::GravityModel;
+use nav_core::imu_error::IMU_ERROR_DIMENSION;
 use nav_core::measurement;
-use nav_core::state::{StateBlock, ATTITUDE};
+use nav_core::state::StateBlock;
 use nav_core::unmodelled::{
     bilinear_attitude_rate_covariance, rate_error_correlation, CoherentGrowth,
 };
@@ -67,6 +68,13 @@ use crate::setup::launch::Launch;
 use crate::setup::SetupError;
 use crate::world::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
 use crate::world::truth::{TruthError, TruthFrame, TruthSimulator};
+
+mod augmented;
+mod imu_errors;
+
+use augmented::AnalysedFilter;
+use imu_errors::MultiplierTracker;
+pub use imu_errors::{ImuErrorReport, ImuErrorRow};
 
 /// Why the analysis could not run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -214,6 +222,9 @@ pub struct SegmentSnapshot {
     pub end_time_s: f64,
     /// 1σ per calibration state, in [`CALIBRATION_TARGETS`] order, x/y/z per block.
     pub sigmas: [f64; 15],
+    /// 1σ of the twelve systematic IMU error states (nav-core `ImuErrorBlock` order), when
+    /// the scenario carries them (`[filter.imu_errors]`).
+    pub imu_error_sigmas: Option<[f64; IMU_ERROR_DIMENSION]>,
 }
 
 /// The orbit along the truth trajectory, for the safety check.
@@ -251,6 +262,8 @@ pub struct DesignReport {
     pub star_updates: u64,
     /// Number of GNSS updates.
     pub gnss_updates: u64,
+    /// The twelve systematic IMU error states, when the scenario carries them.
+    pub imu_errors: Option<ImuErrorReport>,
 }
 
 impl DesignReport {
@@ -276,6 +289,14 @@ impl DesignReport {
             ));
         }
         text
+    }
+
+    /// The per-segment history of the twelve systematic IMU error states (`sigma / prior`)
+    /// as text; `None` without them.
+    pub fn imu_error_history(&self) -> Option<String> {
+        self.imu_errors
+            .as_ref()
+            .map(|imu| imu_errors::history(&self.snapshots, &imu.prior))
     }
 
     /// The per-segment history (ratio to target, per calibration state) as text.
@@ -491,37 +512,37 @@ impl Aiding {
 
     fn star_update(
         &mut self,
-        filter: &mut ErrorStateFilter,
+        filter: &mut AnalysedFilter,
         truth: &TruthFrame,
     ) -> Result<bool, DesignError> {
         let attitude: Quaternion<f64> = truth.attitude_q_ib;
         let predicted = attitude * self.mounting * self.installation_estimate;
-        let report = measurement::star_sensor(
+        let accepted = measurement::star_sensor(
             &attitude,
             &self.mounting,
             &self.installation_estimate,
             &predicted,
             self.star_noise_rad,
         )
-        .and_then(|linear| filter.update(&linear, f64::INFINITY))
+        .and_then(|linear| filter.update(&linear))
         .map_err(|error| DesignError::Filter {
             operation: "star update",
             time_s: truth.time_s,
             error,
         })?;
-        if report.accepted {
+        if accepted {
             if let Some(growth) = &mut self.second_order {
                 growth.restart();
             }
         }
-        Ok(report.accepted)
+        Ok(accepted)
     }
 
     /// Velocity (when the receiver outputs it), then position of one fix; whether the
     /// position update was accepted.
     fn gnss_update(
         &self,
-        filter: &mut ErrorStateFilter,
+        filter: &mut AnalysedFilter,
         truth: &TruthFrame,
     ) -> Result<bool, DesignError> {
         let failed = |operation| {
@@ -545,19 +566,19 @@ impl Aiding {
                 &truth.velocity_mps,
                 self.gnss_velocity_noise_mps,
             )
-            .and_then(|linear| filter.update(&linear, f64::INFINITY))
+            .and_then(|linear| filter.update(&linear))
             .map_err(failed("GNSS velocity update"))?;
         }
-        let report = measurement::gnss_position(
+        let accepted = measurement::gnss_position(
             &truth.attitude_q_ib,
             &truth.position_m,
             &Vector3::zeros(),
             &truth.position_m,
             self.gnss_noise_m,
         )
-        .and_then(|linear| filter.update(&linear, f64::INFINITY))
+        .and_then(|linear| filter.update(&linear))
         .map_err(failed("GNSS update"))?;
-        Ok(report.accepted)
+        Ok(accepted)
     }
 
     /// The scheduler's second-order attitude growth (nav-fsw
@@ -565,7 +586,7 @@ impl Aiding {
     /// measured rate `measured_rate_rad_s`.
     fn grow_second_order_attitude(
         &mut self,
-        filter: &mut ErrorStateFilter,
+        filter: &mut AnalysedFilter,
         measured_rate_rad_s: &Vector3<f64>,
         interval_s: f64,
         time_s: f64,
@@ -573,21 +594,21 @@ impl Aiding {
         let Some(growth) = &mut self.second_order else {
             return Ok(());
         };
-        let rate_covariance =
-            bilinear_attitude_rate_covariance(filter.covariance(), measured_rate_rad_s);
+        let covariance = filter.covariance();
+        let rate_covariance = bilinear_attitude_rate_covariance(&covariance, measured_rate_rad_s);
         let rate_variance = rate_covariance.trace();
         if !(rate_variance.is_finite() && rate_variance > 0.0) {
             return Ok(());
         }
         let correlation = rate_error_correlation(
-            filter.covariance(),
+            &covariance,
             measured_rate_rad_s,
             &self.second_order_rate_rad_s,
         );
         self.second_order_rate_rad_s = *measured_rate_rad_s;
         let added = growth.grow_correlated(rate_variance.sqrt() * interval_s, correlation);
         filter
-            .add_block_covariance(ATTITUDE, &(rate_covariance * (added / rate_variance)))
+            .add_attitude_covariance(&(rate_covariance * (added / rate_variance)))
             .map_err(|error| DesignError::Filter {
                 operation: "second-order attitude growth",
                 time_s,
@@ -596,7 +617,7 @@ impl Aiding {
     }
 }
 
-fn calibration_sigmas(filter: &ErrorStateFilter) -> [f64; 15] {
+fn calibration_sigmas(filter: &AnalysedFilter) -> [f64; 15] {
     let sigma = filter.standard_deviations();
     let mut values = [0.0; 15];
     for (slots, target) in values.chunks_mut(3).zip(CALIBRATION_TARGETS) {
@@ -632,11 +653,13 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
     let mut truth = TruthSimulator::from_launch(&flown, &launch)?;
     let config = filter_config(scenario)?;
     let start_time_s = scenario.simulation.start_time_s;
-    let mut filter = ErrorStateFilter::new(&config).map_err(|error| DesignError::Filter {
-        operation: "filter initialisation",
-        time_s: start_time_s,
-        error,
-    })?;
+    let mut filter = AnalysedFilter::new(ErrorStateFilter::new(&config).map_err(|error| {
+        DesignError::Filter {
+            operation: "filter initialisation",
+            time_s: start_time_s,
+            error,
+        }
+    })?);
     let noise = options
         .process_noise
         .unwrap_or_else(|| scenario_process_noise(scenario))
@@ -671,6 +694,8 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
         mode: config.mode,
     };
     let mut snapshots = Vec::new();
+    let mut multipliers = MultiplierTracker::default();
+    let imu_error_prior = config.imu_error.state_sigmas();
     let (mut star_updates, mut gnss_updates) = (0_u64, 0_u64);
     let frame_count = truth.frame_count();
     let segment_labels: Vec<String> = truth
@@ -725,12 +750,13 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                 error,
             })?;
             filter
-                .predict(&model)
+                .predict(&model, &point)
                 .map_err(|error| DesignError::Filter {
                     operation: "predict",
                     time_s,
                     error,
                 })?;
+            multipliers.observe(&point);
             measured_rate = Some((point.measured_rate_rad_s, interval_s));
         }
         step.frames.clear();
@@ -750,6 +776,7 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
                     .unwrap_or_default(),
                 end_time_s: current.time_s,
                 sigmas: calibration_sigmas(&filter),
+                imu_error_sigmas: filter.imu_error_sigmas(),
             });
         }
     }
@@ -777,6 +804,11 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
         duration_s: scenario.duration_s(),
         star_updates,
         gnss_updates,
+        imu_errors: filter.imu_error_sigmas().map(|sigma| ImuErrorReport {
+            prior: imu_error_prior,
+            sigma,
+            largest_multiplier: multipliers.largest,
+        }),
     })
 }
 

@@ -160,3 +160,77 @@ fn zero_step_is_a_setting_error() {
         })
     ));
 }
+
+/// The augmented transition's coupling `E M` to first order is nav-core's continuous
+/// columns of the twelve states (`imu_error::system_columns`, derived from the
+/// sensitivities, not from the equivalent biases) times the interval.
+#[test]
+fn the_imu_error_coupling_is_nav_cores_system_columns() {
+    use nav_core::imu_error::system_columns;
+    use nav_core::observability::constant_motion;
+    let point = LinearisationPoint {
+        measured_rate_rad_s: Vector3::new(0.03, -0.02, 0.05),
+        measured_specific_force_mps2: Vector3::new(9.0, -0.7, 0.4),
+        ..constant_motion(
+            &Vector3::new(0.03, -0.02, 0.05),
+            &Vector3::new(9.0, -0.7, 0.4),
+            &rotation_matrix(&exp_rotation_vector(&Vector3::new(0.3, -0.5, 1.1))),
+        )
+    };
+    let noise = scenario_process_noise(&Scenario::default_scenario().unwrap());
+    let interval_s = 1e-3;
+    let model = discretise(
+        &system_matrix(&point),
+        &noise_input_matrix(&point),
+        &noise.spectral_density_diagonal(),
+        interval_s,
+        1,
+    )
+    .unwrap();
+    let coupling =
+        augmented::bias_columns(&model.transition) * augmented::equivalent_bias_map(&point);
+    let expected = system_columns(&point) * interval_s;
+    let scale = expected.amax();
+    assert!(scale > 1e-6, "{scale}");
+    for row in 0..24 {
+        for column in 0..IMU_ERROR_DIMENSION {
+            let (got, want) = (coupling[(row, column)], expected[(row, column)]);
+            assert!(
+                (got - want).abs() <= 1e-12 * scale,
+                "row {row} column {column}: {got:e} against {want:e}"
+            );
+        }
+    }
+}
+
+/// With the twelve states on but a negligible prior, the host-side augmented covariance
+/// reproduces nav-core's dense filter on a flight with receiver velocity and the correlated
+/// GNSS error states (the upper stage's initial coast and first three slews).
+#[test]
+fn with_negligible_imu_error_priors_the_augmented_analysis_is_nav_cores() {
+    let mut scenario =
+        Scenario::from_toml_str(include_str!("../../../scenarios/upper_stage.toml")).unwrap();
+    scenario.manoeuvres.truncate(4);
+    let reference = analyse(&scenario, &test_options()).unwrap();
+    scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
+        gyro_non_orthogonality_sigma_rad: 1e-15,
+        accel_misalignment_sigma_rad: 1e-15,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-18,
+    };
+    let augmented = analyse(&scenario, &test_options()).unwrap();
+    assert!(reference.imu_errors.is_none());
+    let imu = augmented.imu_errors.unwrap();
+    assert!(imu
+        .sigma
+        .iter()
+        .zip(imu.prior)
+        .all(|(s, p)| *s <= p && *s > 0.0));
+    for (k, (a, b)) in augmented
+        .final_sigma
+        .iter()
+        .zip(reference.final_sigma.iter())
+        .enumerate()
+    {
+        assert!((a / b - 1.0).abs() < 1e-9, "state {k}: {a:e} against {b:e}");
+    }
+}

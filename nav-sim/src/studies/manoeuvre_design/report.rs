@@ -58,12 +58,50 @@ impl ManoeuvreDesign {
             orbit.final_perigee_altitude_m / 1e3,
             orbit.final_apogee_altitude_m / 1e3,
         );
+        self.imu_error_text(&mut text);
         let _ = writeln!(
             text,
             "wall time: search {:.1} s ({} schedules analysed), final analysis {:.1} s",
             self.search_wall_s, self.evaluations, self.final_wall_s
         );
         text
+    }
+}
+
+impl ManoeuvreDesign {
+    /// The twelve systematic IMU error states of the designed and the input schedule
+    /// (`[filter.imu_errors]` on; nothing otherwise): reported, not searched for
+    /// (`docs/scenario-design.md`).
+    fn imu_error_text(&self, text: &mut String) {
+        let Some(imu) = &self.report.imu_errors else {
+            return;
+        };
+        let _ = writeln!(
+            text,
+            "\nsystematic IMU error states (reported; the search minimises the calibration \
+             ratios above, estimated beside them):\ndesigned schedule:\n{}",
+            imu.table()
+        );
+        if let Some(history) = self.report.imu_error_history() {
+            let _ = writeln!(
+                text,
+                "designed schedule, sigma/prior at the end of each segment:\n{history}"
+            );
+        }
+        if let Some(input) = self
+            .input_report
+            .as_ref()
+            .and_then(|r| r.imu_errors.as_ref())
+        {
+            let _ = writeln!(
+                text,
+                "input schedule (worst sigma/target {:.3}):\n{}",
+                self.input_report
+                    .as_ref()
+                    .map_or(f64::NAN, |r| r.worst_ratio()),
+                input.table()
+            );
+        }
     }
 }
 

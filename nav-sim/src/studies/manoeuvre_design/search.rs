@@ -78,6 +78,9 @@ pub struct ManoeuvreDesign {
     pub lateral_delta_v_mps: f64,
     /// Input mission segments left out (they end after the flight time).
     pub left_out: Vec<String>,
+    /// With the systematic IMU error states (`[filter.imu_errors]`): the full-rate analysis
+    /// of the input schedule, to set the designed one's twelve states against.
+    pub input_report: Option<DesignReport>,
 }
 
 /// The search space: values per coordinate.
@@ -249,6 +252,10 @@ pub fn design(
         .and_then(|schedule| with_schedule(scenario, schedule))
         .ok_or_else(|| infeasible(Some(&parameters)))?;
     let report = analyse(&designed, &FINAL_OPTIONS)?;
+    let input_report = match report.imu_errors {
+        Some(_) => Some(analyse(scenario, &FINAL_OPTIONS)?),
+        None => None,
+    };
     let lateral_delta_v_mps = designed
         .manoeuvres
         .iter()
@@ -270,6 +277,7 @@ pub fn design(
         final_wall_s: final_started.elapsed().as_secs_f64(),
         lateral_delta_v_mps,
         left_out: mission.left_out,
+        input_report,
     })
 }
 
