@@ -44,6 +44,8 @@ fn bordered_filter(rng: &mut ChaCha8Rng, mode: FilterMode) -> ErrorStateFilter {
         + SMatrix::<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>::from_diagonal(&SVector::from(
             sigmas.map(|s| s * s),
         ));
+    // Exactly symmetric, as every writer keeps the flight filter's P_εε.
+    let border = (border + border.transpose()) * 0.5;
     let estimate = SVector::<f64, IMU_ERROR_DIMENSION>::from_fn(|a, _| {
         sigmas[a] * rng.random_range(-1.0..1.0)
     });
@@ -281,6 +283,12 @@ fn border_update_equals_the_dense_36_state_update() {
         worst = worst.max(error).max(state_error);
         assert!(error < 1e-11, "case {case}: P {error:e}");
         assert!(state_error < 1e-11, "case {case}: x {state_error:e}");
+        let border = structured.imu_error().covariance();
+        assert_eq!(
+            border,
+            border.transpose(),
+            "case {case}: P_εε exactly symmetric"
+        );
         assert!(
             structured.imu_error().estimate() != prior.imu_error().estimate(),
             "case {case}"

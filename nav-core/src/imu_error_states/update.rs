@@ -70,8 +70,10 @@ impl ImuErrorStates {
             }
         }
         let mut sum = 0.0;
-        let frozen_blocks: [bool; STATE_DIMENSION / 3] =
-            core::array::from_fn(|b| frozen.contains_state(3 * b));
+        let (gains_flat, products_flat) = (
+            scratch.border_gains.as_flattened(),
+            scratch.border_products.as_flattened(),
+        );
         let groups = spare.iter_mut().zip(old.iter());
         for ((new_group, old_group), (k_g, m_g)) in groups.zip(
             scratch
@@ -79,38 +81,47 @@ impl ImuErrorStates {
                 .iter()
                 .zip(scratch.border_products.iter()),
         ) {
-            let rows = new_group
-                .iter_mut()
-                .zip(old_group)
-                .zip(gains.iter().zip(products));
-            for (j, ((new, [c0, c1, c2]), (k, m))) in rows.enumerate() {
-                // N_j = 0 where the update moves row j, −M_j on a frozen row (K_j = 0).
-                let (left, [r0, r1, r2]) = if frozen_blocks.get(j / 3).copied().unwrap_or(false) {
-                    (*m, *k_g)
-                } else {
-                    (*k, *m_g)
-                };
-                *new = [c0 - dot(left, r0), c1 - dot(left, r1), c2 - dot(left, r2)];
-                let [a, b, c] = *new;
-                sum += a + b + c;
+            // C⁺_ia = C_ia − K_i·M_εa on every row (K_i = 0 on a frozen row: C_ia − 0) ...
+            let [m0, m1, m2] = *m_g;
+            let rows = new_group.iter_mut().zip(old_group).zip(gains);
+            for ((new, [c0, c1, c2]), k) in rows {
+                let values = [c0 - dot(*k, m0), c1 - dot(*k, m1), c2 - dot(*k, m2)];
+                let [a, b, c] = values;
+                sum += (a + b) + c;
+                *new = values;
             }
-        }
-        // The new P_εε (upper triangle, mirrored) and ε̂ into the spare half.
-        let (gains_flat, products_flat) = (
-            scratch.border_gains.as_flattened(),
-            scratch.border_products.as_flattened(),
-        );
-        for (a, (k_a, row)) in gains_flat.iter().zip(covariance.iter()).enumerate() {
-            let upper = row.iter().zip(products_flat).enumerate().skip(a);
-            for (b, (old, m_b)) in upper {
-                let value = old - dot(*k_a, *m_b);
-                sum += value;
-                for (r, c) in [(a, b), (b, a)] {
-                    if let Some(entry) = spare_half.covariance.get_mut(r).and_then(|x| x.get_mut(c))
-                    {
-                        *entry = value;
+            // ... then − M_i·K_εa on the frozen rows (module docs, "Update").
+            let [k0, k1, k2] = *k_g;
+            let blocks = new_group.chunks_exact_mut(3).zip(products.chunks_exact(3));
+            for (b, (new_rows, m_rows)) in blocks.enumerate() {
+                if frozen.contains_state(3 * b) {
+                    for (new, m) in new_rows.iter_mut().zip(m_rows) {
+                        *new = block::row_sub(*new, [dot(*m, k0), dot(*m, k1), dot(*m, k2)]);
+                        let [a, b, c] = *new;
+                        sum += (a + b) + c;
                     }
                 }
+            }
+        }
+        // The new P_εε = P_εε − K_ε M_εᵀ and ε̂ into the spare half. Entry (a, b) takes
+        // K_a·M_b on and above the diagonal and K_b·M_a below it: the upper triangle's value
+        // mirrored (the old P_εε is exactly symmetric), without a second pass.
+        let rows = spare_half.covariance.iter_mut().zip(covariance.iter());
+        for (a, (((new_row, old_row), k_a), m_a)) in
+            rows.zip(gains_flat).zip(products_flat).enumerate()
+        {
+            let entries = new_row
+                .iter_mut()
+                .zip(old_row)
+                .zip(gains_flat.iter().zip(products_flat));
+            for (b, ((new, old), (k_b, m_b))) in entries.enumerate() {
+                let product = if b >= a {
+                    dot(*k_a, *m_b)
+                } else {
+                    dot(*k_b, *m_a)
+                };
+                *new = old - product;
+                sum += *new;
             }
             if let Some(value) = spare_half.estimate.get_mut(a) {
                 *value = estimate.get(a).copied().unwrap_or(f64::NAN) + dot(*k_a, innovation);
