@@ -7,9 +7,12 @@
 use nav_sim::harness::flight::{fly, FlightOptions};
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::studies::covariance_design::{analyse, DesignOptions};
+use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
 const IMU_ERRORS_ESTIMATED_TOML: &str = include_str!("../../scenarios/imu_errors_estimated.toml");
+const UPPER_STAGE_IMU_ERRORS_ESTIMATED_TOML: &str =
+    include_str!("../../scenarios/upper_stage_imu_errors_estimated.toml");
 
 /// Largest relative difference allowed between predicted and flown final 1σ, for the 15
 /// calibration states and for the twelve IMU error states that the flight moves from their
@@ -130,4 +133,54 @@ fn the_covariance_analysis_predicts_the_imu_error_states_of_a_flight() {
     // The flight makes most of the twelve observable (a test that compares priors would
     // prove nothing): the rotations the gyro terms, the burns the force terms.
     assert!(moved >= 9, "{moved} of 12 states moved from their prior");
+}
+
+/// `nav-sim design` on a scenario with the states on (the upper stage's first 1,189 s: a
+/// coast and slews about ±x and ±y, one window, no burn) reports their predicted 1σ for the
+/// designed and the input schedule; the designed slews about all three axes resolve the three
+/// gyro non-orthogonality terms, the input's (no z slew) not the two that need one.
+#[test]
+fn nav_sim_design_reports_the_imu_error_states_of_both_schedules() {
+    let mut scenario = Scenario::from_toml_str(UPPER_STAGE_IMU_ERRORS_ESTIMATED_TOML).unwrap();
+    scenario.manoeuvres.truncate(9);
+    let design = manoeuvre_design::design(&scenario, &Constraints::upper_stage(), 2).unwrap();
+    let text = design.text();
+    print!("{text}");
+    let designed = design.report.imu_errors.expect("designed schedule");
+    let input = design
+        .input_report
+        .as_ref()
+        .and_then(|report| report.imu_errors)
+        .expect("input schedule");
+    // The final tables of both schedules.
+    assert_eq!(text.matches("gyro_non_orthogonality.zy").count(), 2);
+    for k in 0..3 {
+        assert!(
+            designed.sigma[k] < 0.5 * designed.prior[k],
+            "designed {k}: {:e}",
+            designed.sigma[k]
+        );
+    }
+    // zx and zy multiply the rate about x and y but are told from the installation error
+    // only by a slew about z (docs/scenario-design.md).
+    assert!(
+        input.sigma[0] < 0.5 * input.prior[0],
+        "{:e}",
+        input.sigma[0]
+    );
+    for k in 1..3 {
+        assert!(
+            input.sigma[k] > 0.9 * input.prior[k],
+            "input {k}: {:e}",
+            input.sigma[k]
+        );
+    }
+    // No burn: the x g-sensitivity keeps its prior on both schedules.
+    for report in [&designed, &input] {
+        assert!(
+            report.sigma[9] > 0.95 * report.prior[9],
+            "{:e}",
+            report.sigma[9]
+        );
+    }
 }

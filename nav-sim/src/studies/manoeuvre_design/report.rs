@@ -61,8 +61,15 @@ impl ManoeuvreDesign {
         self.imu_error_text(&mut text);
         let _ = writeln!(
             text,
-            "wall time: search {:.1} s ({} schedules analysed), final analysis {:.1} s",
-            self.search_wall_s, self.evaluations, self.final_wall_s
+            "wall time: search {:.1} s ({} schedules analysed), final {} {:.1} s",
+            self.search_wall_s,
+            self.evaluations,
+            if self.input_report.is_some() {
+                "analyses (designed and input schedule)"
+            } else {
+                "analysis"
+            },
+            self.final_wall_s
         );
         text
     }

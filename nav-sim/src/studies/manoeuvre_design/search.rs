@@ -72,7 +72,7 @@ pub struct ManoeuvreDesign {
     pub evaluations: usize,
     /// Wall time of the search (s).
     pub search_wall_s: f64,
-    /// Wall time of the final analysis (s).
+    /// Wall time of the final analysis, and of the input schedule's when it is made (s).
     pub final_wall_s: f64,
     /// `Σ |Δv|` of the translations (m/s).
     pub lateral_delta_v_mps: f64,
