@@ -576,7 +576,7 @@ pub struct FilterSettings {
 /// The prior 1σ of the filter's systematic IMU error states (nav-core `imu_error_states`,
 /// docs/imu-errors.md): gyro non-orthogonality (3 terms), accelerometer misalignment (6) and
 /// gyro g-sensitivity (3), in the gyro-defined gauge. All 0 (the default) = off; when on,
-/// every 1σ is > 0, and `gnss_correlated_sigma_m` is 0 (the two are not combined yet).
+/// every 1σ is > 0.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilterImuErrors {
