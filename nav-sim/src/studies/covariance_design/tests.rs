@@ -205,7 +205,7 @@ fn the_imu_error_coupling_is_nav_cores_system_columns() {
 
 /// With the twelve states on but a negligible prior, the host-side augmented covariance
 /// reproduces nav-core's dense filter on a flight with receiver velocity and the correlated
-/// GNSS error states (the upper stage's initial coast and first three slews).
+/// GNSS error states (the upper stage's initial coast and its slews about +x and -x).
 #[test]
 fn with_negligible_imu_error_priors_the_augmented_analysis_is_nav_cores() {
     let mut scenario =
