@@ -65,7 +65,8 @@ step "host tests"
 cargo test --workspace
 
 step "fault-injection campaign (nav_sim::studies::faults): the table, every row met"
-cargo test -p tests-host --test fault_campaign -- --include-ignored --nocapture
+# --workspace: the same feature set as the host tests above, so nothing is compiled again.
+cargo test --workspace --test fault_campaign -- --include-ignored --nocapture
 
 step "the Slurm recipe of docs/monte-carlo.md on a single-node Slurm: sharded campaign merged = one-process campaign"
 bash scripts/slurm-check.sh
@@ -113,7 +114,7 @@ echo "none of their symbols in the flight ELF ($(wc -l < target/flight.nm) symbo
 step "no recursion and no indirect call in the flight binary's call graph"
 "$llvm_bin/llvm-objdump" -d --no-show-raw-insn --mcpu=cortex-m7 "$flight_elf" > target/flight.dis
 NAV_FLIGHT_ELF="$flight_elf" NAV_FLIGHT_DISASSEMBLY="$root/target/flight.dis" \
-  cargo test -p tests-host --test call_graph -- --include-ignored --nocapture
+  cargo test --workspace --test call_graph -- --include-ignored --nocapture
 step "panic-free build rejects a deliberately added panic path"
 if (cd qemu && cargo build --release --bin flight --no-default-features --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
   echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
@@ -142,7 +143,7 @@ step "flight build on QEMU"
 
 step "bit-for-bit: host build vs Cortex-M7 build"
 NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
-  cargo test -p tests-host --test target_bit_exact -- --include-ignored --nocapture
+  cargo test --workspace --test target_bit_exact -- --include-ignored --nocapture
 
 step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, bit for bit"
 (cd qemu && cargo build --release --bin replay)
