@@ -21,7 +21,7 @@
 //! * `P_xx ← F P_xx Fᵀ + Γ Cᵀ Fᵀ + F C Γᵀ + Γ P_εε Γᵀ + Qd = U [Φ E]ᵀ + C⁺_d Γ_dᵀ + Qd` with
 //!   `U = F P_xx + Γ Cᵀ`: since `Γ = E M`, the 24-state kernel computes it with
 //!   `M C_jᵀ` added to column `j`'s folded bias inputs and `M C⁺_rᵀ` to row `r` of `U`'s
-//!   folded bias columns ([`crate::structured::BorderBiasInputs`], derivation in
+//!   folded bias columns (`structured::BorderBiasInputs`, derivation in
 //!   [`crate::structured`]);
 //! * `P_εε` unchanged; in open loop `x_d ← (F x)_d + E (M ε̂)`.
 //!

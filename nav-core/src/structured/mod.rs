@@ -53,7 +53,7 @@
 //! the bordered product `[F, E M] [[P, C], [Cᵀ, P_εε]]` the 24 columns are
 //! `U = [Φ E] P + E M Cᵀ`: column `j`'s folded bias rows gain `M C_jᵀ`; the border's columns
 //! are the new `C⁺_d`; and the new `P_dd = U [Φ E]ᵀ + C⁺_d Mᵀ E_dᵀ + Qd_dd`: row `r` of `U`'s
-//! folded bias columns gains `M C⁺_rᵀ` ([`BorderBiasInputs`]). Without such states nothing
+//! folded bias columns gains `M C⁺_rᵀ` (`BorderBiasInputs`). Without such states nothing
 //! is added (the same operations as before, the same bits).
 //!
 //! ## Update
