@@ -7,7 +7,7 @@
 use super::{CrossCovariance, ImuErrorStates, Parts, DYNAMIC};
 use crate::block::{self, Block, FiniteCheck, Row};
 use crate::imu_error::IMU_ERROR_DIMENSION;
-use crate::structured::{BorderBiasInputs, StateRows, StructuredModel};
+use crate::structured::{BorderBiasInputs, StructuredModel};
 #[cfg(test)]
 use {
     super::GROUPS,
@@ -46,12 +46,6 @@ pub(super) fn group_maps(model: &StructuredModel) -> [GroupMap; GROUPS] {
             multipliers: [0, 1, 2].map(|c| term(c).map_or(f64::NAN, |t| t.multiplier)),
         }
     })
-}
-
-/// Row block `b` (states `3b..3b+3`) of a 24×3 matrix by rows.
-#[inline(always)]
-pub(super) fn rows_block(rows: &StateRows, b: usize) -> Block {
-    [0, 1, 2].map(|i| rows.get(3 * b + i).copied().unwrap_or([f64::NAN; 3]))
 }
 
 /// `M v` for a 12-vector `v` of the states' values, by sensor (gyro, accelerometer), written

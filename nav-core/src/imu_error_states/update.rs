@@ -2,9 +2,9 @@
 //! (module docs of [`crate::imu_error_states`]): `M_ε`, `K_ε` and the new `C` (into the spare
 //! buffer) with the new `P_εε` and `ε̂` checked, then all of them committed in place.
 
-use super::propagate::rows_block;
-use super::{ImuErrorStates, Parts, GROUPS};
+use super::{ImuErrorStates, Parts};
 use crate::block::{self, dot, FiniteCheck, Row};
+use crate::imu_error::IMU_ERROR_DIMENSION;
 use crate::measurement::MeasurementJacobian;
 use crate::state::{BlockMask, STATE_DIMENSION};
 use crate::structured::StateRows;
@@ -34,17 +34,19 @@ impl ImuErrorStates {
             scratch,
         } = self.parts();
         // M_ε by groups: row c of group g = Σ_j H[:, j] C_g[j][c] over the observed blocks.
-        scratch.border_products = [[[0.0; 3]; 3]; GROUPS];
-        let columns = jacobian.data.0.chunks_exact(3).zip(observed).enumerate();
-        for (state_block, (h_columns, _)) in columns.filter(|(_, (_, seen))| **seen) {
-            for (group, products) in old.iter().zip(scratch.border_products.iter_mut()) {
-                let c_rows = rows_block(group, state_block);
-                for (h_column, c_row) in h_columns.iter().zip(&c_rows) {
-                    for (product, c) in products.iter_mut().zip(c_row) {
-                        *product = block::row_add_scaled(*product, *h_column, *c);
+        // A group's nine sums stay in registers across the observed blocks.
+        for (group, products) in old.iter().zip(scratch.border_products.iter_mut()) {
+            let mut sums = [[0.0; 3]; 3];
+            let blocks = jacobian.data.0.chunks_exact(3).zip(observed);
+            let rows = group.chunks_exact(3);
+            for ((h_columns, _), c_rows) in blocks.zip(rows).filter(|((_, seen), _)| **seen) {
+                for (h_column, c_row) in h_columns.iter().zip(c_rows) {
+                    for (sum, c) in sums.iter_mut().zip(c_row) {
+                        *sum = block::row_add_scaled(*sum, *h_column, *c);
                     }
                 }
             }
+            *products = sums;
         }
         // With the GNSS border: M_ε gains h Bᵀ (H_GNSS = h I).
         if let Some((coefficient, _)) = gnss.filter(|(h, _)| *h != 0.0) {
@@ -103,29 +105,27 @@ impl ImuErrorStates {
                 }
             }
         }
-        // The new P_εε = P_εε − K_ε M_εᵀ and ε̂ into the spare half. Entry (a, b) takes
-        // K_a·M_b on and above the diagonal and K_b·M_a below it: the upper triangle's value
-        // mirrored (the old P_εε is exactly symmetric), without a second pass.
+        // The new P_εε = P_εε − K_ε M_εᵀ and ε̂ into the spare half: the upper triangle,
+        // then mirrored (exactly symmetric).
         let rows = spare_half.covariance.iter_mut().zip(covariance.iter());
-        for (a, (((new_row, old_row), k_a), m_a)) in
-            rows.zip(gains_flat).zip(products_flat).enumerate()
-        {
-            let entries = new_row
-                .iter_mut()
-                .zip(old_row)
-                .zip(gains_flat.iter().zip(products_flat));
-            for (b, ((new, old), (k_b, m_b))) in entries.enumerate() {
-                let product = if b >= a {
-                    dot(*k_a, *m_b)
-                } else {
-                    dot(*k_b, *m_a)
-                };
-                *new = old - product;
+        for (a, ((new_row, old_row), k_a)) in rows.zip(gains_flat).enumerate() {
+            let entries = new_row.iter_mut().zip(old_row).zip(products_flat).skip(a);
+            for ((new, old), m_b) in entries {
+                *new = old - dot(*k_a, *m_b);
                 sum += *new;
             }
             if let Some(value) = spare_half.estimate.get_mut(a) {
                 *value = estimate.get(a).copied().unwrap_or(f64::NAN) + dot(*k_a, innovation);
                 sum += *value;
+            }
+        }
+        for a in 0..IMU_ERROR_DIMENSION {
+            let (upper, lower) = spare_half.covariance.split_at_mut(a + 1);
+            let Some(row) = upper.last() else { continue };
+            for (lower_row, value) in lower.iter_mut().zip(row.iter().skip(a + 1)) {
+                if let Some(slot) = lower_row.get_mut(a) {
+                    *slot = *value;
+                }
             }
         }
         // B ← B − K_GNSS M_εᵀ into the spare half.
