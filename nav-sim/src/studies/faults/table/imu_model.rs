@@ -1,9 +1,11 @@
-//! Fault rows 34–36: IMU errors the 24-state filter does not model (a g-sensitivity, a
+//! Fault rows 34–37: IMU errors the 24-state filter does not model (a g-sensitivity, a
 //! non-orthogonal accelerometer triad, a misaligned gyro triad), appearing at the fault
-//! start. The flight software cannot estimate them; it must not blame a healthy aid for them
+//! start. The 24-state filter cannot estimate them; it must not blame a healthy aid for them
 //! (no sensor declared faulty), and says so where its innovations show them (the consistency
 //! monitor). Where the filter explains an error with its own bias and scale-factor states the
-//! innovations stay consistent and no innovation test can see it: the rows say which.
+//! innovations stay consistent and no innovation test can see it: the rows say which. Row 37
+//! flies the g-sensitivity again with the systematic IMU error states on
+//! (`[filter.imu_errors]`): estimated, nothing flagged, the calibration within bound.
 
 use super::*;
 use crate::studies::faults::Injector;
@@ -14,6 +16,25 @@ const G_SENSITIVITY_RAD_S_PER_MPS2: f64 = 4.848_137e-6 / 9.806_65;
 /// Off-diagonal misalignment of the triad rows (rad): 20 µrad, a navigation-grade triad
 /// after factory calibration.
 const MISALIGNMENT_RAD: f64 = 2.0e-5;
+
+/// The g-sensitivity row's error, applied to every IMU sample from the fault start.
+fn g_sensitivity(sample: &mut ImuSample) {
+    for axis in 0..3 {
+        sample.delta_angle_rad[axis] +=
+            G_SENSITIVITY_RAD_S_PER_MPS2 * sample.delta_velocity_mps[axis];
+    }
+}
+
+/// The systematic IMU error states the estimated row turns on: the g-sensitivity prior is the
+/// injected 1 °/h/g (a specification's value), the misalignment priors those of
+/// `nav-sim/scenarios/imu_errors_estimated.toml` (√2 × 20 µrad in the gyro-defined gauge).
+fn estimate_imu_errors(scenario: &mut Scenario) {
+    scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
+        gyro_non_orthogonality_sigma_rad: 2.83e-5,
+        accel_misalignment_sigma_rad: 2.83e-5,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: G_SENSITIVITY_RAD_S_PER_MPS2,
+    };
+}
 
 /// An injector that passes every IMU sample from the fault start on through `error`.
 fn from_the_fault_start(error: fn(&mut ImuSample)) -> Injector {
@@ -51,14 +72,7 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
             declared_faulty: none,
             criterion: Criterion::CountedOnly,
             scenario_change: None,
-            injector: |_| {
-                from_the_fault_start(|sample| {
-                    for axis in 0..3 {
-                        sample.delta_angle_rad[axis] +=
-                            G_SENSITIVITY_RAD_S_PER_MPS2 * sample.delta_velocity_mps[axis];
-                    }
-                })
-            },
+            injector: |_| from_the_fault_start(g_sensitivity),
         },
         FaultClass {
             name: "accelerometer triad non-orthogonal 20 µrad, not modelled",
@@ -105,6 +119,29 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                     sample.delta_angle_rad = [x + m * (y + z), y + m * (x + z), z + m * (x + y)];
                 })
             },
+        },
+        FaultClass {
+            name: "gyro g-sensitivity 1 °/h/g, estimated",
+            injected: "row 34's g-sensitivity, with the systematic IMU error states on \
+                       ([filter.imu_errors]; g-sensitivity prior 1 °/h/g 1σ)",
+            reaction: "estimated from the burns' specific force: the innovations stay \
+                       consistent (no consistency counter), no sensor declared faulty, the \
+                       calibration within bound",
+            counts: vec![
+                (
+                    counter!(star_inconsistent + gnss_inconsistent),
+                    Expected::Exactly(0),
+                ),
+                (
+                    counter!(star_declared_faulty + gnss_declared_faulty),
+                    Expected::Exactly(0),
+                ),
+            ],
+            injection_s: to_the_end_s,
+            declared_faulty: none,
+            criterion: Criterion::CalibrationWithinBound,
+            scenario_change: Some(estimate_imu_errors),
+            injector: |_| from_the_fault_start(g_sensitivity),
         },
     ]
 }
