@@ -10,7 +10,7 @@
 //! axis) keeps its prior and leaves no error on this flight.
 
 use nav_core::error_model::LinearisationPoint;
-use nav_core::imu_error::{equivalent_bias_terms, BiasSensor, ImuErrorBlock, IMU_ERROR_DIMENSION};
+use nav_core::imu_error::{equivalent_bias_terms, BiasSensor, IMU_ERROR_DIMENSION};
 use nav_core::state::StateBlock;
 
 use super::CALIBRATION_TARGETS;
@@ -88,22 +88,8 @@ fn bias_target(block: StateBlock) -> f64 {
         .map_or(f64::NAN, |target| target.target)
 }
 
-/// `block.component` of state `k` (0-11).
-pub fn state_name(k: usize) -> String {
-    ImuErrorBlock::ALL
-        .iter()
-        .find(|block| (block.offset()..block.offset() + block.dimension()).contains(&k))
-        .map_or_else(
-            || "?".to_string(),
-            |block| {
-                format!(
-                    "{}.{}",
-                    block.name(),
-                    block.component_name(k - block.offset())
-                )
-            },
-        )
-}
+/// `block.component` of state `k` (0-11), nav-core's names.
+pub use crate::studies::observability::imu_errors::state_name;
 
 impl ImuErrorReport {
     /// One row per state.
