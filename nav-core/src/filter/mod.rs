@@ -879,21 +879,11 @@ impl ErrorStateFilter {
         // into the result directly, where one whose address the kernels take is copied
         // there with the innovation.
         let s = covariance;
-        if let Some(border) = &border {
+        if border.is_some() || self.imu_error.is_enabled() {
             let solved = (&cholesky, &s, frozen);
             let jacobian = (h, &observed_blocks);
-            self.update_border_and_covariance(
-                border,
-                jacobian,
-                &gains,
-                &observed,
-                solved,
-                &innovation,
-            )?;
-        } else if self.imu_error.is_enabled() {
-            let jacobian = (h, &observed_blocks);
-            let solved = (&cholesky, &s, frozen);
-            self.update_imu_border_and_covariance(
+            self.update_borders_and_covariance(
+                border.as_ref(),
                 jacobian,
                 &gains,
                 &observed,
@@ -912,17 +902,19 @@ impl ErrorStateFilter {
         })
     }
 
-    /// The covariance part of [`ErrorStateFilter::update_structured`] with the correlated
-    /// GNSS error states: the border's new values first (its new `C` into its spare buffer),
-    /// then the 24-state Joseph kernel with the bordered `M` and `S`, then the border
-    /// committed; nothing changes on an error.
+    /// The covariance part of [`ErrorStateFilter::update_structured`] with a border: the
+    /// correlated GNSS error states (`border`, their products) and/or the systematic IMU
+    /// error states. Each border's new values first (their new cross-covariances into their
+    /// spare buffers), then the 24-state Joseph kernel (with the GNSS border's `M` and `S`;
+    /// `H_ε = 0` for the IMU border), then the borders committed; nothing changes on an
+    /// error.
     ///
     /// # Errors
     /// [`NavError::NonFiniteState`] if a result is not finite.
     #[inline(never)]
-    fn update_border_and_covariance(
+    fn update_borders_and_covariance(
         &mut self,
-        border: &crate::gnss_error::Border,
+        border: Option<&crate::gnss_error::Border>,
         jacobian: (
             &crate::measurement::MeasurementJacobian,
             &[bool; STATE_DIMENSION / 3],
@@ -932,25 +924,27 @@ impl ErrorStateFilter {
         (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
         innovation: &Vector3<f64>,
     ) -> Result<(), NavError> {
-        let (estimate, border_covariance) = self
-            .gnss_error
-            .updated(
-                border,
-                (gains, observed.products(), frozen),
-                |row| cholesky.solve(row),
-                block::from_vector(innovation),
-            )
-            .ok_or(NavError::NonFiniteState)?;
+        let gnss = match border {
+            Some(border) => Some(
+                self.gnss_error
+                    .updated(
+                        border,
+                        (gains, observed.products(), frozen),
+                        |row| cholesky.solve(row),
+                        block::from_vector(innovation),
+                    )
+                    .ok_or(NavError::NonFiniteState)?,
+            ),
+            None => None,
+        };
         let imu_error = self.imu_error.is_enabled();
-        // The IMU border with the GNSS one (crate::imu_error_states): its new values into its
-        // spare buffers, committed with the GNSS border's.
         if imu_error
             && !self.imu_error.prepare_update(
                 jacobian,
                 (gains, observed.products(), frozen),
                 |row| cholesky.solve(row),
                 block::from_vector(innovation),
-                Some((border.coefficient, &border.products)),
+                border.map(|border| (border.coefficient, &border.products)),
             )
         {
             return Err(NavError::NonFiniteState);
@@ -958,45 +952,12 @@ impl ErrorStateFilter {
         if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
             return Err(NavError::NonFiniteState);
         }
-        self.gnss_error.commit(estimate, &border_covariance);
+        if let Some((estimate, border_covariance)) = gnss {
+            self.gnss_error.commit(estimate, &border_covariance);
+        }
         if imu_error {
             self.imu_error.commit_update();
         }
-        Ok(())
-    }
-
-    /// The covariance part of [`ErrorStateFilter::update_structured`] with the systematic IMU
-    /// error states: the border's new values first (its new `C` into its spare buffer), then
-    /// the 24-state Joseph kernel (unchanged: `H_ε = 0`), then the border committed; nothing
-    /// changes on an error.
-    ///
-    /// # Errors
-    /// [`NavError::NonFiniteState`] if a result is not finite.
-    #[inline(never)]
-    fn update_imu_border_and_covariance(
-        &mut self,
-        jacobian: (
-            &crate::measurement::MeasurementJacobian,
-            &[bool; STATE_DIMENSION / 3],
-        ),
-        gains: &structured::StateRows,
-        observed: &structured::ObservedCovariance,
-        (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
-        innovation: &Vector3<f64>,
-    ) -> Result<(), NavError> {
-        if !self.imu_error.prepare_update(
-            jacobian,
-            (gains, observed.products(), frozen),
-            |row| cholesky.solve(row),
-            block::from_vector(innovation),
-            None,
-        ) {
-            return Err(NavError::NonFiniteState);
-        }
-        if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
-            return Err(NavError::NonFiniteState);
-        }
-        self.imu_error.commit_update();
         Ok(())
     }
 
