@@ -21,8 +21,22 @@ pub struct ImuErrorCampaign {
     pub largest_error_over_sigma: (f64, u64, usize),
 }
 
-/// `block.component` of state `k` (0-11), nav-core's names.
-pub use crate::studies::observability::imu_errors::state_name;
+/// `block.component` of state `k` (nav-core's names).
+pub fn state_name(k: usize) -> String {
+    ImuErrorBlock::ALL
+        .iter()
+        .find(|block| (block.offset()..block.offset() + block.dimension()).contains(&k))
+        .map_or_else(
+            || "?".to_string(),
+            |block| {
+                format!(
+                    "{}.{}",
+                    block.name(),
+                    block.component_name(k - block.offset())
+                )
+            },
+        )
+}
 
 /// The unit of state `k`.
 fn unit(k: usize) -> &'static str {

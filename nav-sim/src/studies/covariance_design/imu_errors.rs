@@ -88,8 +88,8 @@ fn bias_target(block: StateBlock) -> f64 {
         .map_or(f64::NAN, |target| target.target)
 }
 
-/// `block.component` of state `k` (0-11), nav-core's names.
-pub use crate::studies::observability::imu_errors::state_name;
+/// `block.component` of state `k` (0-11), nav-core's names (the campaign report's).
+pub use crate::campaign::imu_error_report::state_name;
 
 impl ImuErrorReport {
     /// One row per state.

@@ -1,6 +1,7 @@
 //! Unit tests of the covariance design study.
 
 use super::*;
+use nav_core::frames::WGS84_GM_M3_S2;
 use nav_core::state::ACCEL_SCALE_FACTOR;
 
 /// The second shipped scenario: the default schedule with different true sensor errors.
