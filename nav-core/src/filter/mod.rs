@@ -792,7 +792,7 @@ impl ErrorStateFilter {
         state: Option<ErrorState>,
         gnss_decay: Option<f64>,
     ) -> Result<(), NavError> {
-        if !self.imu_error.prepare_propagation(model) {
+        if !self.imu_error.prepare_propagation(model, state.is_some()) {
             return Err(NavError::NonFiniteState);
         }
         let border = Some(self.imu_error.propagation_inputs());

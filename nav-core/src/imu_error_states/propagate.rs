@@ -96,6 +96,24 @@ pub(super) fn equivalent_row(cross: &CrossCovariance, motion: (Row, Row), j: usi
     [g0, g1, g2, a0, a1, a2]
 }
 
+/// Three columns' equivalent-bias vectors (`[gyro, accelerometer]` each) as the bias inputs
+/// of `StructuredModel::propagate_rows`: per sensor a block whose rows are the sensor axes
+/// and whose columns are the three columns.
+fn bias_input_blocks(columns: &[[Row; 2]]) -> [Block; 2] {
+    core::array::from_fn(|s| {
+        core::array::from_fn(|u| {
+            core::array::from_fn(|c| {
+                columns
+                    .get(c)
+                    .and_then(|column| column.get(s))
+                    .and_then(|axes| axes.get(u))
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            })
+        })
+    })
+}
+
 /// `C⁺ = F C + Γ P_εε` into `new`: the dynamic rows `F C + E Q` (`Q_{s,h}`: the columns of
 /// group `h` of `M P_εε`, `m_p`, folded into the bias inputs), the calibration rows those
 /// of `old`.
@@ -107,18 +125,7 @@ fn propagate_cross(
 ) {
     let groups = new.iter_mut().zip(old.iter()).zip(m_p.chunks_exact(3));
     for ((new_group, old_group), m_p_group) in groups {
-        let q: [Block; 2] = core::array::from_fn(|s| {
-            core::array::from_fn(|u| {
-                core::array::from_fn(|c| {
-                    m_p_group
-                        .get(c)
-                        .and_then(|column| column.get(s))
-                        .and_then(|r| r.get(u))
-                        .copied()
-                        .unwrap_or(f64::NAN)
-                })
-            })
-        });
+        let q = bias_input_blocks(m_p_group);
         let dynamic = model.propagate_rows(old_group, Some(&q));
         for (value, new_rows) in dynamic.iter().zip(new_group.chunks_exact_mut(3)) {
             for (slot, row) in new_rows.iter_mut().zip(value) {
@@ -135,12 +142,12 @@ impl ImuErrorStates {
     /// The first step of a propagation (module docs): the new `C` (`F C + Γ P_εε`) into the
     /// spare buffer and the bias inputs the 24-state kernel folds in
     /// ([`crate::structured::BorderBiasInputs`]: `M C_jᵀ` of the old `C`, `M C⁺_rᵀ` of the
-    /// new one's dynamic rows), computed from the border alone; `false` if the open-loop
-    /// state increment is not finite (nothing the filter reads has changed; the rest the
+    /// new one's dynamic rows), and in `open_loop` the state increment `E M ε̂`, computed
+    /// from the border alone; `false` if the state increment is not finite (nothing the filter reads has changed; the rest the
     /// kernel checks, see the body). Then the kernel runs with
     /// [`ImuErrorStates::propagation_inputs`] and [`ImuErrorStates::commit_propagation`]
     /// makes the new `C` active.
-    pub(crate) fn prepare_propagation(&mut self, model: &StructuredModel) -> bool {
+    pub(crate) fn prepare_propagation(&mut self, model: &StructuredModel, open_loop: bool) -> bool {
         let Parts {
             estimate,
             covariance,
@@ -155,10 +162,11 @@ impl ImuErrorStates {
         for (column, row) in m_p.iter_mut().zip(covariance.iter()) {
             *column = to_bias(row, motion);
         }
-        let bias = to_bias(estimate, motion);
+        // The state increment only in open loop (in closed loop the state is not propagated).
+        let bias = open_loop.then(|| to_bias(estimate, motion));
         for (b, increment) in scratch.state_increment.chunks_exact_mut(3).enumerate() {
             let mut row = [0.0; 3];
-            for (s, u) in bias.iter().enumerate() {
+            for (s, u) in bias.iter().flatten().enumerate() {
                 if let Some(e) = bias_block(model, s, b) {
                     row = block::mul_vector_add(row, e, *u);
                 }
@@ -206,18 +214,7 @@ impl ImuErrorStates {
     /// `StructuredModel::propagate_rows`).
     pub(crate) fn gnss_bias_inputs(&self, model: &StructuredModel) -> [Block; 2] {
         let motion = (model.measured_rate(), model.measured_force());
-        let bias = self.half().gnss_cross.map(|row| to_bias(&row, motion));
-        core::array::from_fn(|s| {
-            core::array::from_fn(|u| {
-                core::array::from_fn(|m| {
-                    bias.get(m)
-                        .and_then(|sensors| sensors.get(s))
-                        .and_then(|axes| axes.get(u))
-                        .copied()
-                        .unwrap_or(f64::NAN)
-                })
-            })
-        })
+        bias_input_blocks(&self.half().gnss_cross.map(|row| to_bias(&row, motion)))
     }
 
     /// `E M ε̂` on the dynamic rows, the open-loop state's increment of the propagation

@@ -189,8 +189,9 @@ impl StructuredModel {
     /// `P ← F P Fᵀ + Qd` in place, by blocks (module docs); `false` (and `P` unchanged) if
     /// the result is not finite. With `border` (states whose transition columns are `E M`,
     /// [`BorderBiasInputs`]) the 24-state part of the bordered propagation, `P ← F P Fᵀ +
-    /// E M Cᵀ Fᵀ + F C Mᵀ Eᵀ + E M P_εε Mᵀ Eᵀ + Qd`, by the same kernels (module docs). Every new block is computed from the old `P` into locals
-    /// first (`U` is 9×24, the new `P_dd` six blocks), checked, then written with its mirror.
+    /// E M Cᵀ Fᵀ + F C Mᵀ Eᵀ + E M P_εε Mᵀ Eᵀ + Qd`, by the same kernels (module docs).
+    /// Every new block is computed from the old `P` into locals first (`U` is 9×24, the new
+    /// `P_dd` six blocks), checked, then written with its mirror.
     ///
     /// Two kernels compute `U` and the new `P_dd`, chosen by the target: 3×3 blocks with the
     /// accumulators in registers on a scalar double-precision FPU (32-bit ARM: the
