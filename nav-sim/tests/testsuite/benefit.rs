@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use nav_sim::scenario::ManoeuvreSegment;
+use crate::common::segment;
 use nav_sim::studies::benefit::{self, BenefitOptions, Comparison, Filter, OutagePlan, Quantity};
 use nav_sim::Scenario;
 
@@ -14,15 +14,6 @@ use nav_sim::Scenario;
 /// burn's direction) and 30 s of aided coast before the outage (107 s, 53,500 frames).
 fn calibration_flight() -> Scenario {
     let mut scenario = common::short_scenario();
-    let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3], force: [f64; 3]| {
-        ManoeuvreSegment {
-            label: label.to_string(),
-            duration_s,
-            ramp_s,
-            body_rate_deg_per_s: rate,
-            specific_force_mps2: force,
-        }
-    };
     let coast = [2.4e-4; 3];
     scenario.manoeuvres = vec![
         segment("coast", 10.0, 0.0, coast, [0.0; 3]),

@@ -3,15 +3,29 @@
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::Scenario;
 
-/// 42 s with a 4 Hz star sensor and 1 Hz GNSS: 10 s coast, 12 s rotation about z at 100 °/s, 20 s coast (21,000 frames).
-pub fn short_scenario() -> Scenario {
-    let mut scenario = Scenario::default_scenario().unwrap();
-    let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3]| ManoeuvreSegment {
+/// A manoeuvre segment: body rate (deg/s) and specific force (m/s²) held for `duration_s`,
+/// reached over `ramp_s`.
+pub fn segment(
+    label: &str,
+    duration_s: f64,
+    ramp_s: f64,
+    rate: [f64; 3],
+    force: [f64; 3],
+) -> ManoeuvreSegment {
+    ManoeuvreSegment {
         label: label.to_string(),
         duration_s,
         ramp_s,
         body_rate_deg_per_s: rate,
-        specific_force_mps2: [0.0; 3],
+        specific_force_mps2: force,
+    }
+}
+
+/// 42 s with a 4 Hz star sensor and 1 Hz GNSS: 10 s coast, 12 s rotation about z at 100 °/s, 20 s coast (21,000 frames).
+pub fn short_scenario() -> Scenario {
+    let mut scenario = Scenario::default_scenario().unwrap();
+    let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3]| {
+        segment(label, duration_s, ramp_s, rate, [0.0; 3])
     };
     scenario.manoeuvres = vec![
         segment("coast", 10.0, 0.0, [2.4e-4; 3]),

@@ -4,8 +4,8 @@
 //! `nav-sim design` reports them. Results: docs/imu-errors.md, "What `nav-sim design`
 //! predicts".
 
+use crate::common::segment;
 use nav_sim::harness::flight::{fly, FlightOptions};
-use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::studies::covariance_design::{analyse, DesignOptions};
 use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
@@ -26,15 +26,6 @@ const MOVED: f64 = 0.9;
 /// z at 100 °/s, then 300 m/s along +x, +y and +z at 50 m/s², each followed by a 20 s coast.
 fn short_flight() -> Scenario {
     let mut scenario = Scenario::from_toml_str(IMU_ERRORS_ESTIMATED_TOML).unwrap();
-    let segment = |label: &str, duration_s: f64, ramp_s: f64, rate: [f64; 3], force: [f64; 3]| {
-        ManoeuvreSegment {
-            label: label.to_string(),
-            duration_s,
-            ramp_s,
-            body_rate_deg_per_s: rate,
-            specific_force_mps2: force,
-        }
-    };
     let quiet = [2.4e-4; 3];
     let mut manoeuvres = vec![segment("initial coast", 20.0, 0.0, quiet, [0.0; 3])];
     for (axis, name) in ["x", "y", "z"].iter().enumerate() {
