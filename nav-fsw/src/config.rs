@@ -768,7 +768,7 @@ mod tests {
         // The systematic IMU error states: all 1σ zero or all positive; with the correlated
         // GNSS error states too.
         let imu_error = nav_core::imu_error_states::ImuErrorModel {
-            gyro_non_orthogonality_sigma_rad: 2e-5,
+            gyro_misalignment_sigma_rad: 2e-5,
             accel_misalignment_sigma_rad: 2e-5,
             gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
         };

@@ -54,8 +54,11 @@ use crate::state::{ATTITUDE, STAR_INSTALLATION, STATE_DIMENSION};
 use crate::structured::{BorderBiasInputs, StateRows};
 use crate::NavError;
 
+mod prior;
 mod propagate;
 mod update;
+
+pub use prior::PriorCovariance;
 
 /// Number of 3-column groups of the border (`C` is kept as four 24×3 matrices, the shape
 /// the structured propagation takes).
@@ -70,14 +73,16 @@ type CrossCovariance = [StateRows; GROUPS];
 /// A 12×12 matrix by rows.
 type BorderMatrix = [[f64; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
 
-/// The prior 1σ of each systematic IMU error block (configuration); all zero: the paper's
-/// 24 states only.
+/// The triads' specification (configuration): the 1σ of every off-diagonal term of each
+/// triad's error matrix in body axes, as a datasheet gives it, and of the gyro
+/// g-sensitivity; all zero: the paper's 24 states only. The filter's prior in its own gauge,
+/// with the correlations the gauge brings, follows from it ([`Self::prior_covariance`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ImuErrorModel {
-    /// Gyro non-orthogonality, per term (rad).
-    pub gyro_non_orthogonality_sigma_rad: f64,
-    /// Accelerometer misalignment, per term (rad).
+    /// Gyro triad misalignment and non-orthogonality, per off-diagonal term (rad).
+    pub gyro_misalignment_sigma_rad: f64,
+    /// Accelerometer triad misalignment and non-orthogonality, per off-diagonal term (rad).
     pub accel_misalignment_sigma_rad: f64,
     /// Gyro g-sensitivity, per axis (rad/s per m/s²).
     pub gyro_g_sensitivity_sigma_rad_s_per_mps2: f64,
@@ -86,14 +91,14 @@ pub struct ImuErrorModel {
 impl ImuErrorModel {
     /// No systematic IMU error states (the paper's model).
     pub const DISABLED: Self = Self {
-        gyro_non_orthogonality_sigma_rad: 0.0,
+        gyro_misalignment_sigma_rad: 0.0,
         accel_misalignment_sigma_rad: 0.0,
         gyro_g_sensitivity_sigma_rad_s_per_mps2: 0.0,
     };
 
     fn sigmas(&self) -> [f64; 3] {
         [
-            self.gyro_non_orthogonality_sigma_rad,
+            self.gyro_misalignment_sigma_rad,
             self.accel_misalignment_sigma_rad,
             self.gyro_g_sensitivity_sigma_rad_s_per_mps2,
         ]
@@ -105,7 +110,7 @@ impl ImuErrorModel {
     /// ```
     /// use nav_core::imu_error_states::ImuErrorModel;
     /// assert!(!ImuErrorModel::DISABLED.is_enabled());
-    /// let imu = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    /// let imu = ImuErrorModel { gyro_misalignment_sigma_rad: 2e-5,
     ///     accel_misalignment_sigma_rad: 2e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
     /// assert!(imu.is_enabled());
     /// assert_eq!(imu.validate(), Ok(()));
@@ -130,13 +135,16 @@ impl ImuErrorModel {
         }
     }
 
-    /// The prior 1σ of each of the twelve states, in [`crate::imu_error::ImuErrorBlock`]
-    /// order.
+    /// The prior 1σ of each of the twelve states in the filter's gauge, in
+    /// [`crate::imu_error::ImuErrorBlock`] order: the square roots of
+    /// [`Self::prior_covariance`]'s diagonal.
     pub fn state_sigmas(&self) -> [f64; IMU_ERROR_DIMENSION] {
-        core::array::from_fn(|k| match k {
-            0..3 => self.gyro_non_orthogonality_sigma_rad,
-            3..9 => self.accel_misalignment_sigma_rad,
-            _ => self.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+        let prior = self.prior_rows();
+        core::array::from_fn(|k| {
+            prior
+                .get(k)
+                .and_then(|row| row.get(k))
+                .map_or(0.0, |variance| crate::float::sqrt(*variance))
         })
     }
 }
@@ -212,7 +220,8 @@ impl Scratch {
 }
 
 impl ImuErrorStates {
-    /// The prior: `ε̂ = 0`, `P_εε = diag(σ²)`, `C = 0` (all zero when disabled).
+    /// The prior: `ε̂ = 0`, `P_εε` = [`ImuErrorModel::prior_covariance`], `C = 0` (all zero
+    /// when disabled).
     ///
     /// # Errors
     /// As [`ImuErrorModel::validate`].
@@ -220,21 +229,16 @@ impl ImuErrorStates {
     /// # Examples
     /// ```
     /// use nav_core::imu_error_states::{ImuErrorModel, ImuErrorStates};
-    /// let model = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    /// let model = ImuErrorModel { gyro_misalignment_sigma_rad: 2e-5,
     ///     accel_misalignment_sigma_rad: 3e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
     /// let states = ImuErrorStates::new(model)?;
-    /// assert!((states.covariance()[(3, 3)] - 9e-10).abs() < 1e-24);
+    /// // m_xy = a^a_xy − a^g_xy: σ_a² + σ_g²
+    /// assert!((states.covariance()[(3, 3)] - 1.3e-9).abs() < 1e-24);
     /// # Ok::<(), nav_core::NavError>(())
     /// ```
     pub fn new(model: ImuErrorModel) -> Result<Self, NavError> {
         model.validate()?;
-        let sigmas = model.state_sigmas();
-        let mut covariance = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
-        for (k, (row, sigma)) in covariance.iter_mut().zip(sigmas).enumerate() {
-            if let Some(entry) = row.get_mut(k) {
-                *entry = sigma * sigma;
-            }
-        }
+        let covariance = model.prior_rows();
         Ok(Self {
             model,
             halves: [Estimate {
@@ -394,7 +398,7 @@ impl ImuErrorStates {
     /// ```
     /// use nav_core::imu_error::ImuErrorEstimate;
     /// use nav_core::imu_error_states::{ImuErrorModel, ImuErrorStates};
-    /// let model = ImuErrorModel { gyro_non_orthogonality_sigma_rad: 2e-5,
+    /// let model = ImuErrorModel { gyro_misalignment_sigma_rad: 2e-5,
     ///     accel_misalignment_sigma_rad: 2e-5, gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7 };
     /// let states = ImuErrorStates::new(model)?;
     /// let corrections = ImuErrorEstimate::default();

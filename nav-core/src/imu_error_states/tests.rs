@@ -23,7 +23,7 @@ type Full = SMatrix<f64, N, N>;
 
 /// Prior 1σ: 20 µrad misalignment, 0.5 °/h/g g-sensitivity.
 const MODEL: ImuErrorModel = ImuErrorModel {
-    gyro_non_orthogonality_sigma_rad: 2e-5,
+    gyro_misalignment_sigma_rad: 2e-5,
     accel_misalignment_sigma_rad: 2e-5,
     gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
 };
@@ -381,7 +381,7 @@ fn the_model_is_validated_and_combines_with_the_gnss_border() {
     assert_eq!(MODEL.validate(), Ok(()));
     for bad in [
         ImuErrorModel {
-            gyro_non_orthogonality_sigma_rad: 0.0,
+            gyro_misalignment_sigma_rad: 0.0,
             ..MODEL
         },
         ImuErrorModel {
@@ -663,4 +663,79 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         worst = worst.max(error);
     }
     println!("structured vs dense 39-state filter: worst {worst:.2e}");
+}
+
+/// The prior in the filter's gauge is the triads' specification pushed through the
+/// nonlinear gauge map: `J diag(σ_g², σ_a²) Jᵀ`, `J` the finite-difference Jacobian of
+/// `to_filter_gauge` with respect to the twelve off-diagonal truth terms at zero.
+#[test]
+fn the_prior_is_the_specification_through_the_gauge_map() {
+    use crate::imu_error::{to_filter_gauge, ImuTruth};
+    let model = ImuErrorModel {
+        gyro_misalignment_sigma_rad: 2e-5,
+        accel_misalignment_sigma_rad: 3e-5,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
+    };
+    let zero = ImuTruth {
+        gyro_misalignment_rad: Matrix3::zeros(),
+        accel_misalignment_rad: Matrix3::zeros(),
+        gyro_g_sensitivity_rad_s_per_mps2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        accel_bias_mps2: Vector3::zeros(),
+        gyro_scale_factor: Vector3::zeros(),
+        accel_scale_factor: Vector3::zeros(),
+        star_mounting: nalgebra::Quaternion::identity(),
+        star_installation: nalgebra::Quaternion::identity(),
+    };
+    let states = |truth: &ImuTruth| {
+        let imu = to_filter_gauge(truth).unwrap().imu;
+        SVector::<f64, IMU_ERROR_DIMENSION>::from_iterator(
+            imu.gyro_non_orthogonality_rad
+                .iter()
+                .chain(imu.accel_misalignment_rad.iter())
+                .chain(imu.gyro_g_sensitivity_rad_s_per_mps2.iter())
+                .copied(),
+        )
+    };
+    let off_diagonal: Vec<(usize, usize)> = (0..3)
+        .flat_map(|i| (0..3).map(move |j| (i, j)))
+        .filter(|(i, j)| i != j)
+        .collect();
+    let step = 1e-7;
+    let mut jacobian = SMatrix::<f64, IMU_ERROR_DIMENSION, 12>::zeros();
+    let mut spec = SMatrix::<f64, 12, 12>::zeros();
+    for (column, &(i, j)) in off_diagonal.iter().chain(&off_diagonal).enumerate() {
+        let mut truth = zero;
+        let (matrix, sigma) = if column < 6 {
+            (
+                &mut truth.gyro_misalignment_rad,
+                model.gyro_misalignment_sigma_rad,
+            )
+        } else {
+            (
+                &mut truth.accel_misalignment_rad,
+                model.accel_misalignment_sigma_rad,
+            )
+        };
+        matrix[(i, j)] = step;
+        jacobian.set_column(column, &(states(&truth) / step));
+        spec[(column, column)] = sigma * sigma;
+    }
+    let expected = jacobian * spec * jacobian.transpose();
+    let prior = model.prior_covariance();
+    let misalignment = 9;
+    let error = (prior.fixed_view::<9, 9>(0, 0) - expected.fixed_view::<9, 9>(0, 0)).amax();
+    assert!(error < 1e-6 * 9e-10, "{error:e}\n{prior}\n{expected}");
+    // Off-diagonal terms exist (a diagonal prior would fail the comparison above).
+    let correlated = expected.iter().filter(|v| v.abs() > 1e-12).count();
+    assert!(correlated > misalignment, "{correlated}");
+    for k in misalignment..IMU_ERROR_DIMENSION {
+        assert!((prior[(k, k)] - 6.25e-14).abs() < 1e-28);
+        assert_eq!(prior.row(k).iter().filter(|v| **v != 0.0).count(), 1);
+    }
+    assert!(prior.cholesky().is_some());
+    let sigmas = model.state_sigmas();
+    for (k, sigma) in sigmas.iter().enumerate() {
+        assert!((sigma * sigma - prior[(k, k)]).abs() < 1e-24);
+    }
 }

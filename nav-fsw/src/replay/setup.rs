@@ -162,7 +162,7 @@ impl ReplaySetup {
             self.gnss_velocity_noise_mps,
             self.imu_max_rate_rad_s,
             self.imu_max_specific_force_mps2,
-            self.imu_error.gyro_non_orthogonality_sigma_rad,
+            self.imu_error.gyro_misalignment_sigma_rad,
             self.imu_error.accel_misalignment_sigma_rad,
             self.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
         ];
@@ -257,7 +257,7 @@ impl ReplaySetup {
             imu_max_rate_rad_s: max_rate,
             imu_max_specific_force_mps2: max_force,
             imu_error: nav_core::imu_error_states::ImuErrorModel {
-                gyro_non_orthogonality_sigma_rad: imu_non_orthogonality,
+                gyro_misalignment_sigma_rad: imu_non_orthogonality,
                 accel_misalignment_sigma_rad: imu_misalignment,
                 gyro_g_sensitivity_sigma_rad_s_per_mps2: imu_g_sensitivity,
             },

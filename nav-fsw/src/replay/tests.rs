@@ -217,7 +217,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         // Not a configuration the flight software accepts (both borders): the words carry
         // any values, and every field must come back.
         imu_error: nav_core::imu_error_states::ImuErrorModel {
-            gyro_non_orthogonality_sigma_rad: 2e-5,
+            gyro_misalignment_sigma_rad: 2e-5,
             accel_misalignment_sigma_rad: 3e-5,
             gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
         },

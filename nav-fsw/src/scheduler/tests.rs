@@ -473,7 +473,7 @@ fn a_run_of_rejections_with_inconsistent_innovations_is_blamed_on_the_inertial_s
 fn the_systematic_imu_error_states_are_fed_back_at_every_reset() {
     let mut config = *computer().config();
     config.filter.imu_error = nav_core::imu_error_states::ImuErrorModel {
-        gyro_non_orthogonality_sigma_rad: 1e-3,
+        gyro_misalignment_sigma_rad: 1e-3,
         accel_misalignment_sigma_rad: 1e-3,
         gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-5,
     };

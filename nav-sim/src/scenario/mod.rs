@@ -573,17 +573,18 @@ pub struct FilterSettings {
     pub imu_errors: FilterImuErrors,
 }
 
-/// The prior 1σ of the filter's systematic IMU error states (nav-core `imu_error_states`,
-/// docs/imu-errors.md): gyro non-orthogonality (3 terms), accelerometer misalignment (6) and
-/// gyro g-sensitivity (3), in the gyro-defined gauge. All 0 (the default) = off; when on,
-/// every 1σ is > 0.
+/// The triads' specification behind the filter's systematic IMU error states (nav-core
+/// `imu_error_states`, docs/imu-errors.md): the 1σ of every off-diagonal misalignment term
+/// of each triad in body axes and of the gyro g-sensitivity per axis. nav-core derives the
+/// prior of its twelve states in its gyro-defined gauge from them. All 0 (the default) =
+/// off; when on, every 1σ is > 0.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilterImuErrors {
-    /// Gyro non-orthogonality, 1σ per term (rad).
+    /// Gyro triad misalignment and non-orthogonality, 1σ per off-diagonal term (rad).
     #[serde(default)]
-    pub gyro_non_orthogonality_sigma_rad: f64,
-    /// Accelerometer misalignment, 1σ per term (rad).
+    pub gyro_misalignment_sigma_rad: f64,
+    /// Accelerometer triad misalignment and non-orthogonality, 1σ per off-diagonal term (rad).
     #[serde(default)]
     pub accel_misalignment_sigma_rad: f64,
     /// Gyro g-sensitivity, 1σ per axis (rad/s per m/s²).
@@ -601,8 +602,8 @@ impl FilterImuErrors {
     pub fn values(&self) -> [(&'static str, f64); 3] {
         [
             (
-                "gyro_non_orthogonality_sigma_rad",
-                self.gyro_non_orthogonality_sigma_rad,
+                "gyro_misalignment_sigma_rad",
+                self.gyro_misalignment_sigma_rad,
             ),
             (
                 "accel_misalignment_sigma_rad",

@@ -376,18 +376,18 @@ fn the_filters_imu_error_states_parse_render_only_when_on_and_are_validated() {
     assert!(!default.filter.imu_errors.is_on());
     assert!(!format!("{default:?}").contains("imu_errors"));
     let table = |lines: &str| format!("{DEFAULT_SCENARIO_TOML}\n[filter.imu_errors]\n{lines}");
-    let on = "gyro_non_orthogonality_sigma_rad = 2.83e-5\naccel_misalignment_sigma_rad = 2.83e-5\n\
+    let on = "gyro_misalignment_sigma_rad = 2.0e-5\naccel_misalignment_sigma_rad = 2.0e-5\n\
               gyro_g_sensitivity_sigma_rad_s_per_mps2 = 2.47e-7";
     let scenario = Scenario::from_toml_str(&table(on)).unwrap();
     assert!(scenario.filter.imu_errors.is_on());
     assert!(format!("{scenario:?}").contains("imu_errors: FilterImuErrors"));
     for (lines, key) in [
         (
-            "gyro_non_orthogonality_sigma_rad = 2.83e-5",
+            "gyro_misalignment_sigma_rad = 2.0e-5",
             "filter.imu_errors.accel_misalignment_sigma_rad",
         ),
         (
-            "gyro_non_orthogonality_sigma_rad = 2.83e-5\naccel_misalignment_sigma_rad = -1e-5\n\
+            "gyro_misalignment_sigma_rad = 2.0e-5\naccel_misalignment_sigma_rad = -1e-5\n\
              gyro_g_sensitivity_sigma_rad_s_per_mps2 = 2.47e-7",
             "filter.imu_errors.accel_misalignment_sigma_rad",
         ),

@@ -211,18 +211,31 @@ pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
 
 /// The bias random-walk density the filter uses for a walk of density `walk` plus a
 /// first-order Gauss–Markov bias of stationary 1σ `sigma` and correlation time `tau_s`:
-/// `√(walk² + 2σ²/τ)`. The Gauss–Markov bias is driven by white noise of density
-/// `√(2σ²/τ)` (`ḃ = −b/τ + w`, stationary variance `qτ/2 = σ²`); a random walk driven by
-/// the same noise grows its variance as `q t = 2σ² t/τ`, never less than the Gauss–Markov
-/// change `2σ²(1 − e^(−t/τ))` over any interval `t`, so the walk bounds the bias's wander
-/// from the prior at every time: conservative, at the cost of an unbounded growth over
-/// flights much longer than `τ` (docs/model.md, "Bias instability in the filter"). With the
-/// instability off the walk is returned unchanged (the paper's model keeps its bits).
+/// `√(walk² + 2σ²/τ)`, the density of the white noise that drives the Gauss–Markov bias
+/// (`ḃ = −b/τ + w`, stationary variance `qτ/2 = σ²`). With the prior of
+/// [`with_instability_prior`] the walk bounds the Gauss–Markov bias's covariance at every
+/// set of times (docs/model.md, "Bias instability in the filter"). With the instability off
+/// the walk is returned unchanged (the paper's model keeps its bits).
 fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
     if sigma > 0.0 && tau_s > 0.0 {
         nav_core::float::sqrt(walk * walk + 2.0 * sigma * sigma / tau_s)
     } else {
         walk
+    }
+}
+
+/// The bias's prior 1σ for a constant part of 1σ `constant_sigma` and a Gauss–Markov part of
+/// stationary 1σ `sigma`: `√(σ_c² + 2σ²)`. A walk driven by the Gauss–Markov bias's noise
+/// and started with `2σ²` of variance is that bias plus an independent process (a copy of
+/// `b(0) + (1/τ)∫₀ᵗ b du`, whose covariance is `σ²(2 − e^(−|t−s|/τ)) + (2σ²/τ) min(s, t)`),
+/// so every combination of the bias at any times has at least its true variance; with less
+/// than `2σ²` some has not (docs/model.md, "Bias instability in the filter"). With the
+/// instability off the 1σ is returned unchanged.
+fn with_instability_prior(constant_sigma: f64, sigma: f64, tau_s: f64) -> f64 {
+    if sigma > 0.0 && tau_s > 0.0 {
+        nav_core::float::sqrt(constant_sigma * constant_sigma + 2.0 * sigma * sigma)
+    } else {
+        constant_sigma
     }
 }
 
@@ -233,6 +246,7 @@ fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
 pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
     let settings = &scenario.filter;
     let sigma = &settings.initial_sigma;
+    let instability = &settings.bias_instability;
     let discretisation_order = u8::try_from(settings.discretisation_order).map_err(|_| {
         SetupError::Setting("filter.discretisation_order must be in 1..=4".to_string())
     })?;
@@ -246,8 +260,16 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
             attitude_rad: sigma.attitude_rad,
             position_m: sigma.position_m,
             velocity_mps: sigma.velocity_mps,
-            gyro_bias_rad_s: sigma.gyro_bias_rad_per_s,
-            accel_bias_mps2: sigma.accel_bias_mps2,
+            gyro_bias_rad_s: with_instability_prior(
+                sigma.gyro_bias_rad_per_s,
+                instability.gyro_sigma_rad_per_s,
+                instability.gyro_correlation_time_s,
+            ),
+            accel_bias_mps2: with_instability_prior(
+                sigma.accel_bias_mps2,
+                instability.accel_sigma_mps2,
+                instability.accel_correlation_time_s,
+            ),
             star_installation_rad: sigma.star_installation_rad,
             gyro_scale_factor: sigma.gyro_scale_factor,
             accel_scale_factor: sigma.accel_scale_factor,
@@ -257,7 +279,7 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
             correlation_time_s: settings.gnss_correlation_time_s,
         },
         imu_error: nav_core::imu_error_states::ImuErrorModel {
-            gyro_non_orthogonality_sigma_rad: settings.imu_errors.gyro_non_orthogonality_sigma_rad,
+            gyro_misalignment_sigma_rad: settings.imu_errors.gyro_misalignment_sigma_rad,
             accel_misalignment_sigma_rad: settings.imu_errors.accel_misalignment_sigma_rad,
             gyro_g_sensitivity_sigma_rad_s_per_mps2: settings
                 .imu_errors
@@ -295,6 +317,43 @@ mod tests {
         }
     }
 
+    /// The walk with the prior of [`with_instability_prior`] bounds the Gauss–Markov bias:
+    /// over any set of times (here 60, from 0 to 5τ, bunched near 0 where the bound is
+    /// tightest) the filter's covariance of the bias minus the truth's (a constant of the
+    /// prior's 1σ plus the stationary Gauss–Markov bias) is positive semi-definite. A prior
+    /// holding only the stationary `σ²` is not a bound.
+    #[test]
+    fn the_walk_and_its_prior_bound_the_gauss_markov_bias_at_every_set_of_times() {
+        let (constant_sigma, sigma, tau_s) = (1.0e-3, 2.0e-5, 600.0);
+        let q = with_bias_instability(0.0, sigma, tau_s).powi(2);
+        const TIMES: usize = 60;
+        let times: [f64; TIMES] =
+            core::array::from_fn(|k| 5.0 * tau_s * (k as f64 / (TIMES - 1) as f64).powi(3));
+        let smallest_eigenvalue = |prior_variance: f64| {
+            let difference = nalgebra::SMatrix::<f64, TIMES, TIMES>::from_fn(|i, j| {
+                let (s, t) = (times[i], times[j]);
+                let filter = prior_variance + q * s.min(t);
+                let truth = constant_sigma * constant_sigma
+                    + sigma * sigma * (-(t - s).abs() / tau_s).exp();
+                (filter - truth) / (sigma * sigma)
+            });
+            difference.symmetric_eigenvalues().min()
+        };
+        let prior = with_instability_prior(constant_sigma, sigma, tau_s).powi(2);
+        assert!((prior - (1.0e-6 + 8.0e-10)).abs() < 1e-18);
+        assert!(
+            smallest_eigenvalue(prior) > -1e-6,
+            "{}",
+            smallest_eigenvalue(prior)
+        );
+        let stationary_only = constant_sigma * constant_sigma + sigma * sigma;
+        assert!(smallest_eigenvalue(stationary_only) < -0.1);
+        assert_eq!(
+            with_instability_prior(constant_sigma, 0.0, tau_s).to_bits(),
+            constant_sigma.to_bits()
+        );
+    }
+
     /// The scenario's `[filter.imu_errors]` reaches the filter (and the replay setup, so the
     /// target flies the same filter); absent, the filter has no systematic states.
     #[test]
@@ -303,19 +362,19 @@ mod tests {
         assert!(!filter_config(&default).unwrap().imu_error.is_enabled());
         let mut scenario = default.clone();
         scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
-            gyro_non_orthogonality_sigma_rad: 2.83e-5,
+            gyro_misalignment_sigma_rad: 2.0e-5,
             accel_misalignment_sigma_rad: 3.0e-5,
             gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.47e-7,
         };
         let config = filter_config(&scenario).unwrap();
         assert_eq!(
             [
-                config.imu_error.gyro_non_orthogonality_sigma_rad,
+                config.imu_error.gyro_misalignment_sigma_rad,
                 config.imu_error.accel_misalignment_sigma_rad,
                 config.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
             ]
             .map(f64::to_bits),
-            [2.83e-5, 3.0e-5, 2.47e-7].map(f64::to_bits)
+            [2.0e-5, 3.0e-5, 2.47e-7].map(f64::to_bits)
         );
         let launch = crate::setup::launch::Launch::new(&scenario).unwrap();
         let setup = replay_setup_for(&scenario, &launch).unwrap();
@@ -323,8 +382,9 @@ mod tests {
         assert_eq!(setup.config().filter.imu_error, config.imu_error);
     }
 
-    /// The scenario's `[filter.bias_instability]` reaches the filter's process noise; the
-    /// default scenario's process noise is the truth's random walks (0) unchanged.
+    /// The scenario's `[filter.bias_instability]` reaches the filter's process noise and its
+    /// bias prior; the default scenario's process noise is the truth's random walks (0)
+    /// unchanged.
     #[test]
     fn the_scenarios_bias_instability_reaches_the_process_noise() {
         let default = Scenario::default_scenario().unwrap();
@@ -339,6 +399,15 @@ mod tests {
         let noise = scenario_process_noise(&scenario);
         let expected = (2.0 * 4.0e-10 / 300.0_f64).sqrt();
         assert!((noise.accel_bias_walk_mps3_per_sqrt_hz - expected).abs() < 1e-15 * expected);
+        let initial = filter_config(&scenario).unwrap().initial;
+        let constant = default.filter.initial_sigma.accel_bias_mps2;
+        let expected = (constant * constant + 8.0e-10).sqrt();
+        assert!((initial.accel_bias_mps2 - expected).abs() < 1e-15 * expected);
+        let default_initial = filter_config(&default).unwrap().initial;
+        assert_eq!(
+            initial.gyro_bias_rad_s.to_bits(),
+            default_initial.gyro_bias_rad_s.to_bits()
+        );
         assert_eq!(
             noise.gyro_bias_walk_rad_s2_per_sqrt_hz.to_bits(),
             0.0f64.to_bits()

@@ -214,7 +214,7 @@ fn with_negligible_imu_error_priors_the_augmented_analysis_is_nav_cores() {
     scenario.manoeuvres.truncate(4);
     let reference = analyse(&scenario, &test_options()).unwrap();
     scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
-        gyro_non_orthogonality_sigma_rad: 1e-15,
+        gyro_misalignment_sigma_rad: 1e-15,
         accel_misalignment_sigma_rad: 1e-15,
         gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-18,
     };

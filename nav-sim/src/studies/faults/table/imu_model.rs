@@ -26,12 +26,12 @@ fn g_sensitivity(sample: &mut ImuSample) {
 }
 
 /// The systematic IMU error states the estimated row turns on: the g-sensitivity prior is the
-/// injected 1 °/h/g (a specification's value), the misalignment priors those of
-/// `nav-sim/scenarios/imu_errors_estimated.toml` (√2 × 20 µrad in the gyro-defined gauge).
+/// injected 1 °/h/g (a specification's value), the triads' misalignment specification that
+/// of `nav-sim/scenarios/imu_errors_estimated.toml` (20 µrad per off-diagonal term).
 fn estimate_imu_errors(scenario: &mut Scenario) {
     scenario.filter.imu_errors = crate::scenario::FilterImuErrors {
-        gyro_non_orthogonality_sigma_rad: 2.83e-5,
-        accel_misalignment_sigma_rad: 2.83e-5,
+        gyro_misalignment_sigma_rad: 2.0e-5,
+        accel_misalignment_sigma_rad: 2.0e-5,
         gyro_g_sensitivity_sigma_rad_s_per_mps2: G_SENSITIVITY_RAD_S_PER_MPS2,
     };
 }
