@@ -783,7 +783,14 @@ impl Scenario {
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }
-        Ok(())
+        match self
+            .gravity
+            .as_ref()
+            .and_then(|gravity| gravity.violation())
+        {
+            Some((key, requirement)) => Err(check.fail(key, &requirement)),
+            None => Ok(()),
+        }
     }
 }
 
