@@ -8,7 +8,7 @@
 //! Leaving the model's own point mass and `C̄_20` out instead of subtracting them keeps the
 //! flight's field exact; what that changes against the model's complete field (EGM2008
 //! `GM` = 3.986004415e14 vs WGS-84's 3.986004418e14, `a` 6378136.3 m vs 6378137 m,
-//! `−√5 C̄_20` = 1.0826261e-3 vs `J2` 1.08262668e-3) is below 1e-8 m/s² in LEO.
+//! `−√5 C̄_20` = 1.0826262e-3 vs `J2` 1.08262668e-3) is at most 1.3e-8 m/s² in LEO.
 //!
 //! ## Earth rotation
 //! The coefficients are Earth-fixed (ITRF). A launch-inertial position `p` at navigation time
