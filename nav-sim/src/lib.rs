@@ -12,13 +12,13 @@
 //! From the bottom:
 //!
 //! 1. [`scenario`] and [`output`]: the scenario schema (TOML tables, validation, the
-//!    `[dispersion]` table, the launch epoch and Earth orientation) and the output toolkit
-//!    (files written atomically, the calibration table, CSVs and plots). Neither imports
-//!    anything from the crate.
+//!    `[dispersion]` and `[gravity]` tables, the launch epoch and Earth orientation) and the
+//!    output toolkit (files written atomically, the calibration table, CSVs and plots).
+//!    Neither imports anything from the crate.
 //! 2. [`setup`]: what a run needs, computed once from a scenario (launch epoch and ground
 //!    constants, launch site and frame, initial state, flight-software and filter
 //!    configuration) and every random draw through one registry of streams.
-//! 3. [`world`]: the simulated world, truth trajectory and sensor models.
+//! 3. [`world`]: the simulated world, truth trajectory, gravity field and sensor models.
 //! 4. [`logs`]: the sensor-log formats (CSV and binary).
 //! 5. [`harness`]: a scenario or a log flown through the flight software, on the host, on
 //!    QEMU and over serial lines.

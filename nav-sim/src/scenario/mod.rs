@@ -17,6 +17,7 @@ use serde::Deserialize;
 mod debug;
 pub mod dispersion;
 pub mod epoch;
+pub mod gravity;
 #[cfg(test)]
 mod tests;
 mod validate;
@@ -145,9 +146,9 @@ pub enum ScenarioError {
 
 /// A complete simulation scenario (the TOML file's top level).
 ///
-/// Its `Debug` rendering leaves out an absent `[dispersion]` table, so a scenario without
-/// one renders (and hashes, the campaign's `scenario_hash`) as it did before the table
-/// existed.
+/// Its `Debug` rendering leaves out an absent `[dispersion]` or `[gravity]` table, so a
+/// scenario without one renders (and hashes, the campaign's `scenario_hash`) as it did before
+/// the table existed.
 #[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
@@ -178,6 +179,9 @@ pub struct Scenario {
     /// ([`dispersion`]).
     #[serde(default)]
     pub dispersion: Option<dispersion::Dispersion>,
+    /// The truth's gravity field; absent = the flight code's point mass + `J2` ([`gravity`]).
+    #[serde(default)]
+    pub gravity: Option<gravity::GravitySettings>,
 }
 
 impl std::fmt::Debug for Scenario {
@@ -197,6 +201,9 @@ impl std::fmt::Debug for Scenario {
             .field("filter", &self.filter);
         if let Some(dispersion) = &self.dispersion {
             debug.field("dispersion", dispersion);
+        }
+        if let Some(gravity) = &self.gravity {
+            debug.field("gravity", gravity);
         }
         debug.finish()
     }

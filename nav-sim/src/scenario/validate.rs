@@ -4,10 +4,10 @@
 use nav_fsw::config::FswConfig;
 
 use super::{
-    dispersion, gnss_latency_violation, max_imu_rate_hz, number, Scenario, ScenarioError,
-    MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2, MAX_MISALIGNMENT_RAD,
-    MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS, MAX_TRUTH_SUBSTEPS_PER_FRAME,
-    SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
+    dispersion, gnss_latency_violation, gravity::GravitySettings, max_imu_rate_hz, number,
+    Scenario, ScenarioError, MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2,
+    MAX_MISALIGNMENT_RAD, MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS,
+    MAX_TRUTH_SUBSTEPS_PER_FRAME, SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
 };
 
 /// Collects the first violated rule while walking the scenario.
@@ -783,7 +783,8 @@ impl Scenario {
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }
-        Ok(())
+        let gravity = self.gravity.as_ref().and_then(GravitySettings::violation);
+        gravity.map_or(Ok(()), |(key, rule)| Err(check.fail(key, &rule)))
     }
 }
 

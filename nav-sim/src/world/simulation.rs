@@ -3,7 +3,7 @@
 use crate::scenario::Scenario;
 use crate::setup::launch::Launch;
 use crate::world::sensors::{SensorError, SensorErrorTruth, SensorEvent, SensorSimulator};
-use crate::world::truth::{FlightGravity, TruthError, TruthFrame, TruthSimulator};
+use crate::world::truth::{TruthError, TruthFrame, TruthGravity, TruthSimulator};
 
 /// Why a simulation could not be set up or advanced.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -35,7 +35,7 @@ pub enum SimulationError {
 
 /// The scenario's truth trajectory and sensor models, advanced one IMU frame at a time.
 pub struct Simulation {
-    truth: TruthSimulator<FlightGravity>,
+    truth: TruthSimulator<TruthGravity>,
     sensors: SensorSimulator,
     frame: nav_core::frames::LaunchFrame,
     min_altitude_m: f64,
@@ -72,7 +72,7 @@ impl Simulation {
     }
 
     /// The truth simulator (current state, profile, frame count).
-    pub fn truth(&self) -> &TruthSimulator<FlightGravity> {
+    pub fn truth(&self) -> &TruthSimulator<TruthGravity> {
         &self.truth
     }
 

@@ -13,6 +13,7 @@ mod design_imu_errors;
 mod dispersion;
 mod flight_software;
 mod frames_and_time;
+mod gravity_field;
 mod imu_errors;
 mod layers;
 mod model_mismatch;

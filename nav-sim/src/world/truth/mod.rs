@@ -8,7 +8,8 @@
 //! ```text
 //! dq_ib/dt = ½ q_ib ⊗ [0, ω(t)]          (nav-core's kinematics)
 //! dr/dt    = v
-//! dv/dt    = C(q_ib) f(t) + g(r)          (g: point mass + J2, the flight code's model)
+//! dv/dt    = C(q_ib) f(t) + g(r, t)       (g: point mass + J2, the flight code's model,
+//!                                          plus a published model's remainder if chosen)
 //! ```
 //!
 //! integrated with classical RK4 on `(q, r, v)` jointly, `truth_substeps_per_frame` steps per
@@ -33,6 +34,8 @@ use nav_core::gravity::GravityModel;
 use crate::scenario::{frames_in, ManoeuvreSegment, Scenario};
 use crate::setup::launch::{Launch, TruthState};
 use crate::setup::SetupError;
+use crate::world::gravity::gfc::GfcError;
+use crate::world::gravity::{RemainderTracker, RotatingRemainder};
 
 /// Why the truth simulation could not be set up or advanced.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -50,6 +53,9 @@ pub enum TruthError {
     /// The launch frame or the initial state could not be set up.
     #[error(transparent)]
     Setup(#[from] SetupError),
+    /// The scenario's gravity model file could not be read.
+    #[error(transparent)]
+    GravityModel(#[from] GfcError),
     /// A setting is unusable (e.g. zero substeps, non-positive frame period).
     #[error("truth setting {key} {requirement}")]
     Setting {
@@ -62,22 +68,42 @@ pub enum TruthError {
 
 /// A gravitational acceleration field in the launch-inertial frame.
 ///
-/// The truth uses the same model as the flight code (nav-core's point mass + J2), so a
-/// navigation error can never come from a truth/flight gravity mismatch; tests substitute
-/// simpler fields.
+/// By default the truth uses the same model as the flight code (nav-core's point mass + J2),
+/// so a navigation error cannot come from a truth/flight gravity mismatch; the scenario's
+/// `[gravity]` table adds a published model's remainder ([`TruthGravity`]); tests substitute
+/// simpler fields (any `Fn(&Vector3<f64>) -> Vector3<f64>`, time-independent).
 pub trait GravityField {
-    /// Gravitational acceleration `g(r)` (m/s²) at launch-inertial position `r` (m).
+    /// Gravitational acceleration `g(r, t)` (m/s²) at launch-inertial position `r` (m) and
+    /// navigation time `t` (s): a field fixed to the rotating Earth depends on `t`.
     ///
     /// # Errors
     /// A human-readable reason when the position is refused.
-    fn acceleration_mps2(&self, position_m: &Vector3<f64>) -> Result<Vector3<f64>, String>;
+    fn acceleration_mps2(
+        &self,
+        time_s: f64,
+        position_m: &Vector3<f64>,
+    ) -> Result<Vector3<f64>, String>;
+
+    /// Called by the truth at the start of every IMU frame with the state there, before the
+    /// frame's first evaluation; a field evaluated at a lower rate refreshes here. Does
+    /// nothing by default.
+    ///
+    /// # Errors
+    /// A human-readable reason when the position is refused.
+    fn start_frame(&mut self, _time_s: f64, _position_m: &Vector3<f64>) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 impl<F> GravityField for F
 where
     F: Fn(&Vector3<f64>) -> Vector3<f64>,
 {
-    fn acceleration_mps2(&self, position_m: &Vector3<f64>) -> Result<Vector3<f64>, String> {
+    fn acceleration_mps2(
+        &self,
+        _time_s: f64,
+        position_m: &Vector3<f64>,
+    ) -> Result<Vector3<f64>, String> {
         Ok(self(position_m))
     }
 }
@@ -93,12 +119,51 @@ pub struct FlightGravity {
 }
 
 impl GravityField for FlightGravity {
-    fn acceleration_mps2(&self, position_m: &Vector3<f64>) -> Result<Vector3<f64>, String> {
+    #[inline]
+    fn acceleration_mps2(
+        &self,
+        _time_s: f64,
+        position_m: &Vector3<f64>,
+    ) -> Result<Vector3<f64>, String> {
         let gravity = self.model.gravity_launch_mps2(&self.frame, position_m);
         if nav_core::attitude::all_finite3(&gravity) {
             Ok(gravity)
         } else {
             Err("non-finite gravity (position at the Earth centre or non-finite)".to_string())
+        }
+    }
+}
+
+/// The truth's gravity: the flight code's ([`FlightGravity`]) and, when the scenario chooses a
+/// published model, its remainder beyond point mass + `J2`, evaluated every
+/// [`crate::world::gravity::REFRESH_INTERVAL_S`] and Taylor-expanded in between
+/// ([`crate::world::gravity`]).
+#[derive(Debug, Clone)]
+pub struct TruthGravity {
+    /// Point mass + `J2`, exactly at every evaluation.
+    pub flight: FlightGravity,
+    /// The published model's remainder, if any.
+    pub remainder: Option<RemainderTracker>,
+}
+
+impl GravityField for TruthGravity {
+    #[inline]
+    fn acceleration_mps2(
+        &self,
+        time_s: f64,
+        position_m: &Vector3<f64>,
+    ) -> Result<Vector3<f64>, String> {
+        let gravity = self.flight.acceleration_mps2(time_s, position_m)?;
+        match &self.remainder {
+            None => Ok(gravity),
+            Some(remainder) => Ok(gravity + remainder.acceleration_mps2(time_s, position_m)?),
+        }
+    }
+
+    fn start_frame(&mut self, time_s: f64, position_m: &Vector3<f64>) -> Result<(), String> {
+        match &mut self.remainder {
+            None => Ok(()),
+            Some(remainder) => remainder.start_frame(time_s, position_m),
         }
     }
 }
@@ -388,6 +453,9 @@ impl<G: GravityField> TruthSimulator<G> {
         let step_s = (end_time_s - start_time_s) / f64::from(self.substeps_per_frame);
         let mut state = self.state;
         state.time_s = start_time_s;
+        self.gravity
+            .start_frame(start_time_s, &state.position_m)
+            .map_err(|reason| gravity_error(start_time_s, &state.position_m, reason))?;
         for substep in 0..self.substeps_per_frame {
             let time_s = start_time_s + f64::from(substep) * step_s;
             state = self.rk4_step(segment, &state, time_s, step_s)?;
@@ -426,14 +494,10 @@ impl<G: GravityField> TruthSimulator<G> {
     ) -> Result<Derivative, TruthError> {
         let rate = segment.body_rate_rad_per_s(time_s);
         let force_body = segment.specific_force_mps2(time_s);
-        let gravity =
-            self.gravity
-                .acceleration_mps2(position)
-                .map_err(|reason| TruthError::Gravity {
-                    time_s,
-                    position_m: [position.x, position.y, position.z],
-                    reason,
-                })?;
+        let gravity = self
+            .gravity
+            .acceleration_mps2(time_s, position)
+            .map_err(|reason| gravity_error(time_s, position, reason))?;
         // Rotate with the (not yet renormalised) RK4 stage quaternion via the sandwich product,
         // which is exact for a unit quaternion; stage quaternions are unit to O(h^5).
         let force_inertial = (attitude * Quaternion::from_imag(force_body) * attitude.conjugate())
@@ -490,12 +554,22 @@ impl<G: GravityField> TruthSimulator<G> {
     }
 }
 
-impl TruthSimulator<FlightGravity> {
+/// [`TruthError::Gravity`] at `time_s` and `position_m`.
+fn gravity_error(time_s: f64, position_m: &Vector3<f64>, reason: String) -> TruthError {
+    TruthError::Gravity {
+        time_s,
+        position_m: [position_m.x, position_m.y, position_m.z],
+        reason,
+    }
+}
+
+impl TruthSimulator<TruthGravity> {
     /// The scenario's truth: initial state from [`Launch::new`], its manoeuvre schedule, the
-    /// flight code's gravity with J2, at the IMU rate with the configured substeps.
+    /// flight code's gravity with J2 (plus the `[gravity]` table's published model, if any),
+    /// at the IMU rate with the configured substeps.
     ///
     /// # Errors
-    /// [`TruthError::Setup`] or [`TruthError::Setting`].
+    /// [`TruthError::Setup`], [`TruthError::GravityModel`] or [`TruthError::Setting`].
     pub fn from_scenario(scenario: &Scenario) -> Result<Self, TruthError> {
         Self::from_launch(scenario, &Launch::new(scenario)?)
     }
@@ -503,14 +577,18 @@ impl TruthSimulator<FlightGravity> {
     /// [`TruthSimulator::from_scenario`] for the scenario's `launch`, already computed.
     ///
     /// # Errors
-    /// [`TruthError::Setting`].
+    /// [`TruthError::GravityModel`] or [`TruthError::Setting`].
     pub fn from_launch(scenario: &Scenario, launch: &Launch) -> Result<Self, TruthError> {
+        let remainder = RotatingRemainder::from_settings(scenario.gravity.as_ref(), launch.frame)?;
         Self::new(
             launch.truth_start,
             CommandProfile::from_scenario(scenario),
-            FlightGravity {
-                frame: launch.frame,
-                model: GravityModel { j2_enabled: true },
+            TruthGravity {
+                flight: FlightGravity {
+                    frame: launch.frame,
+                    model: GravityModel { j2_enabled: true },
+                },
+                remainder: remainder.map(RemainderTracker::new),
             },
             scenario.imu.frame_period_s(),
             scenario.simulation.truth_substeps_per_frame,

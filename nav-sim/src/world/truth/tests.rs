@@ -85,7 +85,7 @@ fn pure_orbit_conserves_energy_over_one_orbit() {
         [0.0; 3],
     )];
     let mut truth = TruthSimulator::from_scenario(&scenario).unwrap();
-    let gravity = truth.gravity;
+    let gravity = truth.gravity.flight;
     let initial = *truth.state();
     let energy = |state: &TruthState| {
         0.5 * state.velocity_mps.norm_squared() + j2_potential(&gravity, &state.position_m)
