@@ -148,9 +148,9 @@ NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
 step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, bit for bit"
 (cd qemu && cargo build --release --bin replay)
 NAV_QEMU_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/replay" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
-  cargo test --release -p tests-host --test replay_bit_exact -- --include-ignored --nocapture
+  cargo test --workspace --test replay_bit_exact -- --include-ignored --nocapture
 
 step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and corrupted, bit for bit with the host"
 (cd qemu && cargo build --release --bin uart_replay)
 NAV_QEMU_UART_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/uart_replay" \
-  cargo test --release -p tests-host --test uart_replay -- --include-ignored --nocapture --test-threads 1
+  cargo test --workspace --test uart_replay -- --include-ignored --nocapture --test-threads 1

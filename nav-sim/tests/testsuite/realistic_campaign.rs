@@ -4,7 +4,7 @@
 //! the accuracy against the paper's figures.
 //!
 //! `NAV_MC_FIRST_RUN` offsets the seeds (default 0: the scenario's seed, +1, ...).
-//! `NAV_MC_RUNS` sets the runs per scenario (default 6, the test command's size).
+//! `NAV_MC_RUNS` sets the runs per scenario (default 4, the test command's size).
 
 use std::path::PathBuf;
 
@@ -26,8 +26,8 @@ pub fn runs() -> u64 {
         .unwrap_or(DEFAULT_RUNS)
 }
 
-/// Runs per scenario in the test command (about 45 s for the four on two cores).
-const DEFAULT_RUNS: u64 = 6;
+/// Runs per scenario in the test command (the docs' campaigns fly 20 to 50).
+const DEFAULT_RUNS: u64 = 4;
 
 /// Worst |e_i| / σ_i over the 15 calibration states of one run.
 pub fn worst_sigma(outcome: &RunOutcome) -> f64 {

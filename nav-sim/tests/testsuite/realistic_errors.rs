@@ -5,7 +5,7 @@
 //! calibration states inside its two-sided 95 % χ² interval, and no run's calibration state
 //! beyond 4σ of its truth; the accuracy against the paper's figures is printed.
 //!
-//! `NAV_MC_RUNS` sets the runs per scenario (default 6, the test command's size; the docs'
+//! `NAV_MC_RUNS` sets the runs per scenario (default 4, the test command's size; the docs'
 //! campaign uses 50: `NAV_MC_RUNS=50 cargo test --release -p nav-sim --test testsuite
 //! realistic_errors -- --nocapture --test-threads 1`); `NAV_MC_FIRST_RUN` offsets the seeds.
 //! The studies for the docs are `examples/realistic_errors.rs`.
