@@ -506,27 +506,7 @@ impl SensorSimulator {
         let frames_elapsed = truth.frame_index + 1;
         let tracking = self.star_tracking(truth);
         if frames_elapsed % self.star_frames_per_sample == 0 {
-            // Drawn whether or not the sample is delivered: the noise of every other sample
-            // stays what it is without the outage.
-            // Per axis; with the same σ on every axis the same bits as `normal3 · σ`.
-            let noise = normal3(&mut self.star_rng).component_mul(&self.star_noise_rad);
-            let installed =
-                truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
-            let measured = match &mut self.star_slow {
-                None => installed * exp_rotation_vector(&noise),
-                Some(slow) => {
-                    installed
-                        * exp_rotation_vector(&slow.at(truth.time_s))
-                        * exp_rotation_vector(&noise)
-                }
-            };
-            let elapsed_s = truth.time_s - self.start_time_s;
-            if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
-                events.push(SensorEvent::Star {
-                    time_tag_s: truth.time_s,
-                    attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
-                });
-            }
+            self.star_sample(truth, tracking, events);
         }
 
         if frames_elapsed % self.gnss_frames_per_sample == 0 {
@@ -582,6 +562,31 @@ impl SensorSimulator {
 }
 
 impl SensorSimulator {
+    /// The star sample valid at the end of `truth`'s frame, pushed to `events` if the tracker
+    /// is `tracking` and not in an outage. Drawn whether or not it is delivered: the noise of
+    /// every other sample stays what it is without the outage.
+    fn star_sample(&mut self, truth: &TruthFrame, tracking: bool, events: &mut Vec<SensorEvent>) {
+        // Per axis; with the same σ on every axis the same bits as `normal3 · σ`.
+        let noise = normal3(&mut self.star_rng).component_mul(&self.star_noise_rad);
+        let installed =
+            truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
+        let measured = match &mut self.star_slow {
+            None => installed * exp_rotation_vector(&noise),
+            Some(slow) => {
+                installed
+                    * exp_rotation_vector(&slow.at(truth.time_s))
+                    * exp_rotation_vector(&noise)
+            }
+        };
+        let elapsed_s = truth.time_s - self.start_time_s;
+        if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
+            events.push(SensorEvent::Star {
+                time_tag_s: truth.time_s,
+                attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
+            });
+        }
+    }
+
     /// Whether the star tracker tracks during `truth`'s frame: not while the body rate's
     /// magnitude (the frame's mean, `|Δθ| / T`) exceeds `star_sensor.max_rate_deg_per_s`,
     /// nor for `reacquisition_s` after it falls back below.
