@@ -18,19 +18,19 @@ mod debug;
 pub mod dispersion;
 pub mod epoch;
 pub mod gravity;
+pub mod star_sensor;
 #[cfg(test)]
 mod tests;
 mod validate;
 
 use epoch::{EarthOrientation, EpochError, LaunchEpoch};
+pub use star_sensor::StarSensorSettings;
 
 /// The default scenario file, verbatim (what `nav-sim scenario` prints).
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../../scenarios/default.toml");
 
 /// Seconds per hour (for the `_deg_per_h` noise specifications).
 const SECONDS_PER_HOUR: f64 = 3600.0;
-/// Arc-seconds per degree.
-const ARCSEC_PER_DEG: f64 = 3600.0;
 /// Largest accepted magnitude of a scale-factor error (dimensionless). The error model divides
 /// by `1 − λ`, and any real sensor is far below this.
 pub const MAX_SCALE_FACTOR_MAGNITUDE: f64 = 0.1;
@@ -440,41 +440,6 @@ pub struct AccelerometerErrors {
     /// Its correlation time τ (s), > 0 when `bias_instability_sigma_mps2` > 0.
     #[serde(default)]
     pub bias_instability_correlation_time_s: f64,
-}
-
-/// Star sensor: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ δq_noise`.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StarSensorSettings {
-    /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it.
-    pub rate_hz: f64,
-    /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0.
-    pub noise_arcsec: f64,
-    /// Nominal body-to-sensor mounting `q_bs = exp(φ)` as a rotation vector (deg). Known to
-    /// the flight code.
-    pub mounting_rotation_vector_deg: [f64; 3],
-    /// Installation error `q_ψ = exp(ψ)` as a rotation vector `ψ` (rad, the rotation angle, not
-    /// the quaternion's vector part). Unknown to the flight code.
-    pub installation_error_rotation_vector_rad: [f64; 3],
-    /// No output while the body rate's magnitude exceeds this (deg/s); 0 (the default) = no
-    /// limit.
-    #[serde(default)]
-    pub max_rate_deg_per_s: f64,
-    /// No output for this long after the rate falls back below `max_rate_deg_per_s` (s), ≥ 0
-    /// (re-acquisition).
-    #[serde(default)]
-    pub reacquisition_s: f64,
-    /// Outages `[[start_s, duration_s], ...]`, seconds after the scenario start: no output
-    /// during `[start, start + duration)`.
-    #[serde(default)]
-    pub outages: Vec<[f64; 2]>,
-}
-
-impl StarSensorSettings {
-    /// Noise 1σ per axis (rad).
-    pub fn noise_rad(&self) -> f64 {
-        (self.noise_arcsec / ARCSEC_PER_DEG).to_radians()
-    }
 }
 
 /// GNSS receiver: ECEF position fixes.

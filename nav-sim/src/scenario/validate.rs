@@ -617,6 +617,7 @@ impl Scenario {
         check.non_negative("star_sensor.max_rate_deg_per_s", star.max_rate_deg_per_s)?;
         check.non_negative("star_sensor.reacquisition_s", star.reacquisition_s)?;
         check.outages("star_sensor.outages", &star.outages)?;
+        check.star_sensor_truth(star)?;
 
         let gnss = &self.gnss;
         check.positive("gnss.rate_hz", gnss.rate_hz)?;
@@ -791,3 +792,6 @@ impl Scenario {
 /// The checks of `[filter.imu_errors]`.
 #[path = "validate_filter.rs"]
 mod filter;
+/// The checks of the star sensor's optional truth terms.
+#[path = "validate_star.rs"]
+mod star;

@@ -155,7 +155,9 @@ pub fn truth_scenario(scenario: &Scenario, seed: u64) -> Scenario {
     let draw = draw(dispersion, seed);
     truth.gyro.rate_noise_density_deg_per_h_per_sqrt_hz *= factor(draw.gyro_noise_percent, 0.0);
     truth.accelerometer.noise_per_sample_mps2 *= factor(draw.accelerometer_noise_percent, 0.0);
-    truth.star_sensor.noise_arcsec *= factor(draw.star_noise_percent, 0.0);
+    truth
+        .star_sensor
+        .scale_noise(factor(draw.star_noise_percent, 0.0));
     truth.gnss.noise_m *= factor(draw.gnss_noise_percent, 0.0);
     for (mounting, added) in truth
         .star_sensor

@@ -128,7 +128,9 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         process_noise: scenario_process_noise(scenario),
         imu_period_s: period_s,
         star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
-        // A zero-noise sensor (a test setting) still needs a positive R.
+        // A zero-noise sensor (a test setting) still needs a positive R. The flight software
+        // is told the isotropic `noise_arcsec` only: with the per-axis keys, which it must then
+        // equal, their larger (conservative); the slow errors are not modelled in its R.
         star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
         star_gate_nis: settings.nis_gate.star_threshold,
         gnss_noise_m: settings

@@ -29,6 +29,8 @@ pub enum Stream {
     GyroBiasInstability,
     /// The accelerometer bias instability (drawn only when it is on).
     AccelBiasInstability,
+    /// The star tracker's slowly varying Gauss–Markov error (drawn only when it is on).
+    StarSlowError,
     /// The initial navigation error drawn from the filter's initial 1σ.
     InitialError,
     /// The sensor-error truth drawn from the filter's prior for a Monte Carlo run.
@@ -58,6 +60,7 @@ impl Stream {
             Self::GnssVelocity => 8,
             Self::GyroBiasInstability => 9,
             Self::AccelBiasInstability => 10,
+            Self::StarSlowError => 11,
             Self::InitialError => 100,
             Self::TruthDraw => 101,
             // Entry indices are below ENTRY_KEYS.len(), far inside u64.
@@ -91,6 +94,7 @@ mod tests {
             Stream::GnssVelocity,
             Stream::GyroBiasInstability,
             Stream::AccelBiasInstability,
+            Stream::StarSlowError,
             Stream::InitialError,
             Stream::TruthDraw,
         ];

@@ -129,7 +129,7 @@ fn g_sensitivity_adds_the_rate_error_of_the_specific_force() {
 }
 
 /// Lag-`lag` sample autocorrelation of one axis.
-fn autocorrelation(samples: &[f64], lag: usize) -> f64 {
+pub(super) fn autocorrelation(samples: &[f64], lag: usize) -> f64 {
     let count = samples.len() as f64;
     let mean = samples.iter().sum::<f64>() / count;
     let variance = samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / count;

@@ -19,7 +19,10 @@
 //! gyro g-sensitivity and bias instability, entering before the bias (`imu_errors.rs`).
 //!
 //! ## Star sensor
-//! `q_is,m = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(n)`, `n ~ N(0, σ_s² I)` a small rotation in sensor axes,
+//! `q_is,m = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(n)`, `n ~ N(0, diag(σ_x², σ_y², σ_z²))` a small rotation
+//! in sensor axes (`σ_x = σ_y` cross-boresight, `σ_z` roll about the boresight; all `σ_s`
+//! unless the per-axis keys are given), optionally with the slow errors `exp(ε_slow)` between
+//! `q_ψ` and `exp(n)` (`star_errors.rs`),
 //! `q_bs` the nominal (known) mounting, `q_ψ = exp(ψ)` the installation error (unknown) with
 //! `ψ` a rotation vector in rad. Model.md's `q_s,meas = q_s ⊗ q_ψ` with `q_s = q_ib ⊗ q_bs`.
 //! The filter's installation state is the vector part of `q_ψ`, `sin(|ψ|/2) ψ/|ψ| ≈ ψ/2`
@@ -52,6 +55,7 @@ use crate::setup::launch::Launch;
 use crate::setup::streams::{self, Stream};
 use crate::world::truth::TruthFrame;
 use imu_errors::TriadExtras;
+use star_errors::StarSlowErrors;
 
 /// One sensor output, in delivery order.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -329,9 +333,13 @@ pub struct SensorSimulator {
     accelerometer: TriadModel,
     star_mounting_q_bs: Quaternion<f64>,
     star_installation_q_psi: Quaternion<f64>,
-    star_noise_rad: f64,
+    /// The white noise's 1σ about sensor x, y and z (rad).
+    star_noise_rad: Vector3<f64>,
     star_frames_per_sample: u64,
     star_rng: ChaCha8Rng,
+    /// The slowly varying errors ([`star_errors`]); `None` when off, and then the measurement
+    /// is the model without them, bit for bit.
+    star_slow: Option<StarSlowErrors>,
     gnss_noise_m: f64,
     gnss_frames_per_sample: u64,
     gnss_latency_s: f64,
@@ -424,9 +432,12 @@ impl SensorSimulator {
             star_installation_q_psi: exp_rotation_vector(&vector(
                 star.installation_error_rotation_vector_rad,
             )),
-            star_noise_rad: star.noise_rad(),
+            star_noise_rad: Vector3::from(star.noise_per_axis_rad()),
             star_frames_per_sample: frames_in(1.0 / star.rate_hz, period_s),
             star_rng: streams::rng(seed, Stream::Star),
+            star_slow: StarSlowErrors::new(star, scenario.simulation.start_time_s, || {
+                streams::rng(seed, Stream::StarSlowError)
+            }),
             gnss_noise_m: scenario.gnss.noise_m,
             gnss_frames_per_sample: frames_in(1.0 / scenario.gnss.rate_hz, period_s),
             gnss_latency_s: scenario.gnss.latency_s,
@@ -495,20 +506,7 @@ impl SensorSimulator {
         let frames_elapsed = truth.frame_index + 1;
         let tracking = self.star_tracking(truth);
         if frames_elapsed % self.star_frames_per_sample == 0 {
-            // Drawn whether or not the sample is delivered: the noise of every other sample
-            // stays what it is without the outage.
-            let noise = normal3(&mut self.star_rng) * self.star_noise_rad;
-            let measured = truth.attitude_q_ib
-                * self.star_mounting_q_bs
-                * self.star_installation_q_psi
-                * exp_rotation_vector(&noise);
-            let elapsed_s = truth.time_s - self.start_time_s;
-            if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
-                events.push(SensorEvent::Star {
-                    time_tag_s: truth.time_s,
-                    attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
-                });
-            }
+            self.star_sample(truth, tracking, events);
         }
 
         if frames_elapsed % self.gnss_frames_per_sample == 0 {
@@ -564,6 +562,31 @@ impl SensorSimulator {
 }
 
 impl SensorSimulator {
+    /// The star sample valid at the end of `truth`'s frame, pushed to `events` if the tracker
+    /// is `tracking` and not in an outage. Drawn whether or not it is delivered: the noise of
+    /// every other sample stays what it is without the outage.
+    fn star_sample(&mut self, truth: &TruthFrame, tracking: bool, events: &mut Vec<SensorEvent>) {
+        // Per axis; with the same σ on every axis the same bits as `normal3 · σ`.
+        let noise = normal3(&mut self.star_rng).component_mul(&self.star_noise_rad);
+        let installed =
+            truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
+        let measured = match &mut self.star_slow {
+            None => installed * exp_rotation_vector(&noise),
+            Some(slow) => {
+                installed
+                    * exp_rotation_vector(&slow.at(truth.time_s))
+                    * exp_rotation_vector(&noise)
+            }
+        };
+        let elapsed_s = truth.time_s - self.start_time_s;
+        if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
+            events.push(SensorEvent::Star {
+                time_tag_s: truth.time_s,
+                attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
+            });
+        }
+    }
+
     /// Whether the star tracker tracks during `truth`'s frame: not while the body rate's
     /// magnitude (the frame's mean, `|Δθ| / T`) exceeds `star_sensor.max_rate_deg_per_s`,
     /// nor for `reacquisition_s` after it falls back below.
@@ -630,5 +653,8 @@ impl GaussMarkov {
 mod imu_errors;
 #[cfg(test)]
 mod imu_errors_tests;
+mod star_errors;
+#[cfg(test)]
+mod star_errors_tests;
 #[cfg(test)]
 mod tests;

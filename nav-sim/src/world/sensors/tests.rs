@@ -44,7 +44,7 @@ fn four_and_one_hz_scenario() -> Scenario {
 }
 
 /// Every measurement at the IMU rate, so 10,000 frames give 10,000 samples of each.
-fn every_frame_scenario() -> Scenario {
+pub(super) fn every_frame_scenario() -> Scenario {
     let mut scenario = Scenario::default_scenario().unwrap();
     scenario.star_sensor.rate_hz = scenario.imu.rate_hz;
     scenario.gnss.rate_hz = scenario.imu.rate_hz;
@@ -92,7 +92,7 @@ fn assert_noise_matches(name: &str, samples: &[Vector3<f64>], sigma: f64) {
 
 /// The sensors speak GCRF (star) and ITRF (GNSS): the exact ITRF of the truth (the full
 /// IAU 2006/2000A chain) and `q_ig`, to bring the star back to launch-inertial.
-fn port_frames(
+pub(super) fn port_frames(
     scenario: &Scenario,
 ) -> (
     crate::scenario::epoch::ItrfFromLaunchInertial,
@@ -419,7 +419,7 @@ fn events_convert_to_flight_software_ports() {
 }
 
 /// FNV-1a over the bits of every number of `events` (f64 bit patterns, counters).
-fn events_digest(events: &[SensorEvent]) -> u64 {
+pub(super) fn events_digest(events: &[SensorEvent]) -> u64 {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     let mut mix = |word: u64| {
         for byte in word.to_le_bytes() {

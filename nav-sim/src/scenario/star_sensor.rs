@@ -1,0 +1,176 @@
+//! The `[star_sensor]` table: the tracker's rate, noise, mounting, installation error, rate
+//! limit and outages, and its optional truth terms (`docs/model.md`, "Star sensor truth"):
+//! per-axis noise (cross-boresight and roll), a slowly varying first-order Gauss–Markov error
+//! and a periodic error. The optional terms are left out of the `Debug` rendering while
+//! absent or zero, so a scenario without them renders, and hashes (the campaign's
+//! `scenario_hash`), as it did before they existed.
+
+use serde::Deserialize;
+
+/// Arc-seconds per degree.
+const ARCSEC_PER_DEG: f64 = 3600.0;
+
+/// Star sensor: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq_noise`.
+#[derive(Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StarSensorSettings {
+    /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it.
+    pub rate_hz: f64,
+    /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0; what the flight
+    /// software is told. With the per-axis keys it must equal the larger of them.
+    pub noise_arcsec: f64,
+    /// Nominal body-to-sensor mounting `q_bs = exp(φ)` as a rotation vector (deg). Known to
+    /// the flight code.
+    pub mounting_rotation_vector_deg: [f64; 3],
+    /// Installation error `q_ψ = exp(ψ)` as a rotation vector `ψ` (rad, the rotation angle, not
+    /// the quaternion's vector part). Unknown to the flight code.
+    pub installation_error_rotation_vector_rad: [f64; 3],
+    /// No output while the body rate's magnitude exceeds this (deg/s); 0 (the default) = no
+    /// limit.
+    #[serde(default)]
+    pub max_rate_deg_per_s: f64,
+    /// No output for this long after the rate falls back below `max_rate_deg_per_s` (s), ≥ 0
+    /// (re-acquisition).
+    #[serde(default)]
+    pub reacquisition_s: f64,
+    /// Outages `[[start_s, duration_s], ...]`, seconds after the scenario start: no output
+    /// during `[start, start + duration)`.
+    #[serde(default)]
+    pub outages: Vec<[f64; 2]>,
+    /// Noise 1σ about sensor x and about sensor y, across the boresight (arcsec), ≥ 0; given
+    /// together with `roll_noise_arcsec`, it replaces the isotropic `noise_arcsec` in the truth.
+    #[serde(default)]
+    pub cross_boresight_noise_arcsec: Option<f64>,
+    /// Noise 1σ about sensor z, the boresight (arcsec), ≥ 0; with
+    /// `cross_boresight_noise_arcsec`.
+    #[serde(default)]
+    pub roll_noise_arcsec: Option<f64>,
+    /// Slowly varying error: stationary 1σ per sensor axis (x, y, z) of a first-order
+    /// Gauss–Markov rotation (arcsec), each ≥ 0; zero (the default) = none.
+    #[serde(default)]
+    pub slow_error_sigma_arcsec: [f64; 3],
+    /// Its correlation time τ (s), > 0 when any `slow_error_sigma_arcsec` is.
+    #[serde(default)]
+    pub slow_error_correlation_time_s: f64,
+    /// Periodic error: amplitude per sensor axis (arcsec), each ≥ 0; zero (the default) =
+    /// none.
+    #[serde(default)]
+    pub periodic_error_amplitude_arcsec: [f64; 3],
+    /// Its period (s), > 0 when any amplitude is.
+    #[serde(default)]
+    pub periodic_error_period_s: f64,
+    /// Its phase at the scenario start (deg), the same on every axis.
+    #[serde(default)]
+    pub periodic_error_phase_deg: f64,
+}
+
+/// Arc-seconds to radians.
+pub fn arcsec_to_rad(arcsec: f64) -> f64 {
+    (arcsec / ARCSEC_PER_DEG).to_radians()
+}
+
+impl StarSensorSettings {
+    /// Noise 1σ per axis (rad): the isotropic `noise_arcsec`, what the flight software is
+    /// told (with per-axis keys, the larger of them).
+    pub fn noise_rad(&self) -> f64 {
+        arcsec_to_rad(self.noise_arcsec)
+    }
+
+    /// Whether the per-axis noise keys are given (both; validation refuses one alone).
+    pub fn has_per_axis_noise(&self) -> bool {
+        self.cross_boresight_noise_arcsec.is_some() || self.roll_noise_arcsec.is_some()
+    }
+
+    /// The truth's noise 1σ about sensor x, y and z (rad): cross-boresight, cross-boresight,
+    /// roll with the per-axis keys, else `noise_arcsec` on every axis (the same bits).
+    pub fn noise_per_axis_rad(&self) -> [f64; 3] {
+        let isotropic = self.noise_rad();
+        let cross = self
+            .cross_boresight_noise_arcsec
+            .map_or(isotropic, arcsec_to_rad);
+        let roll = self.roll_noise_arcsec.map_or(isotropic, arcsec_to_rad);
+        [cross, cross, roll]
+    }
+
+    /// Whether the slowly varying Gauss–Markov error is on.
+    pub fn has_slow_error(&self) -> bool {
+        self.slow_error_sigma_arcsec
+            .iter()
+            .any(|sigma| *sigma != 0.0)
+    }
+
+    /// Whether the periodic error is on.
+    pub fn has_periodic_error(&self) -> bool {
+        self.periodic_error_amplitude_arcsec
+            .iter()
+            .any(|amplitude| *amplitude != 0.0)
+    }
+
+    /// The dispersed noise: `noise_arcsec` and the per-axis keys scaled by `factor` (the
+    /// larger per-axis value stays equal to `noise_arcsec`, as multiplication is monotonic).
+    pub fn scale_noise(&mut self, factor: f64) {
+        self.noise_arcsec *= factor;
+        for value in [
+            &mut self.cross_boresight_noise_arcsec,
+            &mut self.roll_noise_arcsec,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            *value *= factor;
+        }
+    }
+}
+
+impl std::fmt::Debug for StarSensorSettings {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut debug = formatter.debug_struct("StarSensorSettings");
+        debug
+            .field("rate_hz", &self.rate_hz)
+            .field("noise_arcsec", &self.noise_arcsec)
+            .field(
+                "mounting_rotation_vector_deg",
+                &self.mounting_rotation_vector_deg,
+            )
+            .field(
+                "installation_error_rotation_vector_rad",
+                &self.installation_error_rotation_vector_rad,
+            )
+            .field("max_rate_deg_per_s", &self.max_rate_deg_per_s)
+            .field("reacquisition_s", &self.reacquisition_s)
+            .field("outages", &self.outages);
+        if self.has_per_axis_noise() {
+            debug
+                .field(
+                    "cross_boresight_noise_arcsec",
+                    &self.cross_boresight_noise_arcsec,
+                )
+                .field("roll_noise_arcsec", &self.roll_noise_arcsec);
+        }
+        if self.has_slow_error() || self.slow_error_correlation_time_s != 0.0 {
+            debug
+                .field("slow_error_sigma_arcsec", &self.slow_error_sigma_arcsec)
+                .field(
+                    "slow_error_correlation_time_s",
+                    &self.slow_error_correlation_time_s,
+                );
+        }
+        if self.has_periodic_error()
+            || self.periodic_error_period_s != 0.0
+            || self.periodic_error_phase_deg != 0.0
+        {
+            debug
+                .field(
+                    "periodic_error_amplitude_arcsec",
+                    &self.periodic_error_amplitude_arcsec,
+                )
+                .field("periodic_error_period_s", &self.periodic_error_period_s)
+                .field("periodic_error_phase_deg", &self.periodic_error_phase_deg);
+        }
+        debug.finish()
+    }
+}
+
+#[cfg(test)]
+#[path = "star_sensor_tests.rs"]
+mod tests;

@@ -1,0 +1,129 @@
+//! Unit tests of the `[star_sensor]` table's optional truth keys: parsing, the `Debug`
+//! rendering (the scenario hash) and validation.
+
+use crate::scenario::{Scenario, ScenarioError, DEFAULT_SCENARIO_TOML};
+
+/// The default scenario with `lines` added to `[star_sensor]`.
+fn with_star_lines(lines: &str) -> String {
+    DEFAULT_SCENARIO_TOML.replacen(
+        "noise_arcsec = 10.0\n",
+        &format!("noise_arcsec = 10.0\n{lines}\n"),
+        1,
+    )
+}
+
+/// The key and message of the validation error of `text`.
+fn refusal(text: &str) -> (String, String) {
+    match Scenario::from_toml_str(text) {
+        Err(error @ ScenarioError::Invalid { .. }) => {
+            let message = error.to_string();
+            let ScenarioError::Invalid { key, .. } = error else {
+                unreachable!()
+            };
+            (key, message)
+        }
+        other => panic!("expected an Invalid error, got {other:?}"),
+    }
+}
+
+#[test]
+fn absent_keys_are_off_and_leave_the_rendering_as_it_was() {
+    let default = Scenario::default_scenario().unwrap();
+    let star = &default.star_sensor;
+    assert!(!star.has_per_axis_noise() && !star.has_slow_error() && !star.has_periodic_error());
+    assert_eq!(
+        star.noise_per_axis_rad().map(f64::to_bits),
+        [star.noise_rad().to_bits(); 3]
+    );
+    // The derived rendering before the keys existed, verbatim.
+    assert!(format!("{default:?}").contains(
+        "star_sensor: StarSensorSettings { rate_hz: 10.0, noise_arcsec: 10.0, \
+         mounting_rotation_vector_deg: [0.0, -30.0, 0.0], \
+         installation_error_rotation_vector_rad: [0.001, 0.002, 0.003], \
+         max_rate_deg_per_s: 0.0, reacquisition_s: 0.0, outages: [] }"
+    ));
+    let text = with_star_lines(
+        "cross_boresight_noise_arcsec = 5.0\nroll_noise_arcsec = 10.0\n\
+         slow_error_sigma_arcsec = [3.0, 3.0, 1.0]\nslow_error_correlation_time_s = 1420.0\n\
+         periodic_error_amplitude_arcsec = [1.0, 0.0, 0.0]\nperiodic_error_period_s = 5700.0",
+    );
+    let scenario = Scenario::from_toml_str(&text).unwrap();
+    let rendering = format!("{scenario:?}");
+    for key in [
+        "cross_boresight",
+        "roll_noise",
+        "slow_error",
+        "periodic_error",
+    ] {
+        assert!(rendering.contains(key), "{key}");
+    }
+    let star = &scenario.star_sensor;
+    assert!(star.has_per_axis_noise() && star.has_slow_error() && star.has_periodic_error());
+    let [x, y, z] = star.noise_per_axis_rad();
+    assert_eq!(x.to_bits(), y.to_bits());
+    assert_eq!(z.to_bits(), star.noise_rad().to_bits());
+    assert!((z / x - 2.0).abs() < 1e-15, "{x} {z}");
+}
+
+#[test]
+fn bad_star_truth_keys_are_refused_naming_the_key() {
+    for (lines, key, words) in [
+        (
+            "cross_boresight_noise_arcsec = 5.0",
+            "star_sensor.roll_noise_arcsec",
+            "must be given with star_sensor.cross_boresight_noise_arcsec",
+        ),
+        (
+            "roll_noise_arcsec = 5.0",
+            "star_sensor.cross_boresight_noise_arcsec",
+            "must be given with",
+        ),
+        (
+            "cross_boresight_noise_arcsec = 5.0\nroll_noise_arcsec = 35.0",
+            "star_sensor.noise_arcsec",
+            "must equal the larger of them, 35",
+        ),
+        (
+            "cross_boresight_noise_arcsec = -5.0\nroll_noise_arcsec = 10.0",
+            "star_sensor.cross_boresight_noise_arcsec",
+            "must be 0 (off) or in",
+        ),
+        (
+            "slow_error_sigma_arcsec = [3.0, -1.0, 3.0]\nslow_error_correlation_time_s = 9.0",
+            "star_sensor.slow_error_sigma_arcsec (y)",
+            "must be 0 (off) or in",
+        ),
+        (
+            "slow_error_sigma_arcsec = [3.0, 3.0, 3.0]",
+            "star_sensor.slow_error_correlation_time_s",
+            "must be > 0",
+        ),
+        (
+            "slow_error_correlation_time_s = -1.0",
+            "star_sensor.slow_error_correlation_time_s",
+            "must be >= 0",
+        ),
+        (
+            "periodic_error_amplitude_arcsec = [0.0, 0.0, 2.0]\nperiodic_error_period_s = inf",
+            "star_sensor.periodic_error_period_s",
+            "must be > 0",
+        ),
+        (
+            "periodic_error_amplitude_arcsec = [nan, 0.0, 2.0]\nperiodic_error_period_s = 9.0",
+            "star_sensor.periodic_error_amplitude_arcsec (x)",
+            "must be 0 (off) or in",
+        ),
+        (
+            "periodic_error_phase_deg = inf",
+            "star_sensor.periodic_error_phase_deg",
+            "must be finite",
+        ),
+    ] {
+        let (refused_key, message) = refusal(&with_star_lines(lines));
+        assert_eq!(refused_key, key, "{lines}");
+        assert!(message.contains(words), "{message}");
+    }
+    // The per-axis keys with noise_arcsec their larger value are accepted.
+    let text = with_star_lines("cross_boresight_noise_arcsec = 10.0\nroll_noise_arcsec = 2.0");
+    assert!(Scenario::from_toml_str(&text).is_ok());
+}
