@@ -345,14 +345,15 @@ impl ErrorStateFilter {
     ) -> Result<&'slot mut Self, NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
-        let imu_error = ImuErrorStates::new(config.imu_error)?;
+        config.imu_error.validate()?;
         let filter = slot.write(Self {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
             gnss_error,
-            imu_error,
+            imu_error: ImuErrorStates::EMPTY,
         });
+        filter.imu_error.start(config.imu_error);
         filter.set_initial_covariance(config);
         Ok(filter)
     }
@@ -385,12 +386,13 @@ impl ErrorStateFilter {
     pub fn restart(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
-        let imu_error = ImuErrorStates::new(config.imu_error)?;
+        config.imu_error.validate()?;
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
         self.gnss_error = gnss_error;
-        self.imu_error = imu_error;
+        self.imu_error = ImuErrorStates::EMPTY;
+        self.imu_error.start(config.imu_error);
         self.set_initial_covariance(config);
         Ok(())
     }

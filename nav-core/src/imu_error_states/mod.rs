@@ -139,7 +139,8 @@ impl ImuErrorModel {
     /// [`crate::imu_error::ImuErrorBlock`] order: the square roots of
     /// [`Self::prior_covariance`]'s diagonal.
     pub fn state_sigmas(&self) -> [f64; IMU_ERROR_DIMENSION] {
-        let prior = self.prior_rows();
+        let mut prior = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+        self.write_prior(&mut prior);
         core::array::from_fn(|k| {
             prior
                 .get(k)
@@ -238,19 +239,35 @@ impl ImuErrorStates {
     /// ```
     pub fn new(model: ImuErrorModel) -> Result<Self, NavError> {
         model.validate()?;
-        let covariance = model.prior_rows();
-        Ok(Self {
-            model,
-            halves: [Estimate {
-                estimate: [0.0; IMU_ERROR_DIMENSION],
-                covariance,
-                gnss_cross: [[0.0; IMU_ERROR_DIMENSION]; 3],
-            }; 2],
-            second_half: false,
-            buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
-            second_active: false,
-            scratch: Scratch::EMPTY,
-        })
+        let mut states = Self::EMPTY;
+        states.start(model);
+        Ok(states)
+    }
+
+    /// Everything zero, the model disabled: what the filter writes into its slot before
+    /// [`Self::start`], so the large border is never built on the stack and moved
+    /// (start-up's stack budget, `tests-host` `replay_bit_exact`).
+    pub(crate) const EMPTY: Self = Self {
+        model: ImuErrorModel::DISABLED,
+        halves: [Estimate {
+            estimate: [0.0; IMU_ERROR_DIMENSION],
+            covariance: [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION],
+            gnss_cross: [[0.0; IMU_ERROR_DIMENSION]; 3],
+        }; 2],
+        second_half: false,
+        buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
+        second_active: false,
+        scratch: Scratch::EMPTY,
+    };
+
+    /// On an [`Self::EMPTY`] border, in place: the model and its prior
+    /// ([`ImuErrorModel::prior_covariance`]) in both halves' `P_εε`. The caller has
+    /// validated `model`.
+    pub(crate) fn start(&mut self, model: ImuErrorModel) {
+        self.model = model;
+        for half in &mut self.halves {
+            model.write_prior(&mut half.covariance);
+        }
     }
 
     /// The model.

@@ -36,24 +36,59 @@ pub type PriorCovariance = SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION
 /// The gyro's upper terms `a^g_ij` (`i < j`), as `(row, column)`.
 const UPPER_GYRO_TERMS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
 
-/// The state indices and signs of the three states an upper gyro term `a^g_ij` (`i < j`,
-/// given as `(row, column)`) enters (module docs); `None` if a term is not in the layout.
-fn shared_term_states(upper: (usize, usize)) -> Option<[(usize, f64); 3]> {
-    let (row, column) = upper;
-    let position = |terms: &[(usize, usize)], term: (usize, usize)| {
-        terms.iter().position(|candidate| *candidate == term)
-    };
-    let gyro = position(&GYRO_NON_ORTHOGONALITY_TERMS, (column, row))?;
-    let accel_upper = position(&ACCEL_MISALIGNMENT_TERMS, (row, column))?;
-    let accel_lower = position(&ACCEL_MISALIGNMENT_TERMS, (column, row))?;
-    let gyro_offset = ImuErrorBlock::GyroNonOrthogonality.offset();
-    let accel_offset = ImuErrorBlock::AccelMisalignment.offset();
-    Some([
-        (gyro_offset + gyro, 1.0),
-        (accel_offset + accel_upper, -1.0),
-        (accel_offset + accel_lower, 1.0),
-    ])
+/// Index of `term` in `terms` (`usize::MAX` if absent: the `const` asserts below refuse it).
+/// Evaluated only at compile time, where an index out of range is a build error.
+#[allow(clippy::indexing_slicing)]
+const fn index_of(terms: &[(usize, usize)], term: (usize, usize)) -> usize {
+    let mut k = 0;
+    while k < terms.len() {
+        if terms[k].0 == term.0 && terms[k].1 == term.1 {
+            return k;
+        }
+        k += 1;
+    }
+    usize::MAX
 }
+
+/// The state indices and signs of the three states an upper gyro term `a^g_ij` (`i < j`,
+/// given as `(row, column)`) enters (module docs).
+const fn shared_term_states(upper: (usize, usize)) -> [(usize, f64); 3] {
+    let (row, column) = upper;
+    let gyro = ImuErrorBlock::GyroNonOrthogonality.offset()
+        + index_of(&GYRO_NON_ORTHOGONALITY_TERMS, (column, row));
+    let accel = ImuErrorBlock::AccelMisalignment.offset();
+    [
+        (gyro, 1.0),
+        (
+            accel + index_of(&ACCEL_MISALIGNMENT_TERMS, (row, column)),
+            -1.0,
+        ),
+        (
+            accel + index_of(&ACCEL_MISALIGNMENT_TERMS, (column, row)),
+            1.0,
+        ),
+    ]
+}
+
+/// For each upper gyro term, the three states it enters, with their signs.
+const SHARED_TERM_STATES: [[(usize, f64); 3]; 3] = [
+    shared_term_states(UPPER_GYRO_TERMS[0]),
+    shared_term_states(UPPER_GYRO_TERMS[1]),
+    shared_term_states(UPPER_GYRO_TERMS[2]),
+];
+// Compile-time check (an index out of range here is a build error, not a run-time panic).
+#[allow(clippy::indexing_slicing)]
+const _: () = {
+    let mut g = 0;
+    while g < SHARED_TERM_STATES.len() {
+        let mut k = 0;
+        while k < 3 {
+            assert!(SHARED_TERM_STATES[g][k].0 < ImuErrorBlock::GyroGSensitivity.offset());
+            k += 1;
+        }
+        g += 1;
+    }
+};
 
 impl ImuErrorModel {
     /// The prior covariance of the twelve states in the filter's gauge, in
@@ -72,7 +107,8 @@ impl ImuErrorModel {
     /// assert!((prior[(9, 9)] - 6.25e-14).abs() < 1e-28);
     /// ```
     pub fn prior_covariance(&self) -> PriorCovariance {
-        let prior = self.prior_rows();
+        let mut prior = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+        self.write_prior(&mut prior);
         PriorCovariance::from_fn(|a, b| {
             prior
                 .get(a)
@@ -82,31 +118,36 @@ impl ImuErrorModel {
         })
     }
 
-    /// [`Self::prior_covariance`] by rows, as the border keeps it.
-    pub(super) fn prior_rows(&self) -> BorderMatrix {
+    /// Adds [`Self::prior_covariance`] to `covariance` (by rows, as the border keeps it),
+    /// in place: the border is built where it lives, not on the stack.
+    #[inline]
+    pub(super) fn write_prior(&self, covariance: &mut BorderMatrix) {
         let gyro_variance = self.gyro_misalignment_sigma_rad * self.gyro_misalignment_sigma_rad;
         let accel_variance = self.accel_misalignment_sigma_rad * self.accel_misalignment_sigma_rad;
         let g_sensitivity_variance = self.gyro_g_sensitivity_sigma_rad_s_per_mps2
             * self.gyro_g_sensitivity_sigma_rad_s_per_mps2;
         let accel = ImuErrorBlock::AccelMisalignment.offset();
         let g_sensitivity = ImuErrorBlock::GyroGSensitivity.offset();
-        let mut prior: BorderMatrix = core::array::from_fn(|a| {
-            core::array::from_fn(|b| match (a == b, a) {
-                (false, _) => 0.0,
-                (true, k) if k < accel => gyro_variance,
-                (true, k) if k < g_sensitivity => accel_variance,
-                (true, _) => g_sensitivity_variance,
-            })
-        });
-        for states in UPPER_GYRO_TERMS.into_iter().filter_map(shared_term_states) {
+        for (k, row) in covariance.iter_mut().enumerate() {
+            let variance = if k < accel {
+                gyro_variance
+            } else if k < g_sensitivity {
+                accel_variance
+            } else {
+                g_sensitivity_variance
+            };
+            if let Some(entry) = row.get_mut(k) {
+                *entry += variance;
+            }
+        }
+        for states in &SHARED_TERM_STATES {
             for (a, sign_a) in states {
                 for (b, sign_b) in states {
-                    if let Some(entry) = prior.get_mut(a).and_then(|row| row.get_mut(b)) {
+                    if let Some(entry) = covariance.get_mut(*a).and_then(|row| row.get_mut(*b)) {
                         *entry += sign_a * sign_b * gyro_variance;
                     }
                 }
             }
         }
-        prior
     }
 }
