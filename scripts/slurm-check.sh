@@ -6,9 +6,10 @@
 # made small (3 shards of 6 runs of a 10 s flight) and nav-sim's path filled in.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-# The test profile's binary, which the host tests have built already (--workspace: the same
-# feature set, so nothing is compiled again); the campaign is small enough for it.
-(cd "$root" && cargo build --workspace --profile test --bin nav-sim)
+# The test profile's binary, which the host tests have built already for the testsuite:
+# `cargo test --no-run` with the host tests' arguments compiles nothing again (a `cargo build`
+# would, without the dev-dependencies' features); the campaign is small enough for it.
+(cd "$root" && cargo test --workspace --no-run)
 nav_sim="${CARGO_TARGET_DIR:-$root/target}/debug/nav-sim"
 
 if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
