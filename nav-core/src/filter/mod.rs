@@ -345,7 +345,6 @@ impl ErrorStateFilter {
     ) -> Result<&'slot mut Self, NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
-        config.imu_error.validate()?;
         let filter = slot.write(Self {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
@@ -386,7 +385,6 @@ impl ErrorStateFilter {
     pub fn restart(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
-        config.imu_error.validate()?;
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
