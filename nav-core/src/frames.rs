@@ -299,6 +299,21 @@ impl LaunchFrame {
             * self.earth_centred_inertial_position(position_launch_m))
     }
 
+    /// The rotation from launch-inertial to Earth-fixed axes at navigation time `time_s` (s
+    /// since the launch epoch), `R_k(−ω_e t) Cᵀ`: a geocentric vector `u` in launch-inertial
+    /// axes is `R_k(−ω_e t) Cᵀ u` in ECEF (as in [`Self::launch_inertial_to_ecef`], with
+    /// `u = p − p_centre`).
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite time.
+    pub fn ecef_from_launch_axes(&self, time_s: f64) -> Result<Matrix3<f64>, NavError> {
+        if !time_s.is_finite() {
+            return Err(NavError::NonFiniteInput);
+        }
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        Ok(rotation_about(&self.earth_axis_ecef, -angle) * self.launch_from_ecef.transpose())
+    }
+
     /// Geocentric position (m) in the ECEF-at-epoch inertial axes of a launch-inertial
     /// position (m): `r_I = r_site + Cᵀ p_i`.
     pub fn earth_centred_inertial_position(

@@ -10,6 +10,10 @@
 //! `g = −GM r / r³ − (3/2) J2 GM a² / r⁵ · [ (1 − 5 s²/r²) r + 2 s k ]`.
 //!
 //! This is gravitation only (no centrifugal term): the navigation frame is inertial.
+//! The field beyond `J2`, to a configured degree and order, is [`harmonics`]'s.
+
+pub mod egm2008;
+pub mod harmonics;
 
 use nalgebra::{Matrix3, Vector3};
 

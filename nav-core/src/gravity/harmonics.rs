@@ -1,0 +1,343 @@
+//! The flight's gravity beyond point mass + `J2`: EGM2008 ([`super::egm2008`]) to a configured
+//! degree `N ≤ 12` and order `M ≤ N`, evaluated a few terms per frame so that no frame pays
+//! for a whole evaluation, and held between evaluations; with the RMS of what the model
+//! leaves out, for the consistency check of the gravity allowance.
+//!
+//! **Recursion.** Cunningham's solid harmonics for fully normalised coefficients
+//! (Montenbruck & Gill, *Satellite Orbits*, 2000, eqs. 3.29–3.33, times the ratios of the
+//! normalisation `N_nm = √((2 − δ_m0)(2n + 1)(n − m)!/(n + m)!)`; Holmes & Featherstone,
+//! *J. Geodesy* 76, 2002, eqs. 11–12 for `α`, `β`). With `ρ = a / r²`, `(x, y, z)` the
+//! Earth-fixed position and `V̄_00 = a / r`, `W̄_00 = 0`:
+//!
+//! ```text
+//! V̄_mm = f_m (xρ V̄_m−1,m−1 − yρ W̄_m−1,m−1),   W̄_mm = f_m (xρ W̄_m−1,m−1 + yρ V̄_m−1,m−1)
+//! V̄_nm = α_nm zρ V̄_n−1,m − β_nm aρ V̄_n−2,m    (W̄ alike)
+//! f_1 = √3, f_m = √((2m + 1)/(2m));  α_nm = √((2n + 1)(2n − 1)/((n − m)(n + m)))
+//! β_nm = √((2n + 1)(n + m − 1)(n − m − 1)/((2n − 3)(n + m)(n − m)))
+//! ```
+//!
+//! and the acceleration (M&G eq. 3.33), per coefficient, in units of `GM / a²`:
+//!
+//! ```text
+//! m = 0: ẍ = −C̄ k₀ V̄_n+1,1,  ÿ = −C̄ k₀ W̄_n+1,1
+//! m > 0: ẍ = ½ [k₁ (−C̄ V̄_n+1,m+1 − S̄ W̄_n+1,m+1) + k₂ (C̄ V̄_n+1,m−1 + S̄ W̄_n+1,m−1)]
+//!        ÿ = ½ [k₁ (−C̄ W̄_n+1,m+1 + S̄ V̄_n+1,m+1) + k₂ (−C̄ W̄_n+1,m−1 + S̄ V̄_n+1,m−1)]
+//! all m: z̈ = k₃ (−C̄ V̄_n+1,m − S̄ W̄_n+1,m)
+//! k₀² = (2n+1)(n+1)(n+2)/(2(2n+3)),  k₁² = (2n+1)(n+m+1)(n+m+2)/(2n+3)
+//! k₂² = (1 + δ_m1)(2n+1)(n−m+1)(n−m+2)/(2n+3),  k₃² = (2n+1)(n+m+1)(n−m+1)/(2n+3)
+//! ```
+//!
+//! `C̄_00` and `C̄_20` are left out: point mass and `J2` are [`super::GravityModel`]'s, exact at
+//! every step (what the model's own `GM`, `a` and `C̄_20` change against WGS-84's is below
+//! 1.3e-8 m/s² in LEO).
+//!
+//! **Slices.** An evaluation is a fixed sequence of work items: one to start (the Earth-fixed
+//! position at the node time `t_n`), one per solid harmonic `(n ≤ N + 1, m ≤ M + 1)`, one
+//! per coefficient, one to finish (back to launch-inertial axes, `R(t_n)ᵀ`, and the omitted
+//! RMS). [`FieldRemainder::advance`] does at most `terms_per_frame` of them per frame, so the
+//! value is refreshed every [`FieldModel::frames_per_evaluation`] frames and held in between:
+//! the value used at `t` was evaluated where the vehicle was up to two refresh periods
+//! earlier. What that hold costs is part of the omitted field the allowance covers
+//! (docs/gravity.md).
+//!
+//! **Omitted field.** The degree-`n` part of the potential has, over the sphere of radius
+//! `r`, the mean square gradient `(GM/r²)² (a/r)^(2n) (n + 1)(2n + 1) Σ_m (C̄² + S̄²)` (radial
+//! `(n + 1)²`, horizontal `n (n + 1)` times the mean square of the surface harmonic, which is
+//! `Σ_m (C̄² + S̄²)` for 4π-normalised harmonics); degrees are orthogonal, so the RMS of the
+//! terms the model leaves out, up to degree [`TAIL_MAX_DEGREE`], is the root of their sum.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::egm2008::{self, FLIGHT_MAX_DEGREE, TAIL_MAX_DEGREE};
+use crate::error::NavError;
+
+/// `n (n + 1) / 2 + m`: the position of `(n, m)` in a triangle stored degree by degree.
+const fn triangle_index(degree: usize, order: usize) -> usize {
+    degree * (degree + 1) / 2 + order
+}
+
+/// Solid harmonics are needed one degree above the model's.
+const SOLID_DEGREE: usize = FLIGHT_MAX_DEGREE + 1;
+const SOLID_COUNT: usize = triangle_index(SOLID_DEGREE, SOLID_DEGREE) + 1;
+const COEFFICIENT_COUNT: usize = triangle_index(FLIGHT_MAX_DEGREE, FLIGHT_MAX_DEGREE) + 1;
+const _: () =
+    assert!(COEFFICIENT_COUNT == egm2008::C.len() && COEFFICIENT_COUNT == egm2008::S.len());
+const _: () = assert!(egm2008::TAIL_DEGREE_POWER.len() == TAIL_MAX_DEGREE - FLIGHT_MAX_DEGREE);
+
+/// Default work items per frame: 4 refresh a 12 × 12 model every 49 frames (0.1 s at 500 Hz).
+pub const DEFAULT_TERMS_PER_FRAME: u8 = 4;
+
+/// The flight model's fidelity: `degree` 2 and `order` 0 is point mass + `J2` alone (nothing
+/// evaluated); `order` 0 with a higher degree the zonal terms `J3 … J_N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FieldModel {
+    /// Largest degree `N`, 2 to [`FLIGHT_MAX_DEGREE`].
+    pub degree: u8,
+    /// Largest order `M`, 0 to `degree`.
+    pub order: u8,
+    /// Work items per frame (module docs), at least 1.
+    pub terms_per_frame: u8,
+}
+
+impl FieldModel {
+    /// Point mass + `J2`: today's model, nothing beyond it evaluated.
+    pub const J2_ONLY: Self = Self {
+        degree: 2,
+        order: 0,
+        terms_per_frame: DEFAULT_TERMS_PER_FRAME,
+    };
+
+    /// Whether the model adds nothing to point mass + `J2`.
+    pub fn is_j2_only(&self) -> bool {
+        self.degree == 2 && self.order == 0
+    }
+
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] for a degree outside 2..=[`FLIGHT_MAX_DEGREE`], an
+    /// order above the degree, or no work per frame.
+    ///
+    /// ```
+    /// use nav_core::gravity::harmonics::FieldModel;
+    /// let model = FieldModel { degree: 8, order: 8, terms_per_frame: 4 };
+    /// assert!(model.validate().is_ok());
+    /// assert!(FieldModel { degree: 13, ..model }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), NavError> {
+        let degree_in_range = (2..=FLIGHT_MAX_DEGREE).contains(&usize::from(self.degree));
+        if degree_in_range && self.order <= self.degree && self.terms_per_frame >= 1 {
+            Ok(())
+        } else {
+            Err(NavError::InvalidConfiguration)
+        }
+    }
+
+    /// Largest column of solid harmonics the coefficients read.
+    fn solid_order(&self) -> u8 {
+        self.order
+            .saturating_add(1)
+            .min(self.degree.saturating_add(1))
+    }
+
+    /// Work items of one evaluation (module docs): start, solid harmonics, coefficients,
+    /// finish.
+    pub fn work_items(&self) -> usize {
+        let solid_degree = usize::from(self.degree) + 1;
+        let solid: usize = (0..=usize::from(self.solid_order()))
+            .map(|m| solid_degree + 1 - m)
+            .sum();
+        let coefficients: usize = (2..=usize::from(self.degree))
+            .map(|n| n.min(usize::from(self.order)) + 1)
+            .sum();
+        // The start item computes V̄_00 itself.
+        1 + (solid - 1) + coefficients + 1
+    }
+
+    /// Frames between two refreshes of the held value.
+    pub fn frames_per_evaluation(&self) -> usize {
+        self.work_items()
+            .div_ceil(usize::from(self.terms_per_frame.max(1)))
+    }
+}
+
+/// Where an evaluation stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Cursor {
+    /// No evaluation under way: the next item starts one.
+    Start,
+    /// Next: the solid harmonic `(n, m)`.
+    Solid { degree: u8, order: u8 },
+    /// Next: the coefficient `(n, m)`'s acceleration.
+    Coefficient { degree: u8, order: u8 },
+    /// Next: back to launch-inertial axes and the omitted RMS.
+    Finish,
+}
+
+/// The sliced evaluation and its held result (module docs). Lives in the navigation
+/// computer's static memory: [`Self::EMPTY`] is written in place, then [`Self::configure`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldRemainder {
+    model: FieldModel,
+    /// `α_nm` (or `f_m` at `n = m`) and `β_nm` per solid harmonic.
+    alpha: [f64; SOLID_COUNT],
+    beta: [f64; SOLID_COUNT],
+    /// `[k₀ or k₁, k₂, k₃]` per coefficient.
+    factors: [[f64; 3]; COEFFICIENT_COUNT],
+    /// `(n + 1)(2n + 1) Σ_{m omitted} (C̄² + S̄²)` per degree `n ≤ TAIL_MAX_DEGREE`.
+    omitted_weight: [f64; TAIL_MAX_DEGREE + 1],
+    v: [f64; SOLID_COUNT],
+    w: [f64; SOLID_COUNT],
+    /// `xρ, yρ, zρ, aρ` of the node.
+    scaled_position: [f64; 4],
+    /// `r` of the node (m).
+    node_radius_m: f64,
+    /// Earth-fixed from launch-inertial axes at the node time.
+    ecef_from_launch: Matrix3<f64>,
+    /// Acceleration summed so far, Earth-fixed, units of `GM / a²`.
+    sum: [f64; 3],
+    cursor: Cursor,
+    held_launch_mps2: Vector3<f64>,
+    held_omitted_rms_mps2: f64,
+    evaluations: u32,
+}
+
+impl FieldRemainder {
+    /// Nothing configured: point mass + `J2` only, a zero held value.
+    pub const EMPTY: Self = Self {
+        model: FieldModel::J2_ONLY,
+        alpha: [0.0; SOLID_COUNT],
+        beta: [0.0; SOLID_COUNT],
+        factors: [[0.0; 3]; COEFFICIENT_COUNT],
+        omitted_weight: [0.0; TAIL_MAX_DEGREE + 1],
+        v: [0.0; SOLID_COUNT],
+        w: [0.0; SOLID_COUNT],
+        scaled_position: [0.0; 4],
+        node_radius_m: 0.0,
+        ecef_from_launch: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        sum: [0.0; 3],
+        cursor: Cursor::Start,
+        held_launch_mps2: Vector3::new(0.0, 0.0, 0.0),
+        held_omitted_rms_mps2: 0.0,
+        evaluations: 0,
+    };
+
+    /// Sets the model and its tables in place; the held value returns to zero.
+    ///
+    /// # Errors
+    /// As [`FieldModel::validate`]; `self` is unchanged on error.
+    pub fn configure(&mut self, model: FieldModel) -> Result<(), NavError> {
+        model.validate()?;
+        *self = Self::EMPTY_AGAIN;
+        self.model = model;
+        self.write_recursion_factors();
+        self.write_acceleration_factors();
+        self.write_omitted_weights();
+        Ok(())
+    }
+
+    // `EMPTY` under another name, so `configure` overwrites in place without a temporary.
+    const EMPTY_AGAIN: Self = Self::EMPTY;
+
+    /// The model in use.
+    pub fn model(&self) -> &FieldModel {
+        &self.model
+    }
+
+    /// The held acceleration beyond point mass + `J2` (m/s², launch-inertial axes): zero
+    /// until the first evaluation completes, and always for [`FieldModel::J2_ONLY`].
+    pub fn acceleration_launch_mps2(&self) -> &Vector3<f64> {
+        &self.held_launch_mps2
+    }
+
+    /// RMS over the sphere at the last node's radius of the field the model leaves out, up to
+    /// degree [`TAIL_MAX_DEGREE`] (m/s²); zero before the first evaluation.
+    pub fn omitted_rms_mps2(&self) -> f64 {
+        self.held_omitted_rms_mps2
+    }
+
+    /// Evaluations completed (wrapping).
+    pub fn evaluations(&self) -> u32 {
+        self.evaluations
+    }
+
+    fn write_recursion_factors(&mut self) {
+        for n in 1..=SOLID_DEGREE {
+            let nf = small_f64(n);
+            let sectoral = if n == 1 {
+                crate::float::sqrt(3.0)
+            } else {
+                crate::float::sqrt((2.0 * nf + 1.0) / (2.0 * nf))
+            };
+            set(&mut self.alpha, triangle_index(n, n), sectoral);
+            for m in 0..n {
+                let mf = small_f64(m);
+                let at = triangle_index(n, m);
+                let alpha = (2.0 * nf + 1.0) * (2.0 * nf - 1.0) / ((nf - mf) * (nf + mf));
+                set(&mut self.alpha, at, crate::float::sqrt(alpha));
+                if n >= m + 2 {
+                    let beta = (2.0 * nf + 1.0) * (nf + mf - 1.0) * (nf - mf - 1.0)
+                        / ((2.0 * nf - 3.0) * (nf + mf) * (nf - mf));
+                    set(&mut self.beta, at, crate::float::sqrt(beta));
+                }
+            }
+        }
+    }
+
+    fn write_acceleration_factors(&mut self) {
+        for n in 0..=FLIGHT_MAX_DEGREE {
+            let nf = small_f64(n);
+            let tail = 2.0 * nf + 3.0;
+            for m in 0..=n {
+                let mf = small_f64(m);
+                let first = if m == 0 {
+                    (2.0 * nf + 1.0) * (nf + 1.0) * (nf + 2.0) / (2.0 * tail)
+                } else {
+                    (2.0 * nf + 1.0) * (nf + mf + 1.0) * (nf + mf + 2.0) / tail
+                };
+                let doubled = if m == 1 { 2.0 } else { 1.0 };
+                let second = doubled * (2.0 * nf + 1.0) * (nf - mf + 1.0) * (nf - mf + 2.0) / tail;
+                let third = (2.0 * nf + 1.0) * (nf + mf + 1.0) * (nf - mf + 1.0) / tail;
+                if let Some(slot) = self.factors.get_mut(triangle_index(n, m)) {
+                    *slot = [first, second, third].map(crate::float::sqrt);
+                }
+            }
+        }
+    }
+
+    /// `(n + 1)(2n + 1)` times the power the model omits at degree `n`: the orders above `M`
+    /// up to `N` (never `C̄_20`, which `J2` carries), every order above `N`, the file's tail
+    /// beyond [`FLIGHT_MAX_DEGREE`].
+    fn write_omitted_weights(&mut self) {
+        let (degree, order) = (
+            usize::from(self.model.degree),
+            usize::from(self.model.order),
+        );
+        for n in 2..=TAIL_MAX_DEGREE {
+            let power = if n > FLIGHT_MAX_DEGREE {
+                egm2008::TAIL_DEGREE_POWER
+                    .get(n - FLIGHT_MAX_DEGREE - 1)
+                    .copied()
+                    .unwrap_or(0.0)
+            } else {
+                let first_omitted = if n > degree { 0 } else { order + 1 };
+                (first_omitted.max(usize::from(n == 2))..=n)
+                    .map(|m| {
+                        let at = triangle_index(n, m);
+                        let c = egm2008::C.get(at).copied().unwrap_or(0.0);
+                        let s = egm2008::S.get(at).copied().unwrap_or(0.0);
+                        c * c + s * s
+                    })
+                    .sum()
+            };
+            let nf = small_f64(n);
+            set(
+                &mut self.omitted_weight,
+                n,
+                (nf + 1.0) * (2.0 * nf + 1.0) * power,
+            );
+        }
+    }
+}
+
+/// `value` as f64 for the small loop counters of this module (≤ 61, exact).
+fn small_f64(value: usize) -> f64 {
+    f64::from(u32::try_from(value).unwrap_or(u32::MAX))
+}
+
+/// `table[index] = value` when `index` is in range (it is by construction).
+fn set<const LENGTH: usize>(table: &mut [f64; LENGTH], index: usize, value: f64) {
+    if let Some(slot) = table.get_mut(index) {
+        *slot = value;
+    }
+}
+
+fn get<const LENGTH: usize>(table: &[f64; LENGTH], index: usize) -> f64 {
+    table.get(index).copied().unwrap_or(0.0)
+}
+
+#[path = "harmonics_step.rs"]
+mod step;
+
+#[cfg(test)]
+#[path = "harmonics_tests.rs"]
+mod tests;
