@@ -141,6 +141,9 @@ pub struct Strapdown {
     previous_delta_angle_rad: Vector3<f64>,
     /// Previous corrected `Δv_{k−1}` (m/s); zero before the first step.
     previous_delta_velocity_mps: Vector3<f64>,
+    /// Gravitation beyond the model's point mass + `J2` (m/s², launch-inertial), held by the
+    /// caller's field evaluation (`gravity::harmonics`); `None`: nothing added.
+    field_beyond_j2_mps2: Option<Vector3<f64>>,
 }
 
 impl Strapdown {
@@ -150,7 +153,15 @@ impl Strapdown {
             config,
             previous_delta_angle_rad: Vector3::zeros(),
             previous_delta_velocity_mps: Vector3::zeros(),
+            field_beyond_j2_mps2: None,
         }
+    }
+
+    /// Sets the gravitation added to the model's at every later step (m/s², launch-inertial
+    /// axes), e.g. the held value of [`crate::gravity::harmonics::FieldRemainder`]; `None`
+    /// adds nothing (the model alone, bit for bit).
+    pub fn set_field_beyond_j2(&mut self, acceleration_launch_mps2: Option<Vector3<f64>>) {
+        self.field_beyond_j2_mps2 = acceleration_launch_mps2;
     }
 
     /// The configuration in use.
@@ -203,7 +214,10 @@ impl Strapdown {
         // 4. Velocity with gravity at the predicted midpoint.
         let c_ib: Matrix3<f64> = rotation_matrix(&nav.attitude);
         let midpoint = nav.position_m + nav.velocity_mps * (0.5 * interval);
-        let gravity = self.config.gravity.gravity_launch_mps2(frame, &midpoint);
+        let mut gravity = self.config.gravity.gravity_launch_mps2(frame, &midpoint);
+        if let Some(beyond_j2) = &self.field_beyond_j2_mps2 {
+            gravity += beyond_j2;
+        }
         let velocity = nav.velocity_mps + c_ib * delta_velocity_body + gravity * interval;
 
         // 5. Trapezoidal position.

@@ -285,6 +285,56 @@ pub struct FswConfig {
     /// The innovation consistency monitor of every aid
     /// ([`crate::consistency::ConsistencyMonitor`]).
     pub consistency: crate::consistency::ConsistencyConfig,
+    /// The gravity field beyond point mass + `J2` and the allowance for what it omits.
+    pub gravity: GravityConfig,
+}
+
+/// The flight's gravity beyond the strapdown's point mass + `J2` (nav-core
+/// `gravity::harmonics`), and the allowance for the field it leaves out: a first-order
+/// Gauss–Markov acceleration of 1σ `omitted_field_sigma_mps2` per axis and correlation time
+/// `omitted_field_correlation_time_s`, taken into the filter as white velocity noise of its
+/// zero-frequency spectral density `2 σ² τ` (m²/s³), which bounds the Gauss–Markov spectrum
+/// `2 σ² τ / (1 + (2π f τ)²)` at every frequency (docs/gravity.md derives σ and τ from the
+/// field along the flight). Each evaluation compares the RMS magnitude of the omitted field
+/// at the vehicle's radius with `√3 σ`; above it, `gravity_allowance_short` counts an
+/// episode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GravityConfig {
+    /// Degree, order and work per frame of the field beyond `J2`.
+    pub field: nav_core::gravity::harmonics::FieldModel,
+    /// 1σ per axis of the omitted field (m/s²); 0 with a zero correlation time: no allowance.
+    pub omitted_field_sigma_mps2: f64,
+    /// Correlation time of the omitted field along the flight (s).
+    pub omitted_field_correlation_time_s: f64,
+}
+
+impl GravityConfig {
+    /// Point mass + `J2` and no allowance: the paper's model.
+    pub const J2_ONLY: Self = Self {
+        field: nav_core::gravity::harmonics::FieldModel::J2_ONLY,
+        omitted_field_sigma_mps2: 0.0,
+        omitted_field_correlation_time_s: 0.0,
+    };
+
+    /// Whether the field model is valid and the allowance is off (both 0) or finite and
+    /// positive (both), with a spectral density `2 σ² τ` that is finite.
+    pub fn is_valid(&self) -> bool {
+        let (sigma, tau) = (
+            self.omitted_field_sigma_mps2,
+            self.omitted_field_correlation_time_s,
+        );
+        let off = sigma == 0.0 && tau == 0.0;
+        let on = sigma > 0.0 && tau > 0.0 && sigma_is_squarable(sigma) && tau.is_finite();
+        self.field.validate().is_ok() && (off || (on && self.allowance_psd_m2_s3().is_finite()))
+    }
+
+    /// `2 σ² τ` (m²/s³): the white velocity noise the filter adds for the omitted field.
+    pub fn allowance_psd_m2_s3(&self) -> f64 {
+        2.0 * self.omitted_field_sigma_mps2
+            * self.omitted_field_sigma_mps2
+            * self.omitted_field_correlation_time_s
+    }
 }
 
 impl FswConfig {
@@ -366,6 +416,7 @@ impl FswConfig {
             },
             calibration: CalibrationManagerConfig::default(),
             consistency: crate::consistency::ConsistencyConfig::default(),
+            gravity: GravityConfig::J2_ONLY,
         }
     }
 
@@ -528,6 +579,9 @@ impl FswConfig {
         if !self.consistency.is_valid() {
             return invalid(ConfigField::Consistency);
         }
+        if !self.gravity.is_valid() {
+            return invalid(ConfigField::Gravity);
+        }
         Ok(())
     }
 
@@ -583,7 +637,7 @@ mod tests {
         let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         assert_eq!(good.validate(), Ok(()));
         type Corruption = (fn(&mut FswConfig), ConfigField);
-        let cases: [Corruption; 10] = [
+        let cases: [Corruption; 14] = [
             (
                 |c| c.star.mounting_wxyz = [0.9, 0.0, 0.0, 0.0],
                 ConfigField::StarMounting,
@@ -595,6 +649,19 @@ mod tests {
             (
                 |c| c.consistency.time_constant_measurements = 0,
                 ConfigField::Consistency,
+            ),
+            (|c| c.gravity.field.degree = 13, ConfigField::Gravity),
+            (|c| c.gravity.field.order = 3, ConfigField::Gravity),
+            (
+                |c| c.gravity.omitted_field_sigma_mps2 = 1e-4,
+                ConfigField::Gravity,
+            ),
+            (
+                |c| {
+                    c.gravity.omitted_field_sigma_mps2 = 1e-4;
+                    c.gravity.omitted_field_correlation_time_s = f64::INFINITY;
+                },
+                ConfigField::Gravity,
             ),
             (|c| c.star.noise_rad = f64::NAN, ConfigField::StarNoise),
             (|c| c.gnss.gate_nis = -1.0, ConfigField::GnssGate),

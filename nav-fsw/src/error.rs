@@ -63,6 +63,8 @@ pub enum ConfigField {
     RejectionsToDeclareFaulty,
     /// `consistency.time_constant_measurements` / `consistency.mean_nis_bound`
     Consistency,
+    /// `gravity` (the field model beyond `J2`, or the allowance for what it omits)
+    Gravity,
     /// `covariance.propagation_interval_frames`
     PropagationInterval,
     /// `covariance.sigma_floor`
@@ -119,6 +121,7 @@ impl ConfigField {
             ConfigField::Consistency => {
                 "consistency.time_constant_measurements / consistency.mean_nis_bound"
             }
+            ConfigField::Gravity => "gravity",
             ConfigField::PropagationInterval => "covariance.propagation_interval_frames",
             ConfigField::SigmaFloor => "covariance.sigma_floor",
             ConfigField::SigmaCeiling => "covariance.sigma_ceiling_factor",
@@ -192,6 +195,10 @@ impl ConfigField {
             ConfigField::RejectionsToDeclareFaulty => "must be >= 1",
             ConfigField::Consistency => {
                 "must have a time constant in 1..=65536 measurements and a mean-NIS bound finite and > 3"
+            }
+            ConfigField::Gravity => {
+                "must have a degree in 2..=12, an order <= degree, >= 1 term per frame, and an \
+                 omitted-field 1-sigma and correlation time both 0 or both finite and > 0"
             }
             ConfigField::PropagationInterval => "must be in 1..=500 frames",
             ConfigField::SigmaCeiling => "must be finite and >= 1",

@@ -81,10 +81,17 @@ pub struct HealthCounters {
     /// the run began, or the other sensor's are now. The sensor is kept, and the uncertainty
     /// of the states it observes is widened (`scheduler::aid`).
     pub inertial_suspect: u32,
+    /// Episodes of a gravity model too coarse for its allowance: the RMS magnitude of the
+    /// field it omits, at the vehicle's radius, above `√3 gravity.omitted_field_sigma_mps2`
+    /// (`scheduler::gravity`). The filter's covariance does not cover that field.
+    pub gravity_allowance_short: u32,
+    /// Evaluations of the field beyond `J2` refused (non-finite position or result); the
+    /// last value is held.
+    pub gravity_field_errors: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 32;
+pub const HEALTH_COUNTER_COUNT: usize = 34;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -143,6 +150,8 @@ impl HealthCounters {
                 self.gnss_velocity_inconsistent,
             ),
             ("inertial_suspect", self.inertial_suspect),
+            ("gravity_allowance_short", self.gravity_allowance_short),
+            ("gravity_field_errors", self.gravity_field_errors),
         ]
     }
 }

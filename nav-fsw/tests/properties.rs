@@ -249,6 +249,7 @@ fn reference_setup() -> ReplaySetup {
         imu_max_rate_rad_s: config.imu.max_rate_rad_s,
         imu_max_specific_force_mps2: config.imu.max_specific_force_mps2,
         imu_error: config.filter.imu_error,
+        gravity: config.gravity,
     }
 }
 

@@ -33,9 +33,11 @@
 //!
 //! **Slices.** An evaluation is a fixed sequence of work items: one to start (the Earth-fixed
 //! position at the node time `t_n`), one per solid harmonic `(n ≤ N + 1, m ≤ M + 1)`, one
-//! per coefficient, one to finish (back to launch-inertial axes, `R(t_n)ᵀ`, and the omitted
-//! RMS). [`FieldRemainder::advance`] does at most `terms_per_frame` of them per frame, so the
-//! value is refreshed every [`FieldModel::frames_per_evaluation`] frames and held in between:
+//! per coefficient, one per [`OMITTED_DEGREES_PER_ITEM`] degrees of the omitted power, one to
+//! finish (back to launch-inertial axes, `R(t_n)ᵀ`). [`FieldRemainder::advance`] does at most
+//! `terms_per_frame` of them per frame and starts an evaluation at most every
+//! [`MIN_REFRESH_PERIOD_S`], so the value is refreshed every
+//! [`FieldModel::frames_per_evaluation`] frames or that period, and held in between:
 //! the value used at `t` was evaluated where the vehicle was up to two refresh periods
 //! earlier. What that hold costs is part of the omitted field the allowance covers
 //! (docs/gravity.md).
@@ -64,8 +66,18 @@ const _: () =
     assert!(COEFFICIENT_COUNT == egm2008::C.len() && COEFFICIENT_COUNT == egm2008::S.len());
 const _: () = assert!(egm2008::TAIL_DEGREE_POWER.len() == TAIL_MAX_DEGREE - FLIGHT_MAX_DEGREE);
 
-/// Default work items per frame: 4 refresh a 12 × 12 model every 49 frames (0.1 s at 500 Hz).
+/// Default work items per frame: 4 evaluate a 12 × 12 model in 50 frames (0.1 s at 500 Hz).
 pub const DEFAULT_TERMS_PER_FRAME: u8 = 4;
+
+/// Shortest time between the starts of two evaluations (s): a model that takes fewer frames
+/// (point mass + `J2` alone takes one) waits, so the omitted RMS costs little.
+pub const MIN_REFRESH_PERIOD_S: f64 = 0.1;
+
+/// Degrees of the omitted power summed per work item.
+pub const OMITTED_DEGREES_PER_ITEM: usize = 10;
+
+/// Work items of the omitted power (degrees 2..=[`TAIL_MAX_DEGREE`]).
+const OMITTED_ITEMS: usize = (TAIL_MAX_DEGREE - 1).div_ceil(OMITTED_DEGREES_PER_ITEM);
 
 /// The flight model's fidelity: `degree` 2 and `order` 0 is point mass + `J2` alone (nothing
 /// evaluated); `order` 0 with a higher degree the zonal terms `J3 … J_N`.
@@ -120,8 +132,11 @@ impl FieldModel {
     }
 
     /// Work items of one evaluation (module docs): start, solid harmonics, coefficients,
-    /// finish.
+    /// omitted power, finish.
     pub fn work_items(&self) -> usize {
+        if self.is_j2_only() {
+            return 1 + OMITTED_ITEMS + 1;
+        }
         let solid_degree = usize::from(self.degree) + 1;
         let solid: usize = (0..=usize::from(self.solid_order()))
             .map(|m| solid_degree + 1 - m)
@@ -130,7 +145,7 @@ impl FieldModel {
             .map(|n| n.min(usize::from(self.order)) + 1)
             .sum();
         // The start item computes V̄_00 itself.
-        1 + (solid - 1) + coefficients + 1
+        1 + (solid - 1) + coefficients + OMITTED_ITEMS + 1
     }
 
     /// Frames between two refreshes of the held value.
@@ -149,7 +164,9 @@ enum Cursor {
     Solid { degree: u8, order: u8 },
     /// Next: the coefficient `(n, m)`'s acceleration.
     Coefficient { degree: u8, order: u8 },
-    /// Next: back to launch-inertial axes and the omitted RMS.
+    /// Next: the omitted power of degrees `from ..` (at most [`OMITTED_DEGREES_PER_ITEM`]).
+    Omitted { from: u8 },
+    /// Next: back to launch-inertial axes, the omitted RMS, and the held value replaced.
     Finish,
 }
 
@@ -178,6 +195,10 @@ pub struct FieldRemainder {
     cursor: Cursor,
     held_launch_mps2: Vector3<f64>,
     held_omitted_rms_mps2: f64,
+    /// Omitted mean square summed so far, units of `(GM / r²)²`.
+    omitted_sum: f64,
+    /// Start time of the evaluation under way or last made (s).
+    node_time_s: f64,
     evaluations: u32,
 }
 
@@ -198,6 +219,8 @@ impl FieldRemainder {
         cursor: Cursor::Start,
         held_launch_mps2: Vector3::new(0.0, 0.0, 0.0),
         held_omitted_rms_mps2: 0.0,
+        omitted_sum: 0.0,
+        node_time_s: f64::NEG_INFINITY,
         evaluations: 0,
     };
 

@@ -2,7 +2,10 @@
 
 use nalgebra::Vector3;
 
-use super::{get, set, triangle_index, Cursor, FieldRemainder};
+use super::{
+    get, set, small_f64, triangle_index, Cursor, FieldRemainder, MIN_REFRESH_PERIOD_S,
+    OMITTED_DEGREES_PER_ITEM,
+};
 use crate::attitude::all_finite3;
 use crate::error::NavError;
 use crate::frames::LaunchFrame;
@@ -45,12 +48,14 @@ impl FieldRemainder {
         time_s: f64,
         position_launch_m: &Vector3<f64>,
     ) -> Result<(), NavError> {
-        if self.model.is_j2_only() {
-            return Ok(());
-        }
         for _ in 0..self.model.terms_per_frame {
             let outcome = match self.cursor {
-                Cursor::Start => self.start(frame, time_s, position_launch_m),
+                Cursor::Start => {
+                    if time_s - self.node_time_s < MIN_REFRESH_PERIOD_S * (1.0 - 1.0e-9) {
+                        return Ok(());
+                    }
+                    self.start(frame, time_s, position_launch_m)
+                }
                 Cursor::Solid { degree, order } => {
                     self.solid(degree, order);
                     Ok(())
@@ -59,7 +64,12 @@ impl FieldRemainder {
                     self.coefficient(degree, order);
                     Ok(())
                 }
-                Cursor::Finish => self.finish(),
+                Cursor::Omitted { from } => {
+                    self.omitted(from);
+                    Ok(())
+                }
+                // One evaluation per frame at most: the next starts in a later frame.
+                Cursor::Finish => return self.finish(),
             };
             if let Err(error) = outcome {
                 self.cursor = Cursor::Start;
@@ -69,36 +79,44 @@ impl FieldRemainder {
         Ok(())
     }
 
-    /// The node: Earth-fixed position `r_e = R(t) (p − p_centre)`, `ρ = a / r²`, `V̄_00`.
+    /// The node: `r`, and for a model beyond `J2` the Earth-fixed position
+    /// `r_e = R(t) (p − p_centre)`, `ρ = a / r²` and `V̄_00`.
     fn start(
         &mut self,
         frame: &LaunchFrame,
         time_s: f64,
         position_launch_m: &Vector3<f64>,
     ) -> Result<(), NavError> {
-        if !all_finite3(position_launch_m) {
+        if !(all_finite3(position_launch_m) && time_s.is_finite()) {
             return Err(NavError::NonFiniteInput);
         }
-        let ecef_from_launch = frame.ecef_from_launch_axes(time_s)?;
-        let position = ecef_from_launch * frame.geocentric_position_launch(position_launch_m);
-        let radius_squared = position.dot(&position);
+        let geocentric = frame.geocentric_position_launch(position_launch_m);
+        let radius_squared = geocentric.dot(&geocentric);
         let radius_m = crate::float::sqrt(radius_squared);
-        let a = egm2008::RADIUS_M;
-        let rho = a / radius_squared;
         if !(radius_m.is_finite() && radius_m > 0.0) {
             return Err(NavError::NonFiniteInput);
         }
+        self.node_radius_m = radius_m;
+        self.node_time_s = time_s;
+        self.sum = [0.0; 3];
+        self.omitted_sum = 0.0;
+        if self.model.is_j2_only() {
+            self.cursor = Cursor::Omitted { from: 2 };
+            return Ok(());
+        }
+        let ecef_from_launch = frame.ecef_from_launch_axes(time_s)?;
+        let position = ecef_from_launch * geocentric;
+        let a = egm2008::RADIUS_M;
+        let rho = a / radius_squared;
         self.scaled_position = [
             position.x * rho,
             position.y * rho,
             position.z * rho,
             a * rho,
         ];
-        self.node_radius_m = radius_m;
         self.ecef_from_launch = ecef_from_launch;
         set(&mut self.v, 0, a / radius_m);
         set(&mut self.w, 0, 0.0);
-        self.sum = [0.0; 3];
         self.cursor = Cursor::Solid {
             degree: 1,
             order: 0,
@@ -193,7 +211,25 @@ impl FieldRemainder {
                 order: 0,
             }
         } else {
-            Cursor::Finish
+            Cursor::Omitted { from: 2 }
+        };
+    }
+
+    /// The omitted power of degrees `from` to `from + OMITTED_DEGREES_PER_ITEM − 1` (at most
+    /// [`TAIL_MAX_DEGREE`]) added: `Σ weight_n (a/r)^(2n)` (parent docs).
+    fn omitted(&mut self, from: u8) {
+        let first = usize::from(from);
+        let last = (first + OMITTED_DEGREES_PER_ITEM - 1).min(TAIL_MAX_DEGREE);
+        let ratio = egm2008::RADIUS_M / self.node_radius_m;
+        let ratio_squared = ratio * ratio;
+        let mut scale = libm::pow(ratio_squared, small_f64(first));
+        for n in first..=last {
+            self.omitted_sum += get(&self.omitted_weight, n) * scale;
+            scale *= ratio_squared;
+        }
+        self.cursor = match u8::try_from(last + 1) {
+            Ok(next) if last < TAIL_MAX_DEGREE => Cursor::Omitted { from: next },
+            _ => Cursor::Finish,
         };
     }
 
@@ -206,14 +242,8 @@ impl FieldRemainder {
         let [x, y, z] = self.sum;
         let acceleration = self.ecef_from_launch.transpose() * Vector3::new(x, y, z) * unit;
         let radius = self.node_radius_m;
-        let ratio_squared = (a / radius) * (a / radius);
-        let mut scale = ratio_squared; // (a/r)^(2n) at n = 1
-        let mut omitted = 0.0;
-        for n in 2..=TAIL_MAX_DEGREE {
-            scale *= ratio_squared;
-            omitted += get(&self.omitted_weight, n) * scale;
-        }
-        let omitted_rms = egm2008::GM_M3_S2 / (radius * radius) * crate::float::sqrt(omitted);
+        let omitted_rms =
+            egm2008::GM_M3_S2 / (radius * radius) * crate::float::sqrt(self.omitted_sum);
         if !(all_finite3(&acceleration) && omitted_rms.is_finite()) {
             return Err(NavError::NonFiniteState);
         }

@@ -38,14 +38,15 @@ fn an_evaluation_takes_the_counted_frames() {
             assert_eq!(field.evaluations(), 1, "{model:?}");
         }
     }
-    // 12 x 12 at the default slice: 49 frames, under 0.1 s at 500 Hz.
+    // 12 x 12 at the default slice: 50 frames, 0.1 s at 500 Hz.
     let full = FieldModel {
         degree: 12,
         order: 12,
         terms_per_frame: DEFAULT_TERMS_PER_FRAME,
     };
-    assert_eq!(full.work_items(), 194);
-    assert_eq!(full.frames_per_evaluation(), 49);
+    assert_eq!(full.work_items(), 200);
+    assert_eq!(full.frames_per_evaluation(), 50);
+    assert_eq!(FieldModel::J2_ONLY.frames_per_evaluation(), 2);
 }
 
 /// Zonal terms do not depend on longitude, so Earth rotation about the axis leaves their
@@ -145,7 +146,7 @@ fn bad_input_is_refused_and_the_held_value_kept() {
     }
     let nan = Vector3::new(f64::NAN, 0.0, 0.0);
     assert_eq!(
-        field.advance(&frame(), 0.0, &nan),
+        field.advance(&frame(), 1.0, &nan),
         Err(NavError::NonFiniteInput)
     );
     assert_eq!(*field.acceleration_launch_mps2(), held);
@@ -154,11 +155,17 @@ fn bad_input_is_refused_and_the_held_value_kept() {
         Err(NavError::NonFiniteInput)
     );
     let centre = *frame().earth_centre_launch_m();
-    assert!(field.advance(&frame(), 0.0, &centre).is_err());
+    assert!(field.advance(&frame(), 2.0, &centre).is_err());
     assert_eq!(*field.acceleration_launch_mps2(), held);
-    let mut none = FieldRemainder::EMPTY;
-    none.configure(FieldModel::J2_ONLY).unwrap();
-    none.advance(&frame(), 0.0, &nan).unwrap();
-    assert_eq!(none.evaluations(), 0);
-    assert_eq!(*none.acceleration_launch_mps2(), Vector3::zeros());
+    // Point mass + J2 alone: nothing added, the omitted RMS evaluated every 0.1 s.
+    let mut j2 = FieldRemainder::EMPTY;
+    j2.configure(FieldModel::J2_ONLY).unwrap();
+    for frame_index in 0..100 {
+        let time_s = 600.0 + f64::from(frame_index) * 0.002;
+        j2.advance(&frame(), time_s, &Vector3::from(ORBIT_M))
+            .unwrap();
+    }
+    assert_eq!(j2.evaluations(), 2);
+    assert_eq!(*j2.acceleration_launch_mps2(), Vector3::zeros());
+    assert!(j2.omitted_rms_mps2() > 1.0e-4);
 }

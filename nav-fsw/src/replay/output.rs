@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 82;
+pub const OUTPUT_WORDS: usize = 84;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -91,6 +91,8 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "gnss_velocity_inconsistent",
     "inconsistent_aids",
     "inertial_suspect",
+    "gravity_allowance_short",
+    "gravity_field_errors",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -189,5 +191,7 @@ pub fn output_words(
         | (u64::from(t.gnss_inconsistent) << 1)
         | (u64::from(t.gnss_velocity_inconsistent) << 2));
     put(u64::from(h.inertial_suspect));
+    put(u64::from(h.gravity_allowance_short));
+    put(u64::from(h.gravity_field_errors));
     words
 }

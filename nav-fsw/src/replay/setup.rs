@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 57;
+pub const SETUP_WORDS: usize = 62;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -58,6 +58,8 @@ pub struct ReplaySetup {
     pub imu_max_specific_force_mps2: f64,
     /// The systematic IMU error states' prior (`filter.imu_error`).
     pub imu_error: nav_core::imu_error_states::ImuErrorModel,
+    /// The gravity field beyond `J2` and the allowance for what it omits (`gravity`).
+    pub gravity: crate::config::GravityConfig,
 }
 
 impl ReplaySetup {
@@ -80,6 +82,7 @@ impl ReplaySetup {
         config.imu.max_rate_rad_s = self.imu_max_rate_rad_s;
         config.imu.max_specific_force_mps2 = self.imu_max_specific_force_mps2;
         config.filter.imu_error = self.imu_error;
+        config.gravity = self.gravity;
         config
     }
 
@@ -165,6 +168,8 @@ impl ReplaySetup {
             self.imu_error.gyro_misalignment_sigma_rad,
             self.imu_error.accel_misalignment_sigma_rad,
             self.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
+            self.gravity.omitted_field_sigma_mps2,
+            self.gravity.omitted_field_correlation_time_s,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -173,6 +178,9 @@ impl ReplaySetup {
             mode,
             u64::from(self.discretisation_order),
             u64::from(frames.launch_epoch_gps_week),
+            u64::from(self.gravity.field.degree),
+            u64::from(self.gravity.field.order),
+            u64::from(self.gravity.field.terms_per_frame),
         ];
         // `header` first: zip polls its first iterator first, so no slot is skipped.
         for (value, slot) in header.into_iter().zip(&mut slots) {
@@ -191,7 +199,8 @@ impl ReplaySetup {
     /// values themselves are checked by [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, week, floats @ ..] = words;
+        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ ..] =
+            words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
         }
@@ -202,8 +211,13 @@ impl ReplaySetup {
         };
         let order = u8::try_from(*order).map_err(|_| bad)?;
         let week = u32::try_from(*week).map_err(|_| bad)?;
+        let field = nav_core::gravity::harmonics::FieldModel {
+            degree: u8::try_from(*field_degree).map_err(|_| bad)?,
+            order: u8::try_from(*field_order).map_err(|_| bad)?,
+            terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
+        };
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_tau] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -260,6 +274,11 @@ impl ReplaySetup {
                 gyro_misalignment_sigma_rad: imu_non_orthogonality,
                 accel_misalignment_sigma_rad: imu_misalignment,
                 gyro_g_sensitivity_sigma_rad_s_per_mps2: imu_g_sensitivity,
+            },
+            gravity: crate::config::GravityConfig {
+                field,
+                omitted_field_sigma_mps2: omitted_sigma,
+                omitted_field_correlation_time_s: omitted_tau,
             },
         })
     }

@@ -221,6 +221,15 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
             accel_misalignment_sigma_rad: 3e-5,
             gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
         },
+        gravity: crate::config::GravityConfig {
+            field: nav_core::gravity::harmonics::FieldModel {
+                degree: 8,
+                order: 6,
+                terms_per_frame: 3,
+            },
+            omitted_field_sigma_mps2: 4.5e-5,
+            omitted_field_correlation_time_s: 120.0,
+        },
     };
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));

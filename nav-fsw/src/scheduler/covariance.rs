@@ -64,7 +64,7 @@ impl NavigationComputer {
         let order = self.config.filter.discretisation_order;
         let step = Propagation {
             point,
-            noise: &self.config.process_noise,
+            noise: &self.covariance.process_noise,
             interval_s,
             order,
             frozen: &frozen,

@@ -47,7 +47,7 @@ use heapless::Deque;
 use nalgebra::{Quaternion, Vector3};
 use nav_core::arithmetic::Propagation;
 use nav_core::attitude;
-use nav_core::error_model::LinearisationPoint;
+use nav_core::error_model::{LinearisationPoint, ProcessNoise};
 use nav_core::filter::{
     apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
     FilterMode,
@@ -84,6 +84,7 @@ mod aid;
 mod calibration;
 mod covariance;
 mod fusion;
+mod gravity;
 mod history;
 mod intake;
 mod navigate;
@@ -187,6 +188,10 @@ struct Navigation {
     imu_checker: ImuChecker,
     strapdown: Strapdown,
     history: History,
+    /// The field beyond `J2`, a few terms a frame (`gravity.rs`).
+    gravity_field: nav_core::gravity::harmonics::FieldRemainder,
+    /// Whether the last evaluation found the omitted field above the allowance.
+    gravity_allowance_short: bool,
 }
 
 /// The error-state filter and its propagation: the discrete model, the motion of the interval,
@@ -194,6 +199,9 @@ struct Navigation {
 #[derive(Debug, Clone)]
 #[repr(C)]
 struct Covariance {
+    /// The process noise in use: `process_noise` with the gravity allowance's `2 σ² τ` added
+    /// to the accelerometer's density squared (`gravity.rs`).
+    process_noise: ProcessNoise,
     /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
     /// filter's error state refers to it; a measurement is due once its time tag is no
     /// later (within `timing.future_tolerance_s`) and is referred to it.

@@ -207,6 +207,7 @@ impl Covariance {
                 &mut *addr_of_mut!((*part).filter).cast(),
                 &config.filter,
             )?;
+            addr_of_mut!((*part).process_noise).write(super::gravity::process_noise(config));
             addr_of_mut!((*part).time_s).write(time_s);
             addr_of_mut!((*part).sums).write(PropagationSums::EMPTY);
             addr_of_mut!((*part).last_point).write(None);
@@ -258,6 +259,13 @@ impl Navigation {
             addr_of_mut!((*part).last_increment).write(None);
             addr_of_mut!((*part).frames_without_sample).write(0);
             addr_of_mut!((*part).history).write(History::new());
+            addr_of_mut!((*part).gravity_field)
+                .write(nav_core::gravity::harmonics::FieldRemainder::EMPTY);
+            addr_of_mut!((*part).gravity_allowance_short).write(false);
+            (*part)
+                .gravity_field
+                .configure(config.gravity.field)
+                .map_err(|_| FswError::InvalidConfiguration(ConfigField::Gravity))?;
         }
         Ok(())
     }

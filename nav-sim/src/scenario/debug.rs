@@ -118,6 +118,9 @@ impl std::fmt::Debug for FilterSettings {
         if self.imu_errors.is_on() {
             debug.field("imu_errors", &self.imu_errors);
         }
+        if self.gravity.is_on() {
+            debug.field("gravity", &self.gravity);
+        }
         debug.finish()
     }
 }

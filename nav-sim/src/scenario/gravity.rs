@@ -77,3 +77,105 @@ impl GravitySettings {
         }
     }
 }
+
+/// The flight software's gravity beyond point mass + `J2` (`[filter.gravity]`, nav-fsw
+/// `GravityConfig`, docs/gravity.md): EGM2008 to `degree` and `order` (at most 12), evaluated
+/// `terms_per_frame` work items a frame, and the allowance for the field it omits, a
+/// Gauss–Markov acceleration of 1σ and correlation time taken into the filter as white
+/// velocity noise `2 σ² τ`. Absent: point mass + `J2` and no allowance, the paper's model.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterGravity {
+    /// Largest degree, 2..=12 (2 with order 0: point mass + `J2` alone).
+    #[serde(default = "FilterGravity::default_degree")]
+    pub degree: u8,
+    /// Largest order, 0..=degree.
+    #[serde(default)]
+    pub order: u8,
+    /// Work items of the evaluation per frame, ≥ 1 (nav-core `gravity::harmonics`).
+    #[serde(default = "FilterGravity::default_terms_per_frame")]
+    pub terms_per_frame: u8,
+    /// 1σ per axis of the field the model omits along the flight (m/s²); 0 = no allowance.
+    #[serde(default)]
+    pub omitted_field_sigma_mps2: f64,
+    /// Its correlation time along the flight (s); > 0 when the 1σ is.
+    #[serde(default)]
+    pub omitted_field_correlation_time_s: f64,
+}
+
+impl Default for FilterGravity {
+    fn default() -> Self {
+        Self {
+            degree: Self::default_degree(),
+            order: 0,
+            terms_per_frame: Self::default_terms_per_frame(),
+            omitted_field_sigma_mps2: 0.0,
+            omitted_field_correlation_time_s: 0.0,
+        }
+    }
+}
+
+impl FilterGravity {
+    fn default_degree() -> u8 {
+        2
+    }
+
+    fn default_terms_per_frame() -> u8 {
+        nav_core::gravity::harmonics::DEFAULT_TERMS_PER_FRAME
+    }
+
+    /// Whether the table differs from its absence (it renders in `Debug` only then).
+    pub fn is_on(&self) -> bool {
+        *self != Self::default()
+    }
+
+    /// The flight software's configuration.
+    pub fn config(&self) -> nav_fsw::config::GravityConfig {
+        nav_fsw::config::GravityConfig {
+            field: nav_core::gravity::harmonics::FieldModel {
+                degree: self.degree,
+                order: self.order,
+                terms_per_frame: self.terms_per_frame,
+            },
+            omitted_field_sigma_mps2: self.omitted_field_sigma_mps2,
+            omitted_field_correlation_time_s: self.omitted_field_correlation_time_s,
+        }
+    }
+
+    /// The first key that breaks its rule, with the rule.
+    pub fn violation(&self) -> Option<(&'static str, String)> {
+        let max = nav_core::gravity::egm2008::FLIGHT_MAX_DEGREE;
+        let (sigma, tau) = (
+            self.omitted_field_sigma_mps2,
+            self.omitted_field_correlation_time_s,
+        );
+        if !(2..=max).contains(&usize::from(self.degree)) {
+            Some((
+                "filter.gravity.degree",
+                format!(
+                    "= {} must be in 2..={max} (the flight's coefficients)",
+                    self.degree
+                ),
+            ))
+        } else if self.order > self.degree {
+            Some((
+                "filter.gravity.order",
+                format!("= {} must be in 0..=filter.gravity.degree", self.order),
+            ))
+        } else if self.terms_per_frame == 0 {
+            Some(("filter.gravity.terms_per_frame", "must be >= 1".into()))
+        } else if !(sigma == 0.0 || (1e-12..=1.0).contains(&sigma)) {
+            Some((
+                "filter.gravity.omitted_field_sigma_mps2",
+                format!("= {sigma} must be 0 (no allowance) or in [1e-12, 1] m/s^2"),
+            ))
+        } else if (sigma > 0.0) != (tau > 0.0) || !(0.0..=1e6).contains(&tau) {
+            Some((
+                "filter.gravity.omitted_field_correlation_time_s",
+                format!("= {tau} must be in (0, 1e6] s with an allowance, 0 without"),
+            ))
+        } else {
+            None
+        }
+    }
+}

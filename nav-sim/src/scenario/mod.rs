@@ -543,6 +543,10 @@ pub struct FilterSettings {
     /// = none, the paper's 24 states.
     #[serde(default)]
     pub imu_errors: FilterImuErrors,
+    /// The flight's gravity beyond `J2` and its allowance (`[filter.gravity]`); absent =
+    /// point mass + `J2`, no allowance.
+    #[serde(default)]
+    pub gravity: gravity::FilterGravity,
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

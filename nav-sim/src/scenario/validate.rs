@@ -781,6 +781,9 @@ impl Scenario {
             }
         }
         check.filter_imu_errors(filter)?;
+        if let Some((key, rule)) = filter.gravity.violation() {
+            return Err(check.fail(key, &rule));
+        }
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }

@@ -44,6 +44,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
             Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
         }
         F::ImuSystematicError => Some("filter.imu_errors"),
+        F::Gravity => Some("filter.gravity"),
         F::InitialNavigation => Some("initial_orbit / initial_attitude"),
         F::ImuPeriodTolerance
         | F::StarAcquisitionGate
@@ -148,6 +149,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         imu_max_rate_rad_s: max_rate_rad_s,
         imu_max_specific_force_mps2: max_force_mps2,
         imu_error: filter.imu_error,
+        gravity: settings.gravity.config(),
     })
 }
 
