@@ -36,7 +36,8 @@
 //! per coefficient, one per [`OMITTED_DEGREES_PER_ITEM`] degrees of the omitted power, one to
 //! finish (back to launch-inertial axes, `R(t_n)ᵀ`). [`FieldRemainder::advance`] does at most
 //! `terms_per_frame` of them per frame and starts an evaluation at most every
-//! [`MIN_REFRESH_PERIOD_S`], so the value is refreshed every
+//! [`MIN_REFRESH_PERIOD_S`] ([`OMITTED_ONLY_REFRESH_PERIOD_S`] for point mass + `J2`, which
+//! evaluates only the omitted RMS), so the value is refreshed every
 //! [`FieldModel::frames_per_evaluation`] frames or that period, and held in between:
 //! the value used at `t` was evaluated where the vehicle was up to two refresh periods
 //! earlier. What that hold costs is part of the omitted field the allowance covers
@@ -69,9 +70,13 @@ const _: () = assert!(egm2008::TAIL_DEGREE_POWER.len() == TAIL_MAX_DEGREE - FLIG
 /// Default work items per frame: 4 evaluate a 12 × 12 model in 50 frames (0.1 s at 500 Hz).
 pub const DEFAULT_TERMS_PER_FRAME: u8 = 4;
 
-/// Shortest time between the starts of two evaluations (s): a model that takes fewer frames
-/// (point mass + `J2` alone takes one) waits, so the omitted RMS costs little.
+/// Shortest time between the starts of two evaluations of a model beyond `J2` (s): a model
+/// that takes fewer frames waits.
 pub const MIN_REFRESH_PERIOD_S: f64 = 0.1;
+
+/// Time between two evaluations of the omitted RMS alone, for point mass + `J2` (s): it
+/// changes with the radius only, by 0.3 % per km, and 1 s is at most 8 km of altitude.
+pub const OMITTED_ONLY_REFRESH_PERIOD_S: f64 = 1.0;
 
 /// Degrees of the omitted power summed per work item.
 pub const OMITTED_DEGREES_PER_ITEM: usize = 10;
@@ -195,8 +200,10 @@ pub struct FieldRemainder {
     cursor: Cursor,
     held_launch_mps2: Vector3<f64>,
     held_omitted_rms_mps2: f64,
-    /// Omitted mean square summed so far, units of `(GM / r²)²`.
+    /// Omitted mean square summed so far, units of `(GM / r²)²`, and `(a/r)^(2n)` of the
+    /// next degree `n` to add.
     omitted_sum: f64,
+    omitted_scale: f64,
     /// Start time of the evaluation under way or last made (s).
     node_time_s: f64,
     evaluations: u32,
@@ -220,6 +227,7 @@ impl FieldRemainder {
         held_launch_mps2: Vector3::new(0.0, 0.0, 0.0),
         held_omitted_rms_mps2: 0.0,
         omitted_sum: 0.0,
+        omitted_scale: 0.0,
         node_time_s: f64::NEG_INFINITY,
         evaluations: 0,
     };
@@ -261,6 +269,20 @@ impl FieldRemainder {
     /// Evaluations completed (wrapping).
     pub fn evaluations(&self) -> u32 {
         self.evaluations
+    }
+
+    /// Whether [`Self::advance`] has work at navigation time `time_s` (s): an evaluation is
+    /// under way, or the refresh period since the last one has elapsed. A caller that skips
+    /// `advance` otherwise pays nothing in the frames between evaluations.
+    #[inline]
+    pub fn is_due(&self, time_s: f64) -> bool {
+        let period_s = if self.model.is_j2_only() {
+            OMITTED_ONLY_REFRESH_PERIOD_S
+        } else {
+            MIN_REFRESH_PERIOD_S
+        };
+        // A billionth of the period absorbs the rounding of frame times.
+        self.cursor != Cursor::Start || time_s - self.node_time_s >= period_s * (1.0 - 1.0e-9)
     }
 
     fn write_recursion_factors(&mut self) {

@@ -2,10 +2,7 @@
 
 use nalgebra::Vector3;
 
-use super::{
-    get, set, small_f64, triangle_index, Cursor, FieldRemainder, MIN_REFRESH_PERIOD_S,
-    OMITTED_DEGREES_PER_ITEM,
-};
+use super::{get, set, triangle_index, Cursor, FieldRemainder, OMITTED_DEGREES_PER_ITEM};
 use crate::attitude::all_finite3;
 use crate::error::NavError;
 use crate::frames::LaunchFrame;
@@ -42,6 +39,7 @@ impl FieldRemainder {
     /// assert!(beyond_j2 > 1.0e-6 && beyond_j2 < 1.0e-3, "{beyond_j2}");
     /// # Ok::<(), nav_core::error::NavError>(())
     /// ```
+    #[inline(never)]
     pub fn advance(
         &mut self,
         frame: &LaunchFrame,
@@ -51,7 +49,7 @@ impl FieldRemainder {
         for _ in 0..self.model.terms_per_frame {
             let outcome = match self.cursor {
                 Cursor::Start => {
-                    if time_s - self.node_time_s < MIN_REFRESH_PERIOD_S * (1.0 - 1.0e-9) {
+                    if !self.is_due(time_s) {
                         return Ok(());
                     }
                     self.start(frame, time_s, position_launch_m)
@@ -100,6 +98,9 @@ impl FieldRemainder {
         self.node_time_s = time_s;
         self.sum = [0.0; 3];
         self.omitted_sum = 0.0;
+        let ratio = egm2008::RADIUS_M / radius_m;
+        let ratio_squared = ratio * ratio;
+        self.omitted_scale = ratio_squared * ratio_squared; // (a/r)^(2n) at n = 2
         if self.model.is_j2_only() {
             self.cursor = Cursor::Omitted { from: 2 };
             return Ok(());
@@ -222,11 +223,12 @@ impl FieldRemainder {
         let last = (first + OMITTED_DEGREES_PER_ITEM - 1).min(TAIL_MAX_DEGREE);
         let ratio = egm2008::RADIUS_M / self.node_radius_m;
         let ratio_squared = ratio * ratio;
-        let mut scale = libm::pow(ratio_squared, small_f64(first));
+        let (mut sum, mut scale) = (self.omitted_sum, self.omitted_scale);
         for n in first..=last {
-            self.omitted_sum += get(&self.omitted_weight, n) * scale;
+            sum += get(&self.omitted_weight, n) * scale;
             scale *= ratio_squared;
         }
+        (self.omitted_sum, self.omitted_scale) = (sum, scale);
         self.cursor = match u8::try_from(last + 1) {
             Ok(next) if last < TAIL_MAX_DEGREE => Cursor::Omitted { from: next },
             _ => Cursor::Finish,
@@ -240,7 +242,11 @@ impl FieldRemainder {
         let a = egm2008::RADIUS_M;
         let unit = egm2008::GM_M3_S2 / (a * a);
         let [x, y, z] = self.sum;
-        let acceleration = self.ecef_from_launch.transpose() * Vector3::new(x, y, z) * unit;
+        let acceleration = if self.model.is_j2_only() {
+            Vector3::zeros()
+        } else {
+            self.ecef_from_launch.transpose() * Vector3::new(x, y, z) * unit
+        };
         let radius = self.node_radius_m;
         let omitted_rms =
             egm2008::GM_M3_S2 / (radius * radius) * crate::float::sqrt(self.omitted_sum);

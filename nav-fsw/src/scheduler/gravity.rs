@@ -26,16 +26,21 @@ pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
 }
 
 impl NavigationComputer {
-    /// This frame's share of the field's evaluation at the navigation solution; when an
+    /// This frame's share of the field's evaluation at the navigation solution (called in
+    /// frames that fuse no measurement, so a share never adds to an update frame); when an
     /// evaluation completes, its value goes to the strapdown (a model beyond `J2` only) and
     /// its omitted RMS (of the magnitude) is checked against the allowance's `√3 σ`: above it
     /// begins an episode of
     /// `gravity_allowance_short`. A refused evaluation is counted and the held value kept.
+    #[inline(never)]
     pub(super) fn advance_gravity_field(&mut self) {
         let navigation = &mut self.navigation;
         let field = &mut navigation.gravity_field;
-        let before = field.evaluations();
         let solution = &navigation.solution;
+        if !field.is_due(solution.time_s) {
+            return;
+        }
+        let before = field.evaluations();
         if field
             .advance(&self.launch_frame, solution.time_s, &solution.position_m)
             .is_err()

@@ -199,9 +199,6 @@ struct Navigation {
 #[derive(Debug, Clone)]
 #[repr(C)]
 struct Covariance {
-    /// The process noise in use: `process_noise` with the gravity allowance's `2 σ² τ` added
-    /// to the accelerometer's density squared (`gravity.rs`).
-    process_noise: ProcessNoise,
     /// Navigation time (s) of `P`: the time of its last propagation, or of the start. The
     /// filter's error state refers to it; a measurement is due once its time tag is no
     /// later (within `timing.future_tolerance_s`) and is referred to it.
@@ -227,6 +224,9 @@ struct Covariance {
     /// struct: building it in place avoids copying it).
     model: StructuredModel,
     filter: ErrorStateFilter,
+    /// The process noise in use: `process_noise` with the gravity allowance's `2 σ² τ` added
+    /// to the accelerometer's density squared (`gravity.rs`).
+    process_noise: ProcessNoise,
 }
 
 /// The aiding measurements: their queues, the gate statistics and fault state of each aid and
@@ -341,6 +341,9 @@ impl NavigationComputer {
         };
         if fusion == FrameFusion::None {
             self.inflate_for_second_order_attitude();
+            // Only in frames that fuse nothing: a measurement update, the dearest frame, never
+            // carries the gravity field's share (`gravity.rs`).
+            self.advance_gravity_field();
         }
         self.evaluate_calibration();
         self.telemetry(fusion)

@@ -47,7 +47,6 @@ impl NavigationComputer {
         } else {
             increment
         };
-        self.advance_gravity_field();
         match self.navigation.strapdown.step(
             &mut self.navigation.solution,
             &increment,
