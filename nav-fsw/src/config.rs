@@ -290,23 +290,24 @@ pub struct FswConfig {
 }
 
 /// The flight's gravity beyond the strapdown's point mass + `J2` (nav-core
-/// `gravity::harmonics`), and the allowance for the field it leaves out: a first-order
-/// Gauss–Markov acceleration of 1σ `omitted_field_sigma_mps2` per axis and correlation time
-/// `omitted_field_correlation_time_s`, taken into the filter as white velocity noise of its
-/// zero-frequency spectral density `2 σ² τ` (m²/s³), which bounds the Gauss–Markov spectrum
-/// `2 σ² τ / (1 + (2π f τ)²)` at every frequency (docs/gravity.md derives σ and τ from the
-/// field along the flight). Each evaluation compares the RMS magnitude of the omitted field
-/// at the vehicle's radius with `√3 σ`; above it, `gravity_allowance_short` counts an
-/// episode.
+/// `gravity::harmonics`), and the allowance for the field it leaves out: white velocity noise
+/// of spectral density `omitted_field_psd_m2_per_s3` (isotropic, per axis) added to the
+/// filter's process noise, which covers the omitted field when it is at least the supremum
+/// over frequency of the field's spectral density along the flight (docs/gravity.md derives
+/// it, `nav-sim gravity-omission`); and the 1σ per axis of the omitted field it is meant for,
+/// `omitted_field_sigma_mps2`. Each evaluation compares the RMS magnitude of the omitted
+/// field at the vehicle's radius with `√3 σ`; above it (a model too coarse for its allowance,
+/// a flight lower than designed for, or no allowance at all), `gravity_allowance_short`
+/// counts an episode.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityConfig {
     /// Degree, order and work per frame of the field beyond `J2`.
     pub field: nav_core::gravity::harmonics::FieldModel,
-    /// 1σ per axis of the omitted field (m/s²); 0 with a zero correlation time: no allowance.
+    /// 1σ per axis of the omitted field the allowance is for (m/s²); 0: no allowance.
     pub omitted_field_sigma_mps2: f64,
-    /// Correlation time of the omitted field along the flight (s).
-    pub omitted_field_correlation_time_s: f64,
+    /// Spectral density of the white velocity noise that covers it (m²/s³); 0: none.
+    pub omitted_field_psd_m2_per_s3: f64,
 }
 
 impl GravityConfig {
@@ -314,26 +315,19 @@ impl GravityConfig {
     pub const J2_ONLY: Self = Self {
         field: nav_core::gravity::harmonics::FieldModel::J2_ONLY,
         omitted_field_sigma_mps2: 0.0,
-        omitted_field_correlation_time_s: 0.0,
+        omitted_field_psd_m2_per_s3: 0.0,
     };
 
-    /// Whether the field model is valid and the allowance is off (both 0) or finite and
-    /// positive (both), with a spectral density `2 σ² τ` that is finite.
+    /// Whether the field model is valid and the allowance is off (both 0) or on (both
+    /// positive: σ squarable, the density at most 1 m²/s³).
     pub fn is_valid(&self) -> bool {
-        let (sigma, tau) = (
+        let (sigma, psd) = (
             self.omitted_field_sigma_mps2,
-            self.omitted_field_correlation_time_s,
+            self.omitted_field_psd_m2_per_s3,
         );
-        let off = sigma == 0.0 && tau == 0.0;
-        let on = sigma > 0.0 && tau > 0.0 && sigma_is_squarable(sigma) && tau.is_finite();
-        self.field.validate().is_ok() && (off || (on && self.allowance_psd_m2_s3().is_finite()))
-    }
-
-    /// `2 σ² τ` (m²/s³): the white velocity noise the filter adds for the omitted field.
-    pub fn allowance_psd_m2_s3(&self) -> f64 {
-        2.0 * self.omitted_field_sigma_mps2
-            * self.omitted_field_sigma_mps2
-            * self.omitted_field_correlation_time_s
+        let off = sigma == 0.0 && psd == 0.0;
+        let on = sigma_is_squarable(sigma) && psd > 0.0 && psd <= 1.0;
+        self.field.validate().is_ok() && (off || on)
     }
 }
 
@@ -659,7 +653,7 @@ mod tests {
             (
                 |c| {
                     c.gravity.omitted_field_sigma_mps2 = 1e-4;
-                    c.gravity.omitted_field_correlation_time_s = f64::INFINITY;
+                    c.gravity.omitted_field_psd_m2_per_s3 = f64::INFINITY;
                 },
                 ConfigField::Gravity,
             ),

@@ -198,7 +198,7 @@ impl ConfigField {
             }
             ConfigField::Gravity => {
                 "must have a degree in 2..=12, an order <= degree, >= 1 term per frame, and an \
-                 omitted-field 1-sigma and correlation time both 0 or both finite and > 0"
+                 omitted-field 1-sigma and density both 0 or both > 0 (density <= 1 m^2/s^3)"
             }
             ConfigField::PropagationInterval => "must be in 1..=500 frames",
             ConfigField::SigmaCeiling => "must be finite and >= 1",

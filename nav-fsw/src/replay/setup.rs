@@ -169,7 +169,7 @@ impl ReplaySetup {
             self.imu_error.accel_misalignment_sigma_rad,
             self.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
             self.gravity.omitted_field_sigma_mps2,
-            self.gravity.omitted_field_correlation_time_s,
+            self.gravity.omitted_field_psd_m2_per_s3,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -217,7 +217,7 @@ impl ReplaySetup {
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
         };
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_tau] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -278,7 +278,7 @@ impl ReplaySetup {
             gravity: crate::config::GravityConfig {
                 field,
                 omitted_field_sigma_mps2: omitted_sigma,
-                omitted_field_correlation_time_s: omitted_tau,
+                omitted_field_psd_m2_per_s3: omitted_psd,
             },
         })
     }

@@ -228,7 +228,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
                 terms_per_frame: 3,
             },
             omitted_field_sigma_mps2: 4.5e-5,
-            omitted_field_correlation_time_s: 120.0,
+            omitted_field_psd_m2_per_s3: 1.7e-8,
         },
     };
     let words = setup.to_words();

@@ -7,7 +7,7 @@ use super::*;
 /// `√3`: the RMS magnitude of a vector of three independent axes of unit 1σ.
 const SQRT_3: f64 = 1.732_050_807_568_877_2;
 
-/// `config.process_noise` with the gravity allowance `2 σ² τ` (m²/s³, [`GravityConfig`]) added
+/// `config.process_noise` with the gravity allowance `q` (m²/s³, [`GravityConfig`]) added
 /// to the accelerometer density squared: in launch-inertial axes the accelerometer's white
 /// noise enters the velocity as `C (σ_a² I) Cᵀ = σ_a² I`, so an isotropic white velocity noise
 /// of density `q` is the same as an accelerometer density `√(σ_a² + q)`. Without an
@@ -16,7 +16,7 @@ const SQRT_3: f64 = 1.732_050_807_568_877_2;
 /// [`GravityConfig`]: crate::config::GravityConfig
 pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
     let mut noise = config.process_noise;
-    let allowance = config.gravity.allowance_psd_m2_s3();
+    let allowance = config.gravity.omitted_field_psd_m2_per_s3;
     if allowance > 0.0 {
         let density = noise.accel_noise_density_mps2_per_sqrt_hz;
         noise.accel_noise_density_mps2_per_sqrt_hz =

@@ -224,7 +224,7 @@ struct Covariance {
     /// struct: building it in place avoids copying it).
     model: StructuredModel,
     filter: ErrorStateFilter,
-    /// The process noise in use: `process_noise` with the gravity allowance's `2 σ² τ` added
+    /// The process noise in use: `process_noise` with the gravity allowance's density added
     /// to the accelerometer's density squared (`gravity.rs`).
     process_noise: ProcessNoise,
 }

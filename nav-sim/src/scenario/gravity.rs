@@ -80,9 +80,10 @@ impl GravitySettings {
 
 /// The flight software's gravity beyond point mass + `J2` (`[filter.gravity]`, nav-fsw
 /// `GravityConfig`, docs/gravity.md): EGM2008 to `degree` and `order` (at most 12), evaluated
-/// `terms_per_frame` work items a frame, and the allowance for the field it omits, a
-/// Gauss–Markov acceleration of 1σ and correlation time taken into the filter as white
-/// velocity noise `2 σ² τ`. Absent: point mass + `J2` and no allowance, the paper's model.
+/// `terms_per_frame` work items a frame, and the allowance for the field it omits: white
+/// velocity noise of a spectral density (from `nav-sim gravity-omission`), and the 1σ per
+/// axis of the omitted field it is for (checked in flight). Absent: point mass + `J2` and no
+/// allowance, the paper's model.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FilterGravity {
@@ -95,12 +96,14 @@ pub struct FilterGravity {
     /// Work items of the evaluation per frame, ≥ 1 (nav-core `gravity::harmonics`).
     #[serde(default = "FilterGravity::default_terms_per_frame")]
     pub terms_per_frame: u8,
-    /// 1σ per axis of the field the model omits along the flight (m/s²); 0 = no allowance.
+    /// 1σ per axis of the field the model omits, at the flight's lowest altitude (m/s²);
+    /// 0 = no allowance.
     #[serde(default)]
     pub omitted_field_sigma_mps2: f64,
-    /// Its correlation time along the flight (s); > 0 when the 1σ is.
+    /// Spectral density of the white velocity noise that covers it (m²/s³); > 0 when the 1σ
+    /// is.
     #[serde(default)]
-    pub omitted_field_correlation_time_s: f64,
+    pub omitted_field_psd_m2_per_s3: f64,
 }
 
 impl Default for FilterGravity {
@@ -110,7 +113,7 @@ impl Default for FilterGravity {
             order: 0,
             terms_per_frame: Self::default_terms_per_frame(),
             omitted_field_sigma_mps2: 0.0,
-            omitted_field_correlation_time_s: 0.0,
+            omitted_field_psd_m2_per_s3: 0.0,
         }
     }
 }
@@ -138,16 +141,16 @@ impl FilterGravity {
                 terms_per_frame: self.terms_per_frame,
             },
             omitted_field_sigma_mps2: self.omitted_field_sigma_mps2,
-            omitted_field_correlation_time_s: self.omitted_field_correlation_time_s,
+            omitted_field_psd_m2_per_s3: self.omitted_field_psd_m2_per_s3,
         }
     }
 
     /// The first key that breaks its rule, with the rule.
     pub fn violation(&self) -> Option<(&'static str, String)> {
         let max = nav_core::gravity::egm2008::FLIGHT_MAX_DEGREE;
-        let (sigma, tau) = (
+        let (sigma, psd) = (
             self.omitted_field_sigma_mps2,
-            self.omitted_field_correlation_time_s,
+            self.omitted_field_psd_m2_per_s3,
         );
         if !(2..=max).contains(&usize::from(self.degree)) {
             Some((
@@ -169,10 +172,10 @@ impl FilterGravity {
                 "filter.gravity.omitted_field_sigma_mps2",
                 format!("= {sigma} must be 0 (no allowance) or in [1e-12, 1] m/s^2"),
             ))
-        } else if (sigma > 0.0) != (tau > 0.0) || !(0.0..=1e6).contains(&tau) {
+        } else if (sigma > 0.0) != (psd > 0.0) || !(0.0..=1.0).contains(&psd) {
             Some((
-                "filter.gravity.omitted_field_correlation_time_s",
-                format!("= {tau} must be in (0, 1e6] s with an allowance, 0 without"),
+                "filter.gravity.omitted_field_psd_m2_per_s3",
+                format!("= {psd} must be in (0, 1] m^2/s^3 with an allowance, 0 without"),
             ))
         } else {
             None
