@@ -14,6 +14,7 @@ mod dispersion;
 mod flight_software;
 mod frames_and_time;
 mod gravity_field;
+mod gravity_omission;
 mod imu_errors;
 mod layers;
 mod model_mismatch;
