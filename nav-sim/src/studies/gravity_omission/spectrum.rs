@@ -211,17 +211,7 @@ fn welch_peak(
     let mut segments = 0;
     let mut start = 0;
     while start + segment <= count {
-        let transforms: Vec<Vec<Complex<f64>>> = axes
-            .iter()
-            .map(|axis| {
-                let windowed: Vec<f64> = axis[start..start + segment]
-                    .iter()
-                    .zip(&window)
-                    .map(|(x, w)| x * w)
-                    .collect();
-                transform(planner, &windowed, segment)
-            })
-            .collect();
+        let transforms = windowed_transforms(planner, axes, start, &window);
         for (bin, sum) in sums.iter_mut().enumerate() {
             for (row, x) in transforms.iter().enumerate() {
                 for (column, y) in transforms.iter().enumerate() {
@@ -252,6 +242,25 @@ fn welch_peak(
         frequency_hz: bin as f64 / (segment as f64 * sample_s),
         segments,
     }
+}
+
+/// The FFTs of the three axes' samples `start..start + window.len()`, windowed.
+fn windowed_transforms(
+    planner: &mut FftPlanner<f64>,
+    axes: &[Vec<f64>; 3],
+    start: usize,
+    window: &[f64],
+) -> Vec<Vec<Complex<f64>>> {
+    axes.iter()
+        .map(|axis| {
+            let windowed: Vec<f64> = axis[start..start + window.len()]
+                .iter()
+                .zip(window)
+                .map(|(x, w)| x * w)
+                .collect();
+            transform(planner, &windowed, window.len())
+        })
+        .collect()
 }
 
 /// `λ_max` of a Hermitian 3×3 matrix `H = A + iB` through its real 6×6 form
