@@ -164,9 +164,9 @@ impl CrossMoments {
     fn gershgorin_bound(&self, max_lag: usize, sample_s: f64) -> f64 {
         let lag_sum = |pair: &Vec<f64>| {
             let positive: f64 = pair[..=max_lag].iter().map(|r| r.abs()).sum();
+            // Lags −max_lag..=−1; empty for `max_lag = 0`.
             let negative: f64 = pair[self.size - max_lag..].iter().map(|r| r.abs()).sum();
-            // `max_lag = 0` takes no negative lags: the slice above is then empty.
-            positive + if max_lag == 0 { 0.0 } else { negative }
+            positive + negative
         };
         (0..3)
             .map(|row| {
