@@ -278,7 +278,8 @@ fn largest_eigenvalue(hermitian: &[[Complex<f64>; 3]; 3]) -> f64 {
 }
 
 /// The first lag (s) at which the autocovariance of `magnitudes` (mean removed) falls below
-/// `1/e` of its value at lag 0; `None` if it never does, or the magnitudes do not vary.
+/// `1/e` of its value at lag 0; `None` if it never does, or the magnitudes do not vary (a
+/// standard deviation below 1e-12 of their mean).
 fn correlation_time_s(
     planner: &mut FftPlanner<f64>,
     magnitudes: &[f64],
@@ -290,7 +291,8 @@ fn correlation_time_s(
     let spectrum = transform(planner, &centred, padded_size(count));
     let autocovariance = correlation(planner, &spectrum, &spectrum, count);
     let variance = autocovariance[0];
-    if variance <= 0.0 {
+    // A standard deviation below 1e-12 of the mean is rounding, not variation.
+    if variance <= (1.0e-12 * mean).powi(2) {
         return None;
     }
     autocovariance[..count]
