@@ -390,6 +390,7 @@ fn every_subcommand_refuses_a_bad_rotation_vector_with_the_same_message() {
         &["design", "bad.toml"],
         &["benefit", "bad.toml"],
         &["faults", "bad.toml"],
+        &["gravity-omission", "bad.toml"],
     ] {
         let output = nav_sim(directory.path(), arguments);
         assert_eq!(output.status.code(), Some(1), "{arguments:?}: {output:?}");
