@@ -524,6 +524,22 @@ const NUMERIC_FLAGS: &[&[&str]] = &[
     &["ground-constants", "--ut1-minus-utc-s"],
     &["ground-constants", "--polar-motion-x-arcsec"],
     &["ground-constants", "--polar-motion-y-arcsec"],
+    &["gravity-omission", "short.toml", "--flight-degree"],
+    &[
+        "gravity-omission",
+        "short.toml",
+        "--flight-degree",
+        "2",
+        "--flight-order",
+    ],
+    &["gravity-omission", "short.toml", "--flight-refresh-s"],
+    &[
+        "gravity-omission",
+        "short.toml",
+        "--flight-latency-refreshes",
+    ],
+    &["gravity-omission", "short.toml", "--sample-s"],
+    &["gravity-omission", "short.toml", "--max-lag-s"],
 ];
 
 /// Runs `arguments` for at most `limit`: a run still going then is killed (it took the value
