@@ -169,9 +169,9 @@ pub struct OmissionReport {
     pub flight: FlightGravityModel,
     /// The truth's degree and order (2, 0 without a published model).
     pub truth_field: (usize, usize),
-    /// Number of samples `K` and their interval `Δ` (s).
+    /// Number of samples `K`.
     pub samples: usize,
-    /// `Δ` (s).
+    /// Their interval `Δ` (s).
     pub sample_s: f64,
     /// The statistics of `d` (module docs).
     pub statistics: Statistics,
