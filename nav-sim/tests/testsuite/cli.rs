@@ -390,6 +390,7 @@ fn every_subcommand_refuses_a_bad_rotation_vector_with_the_same_message() {
         &["design", "bad.toml"],
         &["benefit", "bad.toml"],
         &["faults", "bad.toml"],
+        &["gravity-omission", "bad.toml"],
     ] {
         let output = nav_sim(directory.path(), arguments);
         assert_eq!(output.status.code(), Some(1), "{arguments:?}: {output:?}");
@@ -523,6 +524,22 @@ const NUMERIC_FLAGS: &[&[&str]] = &[
     &["ground-constants", "--ut1-minus-utc-s"],
     &["ground-constants", "--polar-motion-x-arcsec"],
     &["ground-constants", "--polar-motion-y-arcsec"],
+    &["gravity-omission", "short.toml", "--flight-degree"],
+    &[
+        "gravity-omission",
+        "short.toml",
+        "--flight-degree",
+        "2",
+        "--flight-order",
+    ],
+    &["gravity-omission", "short.toml", "--flight-refresh-s"],
+    &[
+        "gravity-omission",
+        "short.toml",
+        "--flight-latency-refreshes",
+    ],
+    &["gravity-omission", "short.toml", "--sample-s"],
+    &["gravity-omission", "short.toml", "--max-lag-s"],
 ];
 
 /// Runs `arguments` for at most `limit`: a run still going then is killed (it took the value

@@ -15,6 +15,7 @@ mod flight_software;
 mod frames_and_time;
 mod gravity_field;
 mod gravity_flight_model;
+mod gravity_omission;
 mod imu_errors;
 mod layers;
 mod model_mismatch;

@@ -12,8 +12,8 @@ use clap::{Parser, Subcommand};
 mod commands;
 
 use commands::{
-    benefit, calibrate, design, faults, ground_constants, log, merge, monte_carlo, observability,
-    replay, scenario, target_bench,
+    benefit, calibrate, design, faults, gravity_omission, ground_constants, log, merge,
+    monte_carlo, observability, replay, scenario, target_bench,
 };
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
@@ -66,6 +66,11 @@ enum Command {
     /// with the on-line calibration and with it switched off (same sensor data), and print the
     /// position, velocity and attitude error growth side by side (`--runs N`: over seeds).
     Benefit(benefit::Args),
+    /// The gravity a flight field of degree N and order M leaves out along the scenario's
+    /// truth (its `[gravity]` field), and the white velocity process noise q that covers it:
+    /// RMS, maximum and correlation time of the difference, q from a Gershgorin bound on its
+    /// second moments and from its averaged periodogram (docs/gravity.md).
+    GravityOmission(gravity_omission::Args),
 }
 
 /// The exit status of a command ended by SIGINT or SIGTERM (128 + SIGINT, as a shell reports
@@ -97,6 +102,7 @@ fn main() -> ExitCode {
         Some(Command::Design(args)) => design::run(args),
         Some(Command::TargetBench(args)) => target_bench::run(args),
         Some(Command::Benefit(args)) => benefit::run(args),
+        Some(Command::GravityOmission(args)) => gravity_omission::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

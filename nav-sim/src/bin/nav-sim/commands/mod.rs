@@ -12,6 +12,7 @@ pub mod benefit;
 pub mod calibrate;
 pub mod design;
 pub mod faults;
+pub mod gravity_omission;
 pub mod ground_constants;
 pub mod log;
 pub mod merge;

@@ -1,0 +1,394 @@
+//! The gravity the flight software leaves out, as the process noise that covers it
+//! (`nav-sim gravity-omission`, `docs/gravity.md`, "The omitted field as process noise").
+//!
+//! The truth flies a published field (EGM2008 to the scenario's `[gravity]` degree and order);
+//! a flight model keeps its terms only to a lower degree `N` and order `M`, refreshed every
+//! `refresh_s` and held in between. This study flies the scenario's truth once, samples the
+//! difference `d(t)` of the two fields along it and derives the white velocity process-noise
+//! density `q` (m²/s³ per axis) whose covariance dominates that of `d`.
+//!
+//! ## The difference
+//! `d(t) = δg_truth(t, p(t)) − δg_flight(t)` (m/s², launch-inertial axes), with `δg` the
+//! remainder beyond point mass + `J2` ([`RotatingRemainder`]): `δg_truth` to the truth's degree
+//! and order, evaluated in full at the truth position `p(t)`; `δg_flight` to `N`, `M` as the
+//! flight holds it: the value computed at a refresh time `t_r` at `p(t_r)`, where `t_r` is the
+//! last refresh `t_0 + refresh·⌊(t − t_0)/refresh⌋` less [`FlightGravityModel::latency_refreshes`]
+//! refresh periods (the evaluation's latency; refreshes before the scenario start `t_0` are
+//! taken at `t_0`, where the flight computes its first value). `N = 2`, `M = 0` is the flight's
+//! `J2` alone: `δg_flight = 0`.
+//!
+//! ## Why white noise of PSD `q` covers it, and which `q`
+//! For a linear filter with fixed gains the estimation error is a linear functional of the
+//! process noise, so its covariance is monotone in the noise's covariance operator: a noise
+//! whose covariance operator dominates another's gives the larger error covariance in every
+//! direction. White noise of PSD `q` has the covariance operator `q·I·δ(τ)`; a stationary
+//! process with cross-spectral density matrix `S(f)` is dominated by it iff
+//! `q·I ⪰ S(f)` for every `f` (both operators are diagonal in frequency). Hence
+//!
+//! `q = sup_f λ_max(S(f))`,
+//!
+//! estimated from the sampled `d_k = d(t_0 + kΔ)`, `k = 0..K−1`, in two ways:
+//!
+//! 1. **Gershgorin bound.** The raw cross second moments (mean *not* removed: the filter sees
+//!    the mean of `d` too) `R_ij(m) = (1/K) Σ_k d_i(k) d_j(k+m)`, lag `τ = mΔ`, give
+//!    `S_ij(f) = Σ_m R_ij(m) e^{−i2πfmΔ} Δ`, so `|S_ij(f)| ≤ Σ_m |R_ij(m)| Δ` and, by
+//!    Gershgorin's circle theorem, `λ_max(S(f)) ≤ max_i Σ_j |S_ij(f)|`:
+//!    `q_bound = max_i Σ_j Σ_{|m|Δ ≤ L} |R_ij(m)| Δ`, the lags truncated at `L` (`max_lag_s`).
+//!    It bounds every lag-window (Blackman–Tukey) spectrum estimate with window `|w| ≤ 1` and
+//!    support `L`, and grows with `L` while `d` stays correlated (a mean `μ` alone adds
+//!    `≈ 2Lμ²`): a slowly varying `d` is covered by white noise only over a horizon.
+//! 2. **Averaged periodogram** (Welch): Hann-windowed segments of `2L` (at most the record),
+//!    overlapping by half, `S(f) = Δ/(Σ_k w_k²) · mean over segments of X(f) X(f)ᴴ`,
+//!    `X(f) = Σ_k w_k d_k e^{−i2πfkΔ}`; `q_periodogram = max_f λ_max(S(f))`. It estimates the
+//!    same supremum more tightly; it is not a bound and should lie below `q_bound`.
+//!
+//! Both are two-sided densities (white noise of PSD `q` has `E[w(t) w(t+τ)ᵀ] = q I δ(τ)`), as
+//! the filter's continuous process noise `Q = q I` is; `√q` is the velocity random walk
+//! (m/s/√s).
+//!
+//! Also reported: the RMS of `d` per axis and of `|d|`, the largest `|d|`, the mean, and the
+//! correlation time of `|d|`: the first lag where its autocorrelation (mean removed, so that
+//! a positive signal can decorrelate) falls below `1/e`.
+
+mod spectrum;
+mod trajectory;
+
+use nalgebra::Vector3;
+
+use crate::scenario::gravity::GravityModelName;
+use crate::scenario::Scenario;
+use crate::setup::launch::Launch;
+use crate::setup::SetupError;
+use crate::world::gravity::gfc::GfcError;
+use crate::world::gravity::{RotatingRemainder, EGM2008_GFC};
+use crate::world::truth::TruthError;
+
+pub use spectrum::{LagBound, Statistics};
+
+/// The flight models of the table `nav-sim gravity-omission` prints by default, as
+/// `(degree, order)`: `J2` only, zonal to `J4`, and square fields 4 to 16.
+pub const DEFAULT_FLIGHT_FIELDS: [(usize, usize); 7] =
+    [(2, 0), (4, 0), (4, 4), (6, 6), (8, 8), (12, 12), (16, 16)];
+
+/// Default time between two refreshes of the flight's field (s).
+pub const DEFAULT_REFRESH_S: f64 = 0.1;
+
+/// Default sampling interval of `d` (s).
+pub const DEFAULT_SAMPLE_S: f64 = 0.1;
+
+/// Default largest lag `L` of the Gershgorin bound, half the Welch segment (s).
+pub const DEFAULT_MAX_LAG_S: f64 = 1000.0;
+
+/// Default lags at which the bound is also reported, to show how it grows with `L` (s).
+pub const DEFAULT_REPORT_LAGS_S: [f64; 5] = [100.0, 300.0, 1000.0, 3000.0, 10000.0];
+
+/// A flight gravity model: the remainder beyond point mass + `J2` to `degree` and `order`,
+/// refreshed every `refresh_s` and held, its value `latency_refreshes` refreshes old.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlightGravityModel {
+    /// Largest degree `N`, 2 (`J2` only) up to the truth's.
+    pub degree: usize,
+    /// Largest order `M`, at most `degree` and the truth's order.
+    pub order: usize,
+    /// Time between refreshes (s): positive, a whole number of IMU frames.
+    pub refresh_s: f64,
+    /// How many refresh periods old the value in use is (1: computed at the refresh before
+    /// the last one, the flight's evaluation latency; 0: at the last one).
+    pub latency_refreshes: u32,
+}
+
+impl FlightGravityModel {
+    /// The model to `degree` and `order` with the default refresh and one refresh of latency.
+    pub fn new(degree: usize, order: usize) -> Self {
+        Self {
+            degree,
+            order,
+            refresh_s: DEFAULT_REFRESH_S,
+            latency_refreshes: 1,
+        }
+    }
+}
+
+/// How `d` is sampled and analysed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OmissionOptions {
+    /// Sampling interval `Δ` of `d` (s): positive, a whole number of IMU frames.
+    pub sample_s: f64,
+    /// Largest lag `L` of the bound, half the periodogram's segment (s): at least `sample_s`.
+    pub max_lag_s: f64,
+    /// Lags at which the bound is also reported (s), each at least `sample_s`.
+    pub report_lags_s: Vec<f64>,
+}
+
+impl Default for OmissionOptions {
+    fn default() -> Self {
+        Self {
+            sample_s: DEFAULT_SAMPLE_S,
+            max_lag_s: DEFAULT_MAX_LAG_S,
+            report_lags_s: DEFAULT_REPORT_LAGS_S.to_vec(),
+        }
+    }
+}
+
+/// Why the study could not run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OmissionError {
+    /// An option or a flight model is out of range.
+    #[error("{key} = {value} {requirement}")]
+    Setting {
+        /// The option.
+        key: &'static str,
+        /// Its value, as given.
+        value: String,
+        /// What it must satisfy.
+        requirement: String,
+    },
+    /// The launch or the initial state could not be set up.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The truth flight failed.
+    #[error(transparent)]
+    Truth(#[from] TruthError),
+    /// The model file could not be read to the degree asked.
+    #[error(transparent)]
+    GravityModel(#[from] GfcError),
+    /// A field evaluation failed (e.g. a position at the Earth's centre).
+    #[error("gravity field at t = {time_s} s: {reason}")]
+    Field {
+        /// Navigation time of the evaluation (s).
+        time_s: f64,
+        /// The field's reason.
+        reason: String,
+    },
+}
+
+/// The omitted field of one flight model along the scenario's truth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OmissionReport {
+    /// The flight model.
+    pub flight: FlightGravityModel,
+    /// The truth's degree and order (2, 0 without a published model).
+    pub truth_field: (usize, usize),
+    /// Number of samples `K`.
+    pub samples: usize,
+    /// Their interval `Δ` (s).
+    pub sample_s: f64,
+    /// The statistics of `d` (module docs).
+    pub statistics: Statistics,
+}
+
+impl OmissionReport {
+    /// `√q_bound`: the velocity random walk density of the allowance (m/s/√s).
+    pub fn velocity_random_walk_mps_per_sqrt_s(&self) -> f64 {
+        self.statistics.q_bound_m2_s3.sqrt()
+    }
+}
+
+/// The truth's field of `scenario`: its degree and order, 2 and 0 for point mass + `J2`.
+pub fn truth_field(scenario: &Scenario) -> (usize, usize) {
+    match &scenario.gravity {
+        Some(settings) if settings.model == GravityModelName::Egm2008 => (
+            settings.degree.unwrap_or(2) as usize,
+            settings.order.unwrap_or(0) as usize,
+        ),
+        _ => (2, 0),
+    }
+}
+
+/// The omitted field of `flight` along the scenario's truth (module docs).
+///
+/// # Errors
+/// As [`omitted_fields`].
+pub fn omitted_field(
+    scenario: &Scenario,
+    flight: FlightGravityModel,
+    options: &OmissionOptions,
+) -> Result<OmissionReport, OmissionError> {
+    let mut reports = omitted_fields(scenario, &[flight], options)?;
+    reports.pop().ok_or_else(|| OmissionError::Setting {
+        key: "flight models",
+        value: "none".to_string(),
+        requirement: "must name at least one model".to_string(),
+    })
+}
+
+/// The omitted field of each of `flights` along the scenario's truth, flown once.
+///
+/// # Errors
+/// [`OmissionError::Setting`] for an option out of range or a flight model above the truth's
+/// field (checked before the flight); the others if the truth or a field evaluation fails.
+pub fn omitted_fields(
+    scenario: &Scenario,
+    flights: &[FlightGravityModel],
+    options: &OmissionOptions,
+) -> Result<Vec<OmissionReport>, OmissionError> {
+    let frame_period_s = scenario.imu.frame_period_s();
+    let sample_frames = whole_frames("sample_s", options.sample_s, frame_period_s)?;
+    check_lags(options)?;
+    let truth = truth_field(scenario);
+    let mut refresh_frames = Vec::with_capacity(flights.len());
+    for flight in flights {
+        check_flight(flight, truth)?;
+        refresh_frames.push(whole_frames(
+            "flight refresh_s",
+            flight.refresh_s,
+            frame_period_s,
+        )?);
+    }
+    let launch = Launch::new(scenario)?;
+    let truth_remainder =
+        RotatingRemainder::from_settings(scenario.gravity.as_ref(), launch.frame)?;
+    let stride = refresh_frames
+        .iter()
+        .fold(sample_frames, |stride, frames| gcd(stride, *frames));
+    let path = trajectory::fly(scenario, &launch, stride)?;
+    let truth_values = trajectory::truth_remainder(&path, sample_frames, truth_remainder.as_ref())?;
+    if truth_values.len() < 2 {
+        return Err(OmissionError::Setting {
+            key: "sample_s",
+            value: options.sample_s.to_string(),
+            requirement: format!(
+                "must leave at least two samples in the flight ({} s)",
+                scenario.duration_s()
+            ),
+        });
+    }
+    let mut reports = Vec::with_capacity(flights.len());
+    for (flight, refresh) in flights.iter().zip(refresh_frames) {
+        let flight_remainder = flight_remainder(flight, launch.frame)?;
+        let held = trajectory::HeldField {
+            remainder: flight_remainder.as_ref(),
+            refresh_frames: refresh,
+            latency_refreshes: u64::from(flight.latency_refreshes),
+        };
+        let flight_values = trajectory::flight_remainder(&path, sample_frames, &held)?;
+        let difference: Vec<Vector3<f64>> = truth_values
+            .iter()
+            .zip(&flight_values)
+            .map(|(truth, flight)| truth - flight)
+            .collect();
+        reports.push(OmissionReport {
+            flight: *flight,
+            truth_field: truth,
+            samples: difference.len(),
+            sample_s: options.sample_s,
+            statistics: spectrum::statistics(&difference, options),
+        });
+    }
+    Ok(reports)
+}
+
+/// The flight's remainder, `None` for `J2` alone (degree 2, order 0: nothing beyond `J2`).
+fn flight_remainder(
+    flight: &FlightGravityModel,
+    frame: nav_core::frames::LaunchFrame,
+) -> Result<Option<RotatingRemainder>, OmissionError> {
+    if flight.degree == 2 && flight.order == 0 {
+        return Ok(None);
+    }
+    Ok(Some(RotatingRemainder::new(
+        EGM2008_GFC,
+        flight.degree,
+        flight.order,
+        frame,
+    )?))
+}
+
+/// A flight model within the truth's field: `2 ≤ degree ≤` the truth's degree,
+/// `order ≤ degree` and `order ≤` the truth's order (terms the truth lacks would be an error
+/// of the flight's own making, not an omission).
+fn check_flight(
+    flight: &FlightGravityModel,
+    (truth_degree, truth_order): (usize, usize),
+) -> Result<(), OmissionError> {
+    let setting = |key, value: usize, requirement: String| OmissionError::Setting {
+        key,
+        value: value.to_string(),
+        requirement,
+    };
+    if !(2..=truth_degree).contains(&flight.degree) {
+        return Err(setting(
+            "flight degree",
+            flight.degree,
+            format!(
+                "must be in 2..={truth_degree}, the truth's degree (a flight field above the \
+                 truth's has no omitted part to measure; raise the scenario's [gravity] degree)"
+            ),
+        ));
+    }
+    if flight.order > flight.degree {
+        return Err(setting(
+            "flight order",
+            flight.order,
+            format!("must be in 0..=flight degree ({})", flight.degree),
+        ));
+    }
+    if flight.order > truth_order {
+        return Err(setting(
+            "flight order",
+            flight.order,
+            format!("must be at most the truth's order ({truth_order})"),
+        ));
+    }
+    Ok(())
+}
+
+/// `value_s` as a whole number of IMU frames of `frame_period_s`, at least one (to a
+/// millionth of a frame, so a decimal interval's rounding is accepted).
+fn whole_frames(
+    key: &'static str,
+    value_s: f64,
+    frame_period_s: f64,
+) -> Result<u64, OmissionError> {
+    let frames = (value_s / frame_period_s).round();
+    let whole = value_s.is_finite()
+        && frames >= 1.0
+        && (frames * frame_period_s - value_s).abs() <= 1.0e-6 * frame_period_s;
+    if whole {
+        // A finite count of at least one frame; the cast saturates far beyond any flight.
+        Ok(frames as u64)
+    } else {
+        Err(OmissionError::Setting {
+            key,
+            value: value_s.to_string(),
+            requirement: format!(
+                "must be positive and a whole number of IMU frames ({frame_period_s} s)"
+            ),
+        })
+    }
+}
+
+/// `max_lag_s` and every reported lag finite and at least `sample_s`.
+fn check_lags(options: &OmissionOptions) -> Result<(), OmissionError> {
+    let lags = std::iter::once(("max_lag_s", options.max_lag_s)).chain(
+        options
+            .report_lags_s
+            .iter()
+            .map(|lag_s| ("report lag", *lag_s)),
+    );
+    for (key, lag_s) in lags {
+        if !(lag_s.is_finite() && lag_s >= options.sample_s) {
+            return Err(OmissionError::Setting {
+                key,
+                value: lag_s.to_string(),
+                requirement: format!(
+                    "must be finite and at least sample_s ({} s)",
+                    options.sample_s
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Greatest common divisor (Euclid).
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+#[cfg(test)]
+mod tests;
