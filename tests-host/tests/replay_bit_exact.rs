@@ -104,6 +104,23 @@ fn every_optional_state_block_replays_bit_for_bit_on_host_and_target() {
     assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
+/// The flight's gravity field beyond `J2` (12 × 12, a share each frame that fuses nothing)
+/// with its allowance, in the truth's 20 × 20 field
+/// (`nav-sim/scenarios/gravity_field_modelled.toml`): its first 30 s (the rotations, star
+/// and GNSS updates, 300 evaluations of the field) on QEMU bit for bit with the host, within
+/// the paper flight's frame budget and the stack budget.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn the_flight_gravity_field_replays_bit_for_bit_on_host_and_target() {
+    let report = replay_scenario_file(GRAVITY_SCENARIO, 30, "gravity");
+    let worst = report.costs[0].1.worst;
+    assert!(
+        worst <= PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
+        "worst frame {worst} instructions, budget {PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS}"
+    );
+    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
+}
+
 /// Replays the first `seconds` of the scenario file `path` (from the repository root) on
 /// the host and on QEMU, prints and saves the report as `target/qemu/replay-{name}*`, and
 /// asserts the frame count and bit-for-bit agreement.
@@ -140,6 +157,9 @@ const ALL_BLOCKS_SCENARIO: &str = "nav-sim/scenarios/upper_stage_imu_errors_esti
 /// Its worst frame may take this many instructions: the budget with every optional block on
 /// (the dearest frame is a late GNSS velocity update with both borders, docs/performance.md).
 const ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS: u64 = 30_000;
+
+/// The default flight with the flight's 12 × 12 gravity field and its allowance.
+const GRAVITY_SCENARIO: &str = "nav-sim/scenarios/gravity_field_modelled.toml";
 
 /// The realistic-sensor scenario of the replay test.
 const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";

@@ -38,9 +38,17 @@ fn a_gravity_model_without_its_allowance_is_flagged_and_no_sensor_blamed() {
     let mut modelled_in_j2_truth = modelled.clone();
     modelled_in_j2_truth.gravity = None;
     for (name, scenario, flagged) in [
-        ("gravity_field (J2, no allowance)", scenario("gravity_field"), 1),
+        (
+            "gravity_field (J2, no allowance)",
+            scenario("gravity_field"),
+            1,
+        ),
         ("gravity_field_modelled", modelled, 0),
-        ("gravity_field_modelled in the J2 truth", modelled_in_j2_truth, 0),
+        (
+            "gravity_field_modelled in the J2 truth",
+            modelled_in_j2_truth,
+            0,
+        ),
     ] {
         let flight = fly(
             &first_seconds(scenario, 400.0),
@@ -50,7 +58,11 @@ fn a_gravity_model_without_its_allowance_is_flagged_and_no_sensor_blamed() {
         .unwrap();
         let health = &flight.health;
         println!("{name}: {:?}", health.named());
-        assert_eq!(counter(health, "gravity_allowance_short"), flagged, "{name}");
+        assert_eq!(
+            counter(health, "gravity_allowance_short"),
+            flagged,
+            "{name}"
+        );
         assert_eq!(counter(health, "gravity_field_errors"), 0, "{name}");
         assert_eq!(counter(health, "star_declared_faulty"), 0, "{name}");
         assert_eq!(counter(health, "gnss_declared_faulty"), 0, "{name}");
@@ -75,10 +87,18 @@ fn the_modelled_field_keeps_the_calibration_consistent() {
         let inverse = outcome.covariance.try_inverse().unwrap();
         let nees = (outcome.error.transpose() * inverse * outcome.error)[(0, 0)];
         let counted = |key: &str| outcome.health.get(key).copied().unwrap_or(0);
-        assert_eq!(counted("gravity_allowance_short"), 0, "seed {}", outcome.seed);
+        assert_eq!(
+            counted("gravity_allowance_short"),
+            0,
+            "seed {}",
+            outcome.seed
+        );
         assert_eq!(counted("star_declared_faulty"), 0, "seed {}", outcome.seed);
         assert_eq!(counted("gnss_declared_faulty"), 0, "seed {}", outcome.seed);
-        println!("seed {}: worst {worst:.2} sigma, NEES {nees:.1}", outcome.seed);
+        println!(
+            "seed {}: worst {worst:.2} sigma, NEES {nees:.1}",
+            outcome.seed
+        );
         assert!(worst <= 4.0, "seed {}: {worst:.2} sigma", outcome.seed);
         assert!(nees < 37.70, "seed {}: NEES {nees:.1}", outcome.seed);
     }

@@ -175,6 +175,14 @@ pub struct OmissionReport {
     pub sample_s: f64,
     /// The statistics of `d` (module docs).
     pub statistics: Statistics,
+    /// Lowest altitude of the flight above a sphere of the model's radius (m).
+    pub lowest_altitude_m: f64,
+    /// What the flight software checks its allowance against there: the RMS magnitude over
+    /// the sphere of the field its model omits (to degree 60, nav-core
+    /// `gravity::harmonics`), divided by `√3` to a 1σ per axis (m/s²). A
+    /// `filter.gravity.omitted_field_sigma_mps2` at least this raises no
+    /// `gravity_allowance_short` on this flight. NaN for a model beyond the flight's 12 × 12.
+    pub flight_check_sigma_mps2: f64,
 }
 
 impl OmissionReport {
@@ -267,15 +275,52 @@ pub fn omitted_fields(
             .zip(&flight_values)
             .map(|(truth, flight)| truth - flight)
             .collect();
+        let lowest_radius_m = path.lowest_radius_m(&launch);
         reports.push(OmissionReport {
             flight: *flight,
             truth_field: truth,
             samples: difference.len(),
             sample_s: options.sample_s,
             statistics: spectrum::statistics(&difference, options),
+            lowest_altitude_m: lowest_radius_m - nav_core::gravity::egm2008::RADIUS_M,
+            flight_check_sigma_mps2: flight_check_sigma(flight, &launch, lowest_radius_m)?,
         });
     }
     Ok(reports)
+}
+
+/// The flight software's own omitted RMS at `radius_m` (one whole evaluation of nav-core's
+/// `FieldRemainder` at a point of that radius: the figure depends on the radius only), per
+/// axis.
+fn flight_check_sigma(
+    flight: &FlightGravityModel,
+    launch: &Launch,
+    radius_m: f64,
+) -> Result<f64, OmissionError> {
+    use nav_core::gravity::harmonics::{FieldModel, FieldRemainder};
+    let setting = |reason: String| OmissionError::Setting {
+        key: "flight model",
+        value: format!("{} x {}", flight.degree, flight.order),
+        requirement: reason,
+    };
+    let (Ok(degree), Ok(order)) = (u8::try_from(flight.degree), u8::try_from(flight.order)) else {
+        return Ok(f64::NAN);
+    };
+    let model = FieldModel {
+        degree,
+        order,
+        terms_per_frame: u8::MAX,
+    };
+    let mut field = Box::new(FieldRemainder::EMPTY);
+    if field.configure(model).is_err() {
+        // Beyond the flight's coefficients: no flight software flies it.
+        return Ok(f64::NAN);
+    }
+    let position = launch.frame.earth_centre_launch_m() + Vector3::new(0.0, radius_m, 0.0);
+    field
+        .advance(&launch.frame, 0.0, &position)
+        .map_err(|error| setting(error.to_string()))?;
+    Ok(field.omitted_rms_mps2() / 3.0_f64.sqrt())
 }
 
 /// The flight's remainder, `None` for `J2` alone (degree 2, order 0: nothing beyond `J2`).

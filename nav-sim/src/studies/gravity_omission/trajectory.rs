@@ -38,6 +38,14 @@ impl Trajectory {
         self.positions_m.get(index)
     }
 
+    /// The smallest geocentric radius of the stored positions (m).
+    pub fn lowest_radius_m(&self, launch: &Launch) -> f64 {
+        self.positions_m
+            .iter()
+            .map(|position| launch.frame.geocentric_position_launch(position).norm())
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The last frame boundary stored.
     fn last_boundary(&self) -> u64 {
         (self.positions_m.len().saturating_sub(1) as u64) * self.stride

@@ -135,6 +135,7 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
         "q_bound (m²/s³)",
         "q_periodogram (m²/s³) @ f (Hz)",
         "√q_bound (m/s/√s)",
+        "flight check σ (m/s²)",
     ]);
     for report in reports {
         let statistics = &report.statistics;
@@ -154,9 +155,21 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
                 statistics.periodogram_peak_hz
             )),
             right(scientific(report.velocity_random_walk_mps_per_sqrt_s())),
+            right(if report.flight_check_sigma_mps2.is_nan() {
+                "-".to_string()
+            } else {
+                scientific(report.flight_check_sigma_mps2)
+            }),
         ]);
     }
     let _ = writeln!(text, "{table}");
+    let _ = writeln!(
+        text,
+        "flight check σ: the omitted field's RMS per axis at the lowest altitude ({:.0} km), \
+         as the flight software checks its allowance (filter.gravity.omitted_field_sigma_mps2 \
+         at least this); - beyond the flight's degree and order 12",
+        first.lowest_altitude_m / 1e3
+    );
     let _ = writeln!(text, "q_bound (m²/s³) against the largest lag L:");
     let _ = writeln!(text, "{}", lag_table(reports));
     text
