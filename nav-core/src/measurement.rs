@@ -510,7 +510,7 @@ mod tests {
         let sigmas = [5.0 * arcsec, 7.0 * arcsec, 35.0 * arcsec];
         let angle_rad = 1e-6;
         for axis in 0..3 {
-            let rotation = exp_rotation_vector(&(Vector3::ith(axis, angle_rad)));
+            let rotation = exp_rotation_vector(&Vector3::ith(axis, angle_rad));
             let measured = product(&sensor_attitude, &rotation);
             let m = star_sensor(
                 &est.attitude,

@@ -639,7 +639,7 @@ mod tests {
         let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         assert_eq!(good.validate(), Ok(()));
         type Corruption = (fn(&mut FswConfig), ConfigField);
-        let cases: [Corruption; 14] = [
+        let cases: [Corruption; 16] = [
             (
                 |c| c.star.mounting_wxyz = [0.9, 0.0, 0.0, 0.0],
                 ConfigField::StarMounting,
@@ -884,7 +884,7 @@ mod tests {
     /// Every σ and noise density the filter squares, with the field that reports it.
     type SigmaField = (fn(&mut FswConfig, f64), ConfigField);
 
-    const SQUARED_SIGMAS: [SigmaField; 31] = {
+    const SQUARED_SIGMAS: [SigmaField; 32] = {
         use ConfigField as F;
         [
             (
