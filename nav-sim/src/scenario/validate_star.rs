@@ -71,7 +71,7 @@ impl Checker<'_> {
             "star_sensor.noise_arcsec",
             &format!(
                 "= {} conflicts with the per-axis noise: with {cross_key} and {roll_key} given, \
-                 noise_arcsec must equal the larger of them (the single-noise studies' 1σ), {}",
+                 noise_arcsec (the single-noise studies' 1σ) must equal the larger of them, {}",
                 number(star.noise_arcsec),
                 number(largest)
             ),
