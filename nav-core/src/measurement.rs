@@ -15,6 +15,9 @@
 //! for a body-fixed sensor, and the noise of the vector part is half the angle noise:
 //! a small rotation by angle `α` has vector part `sin(α/2) ≈ α/2` per axis, so a 1σ of
 //! `σ_angle` (10″ in the paper) gives `σ_z = σ_angle/2` and `R = (σ_angle/2)² I`.
+//! `ν` is the sensor's own error rotation, so its vector part is in sensor axes and a
+//! sensor noisier about its boresight (sensor `z`) than across it has the diagonal
+//! `R = diag((σ_x/2)², (σ_y/2)², (σ_z/2)²)` in the same axes as the residual.
 //!
 //! **Departure from the paper.** The paper prints `H = [I … −C' …]`, a time-varying
 //! installation block. That form belongs to an attitude error expressed in the inertial frame
@@ -82,7 +85,9 @@ fn quaternion_is_finite(q: &Quaternion<f64>) -> bool {
 ///
 /// * `attitude`: estimated `q̂_ib`; `mounting`: nominal `q_bs`; `installation_estimate`: `q̂_ψ`;
 /// * `measured`: the sensor's `q_is` (unit, any sign);
-/// * `noise_angle_rad`: 1σ angle noise per axis (10″ in the paper); `R = (σ/2)² I`.
+/// * `noise_angle_rad`: 1σ angle noise about each sensor axis `[x, y, z]`, `z` the
+///   boresight (10″ on every axis in the paper);
+///   `R = diag((σ_x/2)², (σ_y/2)², (σ_z/2)²)` in sensor axes, the residual's axes.
 ///
 /// # Errors
 /// [`NavError::NonFiniteInput`] for NaN/Inf in any input or a negative noise.
@@ -91,12 +96,15 @@ pub fn star_sensor(
     mounting: &Quaternion<f64>,
     installation_estimate: &Quaternion<f64>,
     measured: &Quaternion<f64>,
-    noise_angle_rad: f64,
+    noise_angle_rad: &[f64; 3],
 ) -> Result<LinearMeasurement, NavError> {
     let inputs_finite = [attitude, mounting, installation_estimate, measured]
         .iter()
         .all(|q| quaternion_is_finite(q));
-    if !(inputs_finite && noise_angle_rad.is_finite() && noise_angle_rad >= 0.0) {
+    let noise_valid = noise_angle_rad
+        .iter()
+        .all(|sigma| sigma.is_finite() && *sigma >= 0.0);
+    if !(inputs_finite && noise_valid) {
         return Err(NavError::NonFiniteInput);
     }
     let sensor_to_body = product(mounting, installation_estimate);
@@ -115,11 +123,14 @@ pub fn star_sensor(
         STAR_INSTALLATION,
         &Matrix3::identity(),
     );
-    let half_sigma = 0.5 * noise_angle_rad;
+    // Per element the arithmetic of the former `I · (σ/2)²`: the diagonal is `(0.5 σ)²`,
+    // the rest exact zeros, so equal sigmas give the isotropic bits.
+    let half_sigma = noise_angle_rad.map(|sigma| 0.5 * sigma);
+    let variance = half_sigma.map(|half| half * half);
     Ok(LinearMeasurement {
         residual: difference.imag(),
         jacobian,
-        noise_covariance: Matrix3::identity() * (half_sigma * half_sigma),
+        noise_covariance: Matrix3::from_diagonal(&Vector3::from(variance)),
         gnss_error_coefficient: 0.0,
     })
 }
@@ -322,7 +333,7 @@ mod tests {
                     &mounting(),
                     &installation_estimate(),
                     &star_truth(error),
-                    0.0,
+                    &[0.0; 3],
                 )
                 .unwrap();
                 (m.residual, m.jacobian * error)
@@ -334,7 +345,7 @@ mod tests {
             &mounting(),
             &installation_estimate(),
             &star_truth(&SVector::zeros()),
-            0.0,
+            &[0.0; 3],
         )
         .unwrap();
         assert!(m.residual.amax() < 1e-15);
@@ -439,7 +450,7 @@ mod tests {
             &mounting(),
             &installation_estimate(),
             &est.attitude,
-            noise_rad,
+            &[noise_rad; 3],
         )
         .unwrap()
     }
@@ -457,10 +468,23 @@ mod tests {
                 &mounting(),
                 &installation_estimate(),
                 &est.attitude,
-                1e-5
+                &[1e-5; 3]
             ),
             Err(NavError::NonFiniteInput)
         );
+        for bad in [-1e-5, f64::NAN, f64::INFINITY] {
+            assert_eq!(
+                star_sensor(
+                    &est.attitude,
+                    &mounting(),
+                    &installation_estimate(),
+                    &est.attitude,
+                    &[1e-5, 1e-5, bad]
+                ),
+                Err(NavError::NonFiniteInput),
+                "{bad}"
+            );
+        }
         assert_eq!(
             gnss_position(
                 &est.attitude,
@@ -471,6 +495,62 @@ mod tests {
             ),
             Err(NavError::NonFiniteInput)
         );
+    }
+
+    /// The residual is in sensor axes: a small rotation of the measured attitude about
+    /// sensor `z` (the boresight) lands, as the half angle, in residual component `z` alone
+    /// (and likewise for `x`, `y`), so `R = diag((σ_x/2)², (σ_y/2)², (σ_z/2)²)` weights the
+    /// axis each sigma is for; equal sigmas give the former `I · (σ/2)²` bit for bit.
+    #[test]
+    fn star_noise_is_per_sensor_axis() {
+        let est = estimate();
+        let arcsec = core::f64::consts::PI / 180.0 / 3600.0;
+        let sensor_to_body = product(&mounting(), &installation_estimate());
+        let sensor_attitude = product(&est.attitude, &sensor_to_body);
+        let sigmas = [5.0 * arcsec, 7.0 * arcsec, 35.0 * arcsec];
+        let angle_rad = 1e-6;
+        for axis in 0..3 {
+            let rotation = exp_rotation_vector(&Vector3::ith(axis, angle_rad));
+            let measured = product(&sensor_attitude, &rotation);
+            let m = star_sensor(
+                &est.attitude,
+                &mounting(),
+                &installation_estimate(),
+                &measured,
+                &sigmas,
+            )
+            .unwrap();
+            let expected = Vector3::ith(axis, 0.5 * angle_rad);
+            assert!((m.residual - expected).amax() < 1e-15, "{axis}: {m:?}");
+            let half = 0.5 * sigmas[axis];
+            assert_eq!(
+                m.noise_covariance[(axis, axis)].to_bits(),
+                (half * half).to_bits()
+            );
+        }
+        let m = star_at_estimate(35.0 * arcsec);
+        let anisotropic = star_sensor(
+            &est.attitude,
+            &mounting(),
+            &installation_estimate(),
+            &est.attitude,
+            &sigmas,
+        )
+        .unwrap();
+        assert_eq!(
+            anisotropic.noise_covariance
+                - Matrix3::from_diagonal(&anisotropic.noise_covariance.diagonal()),
+            Matrix3::zeros()
+        );
+        for sigma in [0.0, 1e-9, 10.0 * arcsec, 35.0 * arcsec, 0.3] {
+            let half_sigma = 0.5 * sigma;
+            let isotropic: Matrix3<f64> = Matrix3::identity() * (half_sigma * half_sigma);
+            let per_axis = star_at_estimate(sigma).noise_covariance;
+            for (a, b) in per_axis.iter().zip(isotropic.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{sigma}");
+            }
+        }
+        assert_eq!(m.residual, anisotropic.residual);
     }
 
     /// `H' = H (I − A Δ)`: zero latency leaves `H` unchanged, a positive latency subtracts

@@ -284,7 +284,7 @@ impl FilterPathFixture {
             &mounting,
             &Quaternion::new(w, x, y, z),
             &measured,
-            10.0 / 206_264.806_247_096_36,
+            &[10.0 / 206_264.806_247_096_36; 3],
         );
         match &measurement {
             Ok(measurement) => self.apply(measurement, implementation),

@@ -112,8 +112,12 @@ pub const GNSS_QUEUE_CAPACITY: usize = 4;
 pub struct StarSensorConfig {
     /// Nominal body-to-sensor mounting `q_bs` `[w, x, y, z]` (unit), known from the drawings.
     pub mounting_wxyz: [f64; 4],
-    /// Attitude noise, 1σ per axis (rad); the paper's 10″.
+    /// Attitude noise across the boresight, 1σ about sensor `x` and about sensor `y` (rad);
+    /// the paper's 10″.
     pub noise_rad: f64,
+    /// Attitude noise about the boresight, 1σ about sensor `z` (rad); the paper's 10″ (it
+    /// has one value for every axis). A real tracker's is 5–10× its cross-boresight noise.
+    pub roll_noise_rad: f64,
     /// NIS gate, χ²(3) ([`GATE_NIS`] by default).
     pub gate_nis: f64,
     /// NIS gate, χ²(3), until the filter has accepted a star measurement: after start-up,
@@ -361,6 +365,7 @@ impl FswConfig {
             star: StarSensorConfig {
                 mounting_wxyz: [1.0, 0.0, 0.0, 0.0],
                 noise_rad: 10.0 * ARCSEC_TO_RAD,
+                roll_noise_rad: 10.0 * ARCSEC_TO_RAD,
                 gate_nis: GATE_NIS,
                 acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 unit_norm_tolerance: 1e-3,
@@ -456,7 +461,10 @@ impl FswConfig {
                 &uncertainty_values(&self.covariance.sigma_floor),
                 ConfigField::SigmaFloor,
             ),
-            (&[self.star.noise_rad], ConfigField::StarNoise),
+            (
+                &[self.star.noise_rad, self.star.roll_noise_rad],
+                ConfigField::StarNoise,
+            ),
             (&[self.gnss.noise_m], ConfigField::GnssNoise),
             (
                 &self.calibration.convergence_sigma.values(),
@@ -631,7 +639,7 @@ mod tests {
         let good = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED);
         assert_eq!(good.validate(), Ok(()));
         type Corruption = (fn(&mut FswConfig), ConfigField);
-        let cases: [Corruption; 14] = [
+        let cases: [Corruption; 16] = [
             (
                 |c| c.star.mounting_wxyz = [0.9, 0.0, 0.0, 0.0],
                 ConfigField::StarMounting,
@@ -658,6 +666,8 @@ mod tests {
                 ConfigField::Gravity,
             ),
             (|c| c.star.noise_rad = f64::NAN, ConfigField::StarNoise),
+            (|c| c.star.roll_noise_rad = -1e-5, ConfigField::StarNoise),
+            (|c| c.star.roll_noise_rad = f64::NAN, ConfigField::StarNoise),
             (|c| c.gnss.gate_nis = -1.0, ConfigField::GnssGate),
             (|c| c.timing.max_latency_s = 1.0, ConfigField::MaxLatency),
             (
@@ -700,10 +710,9 @@ mod tests {
     fn the_unit_conversions_and_the_default_star_noise_have_their_values() {
         // 1″ = π / 648,000 rad; the paper's star sensor is 10″ (1σ).
         assert!((ARCSEC_TO_RAD - 4.848_136_811_095_36e-6).abs() < 1e-20);
-        let noise = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED)
-            .star
-            .noise_rad;
-        assert!((noise - 4.848_136_811_095_36e-5).abs() < 1e-19);
+        let star = FswConfig::paper_defaults(site(), SensorFrames::ALIGNED).star;
+        assert!((star.noise_rad - 4.848_136_811_095_36e-5).abs() < 1e-19);
+        assert_eq!(star.roll_noise_rad.to_bits(), star.noise_rad.to_bits());
     }
 
     /// One case per documented limit, as a table: longer than a function usually is, since
@@ -713,6 +722,7 @@ mod tests {
         use ConfigField as F;
         // A zero noise is not positive.
         assert_eq!(refused(|c| c.star.noise_rad = 0.0), Some(F::StarNoise));
+        assert_eq!(refused(|c| c.star.roll_noise_rad = 0.0), Some(F::StarNoise));
         // Any unit mounting is accepted, whatever its axis; a norm 2e-9 off is refused.
         let half = core::f64::consts::FRAC_1_SQRT_2;
         for mounting in [
@@ -874,7 +884,7 @@ mod tests {
     /// Every σ and noise density the filter squares, with the field that reports it.
     type SigmaField = (fn(&mut FswConfig, f64), ConfigField);
 
-    const SQUARED_SIGMAS: [SigmaField; 31] = {
+    const SQUARED_SIGMAS: [SigmaField; 32] = {
         use ConfigField as F;
         [
             (
@@ -942,6 +952,7 @@ mod tests {
                 F::SigmaFloor,
             ),
             (|c, v| c.star.noise_rad = v, F::StarNoise),
+            (|c, v| c.star.roll_noise_rad = v, F::StarNoise),
             (|c, v| c.gnss.noise_m = v, F::GnssNoise),
             (
                 |c, v| c.calibration.convergence_sigma.gyro_bias_rad_s = v,
@@ -1045,7 +1056,7 @@ mod tests {
         assert!(text(F::FilterInitialUncertainty).contains(&order));
         let message = std::format!("{}", FswError::InvalidConfiguration(F::StarNoise));
         assert!(
-            message.contains("star.noise_rad must be in [1e-150, 1e150]"),
+            message.contains("star.noise_rad / star.roll_noise_rad must be in [1e-150, 1e150]"),
             "{message}"
         );
     }

@@ -31,7 +31,7 @@ pub enum ConfigField {
     ProcessNoise,
     /// `star.mounting_wxyz`
     StarMounting,
-    /// `star.noise_rad`
+    /// `star.noise_rad` or `star.roll_noise_rad`
     StarNoise,
     /// `star.gate_nis`
     StarGate,
@@ -101,7 +101,7 @@ impl ConfigField {
             ConfigField::FilterInitialUncertainty => "filter.initial",
             ConfigField::ProcessNoise => "process_noise",
             ConfigField::StarMounting => "star.mounting_wxyz",
-            ConfigField::StarNoise => "star.noise_rad",
+            ConfigField::StarNoise => "star.noise_rad / star.roll_noise_rad",
             ConfigField::StarGate => "star.gate_nis",
             ConfigField::GnssLeverArm => "gnss.lever_arm_body_m",
             ConfigField::GnssNoise => "gnss.noise_m",

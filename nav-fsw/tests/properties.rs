@@ -186,7 +186,7 @@ proptest! {
     /// with a typed error naming a field; never a panic.
     #[test]
     fn a_configuration_either_validates_and_starts_or_names_its_bad_field(
-        field in 0_usize..12,
+        field in 0_usize..13,
         value in any_sensor_value(10.0),
     ) {
         let mut config = FswConfig::paper_defaults(site(), nav_fsw::sensor_frames::SensorFrames::ALIGNED);
@@ -202,6 +202,7 @@ proptest! {
             8 => config.covariance.sigma_ceiling_factor = value,
             9 => config.calibration.stability_window_s = value,
             10 => config.launch_site.latitude_rad = value,
+            11 => config.star.roll_noise_rad = value,
             _ => config.star.mounting_wxyz[1] = value,
         }
         match config.validate() {
@@ -250,6 +251,7 @@ fn reference_setup() -> ReplaySetup {
         imu_max_specific_force_mps2: config.imu.max_specific_force_mps2,
         imu_error: config.filter.imu_error,
         gravity: config.gravity,
+        star_roll_noise_rad: config.star.roll_noise_rad,
     }
 }
 

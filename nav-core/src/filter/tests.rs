@@ -323,7 +323,7 @@ fn joseph_form_keeps_p_symmetric_and_positive_definite_under_precise_measurement
     .unwrap();
     let mounting = attitude::exp_rotation_vector(&Vector3::new(0.4, -1.1, 0.25));
     let identity = Quaternion::new(1.0, 0.0, 0.0, 0.0);
-    let star = star_sensor(&q_ib, &mounting, &identity, &q_ib, 1e-9).unwrap();
+    let star = star_sensor(&q_ib, &mounting, &identity, &q_ib, &[1e-9; 3]).unwrap();
     let gnss = gnss_position(
         &q_ib,
         &Vector3::zeros(),

@@ -758,7 +758,7 @@ pub fn full_update_measurement_matrix(
     mounting: &Quaternion<f64>,
 ) -> Result<MeasurementMatrix, NavError> {
     let identity = Quaternion::identity();
-    let star = star_sensor(attitude, mounting, &identity, &identity, 0.0)?;
+    let star = star_sensor(attitude, mounting, &identity, &identity, &[0.0; 3])?;
     let zero = Vector3::zeros();
     let gnss = gnss_position(attitude, &zero, &zero, &zero, 0.0)?;
     Ok(stack_measurements(&star.jacobian, &gnss.jacobian))

@@ -367,7 +367,7 @@ pub(crate) fn random_measurement(
             &mounting,
             &installation,
             &measured,
-            10.0 / 206_264.8,
+            &[10.0 / 206_264.8; 3],
         )
         .unwrap()
     } else {

@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 62;
+pub const SETUP_WORDS: usize = 63;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -38,7 +38,7 @@ pub struct ReplaySetup {
     pub imu_period_s: f64,
     /// Star mounting `q_bs` `[w, x, y, z]`.
     pub star_mounting_wxyz: [f64; 4],
-    /// Star noise 1σ (rad).
+    /// Star noise across the boresight, 1σ about sensor `x` and `y` (rad).
     pub star_noise_rad: f64,
     /// Star NIS gate.
     pub star_gate_nis: f64,
@@ -60,6 +60,8 @@ pub struct ReplaySetup {
     pub imu_error: nav_core::imu_error_states::ImuErrorModel,
     /// The gravity field beyond `J2` and the allowance for what it omits (`gravity`).
     pub gravity: crate::config::GravityConfig,
+    /// Star noise about the boresight, 1σ about sensor `z` (rad).
+    pub star_roll_noise_rad: f64,
 }
 
 impl ReplaySetup {
@@ -83,6 +85,7 @@ impl ReplaySetup {
         config.imu.max_specific_force_mps2 = self.imu_max_specific_force_mps2;
         config.filter.imu_error = self.imu_error;
         config.gravity = self.gravity;
+        config.star.roll_noise_rad = self.star_roll_noise_rad;
         config
     }
 
@@ -170,6 +173,7 @@ impl ReplaySetup {
             self.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2,
             self.gravity.omitted_field_sigma_mps2,
             self.gravity.omitted_field_psd_m2_per_s3,
+            self.star_roll_noise_rad,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -217,7 +221,7 @@ impl ReplaySetup {
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
         };
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -280,6 +284,7 @@ impl ReplaySetup {
                 omitted_field_sigma_mps2: omitted_sigma,
                 omitted_field_psd_m2_per_s3: omitted_psd,
             },
+            star_roll_noise_rad: star_roll_noise,
         })
     }
 }

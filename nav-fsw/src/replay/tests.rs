@@ -230,6 +230,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
             omitted_field_sigma_mps2: 4.5e-5,
             omitted_field_psd_m2_per_s3: 1.7e-8,
         },
+        star_roll_noise_rad: 1.7e-4,
     };
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));

@@ -78,7 +78,12 @@ impl NavigationComputer {
                 &ports::quaternion(&self.config.star.mounting_wxyz),
                 &self.installation_estimate(),
                 measured,
-                self.config.star.noise_rad,
+                // Sensor axes: cross-boresight about x and y, roll about z (the boresight).
+                &[
+                    self.config.star.noise_rad,
+                    self.config.star.noise_rad,
+                    self.config.star.roll_noise_rad,
+                ],
             ),
             // nav-core refuses a non-finite fix (the jump check passes NaN through).
             Due::GnssPosition(_, position) => gnss_position(

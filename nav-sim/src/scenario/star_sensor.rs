@@ -16,8 +16,10 @@ const ARCSEC_PER_DEG: f64 = 3600.0;
 pub struct StarSensorSettings {
     /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it.
     pub rate_hz: f64,
-    /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0; what the flight
-    /// software is told. With the per-axis keys it must equal the larger of them.
+    /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0: without the
+    /// per-axis keys the truth's and the flight software's noise on every axis. With them it
+    /// must equal the larger of them and is only the scalar that single-noise users take
+    /// (the covariance design study); truth and flight software use the per-axis values.
     pub noise_arcsec: f64,
     /// Nominal body-to-sensor mounting `q_bs = exp(φ)` as a rotation vector (deg). Known to
     /// the flight code.
@@ -70,8 +72,8 @@ pub fn arcsec_to_rad(arcsec: f64) -> f64 {
 }
 
 impl StarSensorSettings {
-    /// Noise 1σ per axis (rad): the isotropic `noise_arcsec`, what the flight software is
-    /// told (with per-axis keys, the larger of them).
+    /// Noise 1σ per axis (rad): the isotropic `noise_arcsec` (with per-axis keys, the larger
+    /// of them; the flight software is told [`Self::noise_per_axis_rad`]).
     pub fn noise_rad(&self) -> f64 {
         arcsec_to_rad(self.noise_arcsec)
     }
@@ -81,8 +83,9 @@ impl StarSensorSettings {
         self.cross_boresight_noise_arcsec.is_some() || self.roll_noise_arcsec.is_some()
     }
 
-    /// The truth's noise 1σ about sensor x, y and z (rad): cross-boresight, cross-boresight,
-    /// roll with the per-axis keys, else `noise_arcsec` on every axis (the same bits).
+    /// The noise 1σ about sensor x, y and z (rad), the truth's and the flight software's:
+    /// cross-boresight, cross-boresight, roll with the per-axis keys, else `noise_arcsec` on
+    /// every axis (the same bits).
     pub fn noise_per_axis_rad(&self) -> [f64; 3] {
         let isotropic = self.noise_rad();
         let cross = self

@@ -43,7 +43,8 @@ impl Checker<'_> {
     }
 
     /// `cross_boresight_noise_arcsec` and `roll_noise_arcsec`: both or neither, each 0 or a
-    /// 1σ, and then `noise_arcsec` (what the flight software is told) their larger value.
+    /// 1σ, and then `noise_arcsec` their larger value (the flight software is told the
+    /// per-axis values; the single-noise studies take `noise_arcsec`).
     fn star_per_axis_noise(&self, star: &StarSensorSettings) -> Result<(), ScenarioError> {
         let (cross_key, roll_key) = (
             "star_sensor.cross_boresight_noise_arcsec",
@@ -70,8 +71,7 @@ impl Checker<'_> {
             "star_sensor.noise_arcsec",
             &format!(
                 "= {} conflicts with the per-axis noise: with {cross_key} and {roll_key} given, \
-                 noise_arcsec is the 1σ the flight software is told and must equal the larger \
-                 of them, {}",
+                 noise_arcsec (the single-noise studies' 1σ) must equal the larger of them, {}",
                 number(star.noise_arcsec),
                 number(largest)
             ),

@@ -35,7 +35,9 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
              / accelerometer.bias_random_walk_mps2_per_sqrt_s",
         ),
         F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
-        F::StarNoise => Some("star_sensor.noise_arcsec"),
+        F::StarNoise => {
+            Some("star_sensor.noise_arcsec (or cross_boresight_noise_arcsec / roll_noise_arcsec)")
+        }
         F::StarGate => Some("filter.nis_gate.star_threshold"),
         F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
         F::GnssGate => Some("filter.nis_gate.gnss_threshold"),
@@ -119,6 +121,9 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     ));
     let defaults = FswConfig::paper_defaults(launch.site, launch.ground.sensor_frames);
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
+    // The truth's white noise per sensor axis: cross-boresight (x, y) and roll (z) with the
+    // per-axis keys, else `noise_arcsec` on every axis (the same bits as before).
+    let [cross_rad, _, roll_rad] = scenario.star_sensor.noise_per_axis_rad();
     Ok(ReplaySetup {
         launch_site: launch.site,
         sensor_frames: launch.ground.sensor_frames,
@@ -130,9 +135,8 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         imu_period_s: period_s,
         star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
         // A zero-noise sensor (a test setting) still needs a positive R. The flight software
-        // is told the isotropic `noise_arcsec` only: with the per-axis keys, which it must then
-        // equal, their larger (conservative); the slow errors are not modelled in its R.
-        star_noise_rad: scenario.star_sensor.noise_rad().max(1e-12),
+        // is told the white noise per sensor axis; the slow errors are not modelled in its R.
+        star_noise_rad: cross_rad.max(1e-12),
         star_gate_nis: settings.nis_gate.star_threshold,
         gnss_noise_m: settings
             .gnss_noise_m
@@ -150,6 +154,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         imu_max_specific_force_mps2: max_force_mps2,
         imu_error: filter.imu_error,
         gravity: settings.gravity.config(),
+        star_roll_noise_rad: roll_rad.max(1e-12),
     })
 }
 

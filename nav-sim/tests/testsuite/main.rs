@@ -24,5 +24,6 @@ mod paper_accuracy;
 mod realistic_campaign;
 mod realistic_errors;
 mod replay_logs;
+mod star_flight_noise;
 mod upper_stage;
 mod validation;

@@ -462,7 +462,7 @@ impl Aiding {
             &self.mounting,
             &self.installation_estimate,
             &predicted,
-            self.star_noise_rad,
+            &[self.star_noise_rad; 3],
         )
         .and_then(|linear| filter.update(&linear))
         .map_err(|error| DesignError::Filter {
