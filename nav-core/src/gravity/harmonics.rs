@@ -238,16 +238,13 @@ impl FieldRemainder {
     /// As [`FieldModel::validate`]; `self` is unchanged on error.
     pub fn configure(&mut self, model: FieldModel) -> Result<(), NavError> {
         model.validate()?;
-        *self = Self::EMPTY_AGAIN;
+        *self = Self::EMPTY;
         self.model = model;
         self.write_recursion_factors();
         self.write_acceleration_factors();
         self.write_omitted_weights();
         Ok(())
     }
-
-    // `EMPTY` under another name, so `configure` overwrites in place without a temporary.
-    const EMPTY_AGAIN: Self = Self::EMPTY;
 
     /// The model in use.
     pub fn model(&self) -> &FieldModel {
