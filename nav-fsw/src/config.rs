@@ -126,6 +126,49 @@ pub struct StarSensorConfig {
     pub acquisition_gate_nis: f64,
     /// Largest accepted `| |q| − 1 |` of a measured quaternion.
     pub unit_norm_tolerance: f64,
+    /// The tracker's slowly varying error (thermo-elastic, focal plane): stationary 1σ per
+    /// sensor axis `[x, y, z]` of a first-order Gauss–Markov rotation (rad); all 0 (the
+    /// paper's model) = a constant installation error. The installation states carry it as
+    /// a random walk (`scheduler::covariance`, docs/sensor-errors.md).
+    pub slow_error_sigma_rad: [f64; 3],
+    /// Its correlation time `τ` (s), finite and > 0 when any `slow_error_sigma_rad` is.
+    pub slow_error_correlation_time_s: f64,
+    /// The innovation bias monitor of the star updates (`star_innovations_biased`).
+    pub bias_monitor: crate::innovation_bias::InnovationBiasConfig,
+}
+
+impl StarSensorConfig {
+    /// Whether the slowly varying error is configured (any 1σ non-zero).
+    pub fn has_slow_error(&self) -> bool {
+        self.slow_error_sigma_rad.iter().any(|sigma| *sigma != 0.0)
+    }
+
+    /// The variance per second the slow error adds to each installation state (the vector
+    /// part, a half-angle), `[x, y, z]`: `¼ · 2σ²/τ = σ²/(2τ)` (rad²/s). `2σ²/τ` is the
+    /// density of the white noise that drives a Gauss–Markov rotation of stationary 1σ `σ`
+    /// (`ε̇ = −ε/τ + w`, stationary variance `qτ/2`); the walk with it bounds the
+    /// Gauss–Markov error at every set of times when the prior also holds `2σ²`
+    /// (docs/model.md, "Bias instability in the filter", the same argument). Zero when off.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_fsw::config::FswConfig;
+    /// # let site = nav_core::frames::LaunchSite::new(0.7, 1.7, 0.0, 3.3).unwrap();
+    /// let mut config = FswConfig::paper_defaults(site, Default::default());
+    /// assert_eq!(config.star.installation_walk_rad2_per_s(), [0.0; 3]);
+    /// config.star.slow_error_sigma_rad = [2e-5, 2e-5, 4e-5];
+    /// config.star.slow_error_correlation_time_s = 1000.0;
+    /// let walk = config.star.installation_walk_rad2_per_s();
+    /// assert!((walk[2] - 8e-13).abs() < 1e-27);
+    /// ```
+    pub fn installation_walk_rad2_per_s(&self) -> [f64; 3] {
+        if !self.has_slow_error() {
+            return [0.0; 3];
+        }
+        let tau_s = self.slow_error_correlation_time_s;
+        self.slow_error_sigma_rad
+            .map(|sigma| sigma * sigma / (2.0 * tau_s))
+    }
 }
 
 /// GNSS receiver settings.
@@ -369,6 +412,9 @@ impl FswConfig {
                 gate_nis: GATE_NIS,
                 acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 unit_norm_tolerance: 1e-3,
+                slow_error_sigma_rad: [0.0; 3],
+                slow_error_correlation_time_s: 0.0,
+                bias_monitor: crate::innovation_bias::InnovationBiasConfig::default(),
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],
@@ -519,6 +565,24 @@ impl FswConfig {
         }
         if !(positive(self.star.unit_norm_tolerance) && self.star.unit_norm_tolerance < 0.5) {
             return invalid(ConfigField::StarNormTolerance);
+        }
+        let slow_sigmas_ok = self
+            .star
+            .slow_error_sigma_rad
+            .iter()
+            .all(|sigma| sigma_is_squarable_or_off(*sigma));
+        if !(slow_sigmas_ok
+            && (!self.star.has_slow_error() || positive(self.star.slow_error_correlation_time_s))
+            && self
+                .star
+                .installation_walk_rad2_per_s()
+                .iter()
+                .all(|walk| walk.is_finite()))
+        {
+            return invalid(ConfigField::StarSlowError);
+        }
+        if !self.star.bias_monitor.is_valid() {
+            return invalid(ConfigField::StarBiasMonitor);
         }
         if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
             return invalid(ConfigField::GnssLeverArm);

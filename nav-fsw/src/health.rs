@@ -88,10 +88,16 @@ pub struct HealthCounters {
     /// Evaluations of the field beyond `J2` refused (non-finite position or result); the
     /// last value is held.
     pub gravity_field_errors: u32,
+    /// Episodes of star innovations whose fading mean departs from zero beyond its bound
+    /// ([`crate::innovation_bias::InnovationBiasMonitor`]): a slowly varying tracker error
+    /// the filter takes for constant (or larger than configured), which the installation
+    /// estimate cannot follow. The installation and attitude covariance are not to be
+    /// trusted while it lasts.
+    pub star_innovations_biased: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 34;
+pub const HEALTH_COUNTER_COUNT: usize = 35;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -152,6 +158,7 @@ impl HealthCounters {
             ("inertial_suspect", self.inertial_suspect),
             ("gravity_allowance_short", self.gravity_allowance_short),
             ("gravity_field_errors", self.gravity_field_errors),
+            ("star_innovations_biased", self.star_innovations_biased),
         ]
     }
 }

@@ -252,6 +252,8 @@ fn reference_setup() -> ReplaySetup {
         imu_error: config.filter.imu_error,
         gravity: config.gravity,
         star_roll_noise_rad: config.star.roll_noise_rad,
+        star_slow_error_sigma_rad: config.star.slow_error_sigma_rad,
+        star_slow_error_correlation_time_s: config.star.slow_error_correlation_time_s,
     }
 }
 

@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 63;
+pub const SETUP_WORDS: usize = 67;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -62,6 +62,11 @@ pub struct ReplaySetup {
     pub gravity: crate::config::GravityConfig,
     /// Star noise about the boresight, 1σ about sensor `z` (rad).
     pub star_roll_noise_rad: f64,
+    /// The star tracker's slowly varying error, 1σ per sensor axis (rad), and its
+    /// correlation time (s) (`star.slow_error_sigma_rad`, `star.slow_error_correlation_time_s`).
+    pub star_slow_error_sigma_rad: [f64; 3],
+    /// See `star_slow_error_sigma_rad`.
+    pub star_slow_error_correlation_time_s: f64,
 }
 
 impl ReplaySetup {
@@ -86,6 +91,8 @@ impl ReplaySetup {
         config.filter.imu_error = self.imu_error;
         config.gravity = self.gravity;
         config.star.roll_noise_rad = self.star_roll_noise_rad;
+        config.star.slow_error_sigma_rad = self.star_slow_error_sigma_rad;
+        config.star.slow_error_correlation_time_s = self.star_slow_error_correlation_time_s;
         config
     }
 
@@ -113,6 +120,7 @@ impl ReplaySetup {
         let s = &self.initial_sigma;
         let n = &self.process_noise;
         let [mw, mx, my, mz] = self.star_mounting_wxyz;
+        let [slow_x, slow_y, slow_z] = self.star_slow_error_sigma_rad;
         let mode = match self.mode {
             FilterMode::OpenLoop => 0,
             FilterMode::ClosedLoop => 1,
@@ -174,6 +182,10 @@ impl ReplaySetup {
             self.gravity.omitted_field_sigma_mps2,
             self.gravity.omitted_field_psd_m2_per_s3,
             self.star_roll_noise_rad,
+            slow_x,
+            slow_y,
+            slow_z,
+            self.star_slow_error_correlation_time_s,
         ];
         let mut words = [0_u64; SETUP_WORDS];
         let mut slots = words.iter_mut();
@@ -221,7 +233,7 @@ impl ReplaySetup {
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
         };
         let f = floats.map(f64::from_bits);
-        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise] =
+        let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise, slow_x, slow_y, slow_z, slow_tau] =
             f;
         Ok(Self {
             launch_site: LaunchSite {
@@ -285,6 +297,8 @@ impl ReplaySetup {
                 omitted_field_psd_m2_per_s3: omitted_psd,
             },
             star_roll_noise_rad: star_roll_noise,
+            star_slow_error_sigma_rad: [slow_x, slow_y, slow_z],
+            star_slow_error_correlation_time_s: slow_tau,
         })
     }
 }

@@ -188,6 +188,8 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         },
     );
     let setup = ReplaySetup {
+        star_slow_error_sigma_rad: [1.5e-5, 2.5e-5, 3.5e-5],
+        star_slow_error_correlation_time_s: 1420.0,
         launch_site: config.launch_site,
         sensor_frames: config.sensor_frames,
         initial: NavigationState {

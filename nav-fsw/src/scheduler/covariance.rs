@@ -77,9 +77,32 @@ impl NavigationComputer {
         match result {
             Ok(()) => {
                 self.covariance.second_order_pending_s += interval_s;
+                self.add_installation_walk(interval_s);
                 self.protect_covariance();
             }
             Err(_) => self.recover_filter(),
+        }
+    }
+
+    /// The installation states' random walk for the tracker's slowly varying error
+    /// (`star.slow_error_sigma_rad`, [`crate::config::StarSensorConfig::installation_walk_rad2_per_s`]):
+    /// `Qd = diag(q) Δ` on the installation block, nothing else. The installation error
+    /// enters no dynamic state (its rows and columns of the system matrix are zero), so the
+    /// walk has no cross terms. Added whether or not the block is frozen: a held estimate
+    /// of a drifting alignment grows uncertain all the same.
+    pub(super) fn add_installation_walk(&mut self, interval_s: f64) {
+        if !self.config.star.has_slow_error() {
+            return;
+        }
+        let [x, y, z] = self.config.star.installation_walk_rad2_per_s();
+        let walk = Matrix3::from_diagonal(&Vector3::new(x, y, z)) * interval_s;
+        if self
+            .covariance
+            .filter
+            .add_block_covariance(STAR_INSTALLATION, &walk)
+            .is_err()
+        {
+            count(&mut self.health.counters.filter_errors);
         }
     }
 
@@ -193,6 +216,7 @@ impl NavigationComputer {
         self.aids.star_consistency.clear();
         self.aids.gnss_consistency.clear();
         self.aids.gnss_velocity_consistency.clear();
+        self.aids.star_bias.clear();
     }
 
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless

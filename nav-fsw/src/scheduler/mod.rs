@@ -44,7 +44,7 @@
 
 // The scheduler's files share these imports through `use super::*`.
 use heapless::Deque;
-use nalgebra::{Quaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, Vector3};
 use nav_core::arithmetic::Propagation;
 use nav_core::attitude;
 use nav_core::error_model::{LinearisationPoint, ProcessNoise};
@@ -57,7 +57,9 @@ use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
-use nav_core::state::{BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
+use nav_core::state::{
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, STAR_INSTALLATION, VELOCITY,
+};
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
 };
@@ -75,6 +77,7 @@ use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE
 use crate::consistency::{ConsistencyMonitor, CONSISTENT_MEAN_NIS};
 use crate::error::{ConfigField, FswError};
 use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
+use crate::innovation_bias::InnovationBiasMonitor;
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
 use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
@@ -252,6 +255,7 @@ struct Aids {
     star_consistency: ConsistencyMonitor,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
+    star_bias: InnovationBiasMonitor,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.

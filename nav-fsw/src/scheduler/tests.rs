@@ -521,3 +521,72 @@ fn the_systematic_imu_error_states_are_fed_back_at_every_reset() {
     }
     assert!((0..12).any(|k| posterior[(k, k)] < 0.99 * prior[(k, k)]));
 }
+
+/// The tracker's slow error (`star.slow_error_sigma_rad`) walks the installation states and
+/// nothing else: over 200 IMU-only frames the installation variances grow by exactly
+/// `σ²/(2τ)` per second more than without it (per sensor axis; to 1e-4, the rounding of
+/// 1e-16 increments on a 2.5e-5 prior variance), and every other entry of `P` keeps its
+/// bits (the installation enters no dynamic state).
+#[test]
+fn the_star_slow_error_walks_the_installation_states_only() {
+    let still = computer();
+    let mut config = *still.config();
+    config.star.slow_error_sigma_rad = [1.0e-5, 2.0e-5, 4.0e-5];
+    config.star.slow_error_correlation_time_s = 1000.0;
+    let mut walking = NavigationComputer::new(config, initial_state()).unwrap();
+    let mut still = still;
+    let frames = 200_u32;
+    for sequence in 1..=frames {
+        one_frame(&mut still, sequence);
+        one_frame(&mut walking, sequence);
+    }
+    let (p_still, p_walking) = (
+        still.covariance.filter.covariance(),
+        walking.covariance.filter.covariance(),
+    );
+    let elapsed_s = f64::from(frames) * config.imu.period_s;
+    let first = STAR_INSTALLATION.index();
+    for row in 0..nav_core::state::STATE_DIMENSION {
+        for column in 0..nav_core::state::STATE_DIMENSION {
+            let (a, b) = (p_still[(row, column)], p_walking[(row, column)]);
+            let axis = row.wrapping_sub(first);
+            if row == column && axis < 3 {
+                let sigma = config.star.slow_error_sigma_rad[axis];
+                let expected = sigma * sigma / (2.0 * 1000.0) * elapsed_s;
+                assert!(
+                    ((b - a) / expected - 1.0).abs() < 1e-4,
+                    "axis {axis}: grew {} against {expected}",
+                    b - a
+                );
+            } else {
+                assert_eq!(a.to_bits(), b.to_bits(), "P[{row}][{column}]");
+            }
+        }
+    }
+}
+
+/// A slow error without a correlation time, or with a negative 1σ, is refused by name.
+#[test]
+fn a_star_slow_error_without_its_correlation_time_is_refused() {
+    let mut config = *computer().config();
+    config.star.slow_error_sigma_rad = [1.0e-5, 0.0, 0.0];
+    for tau_s in [0.0, -1.0, f64::NAN, 1e-320] {
+        config.star.slow_error_correlation_time_s = tau_s;
+        assert_eq!(
+            config.validate(),
+            Err(FswError::InvalidConfiguration(ConfigField::StarSlowError))
+        );
+    }
+    config.star.slow_error_correlation_time_s = 1000.0;
+    config.star.slow_error_sigma_rad = [-1.0e-5, 0.0, 0.0];
+    assert_eq!(
+        config.validate(),
+        Err(FswError::InvalidConfiguration(ConfigField::StarSlowError))
+    );
+    config.star.slow_error_sigma_rad = [0.0; 3];
+    config.star.bias_monitor.time_constant_measurements = 0.0;
+    assert_eq!(
+        config.validate(),
+        Err(FswError::InvalidConfiguration(ConfigField::StarBiasMonitor))
+    );
+}

@@ -121,6 +121,9 @@ impl std::fmt::Debug for FilterSettings {
         if self.gravity.is_on() {
             debug.field("gravity", &self.gravity);
         }
+        if self.star_slow_error.is_on() {
+            debug.field("star_slow_error", &self.star_slow_error);
+        }
         debug.finish()
     }
 }

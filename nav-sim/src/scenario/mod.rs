@@ -547,6 +547,11 @@ pub struct FilterSettings {
     /// point mass + `J2`, no allowance.
     #[serde(default)]
     pub gravity: gravity::FilterGravity,
+    /// The star tracker's slowly varying error the filter accounts for
+    /// (`[filter.star_slow_error]`); absent = a constant installation error, the paper's
+    /// model.
+    #[serde(default)]
+    pub star_slow_error: star_sensor::FilterStarSlowError,
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

@@ -174,6 +174,41 @@ impl std::fmt::Debug for StarSensorSettings {
     }
 }
 
+/// The tracker's slowly varying error as the flight software is told it
+/// (`[filter.star_slow_error]`): a first-order Gauss–Markov rotation per sensor axis of
+/// stationary 1σ and correlation time τ, which the filter carries as a random walk of its
+/// installation states with the driving noise `2σ²/τ` and `2σ²` more prior variance
+/// (nav-fsw `StarSensorConfig::installation_walk_rad2_per_s`, docs/sensor-errors.md). Every
+/// key defaults to 0 (off).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterStarSlowError {
+    /// Stationary 1σ per sensor axis `[x, y, z]` (arcsec), each ≥ 0; all 0 = off.
+    #[serde(default)]
+    pub sigma_arcsec: [f64; 3],
+    /// Its correlation time τ (s), > 0 when any 1σ is.
+    #[serde(default)]
+    pub correlation_time_s: f64,
+}
+
+impl FilterStarSlowError {
+    /// Whether any key is set (the table renders in `Debug` only then).
+    pub fn is_on(&self) -> bool {
+        self.sigma_arcsec.iter().any(|sigma| *sigma != 0.0) || self.correlation_time_s != 0.0
+    }
+
+    /// The 1σ per sensor axis (rad).
+    pub fn sigma_rad(&self) -> [f64; 3] {
+        self.sigma_arcsec.map(arcsec_to_rad)
+    }
+
+    /// The largest 1σ over the axes (rad): the installation prior is one 1σ for the three
+    /// axes, so it takes the largest `2σ²`.
+    pub fn largest_sigma_rad(&self) -> f64 {
+        self.sigma_rad().into_iter().fold(0.0, f64::max)
+    }
+}
+
 #[cfg(test)]
 #[path = "star_sensor_tests.rs"]
 mod tests;

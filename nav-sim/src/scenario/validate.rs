@@ -781,6 +781,7 @@ impl Scenario {
             }
         }
         check.filter_imu_errors(filter)?;
+        check.filter_star_slow_error(filter)?;
         if let Some((key, rule)) = filter.gravity.violation() {
             return Err(check.fail(key, &rule));
         }

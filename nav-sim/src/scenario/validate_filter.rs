@@ -1,4 +1,5 @@
-//! The checks of the filter's systematic IMU error states (`[filter.imu_errors]`).
+//! The checks of the filter's systematic IMU error states (`[filter.imu_errors]`) and of the
+//! star tracker's slow error it is told (`[filter.star_slow_error]`).
 
 use super::{Checker, ScenarioError};
 use crate::scenario::FilterSettings;
@@ -12,5 +13,23 @@ impl Checker<'_> {
             self.sigma(&format!("filter.imu_errors.{name}"), value, !on)?;
         }
         Ok(())
+    }
+
+    /// `[filter.star_slow_error]`: each 1σ 0 or in `SIGMA_RANGE`; the correlation time > 0
+    /// when any 1σ is, else ≥ 0.
+    pub(super) fn filter_star_slow_error(
+        &self,
+        filter: &FilterSettings,
+    ) -> Result<(), ScenarioError> {
+        let slow = &filter.star_slow_error;
+        for sigma in slow.sigma_arcsec {
+            self.sigma("filter.star_slow_error.sigma_arcsec", sigma, true)?;
+        }
+        let key = "filter.star_slow_error.correlation_time_s";
+        if slow.sigma_arcsec.iter().any(|sigma| *sigma > 0.0) {
+            self.positive(key, slow.correlation_time_s)
+        } else {
+            self.non_negative(key, slow.correlation_time_s)
+        }
     }
 }

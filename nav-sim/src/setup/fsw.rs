@@ -47,11 +47,13 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         }
         F::ImuSystematicError => Some("filter.imu_errors"),
         F::Gravity => Some("filter.gravity"),
+        F::StarSlowError => Some("filter.star_slow_error"),
         F::InitialNavigation => Some("initial_orbit / initial_attitude"),
         F::ImuPeriodTolerance
         | F::StarAcquisitionGate
         | F::GnssAcquisitionGate
         | F::StarNormTolerance
+        | F::StarBiasMonitor
         | F::GnssMaxJump
         | F::GnssLeverArm
         | F::GnssWhiteness
@@ -155,6 +157,8 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         imu_error: filter.imu_error,
         gravity: settings.gravity.config(),
         star_roll_noise_rad: roll_rad.max(1e-12),
+        star_slow_error_sigma_rad: settings.star_slow_error.sigma_rad(),
+        star_slow_error_correlation_time_s: settings.star_slow_error.correlation_time_s,
     })
 }
 
@@ -279,7 +283,11 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
                 instability.accel_sigma_mps2,
                 instability.accel_correlation_time_s,
             ),
-            star_installation_rad: sigma.star_installation_rad,
+            star_installation_rad: with_instability_prior(
+                sigma.star_installation_rad,
+                settings.star_slow_error.largest_sigma_rad(),
+                settings.star_slow_error.correlation_time_s,
+            ),
             gyro_scale_factor: sigma.gyro_scale_factor,
             accel_scale_factor: sigma.accel_scale_factor,
         },

@@ -202,7 +202,11 @@ pub struct SensorErrorTruth {
     pub accel_bias_mps2: Vector3<f64>,
     /// Accelerometer scale factors, diagonal of `Λa`.
     pub accel_scale_factor: Vector3<f64>,
-    /// Installation error quaternion `q_ψ = exp(ψ)`.
+    /// The star sensor's alignment error as its measurement sees it now: the installation
+    /// error `q_ψ = exp(ψ)`, times `exp(ε_slow)` at the last star sample when the tracker
+    /// has slowly varying errors. The measurement model cannot tell the two apart (they
+    /// stand side by side in `q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq`), so this is what the
+    /// filter's installation state estimates; without slow errors it is `q_ψ`.
     pub star_installation_q_psi: Quaternion<f64>,
     /// Nominal mounting `q_bs` (known to the flight code).
     pub star_mounting_q_bs: Quaternion<f64>,
@@ -468,7 +472,10 @@ impl SensorSimulator {
             gyro_scale_factor: self.gyro.scale_factor,
             accel_bias_mps2: self.accelerometer.total_bias(),
             accel_scale_factor: self.accelerometer.scale_factor,
-            star_installation_q_psi: self.star_installation_q_psi,
+            star_installation_q_psi: match &self.star_slow {
+                None => self.star_installation_q_psi,
+                Some(slow) => self.star_installation_q_psi * exp_rotation_vector(&slow.last()),
+            },
             star_mounting_q_bs: self.star_mounting_q_bs,
             gyro_misalignment_rad: self.gyro.misalignment(),
             accel_misalignment_rad: self.accelerometer.misalignment(),

@@ -71,6 +71,8 @@ struct Periodic {
 pub(super) struct StarSlowErrors {
     gauss_markov: Option<SlowGaussMarkov>,
     periodic: Option<Periodic>,
+    /// `ε_slow` at the last star sample (zero before the first).
+    last: Vector3<f64>,
 }
 
 impl StarSlowErrors {
@@ -97,6 +99,7 @@ impl StarSlowErrors {
         (gauss_markov.is_some() || periodic.is_some()).then_some(Self {
             gauss_markov,
             periodic,
+            last: Vector3::zeros(),
         })
     }
 
@@ -113,6 +116,12 @@ impl StarSlowErrors {
                 + periodic.phase_rad;
             error += periodic.amplitude_rad * angle_rad.sin();
         }
+        self.last = error;
         error
+    }
+
+    /// `ε_slow` at the last star sample (rad, sensor axes; zero before the first).
+    pub(super) fn last(&self) -> Vector3<f64> {
+        self.last
     }
 }

@@ -153,3 +153,40 @@ fn slow_errors_enter_the_star_samples_and_leave_the_other_streams_alone() {
     );
     assert_ne!(events_digest(&plain_events), events_digest(&slow_events));
 }
+
+/// The installation truth the calibration is scored against is the alignment the tracker's
+/// measurement sees at its last sample, `q_ψ ⊗ exp(ε_slow)`: noise-free, every sample is
+/// `q_ib ⊗ q_bs` times that truth exactly; before the first sample it is `q_ψ`.
+#[test]
+fn the_installation_truth_carries_the_slow_error_of_the_last_sample() {
+    let mut scenario = every_frame_scenario();
+    scenario.star_sensor.noise_arcsec = 0.0;
+    scenario.star_sensor.slow_error_sigma_arcsec = [3.0, 2.0, 5.0];
+    scenario.star_sensor.slow_error_correlation_time_s = 1_420.0;
+    scenario.validate().unwrap();
+    let period_s = scenario.imu.frame_period_s();
+    let (_, q_ig) = port_frames(&scenario);
+    let mut sensors = SensorSimulator::new(&scenario).unwrap();
+    let constant = sensors.error_truth().star_installation_q_psi;
+    let mut events = Vec::new();
+    let mut largest_slow_rad: f64 = 0.0;
+    for k in 0..300 {
+        let truth = super::tests::truth_frame(k, period_s);
+        events.clear();
+        sensors.process_frame(&truth, &mut events).unwrap();
+        let errors = sensors.error_truth();
+        for event in &events {
+            if let SensorEvent::Star { attitude_q_gs, .. } = event {
+                let expected = truth.attitude_q_ib
+                    * errors.star_mounting_q_bs
+                    * errors.star_installation_q_psi;
+                let residual = expected.conjugate() * (q_ig * attitude_q_gs);
+                let angle = log_rotation_vector(&canonical(&residual)).amax();
+                assert!(angle < 1e-13, "frame {k}: {angle}");
+            }
+        }
+        let slow = constant.conjugate() * errors.star_installation_q_psi;
+        largest_slow_rad = largest_slow_rad.max(log_rotation_vector(&canonical(&slow)).amax());
+    }
+    assert!(largest_slow_rad > 0.5 * ARCSEC_RAD, "{largest_slow_rad}");
+}

@@ -7,7 +7,7 @@ const START_TIME_S: f64 = 600.0;
 
 /// A static truth frame (the models do not care whether the truth is consistent), with
 /// generic non-zero increments, attitude and position.
-fn truth_frame(frame_index: u64, period_s: f64) -> TruthFrame {
+pub(super) fn truth_frame(frame_index: u64, period_s: f64) -> TruthFrame {
     TruthFrame {
         frame_index,
         start_time_s: START_TIME_S + frame_index as f64 * period_s,
