@@ -133,8 +133,6 @@ pub struct StarSensorConfig {
     pub slow_error_sigma_rad: [f64; 3],
     /// Its correlation time `τ` (s), finite and > 0 when any `slow_error_sigma_rad` is.
     pub slow_error_correlation_time_s: f64,
-    /// The innovation bias monitor of the star updates (`star_innovations_biased`).
-    pub bias_monitor: crate::innovation_bias::InnovationBiasConfig,
 }
 
 impl StarSensorConfig {
@@ -153,8 +151,13 @@ impl StarSensorConfig {
     /// # Examples
     /// ```
     /// use nav_fsw::config::FswConfig;
-    /// # let site = nav_core::frames::LaunchSite::new(0.7, 1.7, 0.0, 3.3).unwrap();
-    /// let mut config = FswConfig::paper_defaults(site, Default::default());
+    /// use nav_fsw::nav_core::frames::LaunchSite;
+    /// use nav_fsw::sensor_frames::SensorFrames;
+    /// let site = LaunchSite {
+    ///     latitude_rad: 0.715, longitude_rad: 1.750, height_m: 1000.0, azimuth_rad: 3.316,
+    ///     earth_axis_ecef: [0.0, 0.0, 1.0],
+    /// };
+    /// let mut config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
     /// assert_eq!(config.star.installation_walk_rad2_per_s(), [0.0; 3]);
     /// config.star.slow_error_sigma_rad = [2e-5, 2e-5, 4e-5];
     /// config.star.slow_error_correlation_time_s = 1000.0;
@@ -414,7 +417,6 @@ impl FswConfig {
                 unit_norm_tolerance: 1e-3,
                 slow_error_sigma_rad: [0.0; 3],
                 slow_error_correlation_time_s: 0.0,
-                bias_monitor: crate::innovation_bias::InnovationBiasConfig::default(),
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],
@@ -580,9 +582,6 @@ impl FswConfig {
                 .all(|walk| walk.is_finite()))
         {
             return invalid(ConfigField::StarSlowError);
-        }
-        if !self.star.bias_monitor.is_valid() {
-            return invalid(ConfigField::StarBiasMonitor);
         }
         if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
             return invalid(ConfigField::GnssLeverArm);

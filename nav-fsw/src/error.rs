@@ -19,8 +19,6 @@ pub enum ConfigField {
     StarNormTolerance,
     /// `star.slow_error_sigma_rad` or `star.slow_error_correlation_time_s`
     StarSlowError,
-    /// `star.bias_monitor` (the star innovation bias monitor's time constant or bound)
-    StarBiasMonitor,
     /// `gnss.max_jump_m`
     GnssMaxJump,
     /// `timing.max_latency_s`
@@ -101,7 +99,6 @@ impl ConfigField {
             ConfigField::StarSlowError => {
                 "star.slow_error_sigma_rad / star.slow_error_correlation_time_s"
             }
-            ConfigField::StarBiasMonitor => "star.bias_monitor",
             ConfigField::GnssMaxJump => "gnss.max_jump_m",
             ConfigField::MaxLatency => "timing.max_latency_s",
             ConfigField::LaunchSite => "launch_site",
@@ -195,9 +192,6 @@ impl ConfigField {
             ConfigField::StarSlowError => {
                 "must have every 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \
                  finite and > 0 (with a finite walk) when any 1-sigma is > 0"
-            }
-            ConfigField::StarBiasMonitor => {
-                "must have a finite time constant >= 1 measurement and a finite bound > 0"
             }
             ConfigField::GnssCorrelatedError => {
                 "must have a 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \

@@ -88,16 +88,10 @@ pub struct HealthCounters {
     /// Evaluations of the field beyond `J2` refused (non-finite position or result); the
     /// last value is held.
     pub gravity_field_errors: u32,
-    /// Episodes of star innovations whose fading mean departs from zero beyond its bound
-    /// ([`crate::innovation_bias::InnovationBiasMonitor`]): a slowly varying tracker error
-    /// the filter takes for constant (or larger than configured), which the installation
-    /// estimate cannot follow. The installation and attitude covariance are not to be
-    /// trusted while it lasts.
-    pub star_innovations_biased: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 35;
+pub const HEALTH_COUNTER_COUNT: usize = 34;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -158,7 +152,6 @@ impl HealthCounters {
             ("inertial_suspect", self.inertial_suspect),
             ("gravity_allowance_short", self.gravity_allowance_short),
             ("gravity_field_errors", self.gravity_field_errors),
-            ("star_innovations_biased", self.star_innovations_biased),
         ]
     }
 }

@@ -68,7 +68,6 @@ pub mod config;
 pub mod consistency;
 pub mod error;
 pub mod health;
-pub mod innovation_bias;
 pub mod input_check;
 pub mod log_record;
 pub mod measurement_buffer;

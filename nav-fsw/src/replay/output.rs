@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 85;
+pub const OUTPUT_WORDS: usize = 84;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -93,7 +93,6 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "inertial_suspect",
     "gravity_allowance_short",
     "gravity_field_errors",
-    "star_innovations_biased",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -194,6 +193,5 @@ pub fn output_words(
     put(u64::from(h.inertial_suspect));
     put(u64::from(h.gravity_allowance_short));
     put(u64::from(h.gravity_field_errors));
-    put(u64::from(h.star_innovations_biased));
     words
 }

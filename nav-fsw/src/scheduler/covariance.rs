@@ -216,7 +216,6 @@ impl NavigationComputer {
         self.aids.star_consistency.clear();
         self.aids.gnss_consistency.clear();
         self.aids.gnss_velocity_consistency.clear();
-        self.aids.star_bias.clear();
     }
 
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless

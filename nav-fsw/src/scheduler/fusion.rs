@@ -171,10 +171,8 @@ impl NavigationComputer {
             Ok(report) => report,
         };
         self.statistics(aid).last_nis = report.normalised_innovation_squared;
-        match aid {
-            Aid::GnssPosition => self.observe_whiteness(&report),
-            Aid::Star if report.accepted => self.observe_star_bias(&report),
-            _ => {}
+        if aid == Aid::GnssPosition {
+            self.observe_whiteness(&report);
         }
         if report.accepted {
             self.fault_state(aid.sensor()).consecutive_rejections = 0;
@@ -220,20 +218,6 @@ impl NavigationComputer {
         let nis = report.normalised_innovation_squared;
         if monitor.observe(nis, report.accepted, gate, &config) {
             count(counter);
-        }
-    }
-
-    /// Feeds an accepted star innovation (sensor axes) to the bias monitor (counted per
-    /// episode).
-    pub(super) fn observe_star_bias(&mut self, report: &nav_core::filter::InnovationReport) {
-        let (nu, s) = (&report.innovation, &report.covariance);
-        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
-        if self.aids.star_bias.observe(
-            &[nu.x, nu.y, nu.z],
-            &variances,
-            &self.config.star.bias_monitor,
-        ) {
-            count(&mut self.health.counters.star_innovations_biased);
         }
     }
 

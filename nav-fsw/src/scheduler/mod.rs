@@ -77,7 +77,6 @@ use crate::config::{FswConfig, GNSS_QUEUE_CAPACITY, HISTORY_CAPACITY, STAR_QUEUE
 use crate::consistency::{ConsistencyMonitor, CONSISTENT_MEAN_NIS};
 use crate::error::{ConfigField, FswError};
 use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
-use crate::innovation_bias::InnovationBiasMonitor;
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
 use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
@@ -255,7 +254,6 @@ struct Aids {
     star_consistency: ConsistencyMonitor,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
-    star_bias: InnovationBiasMonitor,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.

@@ -291,7 +291,6 @@ impl Aids {
             addr_of_mut!((*part).star_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
-            addr_of_mut!((*part).star_bias).write(InnovationBiasMonitor::default());
         }
     }
 }

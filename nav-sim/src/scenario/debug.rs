@@ -112,6 +112,9 @@ impl std::fmt::Debug for FilterSettings {
             .field("gnss_correlated_sigma_m", &self.gnss_correlated_sigma_m)
             .field("gnss_correlation_time_s", &self.gnss_correlation_time_s)
             .field("gnss_noise_m", &self.gnss_noise_m);
+        if let Some(noise_arcsec) = self.star_noise_arcsec {
+            debug.field("star_noise_arcsec", &noise_arcsec);
+        }
         if self.bias_instability.is_on() {
             debug.field("bias_instability", &self.bias_instability);
         }

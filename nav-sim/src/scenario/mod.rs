@@ -535,6 +535,11 @@ pub struct FilterSettings {
     /// simulated receiver's `[gnss] noise_m` (a study of a mis-specified filter sets it).
     #[serde(default)]
     pub gnss_noise_m: Option<f64>,
+    /// The white star-tracker noise the filter assumes, 1σ about every sensor axis (arcsec);
+    /// absent = the simulated tracker's per-axis noise (`[star_sensor]`). A study of a
+    /// flight software told the paper's isotropic 10″ sets it.
+    #[serde(default)]
+    pub star_noise_arcsec: Option<f64>,
     /// The IMU bias instability the filter assumes (`[filter.bias_instability]`); absent =
     /// constant biases (beside any configured random walk), the paper's model.
     #[serde(default)]

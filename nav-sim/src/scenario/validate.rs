@@ -753,6 +753,9 @@ impl Scenario {
         if let Some(noise_m) = filter.gnss_noise_m {
             check.sigma("filter.gnss_noise_m", noise_m, false)?;
         }
+        if let Some(noise_arcsec) = filter.star_noise_arcsec {
+            check.sigma("filter.star_noise_arcsec", noise_arcsec, false)?;
+        }
         let instability = &filter.bias_instability;
         for (sensor, sigma, correlation_time_s) in [
             (

@@ -12,6 +12,7 @@ use nav_fsw::replay::ReplaySetup;
 use nav_fsw::{ConfigField, FswError};
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::scenario::star_sensor::arcsec_to_rad;
 use crate::scenario::{FilterMode as ScenarioFilterMode, Scenario};
 use crate::setup::launch::{Launch, TruthState};
 use crate::setup::streams::{self, Stream};
@@ -36,7 +37,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         ),
         F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
         F::StarNoise => {
-            Some("star_sensor.noise_arcsec (or cross_boresight_noise_arcsec / roll_noise_arcsec)")
+            Some("filter.star_noise_arcsec (default star_sensor.noise_arcsec, or cross_boresight_noise_arcsec / roll_noise_arcsec)")
         }
         F::StarGate => Some("filter.nis_gate.star_threshold"),
         F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
@@ -53,7 +54,6 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
         | F::StarAcquisitionGate
         | F::GnssAcquisitionGate
         | F::StarNormTolerance
-        | F::StarBiasMonitor
         | F::GnssMaxJump
         | F::GnssLeverArm
         | F::GnssWhiteness
@@ -125,7 +125,11 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     // The truth's white noise per sensor axis: cross-boresight (x, y) and roll (z) with the
     // per-axis keys, else `noise_arcsec` on every axis (the same bits as before).
-    let [cross_rad, _, roll_rad] = scenario.star_sensor.noise_per_axis_rad();
+    // `filter.star_noise_arcsec`, when given, on every axis instead.
+    let [cross_rad, _, roll_rad] = settings.star_noise_arcsec.map_or_else(
+        || scenario.star_sensor.noise_per_axis_rad(),
+        |noise_arcsec| [arcsec_to_rad(noise_arcsec); 3],
+    );
     Ok(ReplaySetup {
         launch_site: launch.site,
         sensor_frames: launch.ground.sensor_frames,

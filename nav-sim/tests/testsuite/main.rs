@@ -25,5 +25,6 @@ mod realistic_campaign;
 mod realistic_errors;
 mod replay_logs;
 mod star_flight_noise;
+mod star_slow_error;
 mod upper_stage;
 mod validation;
