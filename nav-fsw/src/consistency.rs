@@ -20,11 +20,18 @@
 //! measures it in Monte Carlo, where the filter's NIS is slightly heavier-tailed than χ².
 //!
 //! The cost is one division and three additions per tested measurement, no window storage.
-//! The first `N` measurements after a (re)start are not tested: `m` still carries its start
-//! value. A gate-rejected measurement enters with its NIS capped at the gate it failed, so
-//! one outlier (a star glitch) moves `m` by at most `gate / N`, while a run of rejections
-//! (the inertial solution drifting away) drives `m` to the gate and fails the test. A
-//! non-finite NIS is not entered.
+//! Every measurement is tested, from the first after a (re)start: `m` starts at 3, so early
+//! on it has less variance than in steady state (`6λ² Σ_{j<n} (1 − λ)^{2j}` after `n`
+//! measurements), and an NIS enters it at most at the gate it failed. To reach the bound a
+//! consistent filter needs `(r − 3) N / (gate − 3)` = 14 gate-sized NIS in a row, which
+//! χ²(3) (1.1 % above 11.3) does not give. An aid whose noise is larger than the filter is
+//! told (a star tracker's roll) therefore fails within seconds of its first measurement, not
+//! after `N`: before a run of gate rejections could have it declared faulty, which the fault
+//! logic would otherwise do to a healthy sensor (`scheduler::aid`). A gate-rejected
+//! measurement enters with its NIS capped at the gate it failed, so one outlier (a star
+//! glitch) moves `m` by at most `gate / N`, while a run of rejections (the inertial solution
+//! drifting away) drives `m` to the gate and fails the test. A non-finite NIS is not
+//! entered.
 
 /// Default time constant of the fading average (measurements).
 pub const DEFAULT_TIME_CONSTANT_MEASUREMENTS: u32 = 256;
@@ -44,8 +51,7 @@ pub const CONSISTENT_MEAN_NIS: f64 = 3.0;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ConsistencyConfig {
     /// Time constant `N` of the fading average (measurements), 1 to
-    /// [`MAX_TIME_CONSTANT_MEASUREMENTS`]; also the measurements after a (re)start that are
-    /// not tested.
+    /// [`MAX_TIME_CONSTANT_MEASUREMENTS`].
     pub time_constant_measurements: u32,
     /// Bound `r` of the fading-average NIS, above [`CONSISTENT_MEAN_NIS`]
     /// (`3 χ²⁻¹(1 − α; ν) / ν`, module docs).
@@ -75,7 +81,6 @@ impl ConsistencyConfig {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConsistencyMonitor {
     mean_nis: f64,
-    entered: u32,
     failing: bool,
 }
 
@@ -83,7 +88,6 @@ impl Default for ConsistencyMonitor {
     fn default() -> Self {
         Self {
             mean_nis: CONSISTENT_MEAN_NIS,
-            entered: 0,
             failing: false,
         }
     }
@@ -117,9 +121,7 @@ impl ConsistencyMonitor {
         let entered = if accepted { nis } else { nis.min(gate_nis) };
         let time_constant = f64::from(config.time_constant_measurements.max(1));
         self.mean_nis += (entered - self.mean_nis) / time_constant;
-        self.entered = self.entered.saturating_add(1);
-        let tested = self.entered >= config.time_constant_measurements;
-        let over = tested && self.mean_nis > config.mean_nis_bound;
+        let over = self.mean_nis > config.mean_nis_bound;
         let began = over && !self.failing;
         self.failing = over;
         began
@@ -135,7 +137,7 @@ impl ConsistencyMonitor {
         self.mean_nis
     }
 
-    /// Starts afresh (a re-initialised filter): the next `N` measurements are not tested.
+    /// Starts afresh (a re-initialised filter): the average back at 3.
     pub fn clear(&mut self) {
         *self = Self::default();
     }
@@ -216,18 +218,19 @@ mod tests {
     }
 
     /// One rejected outlier moves the average by at most `gate / N`; a run of rejections
-    /// fails the test; nothing is tested in the first `N` measurements; a non-finite NIS is
-    /// ignored; `clear` starts afresh.
+    /// fails the test, from the first measurement on (14 gate-sized NIS after a start, not
+    /// 13); a non-finite NIS is ignored; `clear` starts afresh.
     #[test]
     fn one_outlier_is_tolerated_and_a_run_of_rejections_is_not() {
         let config = ConsistencyConfig::default();
         let mut monitor = ConsistencyMonitor::default();
-        // Rejections in the first N measurements are averaged but not tested.
-        for _ in 0..255 {
+        // Rejections from the start: capped at the gate, they fail the test at the 14th.
+        for _ in 0..13 {
             assert!(!monitor.observe(1e6, false, 16.27, &config));
         }
         assert!(!monitor.failing());
-        assert!(monitor.mean_nis() > 10.0);
+        assert!(monitor.observe(1e6, false, 16.27, &config));
+        assert!(monitor.failing());
         monitor.clear();
         for _ in 0..300 {
             assert!(!monitor.observe(3.0, true, 16.27, &config));
