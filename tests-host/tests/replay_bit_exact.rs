@@ -121,6 +121,22 @@ fn the_flight_gravity_field_replays_bit_for_bit_on_host_and_target() {
     assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
+/// The star tracker's slow error walked in the installation states
+/// (`nav-sim/scenarios/star_tracker_slow_error.toml`): its first 20 s (star and GNSS updates
+/// with the walk added after every propagation) on QEMU bit for bit with the host, within
+/// the paper flight's frame budget and the stack budget.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn the_star_slow_error_walk_replays_bit_for_bit_on_host_and_target() {
+    let report = replay_scenario_file(STAR_SLOW_ERROR_SCENARIO, 20, "star-slow-error");
+    let worst = report.costs[0].1.worst;
+    assert!(
+        worst <= PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
+        "worst frame {worst} instructions, budget {PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS}"
+    );
+    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
+}
+
 /// Replays the first `seconds` of the scenario file `path` (from the repository root) on
 /// the host and on QEMU, prints and saves the report as `target/qemu/replay-{name}*`, and
 /// asserts the frame count and bit-for-bit agreement.
@@ -160,6 +176,9 @@ const ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS: u64 = 30_000;
 
 /// The default flight with the flight's 12 × 12 gravity field and its allowance.
 const GRAVITY_SCENARIO: &str = "nav-sim/scenarios/gravity_field_modelled.toml";
+
+/// The default flight with a star tracker slow error the flight software is told of.
+const STAR_SLOW_ERROR_SCENARIO: &str = "nav-sim/scenarios/star_tracker_slow_error.toml";
 
 /// The realistic-sensor scenario of the replay test.
 const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";
