@@ -126,6 +126,11 @@ pub struct StarSensorConfig {
     pub acquisition_gate_nis: f64,
     /// Largest accepted `| |q| − 1 |` of a measured quaternion.
     pub unit_norm_tolerance: f64,
+    /// Whether the flight software removes the velocity aberration from the measured
+    /// attitude (the tracker does not), with the navigation velocity at the measurement's
+    /// time of validity (nav-core `aberration`); `false` (the default) for a tracker that
+    /// corrects it itself.
+    pub aberration_correction: bool,
 }
 
 /// GNSS receiver settings.
@@ -369,6 +374,7 @@ impl FswConfig {
                 gate_nis: GATE_NIS,
                 acquisition_gate_nis: ACQUISITION_GATE_NIS,
                 unit_norm_tolerance: 1e-3,
+                aberration_correction: false,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],

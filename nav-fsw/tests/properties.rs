@@ -252,6 +252,7 @@ fn reference_setup() -> ReplaySetup {
         imu_error: config.filter.imu_error,
         gravity: config.gravity,
         star_roll_noise_rad: config.star.roll_noise_rad,
+        star_aberration_correction: config.star.aberration_correction,
     }
 }
 

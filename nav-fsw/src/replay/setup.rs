@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 63;
+pub const SETUP_WORDS: usize = 64;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -62,6 +62,9 @@ pub struct ReplaySetup {
     pub gravity: crate::config::GravityConfig,
     /// Star noise about the boresight, 1σ about sensor `z` (rad).
     pub star_roll_noise_rad: f64,
+    /// Whether the flight software removes the star tracker's velocity aberration
+    /// (`star.aberration_correction`); the last word, 0 or 1.
+    pub star_aberration_correction: bool,
 }
 
 impl ReplaySetup {
@@ -86,6 +89,7 @@ impl ReplaySetup {
         config.filter.imu_error = self.imu_error;
         config.gravity = self.gravity;
         config.star.roll_noise_rad = self.star_roll_noise_rad;
+        config.star.aberration_correction = self.star_aberration_correction;
         config
     }
 
@@ -190,8 +194,13 @@ impl ReplaySetup {
         for (value, slot) in header.into_iter().zip(&mut slots) {
             *slot = value;
         }
-        for (slot, value) in slots.zip(floats) {
+        // `floats` first, as `header` above: no slot is skipped before the flags.
+        for (value, slot) in floats.into_iter().zip(&mut slots) {
             *slot = value.to_bits();
+        }
+        // The flags after the floats (one so far), each 0 or 1.
+        for (slot, flag) in slots.zip([self.star_aberration_correction]) {
+            *slot = u64::from(flag);
         }
         words
     }
@@ -199,11 +208,12 @@ impl ReplaySetup {
     /// The setup from words.
     ///
     /// # Errors
-    /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic or mode; the
+    /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic, mode or
+    /// flag (neither 0 nor 1); the
     /// values themselves are checked by [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ ..] =
+        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction] =
             words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
@@ -219,6 +229,11 @@ impl ReplaySetup {
             degree: u8::try_from(*field_degree).map_err(|_| bad)?,
             order: u8::try_from(*field_order).map_err(|_| bad)?,
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
+        };
+        let star_aberration_correction = match aberration_correction {
+            0 => false,
+            1 => true,
+            _ => return Err(bad),
         };
         let f = floats.map(f64::from_bits);
         let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise] =
@@ -285,6 +300,7 @@ impl ReplaySetup {
                 omitted_field_psd_m2_per_s3: omitted_psd,
             },
             star_roll_noise_rad: star_roll_noise,
+            star_aberration_correction,
         })
     }
 }

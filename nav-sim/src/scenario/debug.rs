@@ -121,6 +121,12 @@ impl std::fmt::Debug for FilterSettings {
         if self.gravity.is_on() {
             debug.field("gravity", &self.gravity);
         }
+        if self.star_aberration_correction {
+            debug.field(
+                "star_aberration_correction",
+                &self.star_aberration_correction,
+            );
+        }
         debug.finish()
     }
 }

@@ -155,6 +155,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         imu_error: filter.imu_error,
         gravity: settings.gravity.config(),
         star_roll_noise_rad: roll_rad.max(1e-12),
+        star_aberration_correction: settings.star_aberration_correction,
     })
 }
 
