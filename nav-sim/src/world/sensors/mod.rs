@@ -575,7 +575,7 @@ impl SensorSimulator {
             truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
         if self.star_aberration {
             let rotation = aberration_rotation_rad(&installed, &truth.velocity_mps);
-            installed = installed * exp_rotation_vector(&rotation);
+            installed *= exp_rotation_vector(&rotation);
         }
         let measured = match &mut self.star_slow {
             None => installed * exp_rotation_vector(&noise),
