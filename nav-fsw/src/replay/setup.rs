@@ -209,8 +209,8 @@ impl ReplaySetup {
     ///
     /// # Errors
     /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic, mode or
-    /// flag (neither 0 nor 1); the
-    /// values themselves are checked by [`crate::scheduler::NavigationComputer::new`].
+    /// flag (neither 0 nor 1); the values themselves are checked by
+    /// [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
         let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction] =

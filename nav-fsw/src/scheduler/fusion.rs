@@ -124,7 +124,9 @@ impl NavigationComputer {
     /// residual's Jacobian needs no velocity term.
     ///
     /// # Errors
-    /// As nav-core's `aberration::correct` (a non-finite velocity).
+    /// As nav-core's `aberration::correct`: [`NavError::NonFiniteInput`] for a non-finite
+    /// velocity or measurement, [`NavError::DegenerateQuaternion`] for one of (near) zero norm
+    /// (the intake's unit-norm check refuses those before).
     fn star_without_aberration(
         &self,
         measured: &Quaternion<f64>,

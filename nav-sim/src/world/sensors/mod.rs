@@ -27,6 +27,8 @@
 //! `ψ` a rotation vector in rad. Model.md's `q_s,meas = q_s ⊗ q_ψ` with `q_s = q_ib ⊗ q_bs`.
 //! The filter's installation state is the vector part of `q_ψ`, `sin(|ψ|/2) ψ/|ψ| ≈ ψ/2`
 //! ([`SensorErrorTruth::star_installation_vector_part`]). Output canonicalised to `w ≥ 0`.
+//! With `aberration = "uncorrected"` the velocity aberration `exp(a_s)`
+//! ([`aberration_rotation_rad`], docs/model.md) follows `q_ψ`, before the slow errors.
 //!
 //! ## GNSS
 //! ECEF position of the truth (the IMU's position; no lever arm) at the fix's time of validity,
