@@ -50,6 +50,7 @@
     )
 )]
 
+pub mod aberration;
 pub mod arithmetic;
 pub mod attitude;
 mod block;

@@ -133,6 +133,11 @@ pub struct StarSensorConfig {
     pub slow_error_sigma_rad: [f64; 3],
     /// Its correlation time `τ` (s), finite and > 0 when any `slow_error_sigma_rad` is.
     pub slow_error_correlation_time_s: f64,
+    /// Whether the flight software removes the velocity aberration from the measured
+    /// attitude (the tracker does not), with the navigation velocity at the measurement's
+    /// time of validity (nav-core `aberration`); `false` (the default) for a tracker that
+    /// corrects it itself.
+    pub aberration_correction: bool,
 }
 
 impl StarSensorConfig {
@@ -417,6 +422,7 @@ impl FswConfig {
                 unit_norm_tolerance: 1e-3,
                 slow_error_sigma_rad: [0.0; 3],
                 slow_error_correlation_time_s: 0.0,
+                aberration_correction: false,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],

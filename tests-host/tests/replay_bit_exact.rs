@@ -137,6 +137,22 @@ fn the_star_slow_error_walk_replays_bit_for_bit_on_host_and_target() {
     assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
+/// A star tracker that leaves velocity aberration in, and the flight software removing it
+/// (`nav-sim/scenarios/star_tracker_aberration.toml`): its first 30 s (every star update
+/// corrected with the navigation velocity) on QEMU bit for bit with the host, within the
+/// 30,000-instruction frame budget and the stack budget.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn the_star_aberration_correction_replays_bit_for_bit_on_host_and_target() {
+    let report = replay_scenario_file(ABERRATION_SCENARIO, 30, "aberration");
+    let worst = report.costs[0].1.worst;
+    assert!(
+        worst <= ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS,
+        "worst frame {worst} instructions, bound {ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS}"
+    );
+    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
+}
+
 /// Replays the first `seconds` of the scenario file `path` (from the repository root) on
 /// the host and on QEMU, prints and saves the report as `target/qemu/replay-{name}*`, and
 /// asserts the frame count and bit-for-bit agreement.
@@ -173,6 +189,10 @@ const ALL_BLOCKS_SCENARIO: &str = "nav-sim/scenarios/upper_stage_imu_errors_esti
 /// Its worst frame may take this many instructions: the budget with every optional block on
 /// (the dearest frame is a late GNSS velocity update with both borders, docs/performance.md).
 const ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS: u64 = 30_000;
+
+/// The default flight with a tracker that leaves velocity aberration in, corrected by the
+/// flight software.
+const ABERRATION_SCENARIO: &str = "nav-sim/scenarios/star_tracker_aberration.toml";
 
 /// The default flight with the flight's 12 × 12 gravity field and its allowance.
 const GRAVITY_SCENARIO: &str = "nav-sim/scenarios/gravity_field_modelled.toml";

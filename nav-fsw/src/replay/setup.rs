@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 67;
+pub const SETUP_WORDS: usize = 68;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -67,6 +67,9 @@ pub struct ReplaySetup {
     pub star_slow_error_sigma_rad: [f64; 3],
     /// See `star_slow_error_sigma_rad`.
     pub star_slow_error_correlation_time_s: f64,
+    /// Whether the flight software removes the star tracker's velocity aberration
+    /// (`star.aberration_correction`); the last word, 0 or 1.
+    pub star_aberration_correction: bool,
 }
 
 impl ReplaySetup {
@@ -93,6 +96,7 @@ impl ReplaySetup {
         config.star.roll_noise_rad = self.star_roll_noise_rad;
         config.star.slow_error_sigma_rad = self.star_slow_error_sigma_rad;
         config.star.slow_error_correlation_time_s = self.star_slow_error_correlation_time_s;
+        config.star.aberration_correction = self.star_aberration_correction;
         config
     }
 
@@ -202,8 +206,13 @@ impl ReplaySetup {
         for (value, slot) in header.into_iter().zip(&mut slots) {
             *slot = value;
         }
-        for (slot, value) in slots.zip(floats) {
+        // `floats` first, as `header` above: no slot is skipped before the flags.
+        for (value, slot) in floats.into_iter().zip(&mut slots) {
             *slot = value.to_bits();
+        }
+        // The flags after the floats (one so far), each 0 or 1.
+        for (slot, flag) in slots.zip([self.star_aberration_correction]) {
+            *slot = u64::from(flag);
         }
         words
     }
@@ -211,11 +220,12 @@ impl ReplaySetup {
     /// The setup from words.
     ///
     /// # Errors
-    /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic or mode; the
-    /// values themselves are checked by [`crate::scheduler::NavigationComputer::new`].
+    /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic, mode or
+    /// flag (neither 0 nor 1); the values themselves are checked by
+    /// [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ ..] =
+        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction] =
             words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
@@ -231,6 +241,11 @@ impl ReplaySetup {
             degree: u8::try_from(*field_degree).map_err(|_| bad)?,
             order: u8::try_from(*field_order).map_err(|_| bad)?,
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
+        };
+        let star_aberration_correction = match aberration_correction {
+            0 => false,
+            1 => true,
+            _ => return Err(bad),
         };
         let f = floats.map(f64::from_bits);
         let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise, slow_x, slow_y, slow_z, slow_tau] =
@@ -299,6 +314,7 @@ impl ReplaySetup {
             star_roll_noise_rad: star_roll_noise,
             star_slow_error_sigma_rad: [slow_x, slow_y, slow_z],
             star_slow_error_correlation_time_s: slow_tau,
+            star_aberration_correction,
         })
     }
 }

@@ -233,6 +233,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
             omitted_field_psd_m2_per_s3: 1.7e-8,
         },
         star_roll_noise_rad: 1.7e-4,
+        star_aberration_correction: true,
     };
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));
@@ -241,5 +242,16 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
     assert!(ReplaySetup::from_words(&bad).is_err());
     bad = words;
     bad[1] = 7;
+    assert!(ReplaySetup::from_words(&bad).is_err());
+    // The aberration flag is the last word, 0 or 1.
+    assert_eq!(words[SETUP_WORDS - 1], 1);
+    bad = words;
+    bad[SETUP_WORDS - 1] = 0;
+    assert!(
+        !ReplaySetup::from_words(&bad)
+            .unwrap()
+            .star_aberration_correction
+    );
+    bad[SETUP_WORDS - 1] = 2;
     assert!(ReplaySetup::from_words(&bad).is_err());
 }

@@ -77,7 +77,7 @@ impl NavigationComputer {
                 &snapshot.attitude,
                 &ports::quaternion(&self.config.star.mounting_wxyz),
                 &self.installation_estimate(),
-                measured,
+                &self.star_without_aberration(measured, snapshot)?,
                 // Sensor axes: cross-boresight about x and y, roll about z (the boresight).
                 &[
                     self.config.star.noise_rad,
@@ -114,6 +114,28 @@ impl NavigationComputer {
                     self.config.gnss.velocity_noise_mps,
                 )
             }
+        }
+    }
+
+    /// The measured `q_is` with the velocity aberration removed when the configuration says
+    /// the tracker leaves it in (`star.aberration_correction`), with the navigation velocity
+    /// at the measurement's time of validity (`snapshot`; nav-core `aberration`); else the
+    /// measurement itself. A 1 m/s velocity error moves the correction by 7e-4″, so the
+    /// residual's Jacobian needs no velocity term.
+    ///
+    /// # Errors
+    /// As nav-core's `aberration::correct`: [`NavError::NonFiniteInput`] for a non-finite
+    /// velocity or measurement, [`NavError::DegenerateQuaternion`] for one of (near) zero norm
+    /// (the intake's unit-norm check refuses those before).
+    fn star_without_aberration(
+        &self,
+        measured: &Quaternion<f64>,
+        snapshot: &Snapshot,
+    ) -> Result<Quaternion<f64>, NavError> {
+        if self.config.star.aberration_correction {
+            nav_core::aberration::correct(measured, &snapshot.velocity_mps)
+        } else {
+            Ok(*measured)
         }
     }
 

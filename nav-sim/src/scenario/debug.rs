@@ -127,6 +127,12 @@ impl std::fmt::Debug for FilterSettings {
         if self.star_slow_error.is_on() {
             debug.field("star_slow_error", &self.star_slow_error);
         }
+        if self.star_aberration_correction {
+            debug.field(
+                "star_aberration_correction",
+                &self.star_aberration_correction,
+            );
+        }
         debug.finish()
     }
 }

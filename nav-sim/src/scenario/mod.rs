@@ -24,7 +24,7 @@ mod tests;
 mod validate;
 
 use epoch::{EarthOrientation, EpochError, LaunchEpoch};
-pub use star_sensor::StarSensorSettings;
+pub use star_sensor::{StarAberration, StarSensorSettings};
 
 /// The default scenario file, verbatim (what `nav-sim scenario` prints).
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../../scenarios/default.toml");
@@ -557,6 +557,11 @@ pub struct FilterSettings {
     /// model.
     #[serde(default)]
     pub star_slow_error: star_sensor::FilterStarSlowError,
+    /// Whether the flight software removes the star tracker's velocity aberration with its
+    /// navigation velocity (`star.aberration_correction`), for a tracker that leaves it in
+    /// (`[star_sensor] aberration = "uncorrected"`); false (the default) = it does not.
+    #[serde(default)]
+    pub star_aberration_correction: bool,
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

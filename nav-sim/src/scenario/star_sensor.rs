@@ -1,7 +1,7 @@
 //! The `[star_sensor]` table: the tracker's rate, noise, mounting, installation error, rate
 //! limit and outages, and its optional truth terms (`docs/model.md`, "Star sensor truth"):
-//! per-axis noise (cross-boresight and roll), a slowly varying first-order Gauss–Markov error
-//! and a periodic error. The optional terms are left out of the `Debug` rendering while
+//! per-axis noise (cross-boresight and roll), a slowly varying first-order Gauss–Markov error,
+//! a periodic error and velocity aberration. The optional terms are left out of the `Debug` rendering while
 //! absent or zero, so a scenario without them renders, and hashes (the campaign's
 //! `scenario_hash`), as it did before they existed.
 
@@ -64,6 +64,22 @@ pub struct StarSensorSettings {
     /// Its phase at the scenario start (deg), the same on every axis.
     #[serde(default)]
     pub periodic_error_phase_deg: f64,
+    /// Velocity aberration of the measured attitude (`docs/model.md`, "Star sensor truth");
+    /// `"none"` (the default) = a tracker that corrects it itself.
+    #[serde(default)]
+    pub aberration: StarAberration,
+}
+
+/// Whether the tracker's attitude carries the velocity aberration of the vehicle's motion.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StarAberration {
+    /// The tracker corrects it: the geometric attitude (the truth before this key existed).
+    #[default]
+    None,
+    /// The tracker does not correct it: the attitude is turned by `a_s = β_s × z`
+    /// (nav-core `aberration`), `β_s` the inertial velocity over `c` in sensor axes.
+    Uncorrected,
 }
 
 /// Arc-seconds to radians.
@@ -169,6 +185,9 @@ impl std::fmt::Debug for StarSensorSettings {
                 )
                 .field("periodic_error_period_s", &self.periodic_error_period_s)
                 .field("periodic_error_phase_deg", &self.periodic_error_phase_deg);
+        }
+        if self.aberration != StarAberration::None {
+            debug.field("aberration", &self.aberration);
         }
         debug.finish()
     }

@@ -127,3 +127,19 @@ fn bad_star_truth_keys_are_refused_naming_the_key() {
     let text = with_star_lines("cross_boresight_noise_arcsec = 10.0\nroll_noise_arcsec = 2.0");
     assert!(Scenario::from_toml_str(&text).is_ok());
 }
+
+/// `aberration = "none"` is the absent key (same rendering, so the same scenario hash);
+/// `"uncorrected"` renders; anything else is refused by the parser.
+#[test]
+fn the_aberration_key_parses_and_renders_only_when_on() {
+    let default = Scenario::default_scenario().unwrap();
+    let none = Scenario::from_toml_str(&with_star_lines("aberration = \"none\"")).unwrap();
+    assert_eq!(format!("{none:?}"), format!("{default:?}"));
+    let on = Scenario::from_toml_str(&with_star_lines("aberration = \"uncorrected\"")).unwrap();
+    assert_eq!(
+        on.star_sensor.aberration,
+        crate::scenario::StarAberration::Uncorrected
+    );
+    assert!(format!("{on:?}").contains("aberration: Uncorrected"));
+    assert!(Scenario::from_toml_str(&with_star_lines("aberration = \"corrected\"")).is_err());
+}

@@ -163,6 +163,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         star_roll_noise_rad: roll_rad.max(1e-12),
         star_slow_error_sigma_rad: settings.star_slow_error.sigma_rad(),
         star_slow_error_correlation_time_s: settings.star_slow_error.correlation_time_s,
+        star_aberration_correction: settings.star_aberration_correction,
     })
 }
 

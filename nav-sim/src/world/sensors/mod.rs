@@ -27,6 +27,8 @@
 //! `ψ` a rotation vector in rad. Model.md's `q_s,meas = q_s ⊗ q_ψ` with `q_s = q_ib ⊗ q_bs`.
 //! The filter's installation state is the vector part of `q_ψ`, `sin(|ψ|/2) ψ/|ψ| ≈ ψ/2`
 //! ([`SensorErrorTruth::star_installation_vector_part`]). Output canonicalised to `w ≥ 0`.
+//! With `aberration = "uncorrected"` the velocity aberration `exp(a_s)`
+//! ([`aberration_rotation_rad`], docs/model.md) follows `q_ψ`, before the slow errors.
 //!
 //! ## GNSS
 //! ECEF position of the truth (the IMU's position; no lever arm) at the fix's time of validity,
@@ -344,6 +346,8 @@ pub struct SensorSimulator {
     /// The slowly varying errors ([`star_errors`]); `None` when off, and then the measurement
     /// is the model without them, bit for bit.
     star_slow: Option<StarSlowErrors>,
+    /// Whether the measured attitude carries the velocity aberration ([`aberration_rotation_rad`]).
+    star_aberration: bool,
     gnss_noise_m: f64,
     gnss_frames_per_sample: u64,
     gnss_latency_s: f64,
@@ -439,6 +443,7 @@ impl SensorSimulator {
             star_noise_rad: Vector3::from(star.noise_per_axis_rad()),
             star_frames_per_sample: frames_in(1.0 / star.rate_hz, period_s),
             star_rng: streams::rng(seed, Stream::Star),
+            star_aberration: star.aberration == crate::scenario::StarAberration::Uncorrected,
             star_slow: StarSlowErrors::new(star, scenario.simulation.start_time_s, || {
                 streams::rng(seed, Stream::StarSlowError)
             }),
@@ -575,8 +580,12 @@ impl SensorSimulator {
     fn star_sample(&mut self, truth: &TruthFrame, tracking: bool, events: &mut Vec<SensorEvent>) {
         // Per axis; with the same σ on every axis the same bits as `normal3 · σ`.
         let noise = normal3(&mut self.star_rng).component_mul(&self.star_noise_rad);
-        let installed =
+        let mut installed =
             truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
+        if self.star_aberration {
+            let rotation = aberration_rotation_rad(&installed, &truth.velocity_mps);
+            installed *= exp_rotation_vector(&rotation);
+        }
         let measured = match &mut self.star_slow {
             None => installed * exp_rotation_vector(&noise),
             Some(slow) => {
@@ -605,6 +614,22 @@ impl SensorSimulator {
             &mut self.star_blind_until_s,
         )
     }
+}
+
+/// The rotation (rad, sensor axes) by which velocity aberration turns the attitude a
+/// tracker of true sensor-to-inertial attitude `q_is` reports at the inertial velocity
+/// `velocity_mps`: `a_s = β_s × z`, `β_s = C_isᵀ v / c` (docs/model.md, "Star sensor
+/// truth", and nav-core `aberration` for the derivation; the sign is proven against star
+/// directions displaced by the nonlinear formula in this module's tests). Written here
+/// apart from the flight code's correction, which it checks.
+pub fn aberration_rotation_rad(
+    q_is: &Quaternion<f64>,
+    velocity_mps: &Vector3<f64>,
+) -> Vector3<f64> {
+    let beta_sensor = nalgebra::UnitQuaternion::from_quaternion(*q_is)
+        .inverse_transform_vector(velocity_mps)
+        / nav_core::aberration::SPEED_OF_LIGHT_MPS;
+    beta_sensor.cross(&Vector3::z())
 }
 
 /// Whether a star tracker that loses its stars above `max_rate_rad_s` (0 = no limit) and
@@ -657,6 +682,8 @@ impl GaussMarkov {
     }
 }
 
+#[cfg(test)]
+mod aberration_tests;
 mod imu_errors;
 #[cfg(test)]
 mod imu_errors_tests;

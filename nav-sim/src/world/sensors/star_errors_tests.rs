@@ -11,7 +11,7 @@ const ARCSEC_RAD: f64 = 4.848_136_811_095_36e-6;
 
 /// The rotation vectors `log((q_ib q_bs q_ψ)* ⊗ q_m)` (rad, sensor axes) of the star samples
 /// of `frames` synthetic frames, and their time tags.
-fn star_residuals(scenario: &Scenario, frames: u64) -> Vec<(f64, Vector3<f64>)> {
+pub(super) fn star_residuals(scenario: &Scenario, frames: u64) -> Vec<(f64, Vector3<f64>)> {
     let (truths, events) = run(scenario, frames);
     let (_, q_ig) = port_frames(scenario);
     let period_s = scenario.imu.frame_period_s();
