@@ -753,27 +753,21 @@ impl Scenario {
         if let Some(noise_m) = filter.gnss_noise_m {
             check.sigma("filter.gnss_noise_m", noise_m, false)?;
         }
-        if let Some(noise_arcsec) = filter.star_noise_arcsec {
-            check.sigma("filter.star_noise_arcsec", noise_arcsec, false)?;
-        }
         let instability = &filter.bias_instability;
-        for (sensor, sigma, correlation_time_s) in [
+        for (sensor, unit, sigma, correlation_time_s) in [
             (
                 "gyro",
+                "rad_per_s",
                 instability.gyro_sigma_rad_per_s,
                 instability.gyro_correlation_time_s,
             ),
             (
                 "accel",
+                "mps2",
                 instability.accel_sigma_mps2,
                 instability.accel_correlation_time_s,
             ),
         ] {
-            let unit = if sensor == "gyro" {
-                "rad_per_s"
-            } else {
-                "mps2"
-            };
             let key = format!("filter.bias_instability.{sensor}_sigma_{unit}");
             check.sigma(&key, sigma, true)?;
             let key = format!("filter.bias_instability.{sensor}_correlation_time_s");
@@ -784,7 +778,7 @@ impl Scenario {
             }
         }
         check.filter_imu_errors(filter)?;
-        check.filter_star_slow_error(filter)?;
+        check.filter_star(filter)?;
         if let Some((key, rule)) = filter.gravity.violation() {
             return Err(check.fail(key, &rule));
         }

@@ -1,5 +1,6 @@
 //! The checks of the filter's systematic IMU error states (`[filter.imu_errors]`) and of the
-//! star tracker's slow error it is told (`[filter.star_slow_error]`).
+//! star tracker's noise and slow error it is told (`[filter] star_noise_arcsec`,
+//! `[filter.star_slow_error]`).
 
 use super::{Checker, ScenarioError};
 use crate::scenario::FilterSettings;
@@ -15,12 +16,12 @@ impl Checker<'_> {
         Ok(())
     }
 
-    /// `[filter.star_slow_error]`: each 1σ 0 or in `SIGMA_RANGE`; the correlation time > 0
-    /// when any 1σ is, else ≥ 0.
-    pub(super) fn filter_star_slow_error(
-        &self,
-        filter: &FilterSettings,
-    ) -> Result<(), ScenarioError> {
+    /// `[filter] star_noise_arcsec` in `SIGMA_RANGE` when given; `[filter.star_slow_error]`:
+    /// each 1σ 0 or in `SIGMA_RANGE`, the correlation time > 0 when any 1σ is, else ≥ 0.
+    pub(super) fn filter_star(&self, filter: &FilterSettings) -> Result<(), ScenarioError> {
+        if let Some(noise_arcsec) = filter.star_noise_arcsec {
+            self.sigma("filter.star_noise_arcsec", noise_arcsec, false)?;
+        }
         let slow = &filter.star_slow_error;
         for sigma in slow.sigma_arcsec {
             self.sigma("filter.star_slow_error.sigma_arcsec", sigma, true)?;

@@ -4,7 +4,7 @@
 //! flight software's correction consistent, and the flight software without it biased in the
 //! installation error, unflagged by the health counters (no healthy sensor blamed either).
 //!
-//! Two runs of each (the docs' campaigns fly 20: `nav-sim monte-carlo
+//! One run of each (the docs' campaigns fly 20: `nav-sim monte-carlo
 //! nav-sim/scenarios/star_tracker_aberration.toml --runs 20`).
 
 use crate::realistic_campaign::{scenario, worst_sigma};
@@ -14,7 +14,7 @@ use nav_sim::setup::fsw::{fsw_config, replay_setup};
 use nav_sim::Scenario;
 
 /// Runs of each case in the test command.
-const RUNS: u64 = 2;
+const RUNS: u64 = 1;
 
 /// The installation-error state (vector part) of sensor axis x in the 15 calibration states.
 const INSTALLATION_X: usize = 6;
