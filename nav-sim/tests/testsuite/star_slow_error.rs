@@ -1,4 +1,4 @@
-//! The star tracker's slowly varying error (issue 34, case b; docs/sensor-errors.md, "The
+//! The star tracker's slowly varying error (docs/sensor-errors.md, "The
 //! slowly varying error in the flight filter"): told of it (`[filter.star_slow_error]`), the
 //! flight software walks its installation states and stays consistent; configured as the
 //! paper's (a constant installation error), it is many σ wrong and blames no sensor. No
