@@ -78,13 +78,12 @@ fn realistic_sensor_scenario_replays_bit_for_bit_on_host_and_target() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
-    let report = replay_scenario_file(REALISTIC_SCENARIO, seconds, "realistic");
-    let worst = report.costs[0].1.worst;
-    assert!(
-        worst <= WORST_FRAME_BUDGET_INSTRUCTIONS,
-        "worst frame {worst} instructions, budget {WORST_FRAME_BUDGET_INSTRUCTIONS}"
+    replay_within_budgets(
+        REALISTIC_SCENARIO,
+        seconds,
+        "realistic",
+        WORST_FRAME_BUDGET_INSTRUCTIONS,
     );
-    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
 /// Every optional state block on: the upper-stage flight with the twelve systematic IMU
@@ -95,13 +94,12 @@ fn realistic_sensor_scenario_replays_bit_for_bit_on_host_and_target() {
 #[test]
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn every_optional_state_block_replays_bit_for_bit_on_host_and_target() {
-    let report = replay_scenario_file(ALL_BLOCKS_SCENARIO, 60, "all-blocks");
-    let worst = report.costs[0].1.worst;
-    assert!(
-        worst <= ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS,
-        "worst frame {worst} instructions, bound {ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS}"
+    replay_within_budgets(
+        ALL_BLOCKS_SCENARIO,
+        60,
+        "all-blocks",
+        ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS,
     );
-    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
 /// The flight's gravity field beyond `J2` (12 × 12, a share each frame that fuses nothing)
@@ -112,13 +110,12 @@ fn every_optional_state_block_replays_bit_for_bit_on_host_and_target() {
 #[test]
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn the_flight_gravity_field_replays_bit_for_bit_on_host_and_target() {
-    let report = replay_scenario_file(GRAVITY_SCENARIO, 30, "gravity");
-    let worst = report.costs[0].1.worst;
-    assert!(
-        worst <= PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
-        "worst frame {worst} instructions, budget {PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS}"
+    replay_within_budgets(
+        GRAVITY_SCENARIO,
+        30,
+        "gravity",
+        PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
     );
-    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
 /// The star tracker's slow error walked in the installation states
@@ -128,13 +125,12 @@ fn the_flight_gravity_field_replays_bit_for_bit_on_host_and_target() {
 #[test]
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn the_star_slow_error_walk_replays_bit_for_bit_on_host_and_target() {
-    let report = replay_scenario_file(STAR_SLOW_ERROR_SCENARIO, 20, "star-slow-error");
-    let worst = report.costs[0].1.worst;
-    assert!(
-        worst <= PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
-        "worst frame {worst} instructions, budget {PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS}"
+    replay_within_budgets(
+        STAR_SLOW_ERROR_SCENARIO,
+        20,
+        "star-slow-error",
+        PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS,
     );
-    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }
 
 /// A star tracker that leaves velocity aberration in, and the flight software removing it
@@ -144,11 +140,22 @@ fn the_star_slow_error_walk_replays_bit_for_bit_on_host_and_target() {
 #[test]
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn the_star_aberration_correction_replays_bit_for_bit_on_host_and_target() {
-    let report = replay_scenario_file(ABERRATION_SCENARIO, 30, "aberration");
+    replay_within_budgets(
+        ABERRATION_SCENARIO,
+        30,
+        "aberration",
+        ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS,
+    );
+}
+
+/// [`replay_scenario_file`], and its worst frame within `worst_frame_bound` instructions and
+/// its frame-loop stack within [`STACK_BUDGET_BYTES`].
+fn replay_within_budgets(path: &str, seconds: u64, name: &str, worst_frame_bound: u64) {
+    let report = replay_scenario_file(path, seconds, name);
     let worst = report.costs[0].1.worst;
     assert!(
-        worst <= ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS,
-        "worst frame {worst} instructions, bound {ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS}"
+        worst <= worst_frame_bound,
+        "{path}: worst frame {worst} instructions, bound {worst_frame_bound}"
     );
     assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
 }

@@ -7,6 +7,7 @@
 //! One run of each (the docs' campaigns fly 20: `nav-sim monte-carlo
 //! nav-sim/scenarios/star_tracker_aberration.toml --runs 20`).
 
+use crate::common::QUIET_COUNTERS;
 use crate::realistic_campaign::{scenario, worst_sigma};
 use nav_sim::campaign::monte_carlo::{fly_campaign, RunOutcome};
 use nav_sim::scenario::StarAberration;
@@ -101,13 +102,7 @@ fn the_corrected_aberration_keeps_the_filter_consistent_and_the_uncorrected_one_
                 "{name} seed {}: {star_nis}",
                 outcome.seed
             );
-            for key in [
-                "star_inconsistent",
-                "gnss_inconsistent",
-                "gnss_velocity_inconsistent",
-                "star_declared_faulty",
-                "gnss_declared_faulty",
-            ] {
+            for key in QUIET_COUNTERS {
                 assert_eq!(counter(key), 0, "{name} seed {}: {key}", outcome.seed);
             }
         }
