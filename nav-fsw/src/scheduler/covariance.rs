@@ -91,10 +91,9 @@ impl NavigationComputer {
     /// walk has no cross terms. Added whether or not the block is frozen: a held estimate
     /// of a drifting alignment grows uncertain all the same.
     pub(super) fn add_installation_walk(&mut self, interval_s: f64) {
-        if !self.config.star.has_slow_error() {
+        let Some([x, y, z]) = self.covariance.installation_walk_rad2_per_s else {
             return;
-        }
-        let [x, y, z] = self.config.star.installation_walk_rad2_per_s();
+        };
         let walk = Matrix3::from_diagonal(&Vector3::new(x, y, z)) * interval_s;
         if self
             .covariance

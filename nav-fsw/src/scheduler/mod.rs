@@ -229,6 +229,9 @@ struct Covariance {
     /// The process noise in use: `process_noise` with the gravity allowance's density added
     /// to the accelerometer's density squared (`gravity.rs`).
     process_noise: ProcessNoise,
+    /// The installation states' walk for the tracker's slow error (rad²/s per sensor axis,
+    /// `StarSensorConfig::installation_walk_rad2_per_s`), derived once; `None` when off.
+    installation_walk_rad2_per_s: Option<[f64; 3]>,
 }
 
 /// The aiding measurements: their queues, the gate statistics and fault state of each aid and

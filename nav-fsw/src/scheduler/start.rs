@@ -208,6 +208,12 @@ impl Covariance {
                 &config.filter,
             )?;
             addr_of_mut!((*part).process_noise).write(super::gravity::process_noise(config));
+            addr_of_mut!((*part).installation_walk_rad2_per_s).write(
+                config
+                    .star
+                    .has_slow_error()
+                    .then(|| config.star.installation_walk_rad2_per_s()),
+            );
             addr_of_mut!((*part).time_s).write(time_s);
             addr_of_mut!((*part).sums).write(PropagationSums::EMPTY);
             addr_of_mut!((*part).last_point).write(None);
