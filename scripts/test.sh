@@ -17,7 +17,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 export PATH="$HOME/.cargo/bin:$PATH"
 TARGET=thumbv7em-none-eabihf
-step() { printf '\n==== %s\n' "$*"; }
+step() { printf "\n==== %s  [t=%d s]\n" "$*" "$SECONDS"; }
 
 step "prerequisites"
 if ! rustup target list --installed | grep -qx "$TARGET"; then rustup target add "$TARGET"; fi
@@ -154,3 +154,4 @@ step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and cor
 (cd qemu && cargo build --release --bin uart_replay)
 NAV_QEMU_UART_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/uart_replay" \
   cargo test --workspace --test uart_replay -- --include-ignored --nocapture --test-threads 1
+printf "\n==== done  [t=%d s]\n" "$SECONDS"
