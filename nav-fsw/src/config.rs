@@ -138,6 +138,10 @@ pub struct StarSensorConfig {
     /// time of validity (nav-core `aberration`); `false` (the default) for a tracker that
     /// corrects it itself.
     pub aberration_correction: bool,
+    /// Whether the star noise follows the innovations once they fail the consistency test
+    /// (per sensor axis, never below `noise_rad` and `roll_noise_rad`; [`crate::noise_matching`]);
+    /// `true` by default. Off, a tracker noisier than configured keeps its configured weight.
+    pub noise_matching: bool,
 }
 
 impl StarSensorConfig {
@@ -423,6 +427,7 @@ impl FswConfig {
                 slow_error_sigma_rad: [0.0; 3],
                 slow_error_correlation_time_s: 0.0,
                 aberration_correction: false,
+                noise_matching: true,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],

@@ -88,10 +88,14 @@ pub struct HealthCounters {
     /// Evaluations of the field beyond `J2` refused (non-finite position or result); the
     /// last value is held.
     pub gravity_field_errors: u32,
+    /// Times the star noise began to follow the innovations (`star.noise_matching`,
+    /// [`crate::noise_matching`]): the star innovations failed the consistency test, and the
+    /// update weights the tracker by the noise they show until the filter is re-initialised.
+    pub star_noise_matched: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 34;
+pub const HEALTH_COUNTER_COUNT: usize = 35;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -152,6 +156,7 @@ impl HealthCounters {
             ("inertial_suspect", self.inertial_suspect),
             ("gravity_allowance_short", self.gravity_allowance_short),
             ("gravity_field_errors", self.gravity_field_errors),
+            ("star_noise_matched", self.star_noise_matched),
         ]
     }
 }

@@ -72,6 +72,7 @@ pub mod input_check;
 pub mod log_record;
 pub mod measurement_buffer;
 pub mod motion_observability;
+pub mod noise_matching;
 pub mod ports;
 pub mod replay;
 pub mod scheduler;

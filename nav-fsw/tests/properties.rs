@@ -255,6 +255,7 @@ fn reference_setup() -> ReplaySetup {
         star_slow_error_sigma_rad: config.star.slow_error_sigma_rad,
         star_slow_error_correlation_time_s: config.star.slow_error_correlation_time_s,
         star_aberration_correction: config.star.aberration_correction,
+        star_noise_matching: config.star.noise_matching,
     }
 }
 

@@ -11,8 +11,10 @@
 
 use std::path::PathBuf;
 
+use nav_fsw::replay::OUTPUT_FIELD_NAMES;
 use nav_sim::harness::target_replay::{
-    replay_on_target, TargetReplayReport, STACK_BUDGET_BYTES, START_UP_STACK_BUDGET_BYTES,
+    replay_on_target, TargetReplayReport, FRAME_WORDS, STACK_BUDGET_BYTES,
+    START_UP_STACK_BUDGET_BYTES,
 };
 use nav_sim::Scenario;
 
@@ -148,6 +150,31 @@ fn the_star_aberration_correction_replays_bit_for_bit_on_host_and_target() {
     );
 }
 
+/// A star tracker noisier than the flight software is told
+/// (`nav-sim/scenarios/star_tracker_roll_noise_unmodelled.toml`): the consistency monitor
+/// fails within seconds and the star noise matching sets the update's noise from then on
+/// (the square roots of its averages in every star frame); the first 10 s on QEMU bit for
+/// bit with the host, within the 30,000-instruction frame budget and the stack budget, the
+/// matching engaged and the matched roll noise above the configured 10″ by the end.
+#[test]
+#[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
+fn the_star_noise_matching_replays_bit_for_bit_on_host_and_target() {
+    let report = replay_scenario_file(NOISE_MATCHING_SCENARIO, 10, "noise-matching");
+    assert!(report.costs[0].1.worst <= ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS);
+    assert!(report.stack.high_water_bytes <= STACK_BUDGET_BYTES);
+    let word = |name: &str| {
+        let index = OUTPUT_FIELD_NAMES.iter().position(|n| *n == name).unwrap();
+        report.host_output[report.host_output.len() - FRAME_WORDS + index]
+    };
+    assert_eq!(word("star_noise_matched"), 1);
+    let roll_rad = f64::from_bits(word("star_noise_z_rad"));
+    let configured_rad = 10.0 * std::f64::consts::PI / 180.0 / 3600.0;
+    assert!(
+        roll_rad > 1.5 * configured_rad,
+        "matched roll noise {roll_rad} rad"
+    );
+}
+
 /// [`replay_scenario_file`], and its worst frame within `worst_frame_bound` instructions and
 /// its frame-loop stack within [`STACK_BUDGET_BYTES`].
 fn replay_within_budgets(path: &str, seconds: u64, name: &str, worst_frame_bound: u64) {
@@ -203,6 +230,10 @@ const ABERRATION_SCENARIO: &str = "nav-sim/scenarios/star_tracker_aberration.tom
 
 /// The default flight with the flight's 12 × 12 gravity field and its allowance.
 const GRAVITY_SCENARIO: &str = "nav-sim/scenarios/gravity_field_modelled.toml";
+
+/// The default flight with a tracker noisier about its boresight than the flight software is
+/// told.
+const NOISE_MATCHING_SCENARIO: &str = "nav-sim/scenarios/star_tracker_roll_noise_unmodelled.toml";
 
 /// The default flight with a star tracker slow error the flight software is told of.
 const STAR_SLOW_ERROR_SCENARIO: &str = "nav-sim/scenarios/star_tracker_slow_error.toml";

@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 84;
+pub const OUTPUT_WORDS: usize = 88;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -93,6 +93,10 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "inertial_suspect",
     "gravity_allowance_short",
     "gravity_field_errors",
+    "star_noise_matched",
+    "star_noise_x_rad",
+    "star_noise_y_rad",
+    "star_noise_z_rad",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -193,5 +197,9 @@ pub fn output_words(
     put(u64::from(h.inertial_suspect));
     put(u64::from(h.gravity_allowance_short));
     put(u64::from(h.gravity_field_errors));
+    put(u64::from(h.star_noise_matched));
+    for noise in t.star_noise_rad {
+        put(noise.to_bits());
+    }
     words
 }

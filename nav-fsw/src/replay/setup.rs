@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 68;
+pub const SETUP_WORDS: usize = 69;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -68,8 +68,11 @@ pub struct ReplaySetup {
     /// See `star_slow_error_sigma_rad`.
     pub star_slow_error_correlation_time_s: f64,
     /// Whether the flight software removes the star tracker's velocity aberration
-    /// (`star.aberration_correction`); the last word, 0 or 1.
+    /// (`star.aberration_correction`); the last word but one, 0 or 1.
     pub star_aberration_correction: bool,
+    /// Whether the star noise follows the innovations once they fail the consistency test
+    /// (`star.noise_matching`); the last word, 0 or 1.
+    pub star_noise_matching: bool,
 }
 
 impl ReplaySetup {
@@ -97,6 +100,7 @@ impl ReplaySetup {
         config.star.slow_error_sigma_rad = self.star_slow_error_sigma_rad;
         config.star.slow_error_correlation_time_s = self.star_slow_error_correlation_time_s;
         config.star.aberration_correction = self.star_aberration_correction;
+        config.star.noise_matching = self.star_noise_matching;
         config
     }
 
@@ -210,8 +214,9 @@ impl ReplaySetup {
         for (value, slot) in floats.into_iter().zip(&mut slots) {
             *slot = value.to_bits();
         }
-        // The flags after the floats (one so far), each 0 or 1.
-        for (slot, flag) in slots.zip([self.star_aberration_correction]) {
+        // The flags after the floats, each 0 or 1.
+        let flags = [self.star_aberration_correction, self.star_noise_matching];
+        for (slot, flag) in slots.zip(flags) {
             *slot = u64::from(flag);
         }
         words
@@ -225,7 +230,7 @@ impl ReplaySetup {
     /// [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction] =
+        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction, noise_matching] =
             words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
@@ -242,11 +247,13 @@ impl ReplaySetup {
             order: u8::try_from(*field_order).map_err(|_| bad)?,
             terms_per_frame: u8::try_from(*terms_per_frame).map_err(|_| bad)?,
         };
-        let star_aberration_correction = match aberration_correction {
-            0 => false,
-            1 => true,
-            _ => return Err(bad),
+        let flag = |word: &u64| match word {
+            0 => Ok(false),
+            1 => Ok(true),
+            _ => Err(bad),
         };
+        let star_aberration_correction = flag(aberration_correction)?;
+        let star_noise_matching = flag(noise_matching)?;
         let f = floats.map(f64::from_bits);
         let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise, slow_x, slow_y, slow_z, slow_tau] =
             f;
@@ -315,6 +322,7 @@ impl ReplaySetup {
             star_slow_error_sigma_rad: [slow_x, slow_y, slow_z],
             star_slow_error_correlation_time_s: slow_tau,
             star_aberration_correction,
+            star_noise_matching,
         })
     }
 }

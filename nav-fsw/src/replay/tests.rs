@@ -234,6 +234,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         },
         star_roll_noise_rad: 1.7e-4,
         star_aberration_correction: true,
+        star_noise_matching: false,
     };
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));
@@ -243,15 +244,16 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
     bad = words;
     bad[1] = 7;
     assert!(ReplaySetup::from_words(&bad).is_err());
-    // The aberration flag is the last word, 0 or 1.
-    assert_eq!(words[SETUP_WORDS - 1], 1);
+    // The flags are the last two words, aberration correction then noise matching, 0 or 1.
+    assert_eq!(words[SETUP_WORDS - 2..], [1, 0]);
     bad = words;
-    bad[SETUP_WORDS - 1] = 0;
-    assert!(
-        !ReplaySetup::from_words(&bad)
-            .unwrap()
-            .star_aberration_correction
-    );
-    bad[SETUP_WORDS - 1] = 2;
-    assert!(ReplaySetup::from_words(&bad).is_err());
+    bad[SETUP_WORDS - 2] = 0;
+    bad[SETUP_WORDS - 1] = 1;
+    let flipped = ReplaySetup::from_words(&bad).unwrap();
+    assert!(!flipped.star_aberration_correction && flipped.star_noise_matching);
+    for slot in [SETUP_WORDS - 2, SETUP_WORDS - 1] {
+        bad = words;
+        bad[slot] = 2;
+        assert!(ReplaySetup::from_words(&bad).is_err());
+    }
 }

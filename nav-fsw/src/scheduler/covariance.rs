@@ -213,6 +213,7 @@ impl NavigationComputer {
         self.reacquire(Sensor::Gnss);
         // Its innovations are tested afresh.
         self.aids.star_consistency.clear();
+        self.aids.star_noise.clear();
         self.aids.gnss_consistency.clear();
         self.aids.gnss_velocity_consistency.clear();
     }

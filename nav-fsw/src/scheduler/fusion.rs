@@ -78,12 +78,7 @@ impl NavigationComputer {
                 &ports::quaternion(&self.config.star.mounting_wxyz),
                 &self.installation_estimate(),
                 &self.star_without_aberration(measured, snapshot)?,
-                // Sensor axes: cross-boresight about x and y, roll about z (the boresight).
-                &[
-                    self.config.star.noise_rad,
-                    self.config.star.noise_rad,
-                    self.config.star.roll_noise_rad,
-                ],
+                &self.star_noise_rad(),
             ),
             // nav-core refuses a non-finite fix (the jump check passes NaN through).
             Due::GnssPosition(_, position) => gnss_position(
@@ -114,6 +109,51 @@ impl NavigationComputer {
                     self.config.gnss.velocity_noise_mps,
                 )
             }
+        }
+    }
+
+    /// The star noise angles (1σ, sensor axes: cross-boresight about x and y, roll about z,
+    /// the boresight) of the next update: the configured ones, or once the star consistency
+    /// test has failed and `star.noise_matching` is on, the innovations' (nav-fsw
+    /// `noise_matching`, never below the configured).
+    pub fn star_noise_rad(&self) -> [f64; 3] {
+        let star = &self.config.star;
+        self.aids
+            .star_noise
+            .noise_rad(&[star.noise_rad, star.noise_rad, star.roll_noise_rad])
+    }
+
+    /// Enters a tested star measurement in the noise matching (after the tracker's
+    /// acquisition: `acquired_before`), and engages it when the star consistency test fails
+    /// (counted once: the matching stays on until the filter is re-initialised). Called before
+    /// the consistency monitor sees the measurement's NIS.
+    pub(super) fn match_star_noise(
+        &mut self,
+        report: &nav_core::filter::InnovationReport,
+        acquired_before: bool,
+    ) {
+        if !self.config.star.noise_matching {
+            return;
+        }
+        if acquired_before {
+            let (nu, s) = (&report.innovation, &report.covariance);
+            let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+            let used = self.star_noise_rad();
+            let gate = self.gate_nis(Aid::Star);
+            let time_constant = self.config.consistency.time_constant_measurements;
+            let nis = report.normalised_innovation_squared;
+            self.aids.star_noise.observe(
+                &[nu.x, nu.y, nu.z],
+                &variances,
+                &used,
+                nis,
+                report.accepted,
+                gate,
+                time_constant,
+            );
+        }
+        if self.aids.star_consistency.failing() && self.aids.star_noise.engage() {
+            count(&mut self.health.counters.star_noise_matched);
         }
     }
 
@@ -193,6 +233,7 @@ impl NavigationComputer {
             Ok(report) => report,
         };
         self.statistics(aid).last_nis = report.normalised_innovation_squared;
+        let acquired_before = self.statistics(aid).acquired;
         if aid == Aid::GnssPosition {
             self.observe_whiteness(&report);
         }
@@ -208,6 +249,9 @@ impl NavigationComputer {
         } else {
             count(self.gate_rejections(aid));
             self.note_rejection(aid);
+        }
+        if aid == Aid::Star {
+            self.match_star_noise(&report, acquired_before);
         }
         // After the fault logic, which reads the verdict the run of rejections began under.
         self.observe_consistency(aid, &report);

@@ -79,6 +79,7 @@ use crate::error::{ConfigField, FswError};
 use crate::health::{count, HealthCounters, OutageMonitor, WhitenessMonitor};
 use crate::input_check::{check_gnss, check_star, GnssFault, ImuChecker, ImuFault, StarFault};
 use crate::measurement_buffer::{BufferRefusal, MeasurementBuffer};
+use crate::noise_matching::NoiseMatching;
 use crate::ports::{self, GnssPort, ImuPort, StarSensorPort};
 use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
 
@@ -255,6 +256,9 @@ struct Aids {
     gnss_outage: OutageMonitor,
     gnss_whiteness: WhitenessMonitor,
     star_consistency: ConsistencyMonitor,
+    /// The star noise per sensor axis as the innovations show it, used once the star
+    /// consistency test has failed (`star.noise_matching`).
+    star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
 }

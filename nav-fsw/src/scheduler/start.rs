@@ -295,6 +295,7 @@ impl Aids {
             addr_of_mut!((*part).gnss_outage).write(OutageMonitor::default());
             addr_of_mut!((*part).gnss_whiteness).write(WhitenessMonitor::default());
             addr_of_mut!((*part).star_consistency).write(ConsistencyMonitor::default());
+            addr_of_mut!((*part).star_noise).write(NoiseMatching::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
         }

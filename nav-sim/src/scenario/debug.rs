@@ -133,6 +133,9 @@ impl std::fmt::Debug for FilterSettings {
                 &self.star_aberration_correction,
             );
         }
+        if !self.star_noise_matching {
+            debug.field("star_noise_matching", &self.star_noise_matching);
+        }
         debug.finish()
     }
 }

@@ -234,6 +234,10 @@ fn default_min_altitude_m() -> f64 {
     DEFAULT_MIN_ALTITUDE_M
 }
 
+fn default_star_noise_matching() -> bool {
+    true
+}
+
 /// The launch site: origin and orientation of the launch-inertial frame.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -562,6 +566,11 @@ pub struct FilterSettings {
     /// (`[star_sensor] aberration = "uncorrected"`); false (the default) = it does not.
     #[serde(default)]
     pub star_aberration_correction: bool,
+    /// Whether the flight software's star noise follows the innovations once they fail the
+    /// consistency test (`star.noise_matching`, nav-fsw `noise_matching`); true (the default)
+    /// = it does, false = the configured noise throughout.
+    #[serde(default = "default_star_noise_matching")]
+    pub star_noise_matching: bool,
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

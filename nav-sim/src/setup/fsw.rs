@@ -164,6 +164,7 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         star_slow_error_sigma_rad: settings.star_slow_error.sigma_rad(),
         star_slow_error_correlation_time_s: settings.star_slow_error.correlation_time_s,
         star_aberration_correction: settings.star_aberration_correction,
+        star_noise_matching: settings.star_noise_matching,
     })
 }
 

@@ -40,9 +40,10 @@ pub fn short_scenario() -> Scenario {
 }
 
 /// The health counters a consistent flight with healthy sensors never raises: the aids'
-/// consistency verdicts and the fault declarations.
-pub const QUIET_COUNTERS: [&str; 5] = [
+/// consistency verdicts, the star noise matching they engage and the fault declarations.
+pub const QUIET_COUNTERS: [&str; 6] = [
     "star_inconsistent",
+    "star_noise_matched",
     "gnss_inconsistent",
     "gnss_velocity_inconsistent",
     "star_declared_faulty",
