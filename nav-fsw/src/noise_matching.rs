@@ -7,23 +7,27 @@
 //! **Estimate** (covariance matching: Mehra, "Approaches to adaptive filtering", IEEE Trans.
 //! Automatic Control 17(5), 1972, §IV; Mohamed and Schwarz, "Adaptive Kalman filtering for
 //! INS/GPS", Journal of Geodesy 73, 1999, eq. 26). For the innovation `ν = z − H x̂` of a filter
-//! whose `P` is right, `cov ν = H P Hᵀ + R`, and consecutive innovations are uncorrelated, so
-//! `E[(ν_k − ν_{k−1})²] = S_k + S_{k−1}`. Per sensor axis `i` the averages `d_i` of
-//! `(ν_{k,i} − ν_{k−1,i})² / 2` and `p_i` of `(H P Hᵀ)_ii = S_ii − R_i` (the `R` the update
-//! used) give `R̂_i = d_i − p_i`: the innovations' scatter from one measurement to the next,
-//! less what the state error explains. The difference takes out whatever the innovations
-//! share from one measurement to the next (an offset, a drift). The update then uses `R_i = max(R_configured,i, R̂_i)`; the star residual is
-//! half the rotation angle, so the noise angle is `σ_i = 2 √R_i`. The averages weigh the `n`
-//! measurements so far equally up to the consistency monitor's time constant `N`, then fade
-//! with it (`w = 1/min(n, N)`), so the estimate is usable after a few measurements.
+//! whose `P` is right, `cov ν = H P Hᵀ + R`, and consecutive innovations are uncorrelated. With
+//! a true noise `R_t` per sensor axis `i` and `p = (H P Hᵀ)_ii = S_ii − R_i` (the `R` the update
+//! used), `x_k = (ν_{k,i} − ν_{k−1,i})² / 2 − (p_k + p_{k−1}) / 2` therefore has mean `R_t`:
+//! the innovations' scatter from one measurement to the next, less what the state error
+//! explains. The difference takes out whatever the innovations share from one measurement to
+//! the next (an offset, a drift). `x_k` has variance `(S_k + S_{k−1})² / 2`, so the estimate is
+//! the average weighted by `w_k = 1/(S_k + S_{k−1})²`, fading with the consistency monitor's
+//! time constant `N`: `R̂ = Σ λ^(n−k) w_k x_k / Σ λ^(n−k) w_k`, `λ = 1 − 1/N`. The weight keeps
+//! out the measurements of a filter far from converged (after start-up or a widening of its
+//! covariance, `S` a thousand times `R`), whose `x_k` are large and say nothing of the noise;
+//! the fading keeps the last `N` measurements. The update then uses
+//! `R_i = max(R_configured,i, R̂_i)`; the star residual is half the rotation angle, so the noise
+//! angle is `σ_i = 2 √R_i`.
 //!
 //! **Scatter, not offset.** A faulty tracker (a step, a frozen output) and an inertial
 //! solution drifting away give innovations that are offset, not scattered: the difference
-//! takes the offset out of `R̂` (the step enters once), so neither widens the noise, and the fault logic still declares the
+//! takes the offset out of `R̂` (the step enters once), so neither widens the noise, and the
+//! fault logic still declares the
 //! tracker faulty or blames the inertial solution. A gate-rejected measurement enters scaled
-//! to the gate (`ν √(gate/NIS)`), as in the consistency monitor, so one outlier moves `q_i` by
-//! at most `gate S_ii / n`. While `R` was too small `P` is too small as well, so `p_i` is low
-//! and `R̂_i` high: the estimate errs on the cautious side.
+//! to the gate (`ν √(gate/NIS)`), as in the consistency monitor. While `R` was too small `P` is
+//! too small as well, so `p` is low and `R̂` high: the estimate errs on the cautious side.
 //!
 //! **When.** The averages take the measurements after the aid's acquisition (the first, under
 //! the acquisition gate, tells the prior, not the noise), and are used from the measurement at
@@ -37,12 +41,16 @@
 pub struct NoiseMatching {
     /// The last innovation entered (scaled to the gate if it was rejected).
     previous_innovation: [f64; 3],
-    /// Average of `(ν_{k,i} − ν_{k−1,i})² / 2` per sensor axis.
-    mean_half_difference_squared: [f64; 3],
-    /// Average of `(H P Hᵀ)_ii = S_ii − R_i` per sensor axis.
-    mean_predicted_variance: [f64; 3],
-    /// Measurements entered (saturating); the averages hold one fewer.
-    measurements: u32,
+    /// Its `S_ii` per sensor axis.
+    previous_variance: [f64; 3],
+    /// Its `(H P Hᵀ)_ii = S_ii − R_i` per sensor axis.
+    previous_predicted: [f64; 3],
+    /// `Σ λ^(n−k) w_k x_k` per sensor axis (module docs).
+    weighted_excess: [f64; 3],
+    /// `Σ λ^(n−k) w_k` per sensor axis.
+    total_weight: [f64; 3],
+    /// Whether a measurement has been entered.
+    started: bool,
     /// Whether the averages set the noise (latched until [`NoiseMatching::clear`]).
     engaged: bool,
 }
@@ -94,39 +102,45 @@ impl NoiseMatching {
             nav_core::float::sqrt(gate_nis / nis)
         };
         let entered = innovation.map(|nu| nu * scale);
-        let first = self.measurements == 0;
-        self.measurements = self.measurements.saturating_add(1);
+        let predicted: [f64; 3] = core::array::from_fn(|axis| {
+            let half_noise = 0.5 * noise_rad.get(axis).copied().unwrap_or(0.0);
+            innovation_variance.get(axis).copied().unwrap_or(f64::NAN) - half_noise * half_noise
+        });
         let previous = core::mem::replace(&mut self.previous_innovation, entered);
+        let previous_variance =
+            core::mem::replace(&mut self.previous_variance, *innovation_variance);
+        let previous_predicted = core::mem::replace(&mut self.previous_predicted, predicted);
+        let first = !self.started;
+        self.started = true;
         if first {
             return;
         }
-        let differences = self.measurements - 1;
-        let window = differences.min(time_constant_measurements.max(1));
-        let weight = 1.0 / f64::from(window);
-        let averages = self
-            .mean_half_difference_squared
-            .iter_mut()
-            .zip(&mut self.mean_predicted_variance);
-        let inputs = entered
+        let fading = 1.0 - 1.0 / f64::from(time_constant_measurements.max(1));
+        let sums = self.weighted_excess.iter_mut().zip(&mut self.total_weight);
+        let now = entered.iter().zip(innovation_variance).zip(&predicted);
+        let before = previous
             .iter()
-            .zip(&previous)
-            .zip(innovation_variance.iter().zip(noise_rad));
-        for ((mean_difference, mean_predicted), ((nu, nu_before), (s, noise))) in
-            averages.zip(inputs)
+            .zip(&previous_variance)
+            .zip(&previous_predicted);
+        for ((excess, weight), (((nu, s), p), ((nu_before, s_before), p_before))) in
+            sums.zip(now.zip(before))
         {
-            let half_noise = 0.5 * noise;
             let difference = nu - nu_before;
-            *mean_difference += (0.5 * difference * difference - *mean_difference) * weight;
-            *mean_predicted += (s - half_noise * half_noise - *mean_predicted) * weight;
+            let x = 0.5 * difference * difference - 0.5 * (p + p_before);
+            let sum_variance = s + s_before;
+            let w = 1.0 / (sum_variance * sum_variance);
+            if x.is_finite() && w.is_finite() {
+                *excess = fading * *excess + w * x;
+                *weight = fading * *weight + w;
+            }
         }
     }
 
     /// Lets the averages set the noise from now on; true when they did not before (one count
     /// per engagement). Refused (false, nothing changes) before the first measurement.
     pub fn engage(&mut self) -> bool {
-        let started = self.measurements > 0;
-        let began = started && !self.engaged;
-        self.engaged |= started;
+        let began = self.started && !self.engaged;
+        self.engaged |= self.started;
         began
     }
 
@@ -142,15 +156,14 @@ impl NoiseMatching {
             return *configured;
         }
         let mut used = *configured;
-        let averages = self
-            .mean_half_difference_squared
-            .iter()
-            .zip(&self.mean_predicted_variance);
-        for (noise, (mean_difference, mean_predicted)) in used.iter_mut().zip(averages) {
-            let matched_variance = mean_difference - mean_predicted;
-            let half_noise = 0.5 * *noise;
-            if matched_variance > half_noise * half_noise {
-                *noise = 2.0 * nav_core::float::sqrt(matched_variance);
+        let sums = self.weighted_excess.iter().zip(&self.total_weight);
+        for (noise, (excess, weight)) in used.iter_mut().zip(sums) {
+            if *weight > 0.0 {
+                let matched_variance = excess / weight;
+                let half_noise = 0.5 * *noise;
+                if matched_variance > half_noise * half_noise {
+                    *noise = 2.0 * nav_core::float::sqrt(matched_variance);
+                }
             }
         }
         used

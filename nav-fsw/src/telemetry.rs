@@ -58,10 +58,6 @@ pub struct FrameTelemetry {
     pub gnss_inconsistent: bool,
     /// Whether the GNSS velocity consistency monitor's last window failed.
     pub gnss_velocity_inconsistent: bool,
-    /// The star noise angles the next update uses, 1σ about sensor x, y and z (rad): the
-    /// configured ones, or the innovations' once the noise matching is on
-    /// ([`crate::noise_matching`]).
-    pub star_noise_rad: [f64; 3],
     /// Calibration blocks converged so far.
     pub converged_blocks: u32,
     /// Blocks frozen now ([`nav_core::state::BlockMask`] bits).

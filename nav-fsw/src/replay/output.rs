@@ -198,7 +198,8 @@ pub fn output_words(
     put(u64::from(h.gravity_allowance_short));
     put(u64::from(h.gravity_field_errors));
     put(u64::from(h.star_noise_matched));
-    for noise in t.star_noise_rad {
+    // Read from the computer, not the frame telemetry: every frame would pay for the copy.
+    for noise in computer.star_noise_rad() {
         put(noise.to_bits());
     }
     words

@@ -84,6 +84,12 @@ pub(super) struct AidingSensor {
     /// current run of gate rejections began (a gradual onset: the inertial solution drifting
     /// away, not a step in the sensor).
     pub(super) run_began_inconsistent: bool,
+    /// The aid's first rejected innovation in its sensor's current run of gate rejections.
+    pub(super) run_start_innovation: Option<[f64; 3]>,
+    /// Whether a later rejected innovation of the run differs from the first by more than
+    /// two measurements' noise can explain ([`NavigationComputer::note_run_innovation`]):
+    /// the innovations grow, as from an inertial solution drifting away.
+    pub(super) run_innovation_grew: bool,
     /// Whether the filter has accepted a measurement of the aid since start-up, the aid's
     /// last outage, the filter's last re-initialisation or its sensor's last cleared fault:
     /// until then its gate is the acquisition gate ([`crate::config::ACQUISITION_GATE_NIS`]).
@@ -182,6 +188,7 @@ impl NavigationComputer {
             self.fault_state(sensor).consecutive_rejections = 0;
             count(&mut self.health.counters.inertial_suspect);
             self.widen_inertial_uncertainty(sensor);
+            self.clear_runs(sensor);
         } else {
             self.fault_state(sensor).faulty = true;
             count(match sensor {
@@ -197,7 +204,63 @@ impl NavigationComputer {
     /// misalignment, a g-sensitivity) grows, so the sensor's innovations fail the
     /// consistency test before they fail the gate, or the other sensor's fail it too.
     pub(super) fn blames_inertial_solution(&mut self, sensor: Sensor) -> bool {
-        self.fault_state(sensor).run_began_inconsistent || self.inconsistent(sensor.other())
+        self.fault_state(sensor).run_began_inconsistent
+            || self.run_innovation_grew(sensor)
+            || self.inconsistent(sensor.other())
+    }
+
+    /// Whether the rejected innovations of any aid of `sensor` grew during the current run.
+    fn run_innovation_grew(&self, sensor: Sensor) -> bool {
+        match sensor {
+            Sensor::Star => self.aids.star.run_innovation_grew,
+            Sensor::Gnss => {
+                self.aids.gnss.run_innovation_grew || self.aids.gnss_velocity.run_innovation_grew
+            }
+        }
+    }
+
+    /// Enters a gate-rejected innovation `ν` (covariance `S`) of `aid` in its sensor's run:
+    /// the first is kept; a later one marks the run as grown when
+    /// `Σ_i (ν_i − ν_first,i)² / (2 S_ii)` exceeds the aid's gate. A sensor fault (a step, a
+    /// frozen output) repeats its innovation, so the difference of two is the noise of two
+    /// measurements, `2 S`, and the sum is χ²(3) below the gate but for the gate's own false
+    /// alarm; an inertial error the filter does not model (a gyro bias its first updates got
+    /// wrong, a g-sensitivity in a burn) drives the innovations away from where the run began.
+    pub(super) fn note_run_innovation(
+        &mut self,
+        aid: Aid,
+        report: &nav_core::filter::InnovationReport,
+    ) {
+        let gate = self.gate_nis(aid);
+        let (nu, s) = (&report.innovation, &report.covariance);
+        let innovation = [nu.x, nu.y, nu.z];
+        let statistics = self.statistics(aid);
+        let Some(start) = statistics.run_start_innovation else {
+            statistics.run_start_innovation = Some(innovation);
+            statistics.run_innovation_grew = false;
+            return;
+        };
+        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+        let change: f64 = innovation
+            .iter()
+            .zip(&start)
+            .zip(&variances)
+            .map(|((now, first), variance)| (now - first) * (now - first) / (2.0 * variance))
+            .sum();
+        // A NaN change (a non-finite S) marks nothing.
+        statistics.run_innovation_grew |= change > gate;
+    }
+
+    /// Forgets the runs' first innovations of `sensor`'s aids: a new run begins.
+    pub(super) fn clear_runs(&mut self, sensor: Sensor) {
+        let aids: &mut [&mut AidingSensor] = match sensor {
+            Sensor::Star => &mut [&mut self.aids.star],
+            Sensor::Gnss => &mut [&mut self.aids.gnss, &mut self.aids.gnss_velocity],
+        };
+        for aid in aids.iter_mut() {
+            aid.run_start_innovation = None;
+            aid.run_innovation_grew = false;
+        }
     }
 
     /// Whether any aid of `sensor` fails its consistency test now.
@@ -213,19 +276,36 @@ impl NavigationComputer {
 
     /// The inertial solution is blamed for `sensor`'s rejections: the uncertainty of the
     /// states it observes ([`Sensor::inertial_blocks`]) is widened by the ratio of its
-    /// innovations' average NIS to the consistent 3 (`f = m / 3`, at least 1), so the
-    /// filter's σ grows to the size of the error its innovations show (nav-core
-    /// `widen_block_uncertainty`, `P' = S P S`, correlations kept).
+    /// innovations' NIS to the consistent 3 (`f = m / 3`, at least 1), so the filter's σ grows
+    /// to the size of the error its innovations show (nav-core `widen_block_uncertainty`,
+    /// `P' = S P S`, correlations kept). The NIS is the fading average `m` of the consistency
+    /// monitor, or, when the run's innovations grew ([`AidingSensor::run_innovation_grew`]),
+    /// the larger of it and the run's last NIS: the error now, which the average (a time
+    /// constant of 256 measurements) would show only after many runs, the error growing
+    /// all the while.
     pub(super) fn widen_inertial_uncertainty(&mut self, sensor: Sensor) {
-        let mean_nis = match sensor {
-            Sensor::Star => self.aids.star_consistency.mean_nis(),
+        let grown = |aid: &AidingSensor| {
+            if aid.run_innovation_grew {
+                aid.last_nis
+            } else {
+                0.0
+            }
+        };
+        let nis = match sensor {
+            Sensor::Star => self
+                .aids
+                .star_consistency
+                .mean_nis()
+                .max(grown(&self.aids.star)),
             Sensor::Gnss => self
                 .aids
                 .gnss_consistency
                 .mean_nis()
-                .max(self.aids.gnss_velocity_consistency.mean_nis()),
+                .max(self.aids.gnss_velocity_consistency.mean_nis())
+                .max(grown(&self.aids.gnss))
+                .max(grown(&self.aids.gnss_velocity)),
         };
-        let factor = (mean_nis / CONSISTENT_MEAN_NIS).max(1.0);
+        let factor = (nis / CONSISTENT_MEAN_NIS).max(1.0);
         for block in sensor.inertial_blocks() {
             if self
                 .covariance

@@ -233,12 +233,20 @@ impl NavigationComputer {
             Ok(report) => report,
         };
         self.statistics(aid).last_nis = report.normalised_innovation_squared;
-        let acquired_before = self.statistics(aid).acquired;
+        if aid == Aid::Star {
+            // Before the acquisition below: the acquisition measurement is not entered.
+            let acquired_before = self.aids.star.acquired;
+            self.match_star_noise(&report, acquired_before);
+        }
         if aid == Aid::GnssPosition {
             self.observe_whiteness(&report);
         }
         if report.accepted {
-            self.fault_state(aid.sensor()).consecutive_rejections = 0;
+            let state = self.fault_state(aid.sensor());
+            // A run's first innovations are kept only while a run lasts.
+            if core::mem::take(&mut state.consecutive_rejections) != 0 {
+                self.clear_runs(aid.sensor());
+            }
             self.statistics(aid).acquired = true;
             if aid.measures_attitude() {
                 self.restart_second_order_attitude();
@@ -248,10 +256,8 @@ impl NavigationComputer {
             }
         } else {
             count(self.gate_rejections(aid));
+            self.note_run_innovation(aid, &report);
             self.note_rejection(aid);
-        }
-        if aid == Aid::Star {
-            self.match_star_noise(&report, acquired_before);
         }
         // After the fault logic, which reads the verdict the run of rejections began under.
         self.observe_consistency(aid, &report);

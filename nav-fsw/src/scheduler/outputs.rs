@@ -42,7 +42,6 @@ impl NavigationComputer {
             star_inconsistent: self.aids.star_consistency.failing(),
             gnss_inconsistent: self.aids.gnss_consistency.failing(),
             gnss_velocity_inconsistent: self.aids.gnss_velocity_consistency.failing(),
-            star_noise_rad: self.star_noise_rad(),
             converged_blocks: self.calibration.manager.table().converged_count(),
             frozen_blocks: self.calibration.manager.frozen_blocks().bits(),
             health: self.health.counters,

@@ -406,6 +406,41 @@ fn a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one() 
     assert!(computer.aids.star.faulty);
 }
 
+/// A run of rejections whose innovations grow (each star measurement farther off than the
+/// last, as from an inertial solution drifting away) is blamed on the inertial solution
+/// even though the monitors passed when it began: `inertial_suspect` counts, the tracker is
+/// kept, and the attitude variance is widened by the run's last NIS over 3, enough for the
+/// next measurement to pass the gate. The same run at a constant offset is the tracker's
+/// (`a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one`).
+#[test]
+fn a_run_of_growing_innovations_is_blamed_on_the_inertial_solution() {
+    let mut computer = computer();
+    let (gate, _, nis, offset_rad) = between_the_gates(&computer);
+    fly_star_offset(&mut computer, 42, offset_rad);
+    assert!(!computer.inconsistent(Sensor::Star) && !computer.inconsistent(Sensor::Gnss));
+    let limit = computer.config.timing.rejections_to_declare_faulty;
+    let first_rad = offset_rad + offset_for_nis(&computer, offset_rad, nis);
+    // Each measurement one first-offset's worth farther: NIS 4 to 400 times the first.
+    let step_rad = first_rad - offset_rad;
+    let mut last_nis = 0.0;
+    for k in 0..limit {
+        last_nis = fly_star_offset(&mut computer, 2, first_rad + f64::from(k) * step_rad);
+    }
+    let health = computer.health();
+    assert_eq!(health.star_gate_rejections, limit);
+    assert_eq!(health.star_declared_faulty, 0);
+    assert_eq!(health.inertial_suspect, 1);
+    assert!(last_nis > 100.0 * gate, "{last_nis}");
+    // Widened by the last NIS: the next measurement at the last offset passes the gate.
+    let next_nis = fly_star_offset(
+        &mut computer,
+        2,
+        first_rad + f64::from(limit - 1) * step_rad,
+    );
+    assert!(next_nis < gate, "{next_nis}");
+    assert!(!computer.aids.star.faulty);
+}
+
 /// Without the acquisition gate (set to the steady one) the same first disagreement is a
 /// fault: the persistent prior error is rejected every time.
 #[test]
