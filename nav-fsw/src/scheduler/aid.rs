@@ -280,13 +280,19 @@ impl NavigationComputer {
     /// to the size of the error its innovations show (nav-core `widen_block_uncertainty`,
     /// `P' = S P S`, correlations kept). The NIS is the fading average `m` of the consistency
     /// monitor, or, when the run's innovations grew ([`AidingSensor::run_innovation_grew`]),
-    /// the larger of it and the run's last NIS: the error now, which the average (a time
-    /// constant of 256 measurements) would show only after many runs, the error growing
-    /// all the while.
+    /// the larger of it and the run's last NIS capped at the gate: the error now, which the
+    /// average (a time constant of 256 measurements) would show only after many runs, the
+    /// error growing all the while.
     pub(super) fn widen_inertial_uncertainty(&mut self, sensor: Sensor) {
+        // The run's last NIS counts up to the gate: beyond it the widening would let the next
+        // measurement in whole, the sensor's error with it.
+        let gate = self.gate_nis(match sensor {
+            Sensor::Star => Aid::Star,
+            Sensor::Gnss => Aid::GnssPosition,
+        });
         let grown = |aid: &AidingSensor| {
             if aid.run_innovation_grew {
-                aid.last_nis
+                aid.last_nis.min(gate)
             } else {
                 0.0
             }

@@ -121,13 +121,14 @@ struct Bounds {
     calibrated_position_m: f64,
 }
 
-/// The flight software as configured (innovation gates, sensors declared faulty after 20
-/// consecutive rejections). Measured over the 6 seeds: per-run ratio of the maximum position
-/// error 0.168 on average, 0.046 to 0.232; the uncalibrated filter's maximum 1214 m on
-/// average, the calibrated one's 207 m. The uncalibrated filter is overconfident: the star
-/// tracker's attitude disagrees with its gyro-propagated attitude by the scale-factor error
-/// times the angle turned, its gate rejects, and the tracker is declared faulty in every run
-/// (and stays so until commanded); the calibrated filter loses no sensor.
+/// The flight software as configured (innovation gates, runs of 20 consecutive rejections
+/// blamed). Measured over the 6 seeds: per-run ratio of the maximum position error 0.202 on
+/// average, 0.054 to 0.283. The uncalibrated filter is overconfident: the star tracker's
+/// attitude disagrees with its gyro-propagated attitude by the scale-factor error times the
+/// angle turned, and its gate rejects 127 to 143 measurements a run. Those innovations grow
+/// with the angle, so the runs are blamed on the inertial solution and the healthy tracker is
+/// kept (`inertial_suspect`), where a fault logic that took every run for the sensor's
+/// declared it faulty in every run; the calibrated filter loses no sensor either.
 #[test]
 fn calibration_reduces_the_outage_position_error_as_configured() {
     let comparisons = campaign(false);
@@ -152,7 +153,8 @@ fn calibration_reduces_the_outage_position_error_as_configured() {
             ),
             (0, 0)
         );
-        assert_eq!(uncalibrated.star_declared_faulty, 1);
+        assert_eq!(uncalibrated.star_declared_faulty, 0);
+        assert!(uncalibrated.inertial_suspect > 0);
     }
 }
 
