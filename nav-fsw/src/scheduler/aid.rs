@@ -232,15 +232,13 @@ impl NavigationComputer {
         report: &nav_core::filter::InnovationReport,
     ) {
         let gate = self.gate_nis(aid);
-        let (nu, s) = (&report.innovation, &report.covariance);
-        let innovation = [nu.x, nu.y, nu.z];
+        let (innovation, variances) = super::fusion::per_axis(report);
         let statistics = self.statistics(aid);
         let Some(start) = statistics.run_start_innovation else {
             statistics.run_start_innovation = Some(innovation);
             statistics.run_innovation_grew = false;
             return;
         };
-        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
         let change: f64 = innovation
             .iter()
             .zip(&start)

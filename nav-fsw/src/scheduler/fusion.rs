@@ -136,14 +136,13 @@ impl NavigationComputer {
             return;
         }
         if acquired_before {
-            let (nu, s) = (&report.innovation, &report.covariance);
-            let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+            let (innovation, variances) = per_axis(report);
             let used = self.star_noise_rad();
             let gate = self.gate_nis(Aid::Star);
             let time_constant = self.config.consistency.time_constant_measurements;
             let nis = report.normalised_innovation_squared;
             self.aids.star_noise.observe(
-                &[nu.x, nu.y, nu.z],
+                &innovation,
                 &variances,
                 &used,
                 nis,
@@ -295,10 +294,9 @@ impl NavigationComputer {
 
     /// Feeds a GNSS position innovation to the whiteness monitor (counted per episode).
     pub(super) fn observe_whiteness(&mut self, report: &nav_core::filter::InnovationReport) {
-        let (nu, s) = (&report.innovation, &report.covariance);
-        let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+        let (innovation, variances) = per_axis(report);
         let began = self.aids.gnss_whiteness.observe(
-            &[nu.x, nu.y, nu.z],
+            &innovation,
             &variances,
             self.config.gnss.whiteness_window_fixes,
             self.config.gnss.whiteness_threshold,
@@ -307,4 +305,12 @@ impl NavigationComputer {
             count(&mut self.health.counters.gnss_innovations_correlated);
         }
     }
+}
+
+/// A measurement's innovation and the diagonal of its covariance `S`, per axis (a non-finite
+/// `S_ii` where the matrix has none, which every user refuses).
+pub(super) fn per_axis(report: &nav_core::filter::InnovationReport) -> ([f64; 3], [f64; 3]) {
+    let (nu, s) = (&report.innovation, &report.covariance);
+    let variances = [0, 1, 2].map(|i| s.get((i, i)).copied().unwrap_or(f64::NAN));
+    ([nu.x, nu.y, nu.z], variances)
 }
