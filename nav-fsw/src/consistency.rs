@@ -146,21 +146,7 @@ impl ConsistencyMonitor {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A deterministic pseudo-random N(0, 1) source (xorshift + Box–Muller).
-    fn normal_source(seed: u64) -> impl FnMut() -> f64 {
-        let mut state = seed;
-        move || {
-            let mut uniform = || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 + 1e-18
-            };
-            let (u, v) = (uniform(), uniform());
-            nav_core::float::sqrt(-2.0 * libm::log(u)) * libm::cos(2.0 * core::f64::consts::PI * v)
-        }
-    }
+    use crate::test_random::normal_source;
 
     /// A χ²(3) draw scaled by `variance_ratio` (innovations `√ratio` times the claimed σ).
     fn nis_draw(normal: &mut impl FnMut() -> f64, variance_ratio: f64) -> f64 {

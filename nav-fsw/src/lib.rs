@@ -81,6 +81,8 @@ pub mod spi_imu;
 pub mod stream_merge;
 pub mod stream_ports;
 pub mod telemetry;
+#[cfg(test)]
+mod test_random;
 
 pub use config::FswConfig;
 pub use error::{ConfigField, FswError};
