@@ -24,9 +24,9 @@
 //! **Scatter, not offset.** A faulty tracker (a step, a frozen output) and an inertial
 //! solution drifting away give innovations that are offset, not scattered: the difference
 //! takes the offset out of `R̂` (the step enters once), so neither widens the noise, and the
-//! fault logic still declares the
-//! tracker faulty or blames the inertial solution. A gate-rejected measurement enters scaled
-//! to the gate (`ν √(gate/NIS)`), as in the consistency monitor. While `R` was too small `P` is
+//! fault logic still declares the tracker faulty or blames the inertial solution. A
+//! gate-rejected measurement enters scaled to the gate (`ν √(gate/NIS)`), as in the
+//! consistency monitor. While `R` was too small `P` is
 //! too small as well, so `p` is low and `R̂` high: the estimate errs on the cautious side.
 //!
 //! **When.** The averages take the measurements after the aid's acquisition (the first, under
