@@ -36,6 +36,20 @@ impl Sensor {
     }
 }
 
+/// The matched star noise over the configured noise beyond which a run of star rejections is
+/// blamed on the filter's fit ([`NavigationComputer::star_noise_exceeds_configured`]). The
+/// matched noise of a tracker as noisy as configured scatters by a few per cent (a fading
+/// average of squared differences over some 256 measurements: about 6 % in variance, 3 % in
+/// σ), so 1.25 lies far outside that scatter.
+const NOISE_MATCHED_BLAME_RATIO: f64 = 1.25;
+
+/// The blocks beyond the attitude and gyro bias that the star updates fit: the installation
+/// error and the gyro scale factor. When a run of star rejections grew, or the tracker proved
+/// noisier than configured, the fit of these is as suspect as the attitude's (a gyro bias,
+/// scale factor and installation fitted together in the first seconds with too small a noise
+/// are each confidently wrong), so they are widened with it.
+pub(super) const STAR_FITTED_BLOCKS: [StateBlock; 2] = [STAR_INSTALLATION, GYRO_SCALE_FACTOR];
+
 /// The aiding measurements, one routine each for forming them and one shared path for
 /// referral, update and fault handling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -209,10 +223,27 @@ impl NavigationComputer {
             || self.inconsistent(sensor.other())
     }
 
-    /// Whether the rejected innovations of any aid of `sensor` grew during the current run.
+    /// Whether the star noise the innovations show exceeds the configured noise on some axis
+    /// by more than [`NOISE_MATCHED_BLAME_RATIO`] (nav-fsw `noise_matching`, engaged): the
+    /// tracker is noisier than the filter was told, so the states the filter fitted with the
+    /// smaller noise are overconfident, and a run of rejections that follows is the fit's
+    /// doing, not a fault of the tracker.
+    pub(super) fn star_noise_exceeds_configured(&self) -> bool {
+        let star = &self.config.star;
+        let configured = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
+        self.star_noise_rad()
+            .iter()
+            .zip(&configured)
+            .any(|(matched, configured)| *matched > NOISE_MATCHED_BLAME_RATIO * configured)
+    }
+
+    /// Whether the rejected innovations of any aid of `sensor` grew during the current run,
+    /// or (star) the tracker's noise proved larger than configured.
     fn run_innovation_grew(&self, sensor: Sensor) -> bool {
         match sensor {
-            Sensor::Star => self.aids.star.run_innovation_grew,
+            Sensor::Star => {
+                self.aids.star.run_innovation_grew || self.star_noise_exceeds_configured()
+            }
             Sensor::Gnss => {
                 self.aids.gnss.run_innovation_grew || self.aids.gnss_velocity.run_innovation_grew
             }
@@ -280,7 +311,9 @@ impl NavigationComputer {
     /// monitor, or, when the run's innovations grew ([`AidingSensor::run_innovation_grew`]),
     /// the larger of it and the run's last NIS capped at the gate: the error now, which the
     /// average (a time constant of 256 measurements) would show only after many runs, the
-    /// error growing all the while.
+    /// error growing all the while. A star run that grew, or that follows the tracker proving
+    /// noisier than configured, widens the installation and gyro scale factor too
+    /// ([`STAR_FITTED_BLOCKS`]).
     pub(super) fn widen_inertial_uncertainty(&mut self, sensor: Sensor) {
         // The run's last NIS counts up to the gate: beyond it the widening would let the next
         // measurement in whole, the sensor's error with it.
@@ -288,8 +321,8 @@ impl NavigationComputer {
             Sensor::Star => Aid::Star,
             Sensor::Gnss => Aid::GnssPosition,
         });
-        let grown = |aid: &AidingSensor| {
-            if aid.run_innovation_grew {
+        let grown = |aid: &AidingSensor, noise_exceeds: bool| {
+            if aid.run_innovation_grew || noise_exceeds {
                 aid.last_nis.min(gate)
             } else {
                 0.0
@@ -300,17 +333,21 @@ impl NavigationComputer {
                 .aids
                 .star_consistency
                 .mean_nis()
-                .max(grown(&self.aids.star)),
+                .max(grown(&self.aids.star, self.star_noise_exceeds_configured())),
             Sensor::Gnss => self
                 .aids
                 .gnss_consistency
                 .mean_nis()
                 .max(self.aids.gnss_velocity_consistency.mean_nis())
-                .max(grown(&self.aids.gnss))
-                .max(grown(&self.aids.gnss_velocity)),
+                .max(grown(&self.aids.gnss, false))
+                .max(grown(&self.aids.gnss_velocity, false)),
         };
         let factor = (nis / CONSISTENT_MEAN_NIS).max(1.0);
-        for block in sensor.inertial_blocks() {
+        let refit: &[StateBlock] = match sensor {
+            Sensor::Star if self.run_innovation_grew(Sensor::Star) => &STAR_FITTED_BLOCKS,
+            _ => &[],
+        };
+        for block in sensor.inertial_blocks().iter().chain(refit) {
             if self
                 .covariance
                 .filter

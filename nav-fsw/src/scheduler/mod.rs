@@ -58,7 +58,8 @@ use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
 };
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, STAR_INSTALLATION, VELOCITY,
+    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,
+    STAR_INSTALLATION, VELOCITY,
 };
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,

@@ -1,3 +1,4 @@
+use super::aid::STAR_FITTED_BLOCKS;
 use super::*;
 use crate::sensor_frames::SensorFrames;
 use nav_core::frames::LaunchSite;
@@ -424,9 +425,11 @@ fn a_run_of_growing_innovations_is_blamed_on_the_inertial_solution() {
     let step_rad = first_rad - offset_rad;
     let attitude_variance = |computer: &NavigationComputer| computer.filter().covariance()[(0, 0)];
     let mut before = 0.0;
+    let mut fitted_before = [0.0; 2];
     let mut last_nis = 0.0;
     for k in 0..limit {
         before = attitude_variance(&computer);
+        fitted_before = STAR_FITTED_BLOCKS.map(|block| variance(&computer, block));
         last_nis = fly_star_offset(&mut computer, 2, first_rad + f64::from(k) * step_rad);
     }
     let health = computer.health();
@@ -438,7 +441,54 @@ fn a_run_of_growing_innovations_is_blamed_on_the_inertial_solution() {
     // monitor's average (about 4 / 3 after 20 gate-capped entries).
     let after = attitude_variance(&computer);
     assert!(after > 4.0 * before, "{before} {after}");
+    // The installation and gyro scale factor, fitted by the same updates, widen with it.
+    let fitted_after = STAR_FITTED_BLOCKS.map(|block| variance(&computer, block));
+    for (before, after) in fitted_before.iter().zip(&fitted_after) {
+        assert!(*after > 4.0 * before, "{fitted_before:?} {fitted_after:?}");
+    }
     assert!(!computer.aids.star.faulty);
+}
+
+/// The variance of the first state of `block`.
+fn variance(computer: &NavigationComputer, block: StateBlock) -> f64 {
+    computer.filter().covariance()[(block.index(), block.index())]
+}
+
+/// A tracker noisier than configured (3.5 times about body x): once the noise matching has
+/// found the larger noise, a run of rejections at a constant offset, which a tracker as
+/// noisy as configured is declared faulty for
+/// (`a_sensor_is_acquired_under_the_wider_gate_and_faulted_under_the_steady_one`), is
+/// blamed on the filter's fit: the tracker is kept, and the installation and gyro scale
+/// factor are widened with the attitude and gyro bias.
+#[test]
+fn a_run_after_the_tracker_proved_noisier_than_configured_is_blamed_on_the_fit() {
+    let mut computer = computer();
+    let noise_rad = computer.config.star.noise_rad;
+    let mut normal = crate::test_random::normal_source(0x0dd_ba11_c0ff_ee00);
+    for _ in 0..600 {
+        fly_star_offset(&mut computer, 2, 3.5 * noise_rad * normal());
+    }
+    assert!(computer.aids.star_noise.engaged());
+    assert!(computer.star_noise_exceeds_configured());
+    assert_eq!(computer.health().star_declared_faulty, 0);
+    let suspect_before = computer.health().inertial_suspect;
+    // Eight times the matched noise: far beyond the gate, a step in the tracker's output.
+    let offset_rad = 8.0
+        * computer
+            .star_noise_rad()
+            .iter()
+            .fold(0.0, |a: f64, b| a.max(*b));
+    let fitted_before = STAR_FITTED_BLOCKS.map(|block| variance(&computer, block));
+    let limit = computer.config.timing.rejections_to_declare_faulty;
+    fly_star_offset(&mut computer, 2 * limit, offset_rad);
+    let health = computer.health();
+    assert_eq!(health.star_declared_faulty, 0);
+    assert!(health.inertial_suspect > suspect_before);
+    assert!(!computer.aids.star.faulty);
+    let fitted_after = STAR_FITTED_BLOCKS.map(|block| variance(&computer, block));
+    for (before, after) in fitted_before.iter().zip(&fitted_after) {
+        assert!(*after > *before, "{fitted_before:?} {fitted_after:?}");
+    }
 }
 
 /// Without the acquisition gate (set to the steady one) the same first disagreement is a
