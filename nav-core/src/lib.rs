@@ -69,6 +69,7 @@ pub mod measurement;
 pub mod observability;
 #[cfg(any(test, feature = "selftest"))]
 pub mod selftest;
+pub mod star_heads;
 pub mod state;
 pub mod strapdown;
 pub mod structured;

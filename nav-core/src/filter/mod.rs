@@ -531,11 +531,14 @@ impl ErrorStateFilter {
         block: StateBlock,
         covariance: &Matrix3<f64>,
     ) -> Result<(), NavError> {
-        let finite = covariance.iter().all(|value| value.is_finite());
-        let diagonal_positive = covariance.diagonal().iter().all(|value| *value >= 0.0);
-        if !(finite && diagonal_positive) {
-            return Err(NavError::NonFiniteInput);
-        }
+        check_block_covariance(covariance)?;
+        self.add_symmetric_part(block, covariance);
+        Ok(())
+    }
+
+    /// Adds the symmetric part of `covariance` to the diagonal block of `block` (checked by
+    /// [`check_block_covariance`]).
+    fn add_symmetric_part(&mut self, block: StateBlock, covariance: &Matrix3<f64>) {
         let symmetric = (covariance + covariance.transpose()) * 0.5;
         for (row, values) in symmetric.row_iter().enumerate() {
             for (column, value) in values.iter().enumerate() {
@@ -550,7 +553,6 @@ impl ErrorStateFilter {
                 }
             }
         }
-        Ok(())
     }
 
     /// Replaces `P` (for covariance protection by the caller).
@@ -992,6 +994,84 @@ impl ErrorStateFilter {
         self.state = ErrorState::zeros();
     }
 
+    /// Moves the star-installation block from the head the filter fused until now (old) to
+    /// another head (new): with `T = rotation_new_from_old` (`C_new,old`, from
+    /// [`crate::star_heads::RelativeAlignment::hand_over`]) and
+    /// `Q = added_covariance_half_angle` (the relative alignment's uncertainty as a
+    /// half-angle covariance, rad²), `x_ψ ← T x_ψ`, `P_ψψ ← T P_ψψ Tᵀ + Q`, and
+    /// `P_jψ ← P_jψ Tᵀ` for every other state `j`, the correlated GNSS error and the
+    /// systematic IMU error states included; nothing else changes. The derivation of
+    /// `ψ_new = T ψ_old + δ/2` is in [`crate::star_heads`]. Done in place by blocks, as the
+    /// reset ([`ErrorStateFilter::reset`]) is: the same map with `J_ϑϑ = I`, `J_ψψ = T`.
+    /// `P` stays exactly symmetric.
+    ///
+    /// With a finite `P` and a rotation `T` every new value is a sum of three products with
+    /// factors of magnitude at most 1 plus a finite `Q`, so after the input checks the map
+    /// cannot fail.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite `T` or `Q` or a negative diagonal of
+    /// `Q`, [`NavError::InvalidConfiguration`] for a `T` that is not a proper rotation
+    /// (`|TᵀT − I| > 1e-9` in an element, or `det T < 0`); the filter is unchanged then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nalgebra::{Matrix3, Vector3};
+    /// use nav_core::attitude::{exp_rotation_vector, rotation_matrix};
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
+    /// use nav_core::state::STAR_INSTALLATION;
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let mut filter = ErrorStateFilter::new(&config)?;
+    /// // Heads 90° apart about sensor x; 10 µrad² of relative-alignment variance per axis.
+    /// let alignment_old_from_new = exp_rotation_vector(&Vector3::new(1.5707963267948966, 0.0, 0.0));
+    /// let rotation_new_from_old = rotation_matrix(&alignment_old_from_new).transpose();
+    /// let added = Matrix3::identity() * (1e-10 / 4.0);
+    /// filter.hand_over_installation(&rotation_new_from_old, &added)?;
+    /// let i = STAR_INSTALLATION.index();
+    /// assert!((filter.covariance()[(i, i)] - (0.25e-4 + 0.25e-10)).abs() < 1e-18);
+    /// assert!(filter.hand_over_installation(&(rotation_new_from_old * 1.1), &added).is_err());
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn hand_over_installation(
+        &mut self,
+        rotation_new_from_old: &Matrix3<f64>,
+        added_covariance_half_angle: &Matrix3<f64>,
+    ) -> Result<(), NavError> {
+        check_rotation(rotation_new_from_old)?;
+        check_block_covariance(added_covariance_half_angle)?;
+        let rotation = block::from_matrix(rotation_new_from_old);
+        structured::reset_covariance(
+            &mut self.covariance,
+            &Matrix3::identity(),
+            rotation_new_from_old,
+        );
+        if self.gnss_error.is_enabled() {
+            self.gnss_error.reset(&block::IDENTITY, &rotation);
+        }
+        if self.imu_error.is_enabled() {
+            self.imu_error
+                .transform_cross_rows(&block::IDENTITY, &rotation);
+        }
+        let installation = rotation_new_from_old * block_of(&self.state, STAR_INSTALLATION);
+        let first = STAR_INSTALLATION.index();
+        let states = first..first.saturating_add(STAR_INSTALLATION.dimension());
+        if let Some(values) = self.state.as_mut_slice().get_mut(states) {
+            for (value, new) in values.iter_mut().zip(installation.iter()) {
+                *value = *new;
+            }
+        }
+        self.add_symmetric_part(STAR_INSTALLATION, added_covariance_half_angle);
+        Ok(())
+    }
+
     /// In open loop, the current estimate of the error of one block (for reporting).
     pub fn block(&self, block: StateBlock) -> Vector3<f64> {
         block_of(&self.state, block)
@@ -1000,6 +1080,37 @@ impl ErrorStateFilter {
     /// Indices of the blocks, for reports (re-export of the state layout).
     pub fn blocks() -> &'static [StateBlock; 8] {
         &StateBlock::ALL
+    }
+}
+
+/// [`NavError::NonFiniteInput`] for a non-finite entry or a negative diagonal entry of a
+/// 3×3 covariance added to a block.
+fn check_block_covariance(covariance: &Matrix3<f64>) -> Result<(), NavError> {
+    let finite = covariance.iter().all(|value| value.is_finite());
+    let diagonal_positive = covariance.diagonal().iter().all(|value| *value >= 0.0);
+    if finite && diagonal_positive {
+        Ok(())
+    } else {
+        Err(NavError::NonFiniteInput)
+    }
+}
+
+/// Largest distance of an element of `TᵀT` from the identity's for a matrix taken as a
+/// rotation (the round-off of a rotation built from a unit quaternion is ~1e-16).
+const ROTATION_TOLERANCE: f64 = 1.0e-9;
+
+/// [`NavError::NonFiniteInput`] for a non-finite `rotation`,
+/// [`NavError::InvalidConfiguration`] if it is not a proper rotation (orthonormal within
+/// [`ROTATION_TOLERANCE`], determinant positive).
+fn check_rotation(rotation: &Matrix3<f64>) -> Result<(), NavError> {
+    if !rotation.iter().all(|value| value.is_finite()) {
+        return Err(NavError::NonFiniteInput);
+    }
+    let departure = (rotation.transpose() * rotation - Matrix3::identity()).amax();
+    if departure <= ROTATION_TOLERANCE && rotation.determinant() > 0.0 {
+        Ok(())
+    } else {
+        Err(NavError::InvalidConfiguration)
     }
 }
 

@@ -389,6 +389,14 @@ impl ImuErrorStates {
     /// The closed-loop reset: `C ← J C` on the attitude and installation rows, `ε̂ = 0` (the
     /// caller has fed it into its corrections).
     pub(crate) fn reset(&mut self, attitude: &Block, installation: &Block) {
+        self.transform_cross_rows(attitude, installation);
+        self.half_mut().estimate = [0.0; IMU_ERROR_DIMENSION];
+    }
+
+    /// `C ← J C` for `J` the identity except `J_ϑϑ = attitude` and `J_ψψ = installation`,
+    /// `ε̂` unchanged: the reset's map, and the star-head hand-over's
+    /// ([`crate::filter::ErrorStateFilter::hand_over_installation`]).
+    pub(crate) fn transform_cross_rows(&mut self, attitude: &Block, installation: &Block) {
         for group in self.cross_mut().iter_mut() {
             for (offset, jacobian) in [
                 (ATTITUDE.index(), attitude),
@@ -402,7 +410,6 @@ impl ImuErrorStates {
                 }
             }
         }
-        self.half_mut().estimate = [0.0; IMU_ERROR_DIMENSION];
     }
 
     /// `corrections + ε̂`: the systematic corrections after the closed-loop feedback of the
