@@ -142,6 +142,55 @@ pub struct StarSensorConfig {
     /// (per sensor axis, never below `noise_rad` and `roll_noise_rad`; [`crate::noise_matching`]);
     /// `true` by default. Off, a tracker noisier than configured keeps its configured weight.
     pub noise_matching: bool,
+    /// A second tracker head on the same port (`StarMeasurement::head` 1); `None` (the
+    /// default) = one head. The filter fuses one head at a time and carries its installation
+    /// error; the other head's measurements estimate the heads' relative alignment
+    /// (`scheduler::heads`, docs/sensor-errors.md).
+    pub second_head: Option<StarHeadConfig>,
+}
+
+/// The second tracker head: what differs from the first (`star`); its gates, rate and slow
+/// error are the first head's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct StarHeadConfig {
+    /// Nominal body-to-sensor mounting `q_bs` `[w, x, y, z]` (unit) of this head.
+    pub mounting_wxyz: [f64; 4],
+    /// Attitude noise across the boresight, 1σ about sensor `x` and `y` (rad).
+    pub noise_rad: f64,
+    /// Attitude noise about the boresight, 1σ about sensor `z` (rad).
+    pub roll_noise_rad: f64,
+    /// 1σ per axis of the two heads' relative alignment before the first pair (rotation
+    /// angle, rad): both heads' installation errors, `√2` times their 1σ when equal.
+    pub alignment_prior_sigma_rad: f64,
+    /// χ²(3) gate of a pair's residual ([`GATE_NIS`] by default).
+    pub pair_gate_nis: f64,
+    /// Pairs accepted before the filter may hand its installation block over to this head
+    /// (or back): the alignment is known to a fraction of the noise by then.
+    pub pairs_before_hand_over: u32,
+}
+
+impl StarHeadConfig {
+    /// The head's noise 1σ about sensor `x`, `y`, `z` (rad).
+    pub const fn noise_per_axis_rad(&self) -> [f64; 3] {
+        [self.noise_rad, self.noise_rad, self.roll_noise_rad]
+    }
+
+    /// Whether every value is valid (a unit mounting, squarable noises and prior, a gate).
+    fn is_valid(&self) -> bool {
+        let [w, x, y, z] = self.mounting_wxyz;
+        let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
+        norm.is_finite()
+            && nav_core::attitude::is_unit_norm(norm)
+            && [
+                self.noise_rad,
+                self.roll_noise_rad,
+                self.alignment_prior_sigma_rad,
+            ]
+            .iter()
+            .all(|sigma| sigma_is_squarable(*sigma))
+            && is_gate(self.pair_gate_nis)
+    }
 }
 
 impl StarSensorConfig {
@@ -428,6 +477,7 @@ impl FswConfig {
                 slow_error_correlation_time_s: 0.0,
                 aberration_correction: false,
                 noise_matching: true,
+                second_head: None,
             },
             gnss: GnssConfig {
                 lever_arm_body_m: [0.0; 3],
@@ -593,6 +643,9 @@ impl FswConfig {
                 .all(|walk| walk.is_finite()))
         {
             return invalid(ConfigField::StarSlowError);
+        }
+        if !self.star.second_head.is_none_or(|head| head.is_valid()) {
+            return invalid(ConfigField::StarSecondHead);
         }
         if !self.gnss.lever_arm_body_m.iter().all(|v| v.is_finite()) {
             return invalid(ConfigField::GnssLeverArm);

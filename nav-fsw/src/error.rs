@@ -19,6 +19,8 @@ pub enum ConfigField {
     StarNormTolerance,
     /// `star.slow_error_sigma_rad` or `star.slow_error_correlation_time_s`
     StarSlowError,
+    /// `star.second_head` (mounting, noise, alignment prior, pair gate)
+    StarSecondHead,
     /// `gnss.max_jump_m`
     GnssMaxJump,
     /// `timing.max_latency_s`
@@ -99,6 +101,7 @@ impl ConfigField {
             ConfigField::StarSlowError => {
                 "star.slow_error_sigma_rad / star.slow_error_correlation_time_s"
             }
+            ConfigField::StarSecondHead => "star.second_head",
             ConfigField::GnssMaxJump => "gnss.max_jump_m",
             ConfigField::MaxLatency => "timing.max_latency_s",
             ConfigField::LaunchSite => "launch_site",
@@ -192,6 +195,10 @@ impl ConfigField {
             ConfigField::StarSlowError => {
                 "must have every 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \
                  finite and > 0 (with a finite walk) when any 1-sigma is > 0"
+            }
+            ConfigField::StarSecondHead => {
+                "must have a unit mounting quaternion, noises and an alignment prior 1-sigma in \
+                 [1e-150, 1e150] and a pair gate > 0"
             }
             ConfigField::GnssCorrelatedError => {
                 "must have a 1-sigma 0 (off) or in [1e-150, 1e150], and a correlation time \

@@ -92,10 +92,21 @@ pub struct HealthCounters {
     /// [`crate::noise_matching`]): the star innovations failed the consistency test, and the
     /// update weights the tracker by the noise they show until the filter is re-initialised.
     pub star_noise_matched: u32,
+    /// Pairs of the two tracker heads' measurements rejected by the pair gate
+    /// (`star.second_head.pair_gate_nis`; `scheduler::heads`).
+    pub star_pair_rejections: u32,
+    /// Times the pairs' residuals began to fail the consistency test: the heads' relative
+    /// alignment moves (a slowly varying error, an uncorrected aberration) or their noise is
+    /// larger than configured.
+    pub star_heads_inconsistent: u32,
+    /// Times the filter's installation block was handed over to the other tracker head.
+    pub star_head_handovers: u32,
+    /// Star measurements of a head the configuration does not have (ignored).
+    pub star_unknown_head: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 35;
+pub const HEALTH_COUNTER_COUNT: usize = 39;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -157,6 +168,10 @@ impl HealthCounters {
             ("gravity_allowance_short", self.gravity_allowance_short),
             ("gravity_field_errors", self.gravity_field_errors),
             ("star_noise_matched", self.star_noise_matched),
+            ("star_pair_rejections", self.star_pair_rejections),
+            ("star_heads_inconsistent", self.star_heads_inconsistent),
+            ("star_head_handovers", self.star_head_handovers),
+            ("star_unknown_head", self.star_unknown_head),
         ]
     }
 }

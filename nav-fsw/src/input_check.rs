@@ -345,6 +345,7 @@ mod tests {
         let flipped = StarMeasurement {
             time_tag_s: 1.0,
             sensor_to_gcrf_wxyz: [-0.5, -0.5, -0.5, -0.5],
+            head: 0,
         };
         let (q, was_flipped) = check_star(&flipped, Some(&previous), 1e-3).unwrap();
         assert!(was_flipped);
@@ -352,16 +353,19 @@ mod tests {
         let zero = StarMeasurement {
             time_tag_s: 1.0,
             sensor_to_gcrf_wxyz: [0.0; 4],
+            head: 0,
         };
         assert_eq!(check_star(&zero, None, 1e-3), Err(StarFault::NotUnit));
         let long = StarMeasurement {
             time_tag_s: 1.0,
             sensor_to_gcrf_wxyz: [1.01, 0.0, 0.0, 0.0],
+            head: 0,
         };
         assert_eq!(check_star(&long, None, 1e-3), Err(StarFault::NotUnit));
         let nan = StarMeasurement {
             time_tag_s: f64::NAN,
             sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+            head: 0,
         };
         assert_eq!(check_star(&nan, None, 1e-3), Err(StarFault::NonFinite));
     }
@@ -432,12 +436,14 @@ mod tests {
         let long = StarMeasurement {
             time_tag_s: 1.0,
             sensor_to_gcrf_wxyz: [1.5, 0.0, 0.0, 0.0],
+            head: 0,
         };
         assert!(check_star(&long, None, 0.5).is_ok());
         let previous = Quaternion::new(1.0, 0.0, 0.0, 0.0);
         let orthogonal = StarMeasurement {
             time_tag_s: 1.0,
             sensor_to_gcrf_wxyz: [0.0, 1.0, 0.0, 0.0],
+            head: 0,
         };
         assert_eq!(
             check_star(&orthogonal, Some(&previous), 1e-3).map(|(_, f)| f),

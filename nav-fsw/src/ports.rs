@@ -29,12 +29,13 @@ pub struct ImuSample {
 /// The frame is in the field's name, so code written when this port took a launch-inertial
 /// attitude (`attitude_wxyz`) no longer compiles:
 /// ```compile_fail
-/// let _ = nav_fsw::ports::StarMeasurement { time_tag_s: 600.0, attitude_wxyz: [1.0, 0.0, 0.0, 0.0] };
+/// let _ = nav_fsw::ports::StarMeasurement { time_tag_s: 600.0, attitude_wxyz: [1.0, 0.0, 0.0, 0.0], head: 0 };
 /// ```
 /// ```
 /// let measurement = nav_fsw::ports::StarMeasurement {
 ///     time_tag_s: 600.0,
 ///     sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+///     head: 0,
 /// };
 /// assert!((measurement.sensor_to_gcrf_wxyz[0] - 1.0).abs() < 1e-15);
 /// ```
@@ -48,6 +49,9 @@ pub struct StarMeasurement {
     /// frame → GCRF. The frame is in the name: the flight code turns it into the
     /// launch-inertial frame with the launch's ground constants (`SensorFrames`).
     pub sensor_to_gcrf_wxyz: [f64; 4],
+    /// The tracker head that took it: 0 for the head of `star`, 1 for `star.second_head`
+    /// (the heads share one port, as the optical heads of one tracker share its electronics).
+    pub head: u8,
 }
 
 /// One GNSS fix: antenna position and, from receivers that output it, antenna velocity, in

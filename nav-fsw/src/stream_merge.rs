@@ -128,6 +128,7 @@ impl SensorStream {
 ///     arrival_time_s,
 ///     time_tag_s: arrival_time_s,
 ///     attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+///     head: 0,
 /// });
 /// let none = || Listed(Vec::new().into_iter());
 /// let stars = Listed(vec![star(0.1), star(0.3)].into_iter());

@@ -228,6 +228,7 @@ mod tests {
             arrival_time_s: t,
             time_tag_s: t,
             attitude_wxyz: [0.5, 0.5, -0.5, 0.5],
+            head: 0,
         })
     }
 

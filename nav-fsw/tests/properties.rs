@@ -122,7 +122,7 @@ proptest! {
         previous in proptest::option::of(proptest::array::uniform4(-1.0..1.0_f64)),
     ) {
         let previous = previous.map(|[w, x, y, z]| Quaternion::new(w, x, y, z));
-        let measurement = StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz };
+        let measurement = StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz, head: 0 };
         if let Ok((q, flipped)) = check_star(&measurement, previous.as_ref(), 1e-3) {
             prop_assert!(is_finite_quaternion(&q));
             prop_assert!((q.norm() - 1.0).abs() < 1e-12);
@@ -282,7 +282,7 @@ proptest! {
             }
             if let Some((offset_s, attitude_wxyz)) = input.star {
                 let time_tag_s = now_s + offset_s;
-                let _ = ports.star.0.push_back(StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz });
+                let _ = ports.star.0.push_back(StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz, head: 0 });
             }
             if let Some((offset_s, position_ecef_m)) = input.gnss {
                 // Navigation time is GPS seconds of week 1000 (the aligned frames' epoch).

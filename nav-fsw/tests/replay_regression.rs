@@ -27,7 +27,7 @@ use nav_fsw::sensor_frames::SensorFrames;
 use nav_fsw::telemetry::FrameFusion;
 
 /// The digest of the run (see the module docs to update it).
-const EXPECTED_DIGEST: u64 = 0xa3a1_88f3_a3f5_ae77;
+const EXPECTED_DIGEST: u64 = 0x142d_f658_10e9_5317;
 
 const FRAMES: u32 = 3_000;
 const PERIOD_S: f64 = 0.002;
@@ -208,6 +208,7 @@ fn fly_with_load(
                 .push_back(StarMeasurement {
                     time_tag_s: tag,
                     sensor_to_gcrf_wxyz: star_in_gcrf(&q),
+                    head: 0,
                 })
                 .unwrap();
         }
@@ -219,6 +220,7 @@ fn fly_with_load(
                 .push_back(StarMeasurement {
                     time_tag_s: 600.0 - 0.05,
                     sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+                    head: 0,
                 })
                 .unwrap();
         }
@@ -229,6 +231,7 @@ fn fly_with_load(
                 .push_back(StarMeasurement {
                     time_tag_s: navigation.time_s - 0.5,
                     sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+                    head: 0,
                 })
                 .unwrap();
         }

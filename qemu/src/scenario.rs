@@ -83,6 +83,7 @@ impl SchedulerScenario {
             let _ = ports.star.0.push_back(StarMeasurement {
                 time_tag_s: navigation.time_s,
                 sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                head: 0,
             });
         }
         if frame == GNSS_FRAME {

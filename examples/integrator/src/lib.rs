@@ -148,6 +148,7 @@ mod tests {
             held: Some(StarMeasurement {
                 time_tag_s: start_s + FRAME_PERIOD_S,
                 sensor_to_gcrf_wxyz: [w, -x, -y, -z],
+                head: 0,
             }),
         };
         let mut accepted = false;

@@ -27,7 +27,7 @@
 //! | 32 | Δθ x (rad) | `q_gs` x | ECEF y (m) | ECEF y (m) |
 //! | 40 | Δθ y (rad) | `q_gs` y | ECEF z (m) | ECEF z (m) |
 //! | 48 | Δθ z (rad) | `q_gs` z | 0 | ECEF v x (m/s) |
-//! | 56 | Δv x (m/s) | 0 | 0 | ECEF v y (m/s) |
+//! | 56 | Δv x (m/s) | head (u64, ≤ 255; 0 = the first) | 0 | ECEF v y (m/s) |
 //! | 64 | Δv y (m/s) | 0 | 0 | ECEF v z (m/s) |
 //! | 72 | Δv z (m/s) | 0 | GPS week (u64, ≤ u32::MAX) | GPS week (u64, ≤ u32::MAX) |
 //!
@@ -92,6 +92,8 @@ pub struct StarRecord {
     pub time_tag_s: f64,
     /// Measured `q_gs` (sensor → GCRF), `[w, x, y, z]` (Hamilton, scalar first).
     pub attitude_wxyz: [f64; 4],
+    /// The tracker head that took it (`StarMeasurement::head`; 0 = the first).
+    pub head: u8,
 }
 
 /// One GNSS position fix.
@@ -174,6 +176,8 @@ pub enum LogRecordError {
     },
     /// A GNSS record's GPS week word does not fit a `u32`.
     GpsWeek(u64),
+    /// A star record's head word does not fit a `u8`.
+    StarHead(u64),
     /// A float is NaN or infinite.
     NonFinite {
         /// The field.
@@ -200,6 +204,7 @@ impl core::fmt::Display for LogRecordError {
                 )
             }
             Self::GpsWeek(week) => write!(formatter, "GPS week {week} does not fit 32 bits"),
+            Self::StarHead(head) => write!(formatter, "star head {head} does not fit 8 bits"),
             Self::RecordSizeMismatch(size) => {
                 write!(formatter, "record size {size} (expected {RECORD_SIZE})")
             }
@@ -345,7 +350,7 @@ impl LogRecord {
                     float(x, RecordField::Attitude),
                     float(y, RecordField::Attitude),
                     float(z, RecordField::Attitude),
-                    zero,
+                    (u64::from(star.head), None),
                     zero,
                     zero,
                 ]
@@ -462,6 +467,7 @@ impl StarRecord {
         StarMeasurement {
             time_tag_s: self.time_tag_s,
             sensor_to_gcrf_wxyz: self.attitude_wxyz,
+            head: self.head,
         }
     }
 }
@@ -546,8 +552,12 @@ impl RecordWords {
             arrival_time_s: self.float(0, RecordField::ArrivalTime)?,
             time_tag_s: self.float(1, RecordField::TimeTag)?,
             attitude_wxyz: self.floats(2, RecordField::Attitude)?,
+            head: {
+                let word = self.0.get(6).copied().unwrap_or(0);
+                u8::try_from(word).map_err(|_| LogRecordError::StarHead(word))?
+            },
         };
-        self.unused(6, WORDS)?;
+        self.unused(7, WORDS)?;
         Ok(star)
     }
 
@@ -599,6 +609,7 @@ pub(crate) mod test_records {
             arrival_time_s,
             time_tag_s: arrival_time_s,
             attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+            head: 0,
         })
     }
 

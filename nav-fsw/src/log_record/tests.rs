@@ -16,6 +16,7 @@ fn arrival_time_and_time_of_validity_come_from_the_right_fields() {
         arrival_time_s: 20.25,
         time_tag_s: 20.125,
         attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+        head: 0,
     });
     let gnss = LogRecord::Gnss(GnssRecord {
         arrival_time_s: 30.5,
@@ -77,15 +78,20 @@ fn record() -> impl Strategy<Value = LogRecord> {
                 delta_velocity_mps: velocity,
             })
         });
-    let star = (finite(), finite(), proptest::array::uniform4(finite())).prop_map(
-        |(arrival_time_s, time_tag_s, attitude_wxyz)| {
+    let star = (
+        finite(),
+        finite(),
+        proptest::array::uniform4(finite()),
+        any::<u8>(),
+    )
+        .prop_map(|(arrival_time_s, time_tag_s, attitude_wxyz, head)| {
             LogRecord::Star(StarRecord {
                 arrival_time_s,
                 time_tag_s,
                 attitude_wxyz,
+                head,
             })
-        },
-    );
+        });
     let velocity = proptest::option::of(proptest::array::uniform3(finite()));
     let gnss = (
         (finite(), any::<u32>()),
@@ -150,10 +156,11 @@ proptest! {
             bytes[offset_of(index)..offset_of(index) + WORD].copy_from_slice(&word.to_le_bytes());
         }
         // Words carrying floats, and the unused words, per tag (module-doc table); GNSS
-        // records carry the GPS week in the last word.
+        // records carry the GPS week in the last word, star records the head after the
+        // quaternion.
         let (float_words, unused) = match tag {
             TAG_IMU => (1..9, 9..WORDS),
-            TAG_STAR => (0..6, 6..WORDS),
+            TAG_STAR => (0..6, 7..WORDS),
             TAG_GNSS_VELOCITY => (0..8, 8..8),
             _ => (0..5, 5..8),
         };
@@ -163,14 +170,21 @@ proptest! {
         let first_padding = unused.clone().find(|index| words[*index] != 0);
         let gnss = tag == TAG_GNSS || tag == TAG_GNSS_VELOCITY;
         let wide_week = gnss && u32::try_from(words[8]).is_err();
+        let wide_head = tag == TAG_STAR && u8::try_from(words[6]).is_err();
         match LogRecord::decode(&bytes) {
             Ok(record) => {
-                prop_assert!(first_non_finite.is_none() && first_padding.is_none() && !wide_week);
+                prop_assert!(
+                    first_non_finite.is_none() && first_padding.is_none() && !wide_week && !wide_head
+                );
                 prop_assert_eq!(record.encode().unwrap(), bytes);
             }
             Err(LogRecordError::GpsWeek(week)) => {
                 prop_assert!(first_non_finite.is_none() && first_padding.is_none());
                 prop_assert_eq!(week, words[8]);
+            }
+            Err(LogRecordError::StarHead(head)) => {
+                prop_assert!(first_non_finite.is_none() && wide_head);
+                prop_assert_eq!(head, words[6]);
             }
             Err(LogRecordError::NonFinite { offset, .. }) => {
                 prop_assert_eq!(Some(offset), first_non_finite.map(offset_of));
@@ -262,6 +276,7 @@ fn typed_errors() {
         arrival_time_s: 2.0,
         time_tag_s: 2.0,
         attitude_wxyz: [1.0, 0.0, 0.0, 0.0],
+        head: 0,
     });
     let good = star.encode().unwrap();
 
@@ -284,10 +299,16 @@ fn typed_errors() {
         Err(LogRecordError::NonZeroPadding { offset: 3 })
     );
     let mut bytes = good;
-    bytes[61] = 0x80;
+    bytes[69] = 0x80;
     assert_eq!(
         LogRecord::decode(&bytes),
-        Err(LogRecordError::NonZeroPadding { offset: 61 })
+        Err(LogRecordError::NonZeroPadding { offset: 69 })
+    );
+    let mut bytes = good;
+    bytes[57] = 0x01;
+    assert_eq!(
+        LogRecord::decode(&bytes),
+        Err(LogRecordError::StarHead(0x100))
     );
 
     let mut bytes = good;

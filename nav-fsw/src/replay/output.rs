@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 88;
+pub const OUTPUT_WORDS: usize = 93;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -97,6 +97,11 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "star_noise_x_rad",
     "star_noise_y_rad",
     "star_noise_z_rad",
+    "star_pair_rejections",
+    "star_heads_inconsistent",
+    "star_head_handovers",
+    "star_unknown_head",
+    "star_active_head",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -202,5 +207,10 @@ pub fn output_words(
     for noise in computer.star_noise_rad() {
         put(noise.to_bits());
     }
+    put(u64::from(h.star_pair_rejections));
+    put(u64::from(h.star_heads_inconsistent));
+    put(u64::from(h.star_head_handovers));
+    put(u64::from(h.star_unknown_head));
+    put(u64::from(computer.active_star_head()));
     words
 }

@@ -209,6 +209,10 @@ impl NavigationComputer {
                 Sensor::Star => &mut self.health.counters.star_declared_faulty,
                 Sensor::Gnss => &mut self.health.counters.gnss_declared_faulty,
             });
+            if sensor == Sensor::Star {
+                // A faulty head leaves its fault state behind when the other takes over.
+                self.hand_over_from_lost_head();
+            }
         }
     }
 
@@ -229,8 +233,7 @@ impl NavigationComputer {
     /// smaller noise are overconfident, and a run of rejections that follows is the fit's
     /// doing, not a fault of the tracker.
     pub(super) fn star_noise_exceeds_configured(&self) -> bool {
-        let star = &self.config.star;
-        let configured = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
+        let (_, configured) = self.head_mounting_and_noise(self.aids.heads.active);
         self.star_noise_rad()
             .iter()
             .zip(&configured)

@@ -75,7 +75,7 @@ impl NavigationComputer {
         match due {
             Due::Star(_, measured) => star_sensor(
                 &snapshot.attitude,
-                &ports::quaternion(&self.config.star.mounting_wxyz),
+                &self.head_mounting_and_noise(self.aids.heads.active).0,
                 &self.installation_estimate(),
                 &self.star_without_aberration(measured, snapshot)?,
                 &self.star_noise_rad(),
@@ -117,10 +117,8 @@ impl NavigationComputer {
     /// test has failed and `star.noise_matching` is on, the innovations' (nav-fsw
     /// `noise_matching`, never below the configured).
     pub fn star_noise_rad(&self) -> [f64; 3] {
-        let star = &self.config.star;
-        self.aids
-            .star_noise
-            .noise_rad(&[star.noise_rad, star.noise_rad, star.roll_noise_rad])
+        let (_, configured) = self.head_mounting_and_noise(self.aids.heads.active);
+        self.aids.star_noise.noise_rad(&configured)
     }
 
     /// Enters a tested star measurement in the noise matching (after the tracker's

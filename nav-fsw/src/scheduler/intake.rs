@@ -49,10 +49,22 @@ impl NavigationComputer {
             let Some(measurement) = star.poll() else {
                 break;
             };
-            star_heard = true;
+            let head = usize::from(measurement.head);
+            let Some(last_star) = self
+                .aids
+                .last_star
+                .get(head)
+                .filter(|_| head < self.head_count())
+            else {
+                count(&mut self.health.counters.star_unknown_head);
+                continue;
+            };
+            // The outage monitor watches the head the filter fuses.
+            let active = measurement.head == self.aids.heads.active;
+            star_heard |= active;
             match check_star(
                 &measurement,
-                self.aids.last_star.as_ref(),
+                last_star.as_ref(),
                 self.config.star.unit_norm_tolerance,
             ) {
                 Err(StarFault::NonFinite) => count(&mut self.health.counters.star_non_finite),
@@ -64,12 +76,23 @@ impl NavigationComputer {
                     // Remember the sensor's own sign, so that a sensor that changes its sign
                     // convention (e.g. keeps w ≥ 0 while the attitude turns) is counted once
                     // per change, not on every later sample.
-                    self.aids.last_star = Some(if flipped { -quaternion } else { quaternion });
+                    if let Some(last) = self.aids.last_star.get_mut(head) {
+                        *last = Some(if flipped { -quaternion } else { quaternion });
+                    }
+                    let launch_inertial = self
+                        .config
+                        .sensor_frames
+                        .star_in_launch_inertial(&quaternion);
+                    if self.config.star.second_head.is_some() {
+                        let tag = measurement.time_tag_s;
+                        self.aids.heads.note(head, tag, launch_inertial);
+                    }
+                    if !active {
+                        continue;
+                    }
                     let pushed = self.aids.star_queue.push(
                         measurement.time_tag_s,
-                        self.config
-                            .sensor_frames
-                            .star_in_launch_inertial(&quaternion),
+                        launch_inertial,
                         now_s,
                         timing.max_latency_s,
                         timing.future_tolerance_s,
@@ -106,6 +129,7 @@ impl NavigationComputer {
         if self.aids.star_outage.observe(now_s, star_heard, timeout_s) {
             count(&mut self.health.counters.star_outages);
             self.reacquire(Sensor::Star);
+            self.hand_over_from_lost_head();
         }
         if self.aids.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
             count(&mut self.health.counters.gnss_outages);

@@ -89,6 +89,7 @@ mod calibration;
 mod covariance;
 mod fusion;
 mod gravity;
+mod heads;
 mod history;
 mod intake;
 mod navigate;
@@ -99,6 +100,8 @@ mod tests;
 
 use aid::{Aid, AidingSensor, Sensor};
 use covariance::PropagationSums;
+use heads::StarHeads;
+pub use heads::MAX_STAR_HEADS;
 use history::{Correction, History, Snapshot};
 use intake::{Due, GnssQueued};
 /// Which implementation of the filter's matrix arithmetic the scheduler uses (nav-core's
@@ -240,8 +243,8 @@ struct Covariance {
 /// sensor, and the outage and whiteness monitors.
 #[derive(Debug, Clone)]
 struct Aids {
-    /// The star sensor's last quaternion, in its own sign convention.
-    last_star: Option<Quaternion<f64>>,
+    /// Each star head's last quaternion, in its own sign convention.
+    last_star: [Option<Quaternion<f64>>; MAX_STAR_HEADS],
     star_queue: MeasurementBuffer<Quaternion<f64>, STAR_QUEUE_CAPACITY>,
     gnss_queue: MeasurementBuffer<GnssQueued, GNSS_QUEUE_CAPACITY>,
     /// The position of the GNSS fix whose velocity was fused last frame (one update per
@@ -262,6 +265,8 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
+    /// The tracker heads: the active one, the pairs, the relative alignment (`heads.rs`).
+    heads: StarHeads,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.
@@ -351,6 +356,7 @@ impl NavigationComputer {
         };
         if fusion == FrameFusion::None {
             self.inflate_for_second_order_attitude();
+            self.pair_star_heads();
             // Only in frames that fuse nothing: a measurement update, the dearest frame, never
             // carries the gravity field's share (`gravity.rs`).
             self.advance_gravity_field();
@@ -419,6 +425,12 @@ impl NavigationComputer {
             .len()
             .saturating_add(self.aids.gnss_queue.len())
             .saturating_add(usize::from(self.aids.pending_gnss_position.is_some()))
+    }
+
+    /// The star tracker head the filter fuses and whose installation error it carries (0, or
+    /// 1 after a hand-over to `star.second_head`; `scheduler::heads`).
+    pub fn active_star_head(&self) -> u8 {
+        self.aids.heads.active
     }
 
     /// The launch-inertial frame in use.

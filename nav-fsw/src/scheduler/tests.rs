@@ -278,6 +278,7 @@ fn flight_with_frame_load(frame_load: crate::config::FrameLoad) -> Vec<(bool, f6
             let measurement = crate::ports::StarMeasurement {
                 time_tag_s: computer.navigation().time_s - 0.001 * f64::from(older),
                 sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                head: 0,
             };
             ports.star.0.push_back(measurement).unwrap();
         }
@@ -353,6 +354,7 @@ fn fly_star_offset(computer: &mut NavigationComputer, frames: u32, offset_rad: f
             let measurement = crate::ports::StarMeasurement {
                 time_tag_s: computer.navigation().time_s,
                 sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                head: 0,
             };
             ports.star.0.push_back(measurement).unwrap();
         }
@@ -581,6 +583,7 @@ fn the_systematic_imu_error_states_are_fed_back_at_every_reset() {
             let measurement = crate::ports::StarMeasurement {
                 time_tag_s: computer.navigation().time_s,
                 sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                head: 0,
             };
             ports.star.0.push_back(measurement).unwrap();
         }

@@ -25,6 +25,7 @@ pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
     match field {
         F::ImuPeriod | F::FutureTolerance => Some("imu.rate_hz"),
         F::ImuMaxRate => Some("imu.max_rate_deg_per_s"),
+        F::StarSecondHead => Some("star_sensor.additional_heads"),
         F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
         F::MaxLatency => Some("gnss.latency_s"),
         F::LaunchSite => Some("launch_site"),

@@ -78,6 +78,7 @@ fn scheduler_frames() {
             let _ = ports.star.0.push_back(black_box(StarMeasurement {
                 time_tag_s: time_s,
                 sensor_to_gcrf_wxyz: [1.0, 1e-5, 0.0, 0.0],
+                head: 0,
             }));
         }
         if frame == 10 {

@@ -363,6 +363,7 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
                 attitude_q_gs.j,
                 attitude_q_gs.k,
             ],
+            head: 0,
         }),
         SensorEvent::Gnss {
             gps_week,

@@ -155,6 +155,7 @@ impl<R: Read> SensorLogReader<R> {
                     arrival_time_s,
                     time_tag_s,
                     attitude_wxyz: [w, x, y, z],
+                    head: 0,
                 })
             }
             Kind::Gnss => {

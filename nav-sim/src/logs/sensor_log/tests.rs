@@ -44,6 +44,7 @@ fn record_from(kind: u8, sequence: u64, arrival_time_s: f64, values: [f64; 9]) -
             arrival_time_s,
             time_tag_s: a,
             attitude_wxyz: [b, c, d, e],
+            head: 0,
         }),
         2 => LogRecord::Gnss(GnssRecord {
             arrival_time_s,

@@ -33,6 +33,7 @@ fn injected_frames(class: &FaultClass, frames: FrameSchedule, seconds: f64) -> V
             let measurement = StarMeasurement {
                 time_tag_s: t,
                 sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+                head: 0,
             };
             let mut ports = FramePorts::default();
             ports.imu.0 = Some(sample);

@@ -152,6 +152,7 @@ impl SensorEvent {
                     attitude_q_gs.j,
                     attitude_q_gs.k,
                 ],
+                head: 0,
             }),
             _ => None,
         }

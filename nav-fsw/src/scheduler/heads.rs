@@ -1,0 +1,227 @@
+//! Two star-tracker heads (`star.second_head`): the filter fuses one head at a time, the
+//! *active* one, and carries its installation error in its one installation block. The
+//! other head's measurements, each paired with the active head's of the same time of
+//! validity, estimate the two heads' relative alignment (nav-core `star_heads`: the vehicle's
+//! attitude cancels in a pair, so no inertial information enters). When the active head falls
+//! silent (an outage) or is declared faulty and the other head is aligned, the filter's
+//! installation block is handed over to it (nav-core `hand_over_installation`: the block
+//! rotated into the new head's axes, the alignment's covariance added); when the first head
+//! pairs again, it is handed back. The pairs' residuals feed their own consistency test
+//! (`star_heads_inconsistent`): a relative alignment that moves shows a slowly varying error
+//! or an uncorrected aberration that a single head hides in the attitude.
+//! docs/sensor-errors.md, "Two heads".
+
+use super::*;
+use nav_core::star_heads::RelativeAlignment;
+
+/// Heads a tracker port may carry (`StarMeasurement::head` 0 and 1).
+pub const MAX_STAR_HEADS: usize = 2;
+
+/// The heads' state: the active head, each head's last measurement, the relative alignment.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StarHeads {
+    /// The head the filter fuses (0 = `star`, 1 = `star.second_head`).
+    pub(super) active: u8,
+    /// Each head's last measurement: time of validity (s) and `q_ls` (launch-inertial).
+    last: [Option<(f64, Quaternion<f64>)>; MAX_STAR_HEADS],
+    /// Whether the two last measurements share a time of validity and wait to be paired.
+    pair_pending: bool,
+    /// Head 1's alignment to head 0, `q_s0s1`; `None` with one head.
+    alignment: Option<RelativeAlignment>,
+    /// The pairs' consistency test.
+    pair_consistency: ConsistencyMonitor,
+}
+
+impl StarHeads {
+    /// Head 0 active, nothing heard; the alignment at its nominal value and prior when a
+    /// second head is configured.
+    ///
+    /// # Errors
+    /// As nav-core's `RelativeAlignment::new` (the configuration's validation refuses what
+    /// it refuses).
+    pub(super) fn new(star: &crate::config::StarSensorConfig) -> Result<Self, NavError> {
+        let alignment = match &star.second_head {
+            None => None,
+            Some(head) => {
+                let variance = head.alignment_prior_sigma_rad * head.alignment_prior_sigma_rad;
+                Some(RelativeAlignment::new(
+                    &ports::quaternion(&star.mounting_wxyz),
+                    &ports::quaternion(&head.mounting_wxyz),
+                    &(Matrix3::identity() * variance),
+                )?)
+            }
+        };
+        Ok(Self {
+            active: 0,
+            last: [None; MAX_STAR_HEADS],
+            pair_pending: false,
+            alignment,
+            pair_consistency: ConsistencyMonitor::default(),
+        })
+    }
+
+    /// Notes head `head`'s measurement `q_ls` of time `time_tag_s`: a pair is pending when
+    /// the other head's last measurement has the same time of validity.
+    pub(super) fn note(&mut self, head: usize, time_tag_s: f64, measured: Quaternion<f64>) {
+        let Some(slot) = self.last.get_mut(head) else {
+            return;
+        };
+        *slot = Some((time_tag_s, measured));
+        if let [Some((first_s, _)), Some((second_s, _))] = self.last {
+            self.pair_pending = (first_s - second_s).abs() <= SAME_INSTANT_TOLERANCE_S;
+        }
+    }
+
+    /// The pairs accepted so far (0 with one head).
+    pub(super) fn pairs_accepted(&self) -> u32 {
+        self.alignment
+            .map_or(0, |alignment| alignment.pairs_accepted())
+    }
+
+    /// Whether head `head` was heard within `timeout_s` before `now_s`.
+    fn heard_since(&self, head: usize, now_s: f64, timeout_s: f64) -> bool {
+        matches!(self.last.get(head), Some(Some((time_s, _))) if now_s - time_s <= timeout_s)
+    }
+}
+
+/// Two time tags closer than this are the same exposure (the heads are commanded on the
+/// flight computer's clock; tags differ only by round-off).
+const SAME_INSTANT_TOLERANCE_S: f64 = 1e-6;
+
+impl NavigationComputer {
+    /// The configured mounting `q_bs` and noise 1σ per sensor axis of head `head` (the
+    /// first head's for any head but 1).
+    pub(super) fn head_mounting_and_noise(&self, head: u8) -> (Quaternion<f64>, [f64; 3]) {
+        let star = &self.config.star;
+        match (head, &star.second_head) {
+            (1, Some(second)) => (
+                ports::quaternion(&second.mounting_wxyz),
+                second.noise_per_axis_rad(),
+            ),
+            _ => (
+                ports::quaternion(&star.mounting_wxyz),
+                [star.noise_rad, star.noise_rad, star.roll_noise_rad],
+            ),
+        }
+    }
+
+    /// Number of heads the configuration has.
+    pub(super) fn head_count(&self) -> usize {
+        if self.config.star.second_head.is_some() {
+            MAX_STAR_HEADS
+        } else {
+            1
+        }
+    }
+
+    /// Pairs the two heads' last measurements if a pair is pending: the alignment's gated
+    /// update, its rejections and consistency counted; then, with head 1 active, the
+    /// installation is handed back to head 0, which has just been heard. Run in a frame that
+    /// fuses nothing, like the gravity field's share, so that no update frame pays for it.
+    pub(super) fn pair_star_heads(&mut self) {
+        let heads = &mut self.aids.heads;
+        if !core::mem::take(&mut heads.pair_pending) {
+            return;
+        }
+        let (Some(second), [Some((_, first_q)), Some((_, second_q))]) =
+            (self.config.star.second_head, heads.last)
+        else {
+            return;
+        };
+        let Some(alignment) = heads.alignment.as_mut() else {
+            return;
+        };
+        let star = &self.config.star;
+        let first_noise = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
+        let gate = second.pair_gate_nis;
+        let Ok(report) = alignment.update(
+            &first_q,
+            &second_q,
+            &first_noise,
+            &second.noise_per_axis_rad(),
+            gate,
+        ) else {
+            count(&mut self.health.counters.filter_errors);
+            return;
+        };
+        if !report.accepted {
+            count(&mut self.health.counters.star_pair_rejections);
+        }
+        let config = self.config.consistency;
+        let nis = report.normalised_innovation_squared;
+        if heads
+            .pair_consistency
+            .observe(nis, report.accepted, gate, &config)
+        {
+            count(&mut self.health.counters.star_heads_inconsistent);
+        }
+        if heads.active == 1 && report.accepted {
+            self.hand_over_to_head(0);
+        }
+    }
+
+    /// After the active head's outage began or its fault was declared: the installation is
+    /// handed over to the other head if that head was heard within the outage timeout and
+    /// enough pairs have aligned it (`pairs_before_hand_over`).
+    pub(super) fn hand_over_from_lost_head(&mut self) {
+        let Some(second) = self.config.star.second_head else {
+            return;
+        };
+        let heads = &self.aids.heads;
+        let other: u8 = if heads.active == 0 { 1 } else { 0 };
+        let now_s = self.navigation.solution.time_s;
+        let timeout_s = self.config.timing.outage_timeout_s;
+        if heads.heard_since(usize::from(other), now_s, timeout_s)
+            && heads.pairs_accepted() >= second.pairs_before_hand_over
+        {
+            self.hand_over_to_head(other);
+        }
+    }
+
+    /// Hands the filter's installation block over to head `new` (nav-core `star_heads`): the
+    /// installation estimate and its covariance become the new head's, the star queue (the
+    /// old head's measurements) is emptied, the aid is acquired afresh with the star noise
+    /// matching and fault state cleared (they were the old head's). Counted in
+    /// `star_head_handovers`; a refused hand-over changes nothing and counts a filter error.
+    fn hand_over_to_head(&mut self, new: u8) {
+        let Some(alignment) = self.aids.heads.alignment else {
+            return;
+        };
+        let old = self.aids.heads.active;
+        let (old_mounting, _) = self.head_mounting_and_noise(old);
+        let (new_mounting, _) = self.head_mounting_and_noise(new);
+        // The alignment is head 1's to head 0: from head 1 back to head 0 it is reversed.
+        let oriented = if new == 1 {
+            alignment
+        } else {
+            alignment.reversed()
+        };
+        let installation = self.installation_estimate();
+        let handed = oriented
+            .hand_over(&old_mounting, &new_mounting, &installation)
+            .and_then(|hand_over| {
+                self.covariance.filter.hand_over_installation(
+                    &hand_over.rotation_new_from_old,
+                    &hand_over.added_covariance_half_angle,
+                )?;
+                Ok(hand_over.installation_estimate)
+            });
+        let Ok(estimate) = handed else {
+            count(&mut self.health.counters.filter_errors);
+            return;
+        };
+        self.calibration.estimate.star_installation_wxyz =
+            [estimate.w, estimate.i, estimate.j, estimate.k];
+        self.aids.heads.active = new;
+        for _ in 0..STAR_QUEUE_CAPACITY {
+            if self.aids.star_queue.pop_due(f64::INFINITY).is_none() {
+                break;
+            }
+            count(&mut self.health.counters.measurement_stale);
+        }
+        self.aids.star = AidingSensor::default();
+        self.aids.star_noise.clear();
+        self.reacquire(Sensor::Star);
+        count(&mut self.health.counters.star_head_handovers);
+    }
+}
