@@ -27,7 +27,7 @@ pub(super) struct StarHeads {
     /// Whether the two last measurements share a time of validity and wait to be paired.
     pair_pending: bool,
     /// Head 1's alignment to head 0, `q_s0s1`; `None` with one head.
-    alignment: Option<RelativeAlignment>,
+    pub(super) alignment: Option<RelativeAlignment>,
     /// The pairs' consistency test.
     pair_consistency: ConsistencyMonitor,
 }

@@ -90,6 +90,8 @@ mod covariance;
 mod fusion;
 mod gravity;
 mod heads;
+#[cfg(test)]
+mod heads_tests;
 mod history;
 mod intake;
 mod navigate;

@@ -22,7 +22,7 @@ fn initial_state() -> NavigationState {
     }
 }
 
-fn computer() -> NavigationComputer {
+pub(super) fn computer() -> NavigationComputer {
     NavigationComputer::new(
         FswConfig::paper_defaults(site(), SensorFrames::ALIGNED),
         initial_state(),

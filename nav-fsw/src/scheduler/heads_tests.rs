@@ -1,0 +1,140 @@
+//! Two tracker heads on a vehicle that does not turn: the pairs align the second head, an
+//! outage of the first hands the installation over, the first head's return hands it back.
+
+use super::*;
+use crate::config::StarHeadConfig;
+use crate::sensor_frames::SensorFrames;
+use nav_core::frames::LaunchSite;
+
+const ARCSEC_RAD: f64 = 4.848_136_811_095_36e-6;
+
+/// Head 1 with its boresight 90° from head 0's (turned about body x), 5″ across and 35″
+/// about the boresight on both heads, aligned after 20 pairs.
+fn two_head_computer() -> NavigationComputer {
+    let site = LaunchSite {
+        latitude_rad: 0.715,
+        longitude_rad: 1.750,
+        height_m: 1000.0,
+        azimuth_rad: 3.316,
+        earth_axis_ecef: [0.0, 0.0, 1.0],
+    };
+    let mut config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
+    config.star.noise_rad = 5.0 * ARCSEC_RAD;
+    config.star.roll_noise_rad = 35.0 * ARCSEC_RAD;
+    let half = core::f64::consts::FRAC_PI_4;
+    config.star.second_head = Some(StarHeadConfig {
+        mounting_wxyz: [libm::cos(half), libm::sin(half), 0.0, 0.0],
+        noise_rad: 5.0 * ARCSEC_RAD,
+        roll_noise_rad: 35.0 * ARCSEC_RAD,
+        alignment_prior_sigma_rad: 100.0 * ARCSEC_RAD,
+        pair_gate_nis: crate::config::GATE_NIS,
+        pairs_before_hand_over: 20,
+    });
+    let initial = NavigationState {
+        attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
+        position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
+        velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
+        time_s: 600.0,
+    };
+    NavigationComputer::new(config, initial).unwrap()
+}
+
+/// Head 1's true installation error: 40″ about its x and 20″ about its z.
+fn head_one_misalignment() -> Quaternion<f64> {
+    attitude::exp_rotation_vector(&Vector3::new(40.0 * ARCSEC_RAD, 0.0, 20.0 * ARCSEC_RAD))
+}
+
+/// Flies `frames` frames; every tenth frame each head in `heads` measures (noise-free) the
+/// constant attitude through its mounting (head 1 with [`head_one_misalignment`]).
+fn fly(computer: &mut NavigationComputer, frames: u32, heads: &[u8]) {
+    let first = computer.frame.wrapping_add(1);
+    for sequence in first..first + frames {
+        let mut ports = crate::replay::FramePorts::default();
+        let time_s = computer.navigation().time_s + 0.002;
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence,
+            time_s,
+            delta_angle_rad: [0.0; 3],
+            delta_velocity_mps: [0.0; 3],
+        });
+        if sequence % 10 == 0 {
+            for head in heads {
+                let (mounting, _) = computer.head_mounting_and_noise(*head);
+                let sensor = if *head == 1 {
+                    attitude::product(&mounting, &head_one_misalignment())
+                } else {
+                    mounting
+                };
+                let q = attitude::product(&computer.navigation().attitude, &sensor);
+                let measurement = crate::ports::StarMeasurement {
+                    time_tag_s: computer.navigation().time_s,
+                    sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                    head: *head,
+                };
+                ports.star.0.push_back(measurement).unwrap();
+            }
+        }
+        ports.run(computer);
+    }
+}
+
+#[test]
+fn the_pairs_align_the_second_head_and_an_outage_hands_the_installation_over_and_back() {
+    let mut computer = two_head_computer();
+    fly(&mut computer, 2_000, &[0, 1]);
+    let health = *computer.health();
+    assert!(computer.aids.heads.pairs_accepted() >= 150, "{health:?}");
+    assert_eq!(health.star_pair_rejections, 0);
+    assert_eq!(health.star_head_handovers, 0);
+    assert_eq!(computer.active_star_head(), 0);
+    // The second head's alignment to the first: its mounting turned by its misalignment.
+    let (mounting, _) = computer.head_mounting_and_noise(1);
+    let truth = attitude::product(&mounting, &head_one_misalignment());
+    let alignment = computer.aids.heads.alignment.unwrap();
+    let error = attitude::product(&attitude::conjugate(alignment.estimate()), &truth);
+    assert!(error.imag().norm() < 2.0 * ARCSEC_RAD, "{error:?}");
+
+    // Head 0 falls silent: after the outage timeout head 1 carries the installation, and its
+    // measurements are accepted with the installation handed over.
+    let rejections_before = health.star_gate_rejections;
+    fly(&mut computer, 3_000, &[1]);
+    let health = *computer.health();
+    assert_eq!(health.star_head_handovers, 1, "{health:?}");
+    assert_eq!(computer.active_star_head(), 1);
+    assert_eq!(health.star_gate_rejections, rejections_before);
+    let expected = attitude::product(&head_one_misalignment(), &Quaternion::identity());
+    let installation = computer.installation_estimate();
+    let off = attitude::product(&attitude::conjugate(&installation), &expected);
+    // The filter's installation estimate is head 1's misalignment (both heads noise-free,
+    // head 0 mounted without error).
+    assert!(off.imag().norm() < 3.0 * ARCSEC_RAD, "{installation:?}");
+
+    // Head 0 returns: the first pair hands the installation back to it.
+    fly(&mut computer, 500, &[0, 1]);
+    let health = *computer.health();
+    assert_eq!(health.star_head_handovers, 2, "{health:?}");
+    assert_eq!(computer.active_star_head(), 0);
+    assert_eq!(health.star_gate_rejections, rejections_before);
+    assert_eq!(health.star_declared_faulty, 0);
+}
+
+#[test]
+fn a_head_the_configuration_lacks_is_counted_and_ignored() {
+    let mut computer = super::tests::computer();
+    let mut ports = crate::replay::FramePorts::default();
+    let measurement = crate::ports::StarMeasurement {
+        time_tag_s: computer.navigation().time_s,
+        sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
+        head: 1,
+    };
+    ports.star.0.push_back(measurement).unwrap();
+    ports.imu.0 = Some(crate::ports::ImuSample {
+        sequence: 1,
+        time_s: computer.navigation().time_s + 0.002,
+        delta_angle_rad: [0.0; 3],
+        delta_velocity_mps: [0.0; 3],
+    });
+    ports.run(&mut computer);
+    assert_eq!(computer.health().star_unknown_head, 1);
+    assert_eq!(computer.queued_measurements(), 0);
+}
