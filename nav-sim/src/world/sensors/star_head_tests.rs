@@ -213,7 +213,10 @@ fn outages_and_rate_limits_are_per_head() {
     // Head 1: 100 frames above the limit, then 0.1 s = 50 frames re-acquiring (whether the
     // frame ending at the end of the re-acquisition tracks is up to the rounding of the times).
     assert_eq!(delivered[0], 2_500);
-    assert!((2_500 - 150..=2_500 - 149).contains(&delivered[1]), "{delivered:?}");
+    assert!(
+        (2_500 - 150..=2_500 - 149).contains(&delivered[1]),
+        "{delivered:?}"
+    );
     // Head 2: the 1000 samples of [1 s, 3 s) (give or take the rounding at the edges).
     assert!(
         (2_500 - 1_001..=2_500 - 999).contains(&delivered[2]),
