@@ -242,3 +242,58 @@ fn bad_additional_heads_are_refused_naming_the_head_and_the_key() {
         "{missing}"
     );
 }
+
+/// The two-head scenario files: head 0 is the roll-noise file's tracker value for value, head
+/// 1 has head 0's rate and noise, a boresight 90° from head 0's, an installation error of head
+/// 0's size, and an outage over the middle third of the flight.
+#[test]
+fn the_two_head_scenario_files_are_their_single_head_files_plus_head_one() {
+    let directory = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    for (two_heads, roll_noise) in [
+        ("star_tracker_two_heads", "star_tracker_roll_noise"),
+        (
+            "upper_stage_star_tracker_two_heads",
+            "upper_stage_star_tracker_roll_noise",
+        ),
+    ] {
+        let load = |name: &str| Scenario::load(&directory.join(format!("{name}.toml"))).unwrap();
+        let (two_heads, mut single) = (load(two_heads), load(roll_noise));
+        let star = &two_heads.star_sensor;
+        let [head_1] = star.additional_heads.as_slice() else {
+            panic!("one additional head expected")
+        };
+        single.star_sensor.additional_heads = vec![head_1.clone()];
+        assert_eq!(format!("{single:?}"), format!("{two_heads:?}"));
+        assert_eq!(head_1.rate_hz.to_bits(), star.rate_hz.to_bits());
+        assert_eq!(head_1.noise_per_axis_rad(), star.noise_per_axis_rad());
+        let boresight = |settings: &crate::scenario::StarSensorSettings| {
+            let vector =
+                nalgebra::Vector3::from(settings.mounting_rotation_vector_deg).map(f64::to_radians);
+            nalgebra::UnitQuaternion::from_scaled_axis(vector) * nalgebra::Vector3::z()
+        };
+        let angle_deg = boresight(star).angle(&boresight(head_1)).to_degrees();
+        assert!((angle_deg - 90.0).abs() < 1e-5, "{angle_deg}");
+        let size = |psi: [f64; 3]| nalgebra::Vector3::from(psi).norm();
+        let (size_0, size_1) = (
+            size(star.installation_error_rotation_vector_rad),
+            size(head_1.installation_error_rotation_vector_rad),
+        );
+        assert!((size_0 - size_1).abs() < 1e-15, "{size_0} {size_1}");
+        assert_ne!(
+            star.installation_error_rotation_vector_rad,
+            head_1.installation_error_rotation_vector_rad
+        );
+        let duration_s: f64 = two_heads.manoeuvres.iter().map(|m| m.duration_s).sum();
+        let [[start_s, out_s]] = head_1.outages.as_slice() else {
+            panic!("one outage expected")
+        };
+        assert!(
+            (start_s - duration_s / 3.0).abs() < 1e-3,
+            "{start_s} {duration_s}"
+        );
+        assert!(
+            (out_s - duration_s / 3.0).abs() < 1e-3,
+            "{out_s} {duration_s}"
+        );
+    }
+}
