@@ -27,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut events = Vec::new();
     let wanted = (seconds * 500.0) as usize;
     while frames.len() < wanted && simulation.step(&mut events)?.is_some() {
+        // The default scenario has one star-tracker head: every event goes to the assembler.
         for event in events.drain(..) {
             assembler.push(&sensor_log::record_of(&event))?;
             frames.extend(std::iter::from_fn(|| assembler.next_frame()));

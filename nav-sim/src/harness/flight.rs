@@ -17,6 +17,7 @@ use nav_fsw::telemetry::FrameFusion;
 
 use crate::harness::filter_gauge::{imu_error_vector, in_filter_gauge, ImuErrorOutcome};
 use crate::logs::sensor_log;
+use crate::logs::star_heads::FlightStarHeads;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
 use crate::scenario::{self, Scenario};
 use crate::setup::fsw::{configuration_error, fsw_config, replay_setup_for};
@@ -99,6 +100,9 @@ pub struct FlightResult {
     pub frames: u64,
     /// Measurements lost because a frame's port capacity was exceeded.
     pub dropped_measurements: u32,
+    /// Star measurements of the additional star-tracker heads not handed to the flight
+    /// software, which fuses head 0 only ([`FlightStarHeads`]).
+    pub withheld_star_measurements: u64,
     /// NIS of every star-sensor measurement the gate tested (accepted or rejected).
     pub star_nis: NisSum,
     /// NIS of every GNSS fix the gate tested.
@@ -425,6 +429,7 @@ pub fn fly_observed(
             .collect()
     };
     let mut dropped = 0u32;
+    let mut star_heads = FlightStarHeads::default();
     let mut events = Vec::new();
     let mut samples = Vec::new();
     let mut next_record_s = start.time_s;
@@ -444,7 +449,10 @@ pub fn fly_observed(
                 .map_err(|error| SetupError::Setting(error.to_string()))?;
         }
         let mut ports = FramePorts::default();
-        for event in events.drain(..) {
+        for event in events
+            .drain(..)
+            .filter(|event| star_heads.hands_over(event))
+        {
             ports.add(&sensor_log::record_of(&event));
         }
         inject(frame.frame_index, &mut ports);
@@ -513,6 +521,7 @@ pub fn fly_observed(
         calibration_covariance: calibration_covariance(&computer),
         frames,
         dropped_measurements: dropped,
+        withheld_star_measurements: star_heads.withheld(),
         star_nis,
         gnss_nis,
         imu_error,

@@ -16,6 +16,7 @@ use nav_fsw::scheduler::NavigationComputer;
 
 use crate::harness::flight::FlightError;
 use crate::logs::sensor_log;
+use crate::logs::star_heads::FlightStarHeads;
 use crate::scenario::Scenario;
 use crate::setup::fsw::replay_setup;
 use crate::world::simulation::Simulation;
@@ -43,8 +44,9 @@ pub enum ReplayError {
     Io(#[from] std::io::Error),
 }
 
-/// Writes the replay input of the first `max_frames` frames of `scenario`; returns the number
-/// of frames written.
+/// Writes the replay input of the first `max_frames` frames of `scenario`, with the events
+/// the flight software takes ([`FlightStarHeads`]); returns the number of frames written and
+/// the number of star measurements of the additional heads held back.
 ///
 /// # Errors
 /// [`ReplayError`].
@@ -52,13 +54,17 @@ pub fn write_input<W: Write>(
     scenario: &Scenario,
     max_frames: u64,
     mut writer: W,
-) -> Result<u64, ReplayError> {
+) -> Result<(u64, u64), ReplayError> {
     write_input_header(scenario, &mut writer)?;
     let mut simulation = Simulation::new(scenario)?;
     let mut events = Vec::new();
+    let mut star_heads = FlightStarHeads::default();
     let mut frames = 0;
     while frames < max_frames && simulation.step(&mut events)?.is_some() {
-        for event in events.drain(..) {
+        for event in events
+            .drain(..)
+            .filter(|event| star_heads.hands_over(event))
+        {
             let bytes = sensor_log::record_of(&event)
                 .encode()
                 .map_err(ReplayError::Log)?;
@@ -67,7 +73,7 @@ pub fn write_input<W: Write>(
         frames += 1;
     }
     writer.flush()?;
-    Ok(frames)
+    Ok((frames, star_heads.withheld()))
 }
 
 /// The start of a replay input: the setup words of `scenario`, then the binary log header.
@@ -335,6 +341,9 @@ pub struct TargetReplayReport {
     pub difference: Option<FirstDifference>,
     /// The host's output words ([`FRAME_WORDS`] per frame, cost words 0).
     pub host_output: Vec<u64>,
+    /// Star measurements of the additional star-tracker heads not in the replay input (the
+    /// flight software fuses head 0 only: [`FlightStarHeads`]).
+    pub withheld_star_measurements: u64,
 }
 
 impl TargetReplayReport {
@@ -353,6 +362,13 @@ impl TargetReplayReport {
                 self.frames
             ),
         };
+        if self.withheld_star_measurements > 0 {
+            text += &format!(
+                "Star measurements of the additional star-tracker heads not replayed (the \
+                 flight software fuses head 0 only): {}\n",
+                self.withheld_star_measurements
+            );
+        }
         text += "Target cost per frame (instructions, QEMU -icount shift=0; budget 2,000,000 = 2 ms):\n";
         for (name, statistics) in &self.costs {
             text += &format!(
@@ -395,12 +411,16 @@ pub fn replay_on_target(
     // Seconds of flight are far below 2⁵³: exact in f64.
     let frames = crate::scenario::frames_in(seconds as f64, period_s);
     let input_path = directory.join("replay-in.bin");
-    write_input(
+    let (_, withheld_star_measurements) = write_input(
         scenario,
         frames,
         std::io::BufWriter::new(std::fs::File::create(&input_path)?),
     )?;
-    run_and_compare(&input_path, period_s, elf, runner, directory)
+    let report = run_and_compare(&input_path, period_s, elf, runner, directory)?;
+    Ok(TargetReplayReport {
+        withheld_star_measurements,
+        ..report
+    })
 }
 
 /// As [`replay_on_target`], for a log given as records (a recorded or edited log) with the
@@ -468,5 +488,6 @@ fn run_and_compare(
         qemu_wall_time,
         difference: first_difference(&host, &target),
         host_output: host,
+        withheld_star_measurements: 0,
     })
 }

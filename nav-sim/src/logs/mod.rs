@@ -1,4 +1,6 @@
 //! The sensor-log formats: the replay log of the sensor-event stream, as CSV and binary
-//! ([`sensor_log`], `docs/replay-format.md`).
+//! ([`sensor_log`], `docs/replay-format.md`), and the filter of the star-tracker heads that
+//! reach the flight software and its logs ([`star_heads`]).
 
 pub mod sensor_log;
+pub mod star_heads;

@@ -1,20 +1,26 @@
 //! The `[star_sensor]` table: the tracker's rate, noise, mounting, installation error, rate
 //! limit and outages, and its optional truth terms (`docs/model.md`, "Star sensor truth"):
 //! per-axis noise (cross-boresight and roll), a slowly varying first-order Gauss–Markov error,
-//! a periodic error and velocity aberration. The optional terms are left out of the `Debug` rendering while
-//! absent or zero, so a scenario without them renders, and hashes (the campaign's
-//! `scenario_hash`), as it did before they existed.
+//! a periodic error and velocity aberration; and the tracker's further optical heads,
+//! `[[star_sensor.additional_heads]]`, each described by the same keys (`[star_sensor]` is
+//! head 0). The optional terms are left out of the `Debug` rendering while absent or zero, so
+//! a scenario without them renders, and hashes (the campaign's `scenario_hash`), as it did
+//! before they existed.
 
 use serde::Deserialize;
 
 /// Arc-seconds per degree.
 const ARCSEC_PER_DEG: f64 = 3600.0;
 
-/// Star sensor: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq_noise`.
+/// Star sensor head: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq_noise`. The
+/// `[star_sensor]` table is head 0; each `[[star_sensor.additional_heads]]` table is one more
+/// head with the same keys (and no `additional_heads` of its own).
 #[derive(Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StarSensorSettings {
-    /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it.
+    /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it. The heads sample
+    /// on the flight computer's clock together: an additional head's rate must equal head
+    /// 0's, so the time tags of every head coincide.
     pub rate_hz: f64,
     /// Attitude noise, 1σ per sensor axis, as a small rotation (arcsec), ≥ 0: without the
     /// per-axis keys the truth's and the flight software's noise on every axis. With them it
@@ -68,7 +74,18 @@ pub struct StarSensorSettings {
     /// `"none"` (the default) = a tracker that corrects it itself.
     #[serde(default)]
     pub aberration: StarAberration,
+    /// The tracker's further heads, 1, 2, … in file order (head 0 is this table), each a
+    /// complete head with its own mounting, installation error, noise, errors, rate limit
+    /// and outages, and its own random streams; at most [`MAX_STAR_HEADS`] heads in all.
+    /// Empty (the default) = one head.
+    #[serde(default)]
+    pub additional_heads: Vec<StarSensorSettings>,
 }
+
+/// The most heads a star tracker may have (`[star_sensor]` and its additional heads): each
+/// head's random streams have their own ids below the next block of stream ids
+/// (`setup::streams`).
+pub const MAX_STAR_HEADS: usize = 8;
 
 /// Whether the tracker's attitude carries the velocity aberration of the vehicle's motion.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -109,6 +126,11 @@ impl StarSensorSettings {
             .map_or(isotropic, arcsec_to_rad);
         let roll = self.roll_noise_arcsec.map_or(isotropic, arcsec_to_rad);
         [cross, cross, roll]
+    }
+
+    /// Every head, head 0 (this table) first, then the additional heads in file order.
+    pub fn heads(&self) -> impl Iterator<Item = &StarSensorSettings> {
+        std::iter::once(self).chain(&self.additional_heads)
     }
 
     /// Whether the slowly varying Gauss–Markov error is on.
@@ -188,6 +210,9 @@ impl std::fmt::Debug for StarSensorSettings {
         }
         if self.aberration != StarAberration::None {
             debug.field("aberration", &self.aberration);
+        }
+        if !self.additional_heads.is_empty() {
+            debug.field("additional_heads", &self.additional_heads);
         }
         debug.finish()
     }

@@ -143,3 +143,165 @@ fn the_aberration_key_parses_and_renders_only_when_on() {
     assert!(format!("{on:?}").contains("aberration: Uncorrected"));
     assert!(Scenario::from_toml_str(&with_star_lines("aberration = \"corrected\"")).is_err());
 }
+
+/// The default scenario with one `[[star_sensor.additional_heads]]` table of `lines` (each a
+/// complete head), placed after `[star_sensor]`'s keys.
+fn with_heads(heads: &[&str]) -> String {
+    let tables: String = heads
+        .iter()
+        .map(|lines| format!("[[star_sensor.additional_heads]]\n{lines}\n\n"))
+        .collect();
+    DEFAULT_SCENARIO_TOML.replacen("\n[gnss]\n", &format!("\n{tables}[gnss]\n"), 1)
+}
+
+/// A complete head 90° from head 0 (about body x), rate `rate_hz`.
+fn head(rate_hz: f64) -> String {
+    format!(
+        "rate_hz = {rate_hz:?}\nnoise_arcsec = 10.0\nmounting_rotation_vector_deg = [90.0, 0.0, 0.0]\n\
+         installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3]"
+    )
+}
+
+#[test]
+fn additional_heads_parse_render_and_keep_head_zero() {
+    let default = Scenario::default_scenario().unwrap();
+    assert!(default.star_sensor.additional_heads.is_empty());
+    assert!(!format!("{default:?}").contains("additional_heads"));
+    let two = Scenario::from_toml_str(&with_heads(&[&head(10.0), &head(10.0)])).unwrap();
+    let star = &two.star_sensor;
+    assert_eq!(star.heads().count(), 3);
+    assert_eq!(
+        star.additional_heads[1]
+            .mounting_rotation_vector_deg
+            .map(f64::to_bits),
+        [90.0, 0.0, 0.0].map(f64::to_bits)
+    );
+    assert_eq!(star.additional_heads[0].outages, Vec::<[f64; 2]>::new());
+    let mut without = star.clone();
+    without.additional_heads.clear();
+    assert_eq!(without, default.star_sensor);
+    assert!(format!("{two:?}").contains("additional_heads: [StarSensorSettings { rate_hz: 10.0"));
+}
+
+#[test]
+fn bad_additional_heads_are_refused_naming_the_head_and_the_key() {
+    let other_rate = &head(5.0);
+    let negative_noise = &head(10.0).replace("noise_arcsec = 10.0", "noise_arcsec = -1.0");
+    let lone_roll = &format!("{}\nroll_noise_arcsec = 35.0", head(10.0));
+    let bad_outage = &format!("{}\noutages = [[100.0, 0.0]]", head(10.0));
+    let nested = &format!(
+        "{}\n[[star_sensor.additional_heads.additional_heads]]\n{}",
+        head(10.0),
+        head(10.0)
+    );
+    for (heads, key, words) in [
+        (
+            vec![other_rate.as_str()],
+            "star_sensor.additional_heads[0].rate_hz",
+            "= 5 Hz differs from star_sensor.rate_hz = 10 Hz",
+        ),
+        (
+            vec![&head(10.0), negative_noise],
+            "star_sensor.additional_heads[1].noise_arcsec",
+            "(star-tracker head 2)",
+        ),
+        (
+            vec![lone_roll.as_str()],
+            "star_sensor.additional_heads[0].cross_boresight_noise_arcsec",
+            "must be given with star_sensor.additional_heads[0].roll_noise_arcsec",
+        ),
+        (
+            vec![bad_outage.as_str()],
+            "star_sensor.additional_heads[0].outages[0][1] (duration_s)",
+            "(star-tracker head 1)",
+        ),
+        (
+            vec![nested.as_str()],
+            "star_sensor.additional_heads[0].additional_heads",
+            "is not allowed in a head",
+        ),
+    ] {
+        let (refused_key, message) = refusal(&with_heads(&heads));
+        assert_eq!(refused_key, key, "{message}");
+        assert!(message.contains(words), "{message}");
+    }
+    let eight = vec![head(10.0); 8];
+    let eight: Vec<&str> = eight.iter().map(String::as_str).collect();
+    let (key, message) = refusal(&with_heads(&eight));
+    assert_eq!(key, "star_sensor.additional_heads");
+    assert!(message.contains("9 heads"), "{message}");
+    // An unknown or missing key in a head is the parser's error, naming it.
+    let unknown =
+        Scenario::from_toml_str(&with_heads(&[&format!("{}\nboresight = 1.0", head(10.0))]))
+            .unwrap_err()
+            .to_string();
+    assert!(unknown.contains("boresight"), "{unknown}");
+    let missing = Scenario::from_toml_str(&with_heads(&["rate_hz = 10.0\nnoise_arcsec = 10.0"]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        missing.contains("mounting_rotation_vector_deg"),
+        "{missing}"
+    );
+}
+
+/// The two-head scenario files: head 0 is the roll-noise file's tracker value for value, head
+/// 1 has head 0's rate and noise, a boresight 90° from head 0's, an installation error of head
+/// 0's size, and an outage over the middle third of the flight.
+#[test]
+fn the_two_head_scenario_files_are_their_single_head_files_plus_head_one() {
+    let directory = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    for (two_heads, roll_noise) in [
+        ("star_tracker_two_heads", "star_tracker_roll_noise"),
+        (
+            "upper_stage_star_tracker_two_heads",
+            "upper_stage_star_tracker_roll_noise",
+        ),
+    ] {
+        let load = |name: &str| Scenario::load(&directory.join(format!("{name}.toml"))).unwrap();
+        let (two_heads, mut single) = (load(two_heads), load(roll_noise));
+        let star = &two_heads.star_sensor;
+        let [head_1] = star.additional_heads.as_slice() else {
+            panic!("one additional head expected")
+        };
+        single.star_sensor.additional_heads = vec![head_1.clone()];
+        assert_eq!(format!("{single:?}"), format!("{two_heads:?}"));
+        assert_eq!(head_1.rate_hz.to_bits(), star.rate_hz.to_bits());
+        assert_eq!(
+            head_1.noise_per_axis_rad().map(f64::to_bits),
+            star.noise_per_axis_rad().map(f64::to_bits)
+        );
+        let boresight = |settings: &crate::scenario::StarSensorSettings| {
+            let vector =
+                nalgebra::Vector3::from(settings.mounting_rotation_vector_deg).map(f64::to_radians);
+            nalgebra::UnitQuaternion::from_scaled_axis(vector) * nalgebra::Vector3::z()
+        };
+        let angle_deg = boresight(star).angle(&boresight(head_1)).to_degrees();
+        assert!((angle_deg - 90.0).abs() < 1e-5, "{angle_deg}");
+        let size = |psi: [f64; 3]| nalgebra::Vector3::from(psi).norm();
+        let (size_0, size_1) = (
+            size(star.installation_error_rotation_vector_rad),
+            size(head_1.installation_error_rotation_vector_rad),
+        );
+        assert!((size_0 - size_1).abs() < 1e-15, "{size_0} {size_1}");
+        assert_ne!(
+            star.installation_error_rotation_vector_rad
+                .map(f64::to_bits),
+            head_1
+                .installation_error_rotation_vector_rad
+                .map(f64::to_bits)
+        );
+        let duration_s: f64 = two_heads.manoeuvres.iter().map(|m| m.duration_s).sum();
+        let [[start_s, out_s]] = head_1.outages.as_slice() else {
+            panic!("one outage expected")
+        };
+        assert!(
+            (start_s - duration_s / 3.0).abs() < 1e-3,
+            "{start_s} {duration_s}"
+        );
+        assert!(
+            (out_s - duration_s / 3.0).abs() < 1e-3,
+            "{out_s} {duration_s}"
+        );
+    }
+}

@@ -590,34 +590,11 @@ impl Scenario {
             ),
         )?;
 
-        let star = &self.star_sensor;
-        check.positive("star_sensor.rate_hz", star.rate_hz)?;
-        check.limit(
-            star.rate_hz > min_aiding_rate_hz,
-            "star_sensor.rate_hz",
-            star.rate_hz,
-            ("is not above", min_aiding_rate_hz),
-            " Hz",
-            &outage_reason,
+        check.star_sensor(
+            &self.star_sensor,
+            period_s,
+            (min_aiding_rate_hz, &outage_reason),
         )?;
-        check.whole_frames("star_sensor.rate_hz", 1.0 / star.rate_hz, period_s, 1.0)?;
-        check.sigma("star_sensor.noise_arcsec", star.noise_arcsec, true)?;
-        check.rotation_vector(
-            "star_sensor.mounting_rotation_vector_deg",
-            &star.mounting_rotation_vector_deg,
-            360.0,
-            "deg",
-        )?;
-        check.rotation_vector(
-            "star_sensor.installation_error_rotation_vector_rad",
-            &star.installation_error_rotation_vector_rad,
-            std::f64::consts::TAU,
-            "rad",
-        )?;
-        check.non_negative("star_sensor.max_rate_deg_per_s", star.max_rate_deg_per_s)?;
-        check.non_negative("star_sensor.reacquisition_s", star.reacquisition_s)?;
-        check.outages("star_sensor.outages", &star.outages)?;
-        check.star_sensor_truth(star)?;
 
         let gnss = &self.gnss;
         check.positive("gnss.rate_hz", gnss.rate_hz)?;

@@ -31,6 +31,18 @@ pub enum Stream {
     AccelBiasInstability,
     /// The star tracker's slowly varying Gauss–Markov error (drawn only when it is on).
     StarSlowError,
+    /// White noise of the star tracker's additional head `head` (≥ 1; head 0, `[star_sensor]`,
+    /// draws from [`Stream::Star`]).
+    AdditionalStarHead {
+        /// The head's number, 1 for the first `[[star_sensor.additional_heads]]`.
+        head: usize,
+    },
+    /// The slowly varying error of the additional head `head` (≥ 1; drawn only when it is on;
+    /// head 0's is [`Stream::StarSlowError`]).
+    AdditionalStarHeadSlowError {
+        /// The head's number.
+        head: usize,
+    },
     /// The initial navigation error drawn from the filter's initial 1σ.
     InitialError,
     /// The sensor-error truth drawn from the filter's prior for a Monte Carlo run.
@@ -45,6 +57,30 @@ pub enum Stream {
 
 /// First ChaCha8 stream id of the `[dispersion]` entries.
 pub const DISPERSION_STREAM_BASE: u64 = 200;
+/// ChaCha8 stream id of head 0's white noise plus `head`: the additional heads' white noise
+/// (ids 301..=307 for the at most
+/// [`crate::scenario::star_sensor::MAX_STAR_HEADS`] heads).
+pub const STAR_HEAD_STREAM_BASE: u64 = 300;
+/// Likewise for the additional heads' slowly varying errors (ids 321..=327).
+pub const STAR_HEAD_SLOW_ERROR_STREAM_BASE: u64 = 320;
+
+impl Stream {
+    /// The white-noise stream of star-tracker head `head` (0 = `[star_sensor]`).
+    pub fn star_noise(head: usize) -> Self {
+        match head {
+            0 => Self::Star,
+            head => Self::AdditionalStarHead { head },
+        }
+    }
+
+    /// The slow-error stream of star-tracker head `head` (0 = `[star_sensor]`).
+    pub fn star_slow_error(head: usize) -> Self {
+        match head {
+            0 => Self::StarSlowError,
+            head => Self::AdditionalStarHeadSlowError { head },
+        }
+    }
+}
 
 impl Stream {
     /// The ChaCha8 stream id.
@@ -61,6 +97,11 @@ impl Stream {
             Self::GyroBiasInstability => 9,
             Self::AccelBiasInstability => 10,
             Self::StarSlowError => 11,
+            // Head numbers are below MAX_STAR_HEADS (validated), far inside u64.
+            Self::AdditionalStarHead { head } => STAR_HEAD_STREAM_BASE + head as u64,
+            Self::AdditionalStarHeadSlowError { head } => {
+                STAR_HEAD_SLOW_ERROR_STREAM_BASE + head as u64
+            }
             Self::InitialError => 100,
             Self::TruthDraw => 101,
             // Entry indices are below ENTRY_KEYS.len(), far inside u64.
@@ -80,6 +121,7 @@ pub fn rng(seed: u64, stream: Stream) -> ChaCha8Rng {
 mod tests {
     use super::*;
     use crate::scenario::dispersion::ENTRY_KEYS;
+    use crate::scenario::star_sensor::MAX_STAR_HEADS;
 
     #[test]
     fn no_two_streams_share_an_id() {
@@ -99,9 +141,23 @@ mod tests {
             Stream::TruthDraw,
         ];
         streams.extend((0..ENTRY_KEYS.len()).map(|entry| Stream::Dispersion { entry }));
+        streams.extend((1..MAX_STAR_HEADS).map(Stream::star_noise));
+        streams.extend((1..MAX_STAR_HEADS).map(Stream::star_slow_error));
         let mut ids: Vec<u64> = streams.iter().map(|stream| stream.id()).collect();
         ids.sort_unstable();
         ids.dedup();
         assert_eq!(ids.len(), streams.len());
+    }
+
+    /// Head 0 keeps the streams the single tracker had, so a scenario without additional
+    /// heads draws the very same numbers.
+    #[test]
+    fn head_zero_keeps_the_single_trackers_streams() {
+        assert_eq!(Stream::star_noise(0).id(), 5);
+        assert_eq!(Stream::star_slow_error(0).id(), 11);
+        assert_eq!(Stream::star_noise(1).id(), 301);
+        assert_eq!(Stream::star_slow_error(MAX_STAR_HEADS - 1).id(), 327);
+        assert!(STAR_HEAD_STREAM_BASE + MAX_STAR_HEADS as u64 <= STAR_HEAD_SLOW_ERROR_STREAM_BASE);
+        assert!(DISPERSION_STREAM_BASE + (ENTRY_KEYS.len() as u64) < STAR_HEAD_STREAM_BASE);
     }
 }

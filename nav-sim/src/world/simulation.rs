@@ -2,7 +2,9 @@
 
 use crate::scenario::Scenario;
 use crate::setup::launch::Launch;
-use crate::world::sensors::{SensorError, SensorErrorTruth, SensorEvent, SensorSimulator};
+use crate::world::sensors::{
+    SensorError, SensorErrorTruth, SensorEvent, SensorSimulator, StarHeadAlignment,
+};
 use crate::world::truth::{TruthError, TruthFrame, TruthGravity, TruthSimulator};
 
 /// Why a simulation could not be set up or advanced.
@@ -76,9 +78,26 @@ impl Simulation {
         &self.truth
     }
 
-    /// The true sensor errors now.
+    /// The true sensor errors now (the star tracker's: head 0's).
     pub fn error_truth(&self) -> SensorErrorTruth {
         self.sensors.error_truth()
+    }
+
+    /// The number of star-tracker heads ([`SensorSimulator::star_head_count`]).
+    pub fn star_head_count(&self) -> usize {
+        self.sensors.star_head_count()
+    }
+
+    /// Star-tracker head `head`'s true alignment now
+    /// ([`SensorSimulator::star_head_alignment`]).
+    pub fn star_head_alignment(&self, head: usize) -> Option<StarHeadAlignment> {
+        self.sensors.star_head_alignment(head)
+    }
+
+    /// Head `head`'s true alignment relative to head 0 now, `(q_bs,0 q_ψ,0)⁻¹ ⊗ (q_bs,h q_ψ,h)`
+    /// ([`SensorSimulator::star_relative_alignment_q`]).
+    pub fn star_relative_alignment_q(&self, head: usize) -> Option<nalgebra::Quaternion<f64>> {
+        self.sensors.star_relative_alignment_q(head)
     }
 
     /// Advances one frame: returns its truth and appends the frame's sensor events to `events`

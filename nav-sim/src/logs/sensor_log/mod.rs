@@ -33,6 +33,13 @@
 //!
 //! The binary form is nav-fsw's [`nav_fsw::log_record`]: a 16-byte header and one 80-byte
 //! record per row, same order, same bits.
+//!
+//! ## Star-tracker heads
+//! A log holds the star measurements of head 0 (`[star_sensor]`) only: nav-fsw's record has
+//! no head field (its reserved bytes must be zero), and the CSV mirrors it. A simulation's
+//! other heads are held back by [`crate::logs::star_heads::FlightStarHeads`] and counted
+//! ([`RecordedLog::withheld_star_measurements`]); a star event of another head given to
+//! [`SensorLogWriter::write_event`] is refused ([`SensorLogError::StarHead`]).
 
 mod binary;
 mod reader;
@@ -42,13 +49,14 @@ mod writer;
 
 pub use binary::{convert_csv_to_binary, read_binary};
 pub use reader::{read_events, SensorLogReader};
-pub use writer::{record_simulation, SensorLogWriter};
+pub use writer::{record_simulation, RecordedLog, SensorLogWriter};
 
 use nalgebra::{Quaternion, Vector3};
 use nav_fsw::log_record::{GnssRecord, ImuRecord, LogRecord, LogRecordError, StarRecord};
 
 use nav_fsw::sensor_frames::SensorFrames;
 
+use crate::logs::star_heads::FlightStarHeads;
 use crate::world::sensors::SensorEvent;
 use crate::world::simulation::{Simulation, SimulationError};
 
@@ -322,6 +330,18 @@ pub enum SensorLogError {
         /// Time tag (s).
         time_tag_s: f64,
     },
+    /// A star event of a head other than 0, which the log cannot mark (module docs, "Star-tracker
+    /// heads").
+    #[error(
+        "a star measurement of head {head} at t = {time_tag_s} s: the log holds head 0 \
+         ([star_sensor]) only (nav-fsw's log record has no head)"
+    )]
+    StarHead {
+        /// The event's head.
+        head: usize,
+        /// Its time tag (s).
+        time_tag_s: f64,
+    },
     /// A binary record (0-based index; `None`: the file header) is invalid.
     #[error("binary log {}: {error}", match record { Some(index) => format!("record {index}"), None => "header".to_string() })]
     Binary {
@@ -335,7 +355,8 @@ pub enum SensorLogError {
     Simulation(#[from] SimulationError),
 }
 
-/// The log record of a simulator event (exact: every field is copied bit for bit).
+/// The log record of a simulator event (exact: every field is copied bit for bit). The record
+/// has no head: pass star events through [`crate::logs::star_heads::FlightStarHeads`] first.
 pub fn record_of(event: &SensorEvent) -> LogRecord {
     match event {
         SensorEvent::Imu {
@@ -354,6 +375,7 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
         SensorEvent::Star {
             time_tag_s,
             attitude_q_gs,
+            ..
         } => LogRecord::Star(StarRecord {
             arrival_time_s: *time_tag_s,
             time_tag_s: *time_tag_s,
@@ -383,7 +405,8 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
 }
 
 /// The records of the first `frames` frames of `scenario`'s sensor-event stream (fewer if the
-/// scenario ends first), in delivery order.
+/// scenario ends first), in delivery order, with head 0's star measurements only
+/// ([`simulated_log`] also counts the others').
 ///
 /// # Errors
 /// [`SimulationError`] from the simulation.
@@ -391,6 +414,18 @@ pub fn simulated_records(
     scenario: &crate::scenario::Scenario,
     frames: u64,
 ) -> Result<Vec<LogRecord>, SimulationError> {
+    simulated_log(scenario, frames).map(|(records, _)| records)
+}
+
+/// [`simulated_records`] and the number of star measurements of the other heads held back
+/// ([`FlightStarHeads`]).
+///
+/// # Errors
+/// [`SimulationError`] from the simulation.
+pub fn simulated_log(
+    scenario: &crate::scenario::Scenario,
+    frames: u64,
+) -> Result<(Vec<LogRecord>, u64), SimulationError> {
     let mut simulation = Simulation::new(scenario)?;
     let mut events = Vec::new();
     for _ in 0..frames {
@@ -398,7 +433,13 @@ pub fn simulated_records(
             break;
         }
     }
-    Ok(events.iter().map(record_of).collect())
+    let mut heads = FlightStarHeads::default();
+    let records = events
+        .iter()
+        .filter(|event| heads.hands_over(event))
+        .map(record_of)
+        .collect();
+    Ok((records, heads.withheld()))
 }
 
 /// `record` with its arrival time and time tag moved by `by_s`: a log whose clock is offset
@@ -429,7 +470,7 @@ pub fn shifted(record: &LogRecord, by_s: f64) -> LogRecord {
 }
 
 /// The simulator event of a log record (GNSS navigation time from its GPS tag with
-/// `frames`), or `None` for a star record whose arrival differs from its time tag (the
+/// `frames`; a star record is head 0's), or `None` for a star record whose arrival differs from its time tag (the
 /// simulator has no star latency) or a GNSS tag outside the GPS ranges.
 pub fn event_of(record: &LogRecord, frames: &SensorFrames) -> Option<SensorEvent> {
     match record {
@@ -444,6 +485,7 @@ pub fn event_of(record: &LogRecord, frames: &SensorFrames) -> Option<SensorEvent
             let [w, x, y, z] = star.attitude_wxyz;
             (star.arrival_time_s.to_bits() == star.time_tag_s.to_bits()).then_some(
                 SensorEvent::Star {
+                    head: 0,
                     time_tag_s: star.time_tag_s,
                     attitude_q_gs: Quaternion::new(w, x, y, z),
                 },

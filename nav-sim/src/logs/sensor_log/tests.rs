@@ -150,7 +150,9 @@ fn recorded_mission_reads_back_as_the_event_stream() {
     let mut scenario = Scenario::default_scenario().unwrap();
     scenario.manoeuvres.truncate(2);
     let mut csv = Vec::new();
-    let rows = record_simulation(Simulation::new(&scenario).unwrap(), &mut csv).unwrap();
+    let recorded = record_simulation(Simulation::new(&scenario).unwrap(), &mut csv).unwrap();
+    assert_eq!(recorded.withheld_star_measurements, 0);
+    let rows = recorded.rows;
     let expected = Simulation::new(&scenario).unwrap().event_stream().unwrap();
     assert_eq!(rows, u64::try_from(expected.len()).unwrap());
     let imu_rows = expected

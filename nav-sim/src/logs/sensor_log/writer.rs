@@ -6,6 +6,7 @@ use std::io::Write;
 use nav_fsw::log_record::{GnssRecord, LogRecord};
 
 use super::{column, float_values, record_of, Kind, SensorLogError, COLUMNS};
+use crate::logs::star_heads::FlightStarHeads;
 use crate::world::sensors::SensorEvent;
 use crate::world::simulation::Simulation;
 
@@ -116,8 +117,20 @@ impl<W: Write> SensorLogWriter<W> {
     /// Appends one simulator event.
     ///
     /// # Errors
-    /// As [`SensorLogWriter::write`].
+    /// [`SensorLogError::StarHead`] for a star event of a head other than 0 (the log has no
+    /// head); otherwise as [`SensorLogWriter::write`].
     pub fn write_event(&mut self, event: &SensorEvent) -> Result<(), SensorLogError> {
+        if let SensorEvent::Star {
+            head, time_tag_s, ..
+        } = event
+        {
+            if *head != 0 {
+                return Err(SensorLogError::StarHead {
+                    head: *head,
+                    time_tag_s: *time_tag_s,
+                });
+            }
+        }
         self.write(&record_of(event))
     }
 
@@ -132,24 +145,38 @@ impl<W: Write> SensorLogWriter<W> {
     }
 }
 
-/// Runs a simulation to its end, streaming every sensor event into a CSV log (memory does not
-/// grow with the mission length). Returns the number of rows written.
+/// What [`record_simulation`] wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RecordedLog {
+    /// Rows written.
+    pub rows: u64,
+    /// Star measurements of heads other than 0, not written (the log holds head 0 only:
+    /// [`FlightStarHeads`]).
+    pub withheld_star_measurements: u64,
+}
+
+/// Runs a simulation to its end, streaming every sensor event the flight software takes
+/// ([`FlightStarHeads`]) into a CSV log (memory does not grow with the mission length).
 ///
 /// # Errors
 /// [`SensorLogError::Simulation`] or a writing error.
 pub fn record_simulation<W: Write>(
     mut simulation: Simulation,
     writer: W,
-) -> Result<u64, SensorLogError> {
+) -> Result<RecordedLog, SensorLogError> {
     let mut log = SensorLogWriter::new(writer)?;
     let mut events = Vec::new();
+    let mut heads = FlightStarHeads::default();
     let mut rows = 0_u64;
     while simulation.step(&mut events)?.is_some() {
-        for event in events.drain(..) {
+        for event in events.drain(..).filter(|event| heads.hands_over(event)) {
             log.write_event(&event)?;
             rows += 1;
         }
     }
     log.finish()?.flush()?;
-    Ok(rows)
+    Ok(RecordedLog {
+        rows,
+        withheld_star_measurements: heads.withheld(),
+    })
 }

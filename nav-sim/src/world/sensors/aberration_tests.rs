@@ -7,7 +7,7 @@ use super::tests::{events_digest, every_frame_scenario, run};
 use super::*;
 use crate::scenario::StarAberration;
 use nav_core::aberration::SPEED_OF_LIGHT_MPS;
-use nav_core::attitude::log_rotation_vector;
+use nav_core::attitude::{canonical, exp_rotation_vector, log_rotation_vector};
 
 /// The attitude `q_is` a tracker fits to stars: the catalogue directions `catalogue`
 /// (inertial), seen from a vehicle at `velocity_mps` at `u' = (u + β)/|u + β|` (the

@@ -29,6 +29,9 @@
 //! ([`SensorErrorTruth::star_installation_vector_part`]). Output canonicalised to `w ≥ 0`.
 //! With `aberration = "uncorrected"` the velocity aberration `exp(a_s)`
 //! ([`aberration_rotation_rad`], docs/model.md) follows `q_ψ`, before the slow errors.
+//! The tracker may have several heads (`star_head.rs`), each this model with its own
+//! settings and random streams; head 0 is `[star_sensor]`, and its events and truth are
+//! what they are without the other heads, bit for bit.
 //!
 //! ## GNSS
 //! ECEF position of the truth (the IMU's position; no lever arm) at the fix's time of validity,
@@ -36,8 +39,8 @@
 //! Delivered `latency_s` later (a whole number of IMU frames).
 //!
 //! ## Stream order and timing
-//! For every truth frame `k` (`[t_k, t_k+1]`): first `Imu` (time tag `t_k+1`), then any star
-//! sample valid at `t_k+1`, then any GNSS fix delivered at `t_k+1`. Measurements are sampled at
+//! For every truth frame `k` (`[t_k, t_k+1]`): first `Imu` (time tag `t_k+1`), then the star
+//! samples valid at `t_k+1` in head order, then any GNSS fix delivered at `t_k+1`. Measurements are sampled at
 //! whole multiples of their period after the scenario start (the IMU rate is a whole multiple of
 //! each measurement rate). Each error source draws from its own ChaCha8 stream of the scenario
 //! seed, so changing one sensor's settings never changes another's noise, and a seed reproduces
@@ -45,7 +48,6 @@
 //! plus `ln`/`exp` from the platform's libm; the host builds agree).
 
 use nalgebra::{Matrix3, Quaternion, Vector3};
-use nav_core::attitude::{canonical, exp_rotation_vector};
 use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
 use nav_fsw::sensor_frames::SensorFrames;
 use rand::Rng;
@@ -57,7 +59,8 @@ use crate::setup::launch::Launch;
 use crate::setup::streams::{self, Stream};
 use crate::world::truth::TruthFrame;
 use imu_errors::TriadExtras;
-use star_errors::StarSlowErrors;
+use star_head::StarHead;
+pub use star_head::{aberration_rotation_rad, star_tracker_tracks, StarHeadAlignment};
 
 /// One sensor output, in delivery order.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,8 +78,11 @@ pub enum SensorEvent {
         /// Measured delta velocity (m/s, body axes).
         delta_velocity_mps: Vector3<f64>,
     },
-    /// Star-sensor attitude.
+    /// Star-sensor attitude from one head of the tracker.
     Star {
+        /// The head (0 = `[star_sensor]`, `h` = the `h`-th
+        /// `[[star_sensor.additional_heads]]`); the heads of one frame come in head order.
+        head: usize,
         /// Time of validity (s, navigation time).
         time_tag_s: f64,
         /// Measured `q_gs`, sensor to GCRF, canonical (`w ≥ 0`).
@@ -138,12 +144,14 @@ impl SensorEvent {
         }
     }
 
-    /// The star event as the flight software's port measurement, or `None`.
+    /// The star event as the flight software's port measurement (whatever its head: the
+    /// port has no head, so the caller chooses which heads to hand over), or `None`.
     pub fn to_star_measurement(&self) -> Option<StarMeasurement> {
         match self {
             Self::Star {
                 time_tag_s,
                 attitude_q_gs,
+                ..
             } => Some(StarMeasurement {
                 time_tag_s: *time_tag_s,
                 sensor_to_gcrf_wxyz: [
@@ -205,13 +213,13 @@ pub struct SensorErrorTruth {
     pub accel_bias_mps2: Vector3<f64>,
     /// Accelerometer scale factors, diagonal of `Λa`.
     pub accel_scale_factor: Vector3<f64>,
-    /// The star sensor's alignment error as its measurement sees it now: the installation
+    /// Head 0's alignment error as its measurement sees it now: the installation
     /// error `q_ψ = exp(ψ)`, times `exp(ε_slow)` at the last star sample when the tracker
     /// has slowly varying errors. The measurement model cannot tell the two apart (they
     /// stand side by side in `q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq`), so this is what the
     /// filter's installation state estimates; without slow errors it is `q_ψ`.
     pub star_installation_q_psi: Quaternion<f64>,
-    /// Nominal mounting `q_bs` (known to the flight code).
+    /// Head 0's nominal mounting `q_bs` (known to the flight code).
     pub star_mounting_q_bs: Quaternion<f64>,
     /// Gyro misalignment and non-orthogonality `A_g` (rad, zero diagonal; zero when off).
     pub gyro_misalignment_rad: Matrix3<f64>,
@@ -338,17 +346,12 @@ pub struct SensorSimulator {
     gcrf_from_launch_q: Quaternion<f64>,
     gyro: TriadModel,
     accelerometer: TriadModel,
-    star_mounting_q_bs: Quaternion<f64>,
-    star_installation_q_psi: Quaternion<f64>,
-    /// The white noise's 1σ about sensor x, y and z (rad).
-    star_noise_rad: Vector3<f64>,
+    /// The tracker's head 0 (`[star_sensor]`).
+    star_head_0: StarHead,
+    /// Its additional heads, 1, 2, … (`[[star_sensor.additional_heads]]`).
+    star_additional_heads: Vec<StarHead>,
+    /// Frames between star samples, the same for every head.
     star_frames_per_sample: u64,
-    star_rng: ChaCha8Rng,
-    /// The slowly varying errors ([`star_errors`]); `None` when off, and then the measurement
-    /// is the model without them, bit for bit.
-    star_slow: Option<StarSlowErrors>,
-    /// Whether the measured attitude carries the velocity aberration ([`aberration_rotation_rad`]).
-    star_aberration: bool,
     gnss_noise_m: f64,
     gnss_frames_per_sample: u64,
     gnss_latency_s: f64,
@@ -357,11 +360,6 @@ pub struct SensorSimulator {
     gnss_velocity_noise_mps: f64,
     gnss_velocity_rng: ChaCha8Rng,
     gnss_outages: Vec<[f64; 2]>,
-    star_max_rate_rad_s: f64,
-    star_reacquisition_s: f64,
-    star_outages: Vec<[f64; 2]>,
-    /// The star tracker delivers nothing before this time (s): it lost track.
-    star_blind_until_s: f64,
     /// Scenario start (s), the origin of the outage times.
     start_time_s: f64,
     /// Fixes sampled but not yet delivered, oldest first.
@@ -388,7 +386,6 @@ impl SensorSimulator {
         let gyro = &scenario.gyro;
         let accelerometer = &scenario.accelerometer;
         let star = &scenario.star_sensor;
-        let [mount_x, mount_y, mount_z] = star.mounting_rotation_vector_deg;
         Self {
             itrf: crate::scenario::epoch::ItrfFromLaunchInertial::new(epoch, frame),
             sensor_frames: ground.sensor_frames,
@@ -433,21 +430,16 @@ impl SensorSimulator {
                     || streams::rng(seed, Stream::AccelBiasInstability),
                 ),
             },
-            star_mounting_q_bs: exp_rotation_vector(&Vector3::new(
-                mount_x.to_radians(),
-                mount_y.to_radians(),
-                mount_z.to_radians(),
-            )),
-            star_installation_q_psi: exp_rotation_vector(&vector(
-                star.installation_error_rotation_vector_rad,
-            )),
-            star_noise_rad: Vector3::from(star.noise_per_axis_rad()),
+            star_head_0: StarHead::new(0, star, seed, scenario.simulation.start_time_s),
+            star_additional_heads: star
+                .heads()
+                .enumerate()
+                .skip(1)
+                .map(|(head, settings)| {
+                    StarHead::new(head, settings, seed, scenario.simulation.start_time_s)
+                })
+                .collect(),
             star_frames_per_sample: frames_in(1.0 / star.rate_hz, period_s),
-            star_rng: streams::rng(seed, Stream::Star),
-            star_aberration: star.aberration == crate::scenario::StarAberration::Uncorrected,
-            star_slow: StarSlowErrors::new(star, scenario.simulation.start_time_s, || {
-                streams::rng(seed, Stream::StarSlowError)
-            }),
             gnss_noise_m: scenario.gnss.noise_m,
             gnss_frames_per_sample: frames_in(1.0 / scenario.gnss.rate_hz, period_s),
             gnss_latency_s: scenario.gnss.latency_s,
@@ -461,10 +453,6 @@ impl SensorSimulator {
             gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
             gnss_velocity_rng: streams::rng(seed, Stream::GnssVelocity),
             gnss_outages: scenario.gnss.outages.clone(),
-            star_max_rate_rad_s: star.max_rate_deg_per_s.to_radians(),
-            star_reacquisition_s: star.reacquisition_s,
-            star_outages: star.outages.clone(),
-            star_blind_until_s: f64::NEG_INFINITY,
             start_time_s: scenario.simulation.start_time_s,
             pending_gnss: std::collections::VecDeque::new(),
         }
@@ -473,16 +461,14 @@ impl SensorSimulator {
     /// The true sensor errors now (biases change only with a bias random walk or a bias
     /// instability; the bias is the sum of both, the one of the next frame).
     pub fn error_truth(&self) -> SensorErrorTruth {
+        let head_0 = self.star_head_0.alignment();
         SensorErrorTruth {
             gyro_bias_rad_per_s: self.gyro.total_bias(),
             gyro_scale_factor: self.gyro.scale_factor,
             accel_bias_mps2: self.accelerometer.total_bias(),
             accel_scale_factor: self.accelerometer.scale_factor,
-            star_installation_q_psi: match &self.star_slow {
-                None => self.star_installation_q_psi,
-                Some(slow) => self.star_installation_q_psi * exp_rotation_vector(&slow.last()),
-            },
-            star_mounting_q_bs: self.star_mounting_q_bs,
+            star_installation_q_psi: head_0.installation_q_psi,
+            star_mounting_q_bs: head_0.mounting_q_bs,
             gyro_misalignment_rad: self.gyro.misalignment(),
             accel_misalignment_rad: self.accelerometer.misalignment(),
             gyro_g_sensitivity_rad_s_per_mps2: self.gyro.g_sensitivity(),
@@ -517,9 +503,13 @@ impl SensorSimulator {
         });
 
         let frames_elapsed = truth.frame_index + 1;
-        let tracking = self.star_tracking(truth);
-        if frames_elapsed % self.star_frames_per_sample == 0 {
-            self.star_sample(truth, tracking, events);
+        let star_sampled = frames_elapsed % self.star_frames_per_sample == 0;
+        let heads = std::iter::once(&mut self.star_head_0).chain(&mut self.star_additional_heads);
+        for head in heads {
+            let tracking = head.tracking(truth);
+            if star_sampled {
+                head.sample(truth, tracking, &self.gcrf_from_launch_q, events);
+            }
         }
 
         if frames_elapsed % self.gnss_frames_per_sample == 0 {
@@ -575,83 +565,30 @@ impl SensorSimulator {
 }
 
 impl SensorSimulator {
-    /// The star sample valid at the end of `truth`'s frame, pushed to `events` if the tracker
-    /// is `tracking` and not in an outage. Drawn whether or not it is delivered: the noise of
-    /// every other sample stays what it is without the outage.
-    fn star_sample(&mut self, truth: &TruthFrame, tracking: bool, events: &mut Vec<SensorEvent>) {
-        // Per axis; with the same σ on every axis the same bits as `normal3 · σ`.
-        let noise = normal3(&mut self.star_rng).component_mul(&self.star_noise_rad);
-        let mut installed =
-            truth.attitude_q_ib * self.star_mounting_q_bs * self.star_installation_q_psi;
-        if self.star_aberration {
-            let rotation = aberration_rotation_rad(&installed, &truth.velocity_mps);
-            installed *= exp_rotation_vector(&rotation);
-        }
-        let measured = match &mut self.star_slow {
-            None => installed * exp_rotation_vector(&noise),
-            Some(slow) => {
-                installed
-                    * exp_rotation_vector(&slow.at(truth.time_s))
-                    * exp_rotation_vector(&noise)
-            }
-        };
-        let elapsed_s = truth.time_s - self.start_time_s;
-        if tracking && !crate::scenario::in_outage(&self.star_outages, elapsed_s) {
-            events.push(SensorEvent::Star {
-                time_tag_s: truth.time_s,
-                attitude_q_gs: canonical(&(self.gcrf_from_launch_q * measured.normalize())),
-            });
+    /// The number of star-tracker heads (1 + the additional heads).
+    pub fn star_head_count(&self) -> usize {
+        1 + self.star_additional_heads.len()
+    }
+
+    /// Head `head`'s true alignment now (its slow errors at its last sample), `None` past the
+    /// last head. Head 0's is also in [`SensorSimulator::error_truth`].
+    pub fn star_head_alignment(&self, head: usize) -> Option<StarHeadAlignment> {
+        match head {
+            0 => Some(self.star_head_0.alignment()),
+            head => self
+                .star_additional_heads
+                .get(head - 1)
+                .map(StarHead::alignment),
         }
     }
 
-    /// Whether the star tracker tracks during `truth`'s frame: not while the body rate's
-    /// magnitude (the frame's mean, `|Δθ| / T`) exceeds `star_sensor.max_rate_deg_per_s`,
-    /// nor for `reacquisition_s` after it falls back below.
-    fn star_tracking(&mut self, truth: &TruthFrame) -> bool {
-        star_tracker_tracks(
-            truth,
-            self.star_max_rate_rad_s,
-            self.star_reacquisition_s,
-            &mut self.star_blind_until_s,
-        )
+    /// Head `head`'s true alignment relative to head 0 now,
+    /// `q_ab = (q_bs,0 q_ψ,0)⁻¹ ⊗ (q_bs,h q_ψ,h)` with each head's slow errors at its last
+    /// sample ([`StarHeadAlignment::relative_to`]); `None` past the last head.
+    pub fn star_relative_alignment_q(&self, head: usize) -> Option<Quaternion<f64>> {
+        self.star_head_alignment(head)
+            .map(|alignment| alignment.relative_to(&self.star_head_0.alignment()))
     }
-}
-
-/// The rotation (rad, sensor axes) by which velocity aberration turns the attitude a
-/// tracker of true sensor-to-inertial attitude `q_is` reports at the inertial velocity
-/// `velocity_mps`: `a_s = β_s × z`, `β_s = C_isᵀ v / c` (docs/model.md, "Star sensor
-/// truth", and nav-core `aberration` for the derivation; the sign is proven against star
-/// directions displaced by the nonlinear formula in this module's tests). Written here
-/// apart from the flight code's correction, which it checks.
-pub fn aberration_rotation_rad(
-    q_is: &Quaternion<f64>,
-    velocity_mps: &Vector3<f64>,
-) -> Vector3<f64> {
-    let beta_sensor = nalgebra::UnitQuaternion::from_quaternion(*q_is)
-        .inverse_transform_vector(velocity_mps)
-        / nav_core::aberration::SPEED_OF_LIGHT_MPS;
-    beta_sensor.cross(&Vector3::z())
-}
-
-/// Whether a star tracker that loses its stars above `max_rate_rad_s` (0 = no limit) and
-/// needs `reacquisition_s` to find them again tracks during `truth`'s frame: not while the
-/// frame's mean body rate `|Δθ| / T` exceeds the limit, nor until `blind_until_s`, which a
-/// frame above the limit moves to its end plus the re-acquisition time.
-pub fn star_tracker_tracks(
-    truth: &TruthFrame,
-    max_rate_rad_s: f64,
-    reacquisition_s: f64,
-    blind_until_s: &mut f64,
-) -> bool {
-    if max_rate_rad_s <= 0.0 {
-        return true;
-    }
-    let rate_rad_s = truth.delta_angle_rad.norm() / truth.interval_s;
-    if rate_rad_s > max_rate_rad_s {
-        *blind_until_s = truth.time_s + reacquisition_s;
-        return false;
-    }
-    truth.time_s >= *blind_until_s
 }
 
 /// A first-order Gauss–Markov error per axis, `ε̇ = −ε/τ + w`, stationary 1σ `sigma`: drawn
@@ -691,5 +628,8 @@ mod imu_errors_tests;
 mod star_errors;
 #[cfg(test)]
 mod star_errors_tests;
+mod star_head;
+#[cfg(test)]
+mod star_head_tests;
 #[cfg(test)]
 mod tests;

@@ -4,29 +4,41 @@ use super::imu_errors_tests::autocorrelation;
 use super::star_errors::SlowGaussMarkov;
 use super::tests::{events_digest, every_frame_scenario, port_frames, run, statistics};
 use super::*;
-use nav_core::attitude::log_rotation_vector;
+use nav_core::attitude::{canonical, log_rotation_vector};
 
 /// One arc-second (rad).
 const ARCSEC_RAD: f64 = 4.848_136_811_095_36e-6;
 
-/// The rotation vectors `log((q_ib q_bs q_ψ)* ⊗ q_m)` (rad, sensor axes) of the star samples
-/// of `frames` synthetic frames, and their time tags.
+/// The rotation vectors `log((q_ib q_bs q_ψ)* ⊗ q_m)` (rad, sensor axes) of head 0's star
+/// samples of `frames` synthetic frames, and their time tags.
 pub(super) fn star_residuals(scenario: &Scenario, frames: u64) -> Vec<(f64, Vector3<f64>)> {
+    head_star_residuals(scenario, frames, 0)
+}
+
+/// [`star_residuals`] of head `head`, against its own `q_bs ⊗ q_ψ` (without slow errors).
+pub(super) fn head_star_residuals(
+    scenario: &Scenario,
+    frames: u64,
+    head: usize,
+) -> Vec<(f64, Vector3<f64>)> {
     let (truths, events) = run(scenario, frames);
     let (_, q_ig) = port_frames(scenario);
     let period_s = scenario.imu.frame_period_s();
-    let errors = SensorSimulator::new(scenario).unwrap().error_truth();
+    let installed_q_bs = SensorSimulator::new(scenario)
+        .unwrap()
+        .star_head_alignment(head)
+        .unwrap()
+        .installed_q_bs();
     events
         .iter()
         .filter_map(|event| match event {
             SensorEvent::Star {
+                head: event_head,
                 time_tag_s,
                 attitude_q_gs,
-            } => {
+            } if *event_head == head => {
                 let index = ((time_tag_s - truths[0].time_s) / period_s).round() as usize;
-                let expected = truths[index].attitude_q_ib
-                    * errors.star_mounting_q_bs
-                    * errors.star_installation_q_psi;
+                let expected = truths[index].attitude_q_ib * installed_q_bs;
                 let residual = expected.conjugate() * (q_ig * attitude_q_gs);
                 Some((*time_tag_s, log_rotation_vector(&canonical(&residual))))
             }

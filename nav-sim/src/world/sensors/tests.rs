@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::setup::launch::launch_frame;
+use nav_core::attitude::{canonical, exp_rotation_vector};
 
 const START_TIME_S: f64 = 600.0;
 
@@ -147,6 +148,7 @@ fn simulated_noise_has_the_configured_sigma() {
             SensorEvent::Star {
                 time_tag_s,
                 attitude_q_gs,
+                ..
             } => {
                 let attitude_q_is = q_ig * attitude_q_gs;
                 assert!((time_tag_s - current.time_s).abs() < 1e-12);
@@ -444,10 +446,15 @@ pub(super) fn events_digest(events: &[SensorEvent]) -> u64 {
                 delta_velocity_mps.iter().for_each(|v| mix(v.to_bits()));
             }
             SensorEvent::Star {
+                head,
                 time_tag_s,
                 attitude_q_gs,
             } => {
                 mix(2);
+                // Head 0's events hash as the single tracker's did.
+                if *head != 0 {
+                    mix(*head as u64);
+                }
                 mix(time_tag_s.to_bits());
                 attitude_q_gs.coords.iter().for_each(|v| mix(v.to_bits()));
             }

@@ -121,6 +121,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
             );
         }
         println!("{}", report::health_table(&result.health));
+        if result.withheld_star_measurements > 0 {
+            println!(
+                "star measurements of the additional star-tracker heads not handed to the \
+                 flight software (it fuses head 0, [star_sensor], only): {}",
+                result.withheld_star_measurements
+            );
+        }
     }
     if let Some(directory) = out {
         let csv = report::write_time_histories(directory, &history)?;

@@ -22,11 +22,18 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let out = &args.out;
     let mut file = OutputFile::create_distinct(out, &inputs(scenario_path))?;
     let scenario = load(scenario_path)?;
-    let rows = nav_sim::logs::sensor_log::record_simulation(
+    let recorded = nav_sim::logs::sensor_log::record_simulation(
         nav_sim::Simulation::new(&scenario)?,
         &mut file,
     )?;
     file.commit()?;
-    println!("wrote {rows} sensor events to {}", out.display());
+    println!("wrote {} sensor events to {}", recorded.rows, out.display());
+    if recorded.withheld_star_measurements > 0 {
+        println!(
+            "not written: {} star measurements of the additional star-tracker heads (the log \
+             holds head 0, [star_sensor], only)",
+            recorded.withheld_star_measurements
+        );
+    }
     Ok(())
 }
