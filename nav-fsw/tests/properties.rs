@@ -256,6 +256,7 @@ fn reference_setup() -> ReplaySetup {
         star_slow_error_correlation_time_s: config.star.slow_error_correlation_time_s,
         star_aberration_correction: config.star.aberration_correction,
         star_noise_matching: config.star.noise_matching,
+        star_second_head: config.star.second_head,
     }
 }
 

@@ -12,7 +12,7 @@ use crate::error::{ConfigField, FswError};
 use crate::sensor_frames::SensorFrames;
 
 /// Number of words of a [`ReplaySetup`].
-pub const SETUP_WORDS: usize = 69;
+pub const SETUP_WORDS: usize = 79;
 /// First word of an encoded setup (`"NAVSETUP"` little-endian).
 pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 
@@ -73,6 +73,8 @@ pub struct ReplaySetup {
     /// Whether the star noise follows the innovations once they fail the consistency test
     /// (`star.noise_matching`); the last word, 0 or 1.
     pub star_noise_matching: bool,
+    /// `star.second_head`: `None` = one tracker head.
+    pub star_second_head: Option<crate::config::StarHeadConfig>,
 }
 
 impl ReplaySetup {
@@ -101,6 +103,7 @@ impl ReplaySetup {
         config.star.slow_error_correlation_time_s = self.star_slow_error_correlation_time_s;
         config.star.aberration_correction = self.star_aberration_correction;
         config.star.noise_matching = self.star_noise_matching;
+        config.star.second_head = self.star_second_head;
         config
     }
 
@@ -215,9 +218,34 @@ impl ReplaySetup {
             *slot = value.to_bits();
         }
         // The flags after the floats, each 0 or 1.
-        let flags = [self.star_aberration_correction, self.star_noise_matching];
-        for (slot, flag) in slots.zip(flags) {
+        let flags = [
+            self.star_aberration_correction,
+            self.star_noise_matching,
+            self.star_second_head.is_some(),
+        ];
+        for (flag, slot) in flags.into_iter().zip(&mut slots) {
             *slot = u64::from(flag);
+        }
+        // The second head last (zeros without one): its pair count, then its floats.
+        let head = self.star_second_head;
+        let [hw, hx, hy, hz] = head.map_or([0.0; 4], |head| head.mounting_wxyz);
+        let pairs = head.map_or(0, |head| head.pairs_before_hand_over);
+        let head_floats = head.map_or([0.0; 4], |head| {
+            [
+                head.noise_rad,
+                head.roll_noise_rad,
+                head.alignment_prior_sigma_rad,
+                head.pair_gate_nis,
+            ]
+        });
+        let tail = core::iter::once(u64::from(pairs)).chain(
+            [hw, hx, hy, hz]
+                .into_iter()
+                .chain(head_floats)
+                .map(f64::to_bits),
+        );
+        for (value, slot) in tail.zip(slots) {
+            *slot = value;
         }
         words
     }
@@ -230,7 +258,7 @@ impl ReplaySetup {
     /// [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
-        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction, noise_matching] =
+        let [magic, mode, order, week, field_degree, field_order, terms_per_frame, floats @ .., aberration_correction, noise_matching, second_head, pairs, hw, hx, hy, hz, head_noise, head_roll_noise, head_prior, head_gate] =
             words;
         if *magic != SETUP_MAGIC {
             return Err(bad);
@@ -254,6 +282,18 @@ impl ReplaySetup {
         };
         let star_aberration_correction = flag(aberration_correction)?;
         let star_noise_matching = flag(noise_matching)?;
+        let star_second_head = if flag(second_head)? {
+            Some(crate::config::StarHeadConfig {
+                mounting_wxyz: [*hw, *hx, *hy, *hz].map(f64::from_bits),
+                noise_rad: f64::from_bits(*head_noise),
+                roll_noise_rad: f64::from_bits(*head_roll_noise),
+                alignment_prior_sigma_rad: f64::from_bits(*head_prior),
+                pair_gate_nis: f64::from_bits(*head_gate),
+                pairs_before_hand_over: u32::try_from(*pairs).map_err(|_| bad)?,
+            })
+        } else {
+            None
+        };
         let f = floats.map(f64::from_bits);
         let [lat, lon, height, azimuth, kx, ky, kz, gw, gx, gy, gz, seconds_of_week, qw, qx, qy, qz, px, py, pz, vx, vy, vz, time, s_att, s_pos, s_vel, s_gb, s_ab, s_inst, s_gsf, s_asf, n_g, n_a, n_gw, n_aw, period, mw, mx, my, mz, star_noise, star_gate, gnss_noise, gnss_gate, latency, correlated_sigma, correlation_time, velocity_noise, max_rate, max_force, imu_non_orthogonality, imu_misalignment, imu_g_sensitivity, omitted_sigma, omitted_psd, star_roll_noise, slow_x, slow_y, slow_z, slow_tau] =
             f;
@@ -323,6 +363,7 @@ impl ReplaySetup {
             star_slow_error_correlation_time_s: slow_tau,
             star_aberration_correction,
             star_noise_matching,
+            star_second_head,
         })
     }
 }

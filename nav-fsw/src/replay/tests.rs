@@ -235,6 +235,14 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         star_roll_noise_rad: 1.7e-4,
         star_aberration_correction: true,
         star_noise_matching: false,
+        star_second_head: Some(crate::config::StarHeadConfig {
+            mounting_wxyz: [0.5, 0.5, 0.5, 0.5],
+            noise_rad: 2.4e-5,
+            roll_noise_rad: 1.7e-4,
+            alignment_prior_sigma_rad: 1.4e-2,
+            pair_gate_nis: 16.27,
+            pairs_before_hand_over: 100,
+        }),
     };
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));
@@ -244,16 +252,23 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
     bad = words;
     bad[1] = 7;
     assert!(ReplaySetup::from_words(&bad).is_err());
-    // The flags are the last two words, aberration correction then noise matching, 0 or 1.
-    assert_eq!(words[SETUP_WORDS - 2..], [1, 0]);
+    // The flags follow the floats, aberration correction, noise matching and the second
+    // head, 0 or 1; the second head's pair count and its eight floats end the setup.
+    let flags = SETUP_WORDS - 12;
+    assert_eq!(words[flags..flags + 4], [1, 0, 1, 100]);
     bad = words;
-    bad[SETUP_WORDS - 2] = 0;
-    bad[SETUP_WORDS - 1] = 1;
+    bad[flags] = 0;
+    bad[flags + 1] = 1;
     let flipped = ReplaySetup::from_words(&bad).unwrap();
     assert!(!flipped.star_aberration_correction && flipped.star_noise_matching);
-    for slot in [SETUP_WORDS - 2, SETUP_WORDS - 1] {
+    for slot in flags..flags + 3 {
         bad = words;
         bad[slot] = 2;
         assert!(ReplaySetup::from_words(&bad).is_err());
     }
+    bad = words;
+    bad[flags + 2] = 0;
+    let one_head = ReplaySetup::from_words(&bad).unwrap();
+    assert_eq!(one_head.star_second_head, None);
+    assert_eq!(one_head.to_words()[flags + 2..], [0; 10]);
 }

@@ -101,7 +101,7 @@ pub struct FlightResult {
     /// Measurements lost because a frame's port capacity was exceeded.
     pub dropped_measurements: u32,
     /// Star measurements of the additional star-tracker heads not handed to the flight
-    /// software, which fuses head 0 only ([`FlightStarHeads`]).
+    /// software, which takes head 0, and head 1 when configured with it ([`FlightStarHeads`]).
     pub withheld_star_measurements: u64,
     /// NIS of every star-sensor measurement the gate tested (accepted or rejected).
     pub star_nis: NisSum,
@@ -429,7 +429,11 @@ pub fn fly_observed(
             .collect()
     };
     let mut dropped = 0u32;
-    let mut star_heads = FlightStarHeads::default();
+    // A flight software configured with a second head takes head 1 too.
+    let mut star_heads = FlightStarHeads::taking(match computer.config().star.second_head {
+        Some(_) => nav_fsw::scheduler::MAX_STAR_HEADS,
+        None => 1,
+    });
     let mut events = Vec::new();
     let mut samples = Vec::new();
     let mut next_record_s = start.time_s;

@@ -1,29 +1,37 @@
-//! Which star-tracker heads reach the flight software: the flight software fuses one head,
-//! and neither its star port nor its log record carries a head, so only head 0
-//! (`[star_sensor]`) is handed over. Every place that hands simulated events to the flight
-//! software or writes them to a log passes them through [`FlightStarHeads`], the one place to
-//! change when the flight software takes several heads; it counts the measurements of the
-//! other heads it holds back, and the runs report that count.
+//! Which star-tracker heads reach the flight software or a log: the flight software takes
+//! two heads when it is configured with a second (`star.second_head`, nav-fsw
+//! `scheduler::heads`), one otherwise; the CSV sensor log and the QEMU replay carry head 0
+//! (`[star_sensor]`) only. Every place that hands simulated events to the flight software or
+//! writes them to a log passes them through [`FlightStarHeads`]; it counts the measurements of
+//! the heads it holds back, and the runs report that count.
 
 use crate::world::sensors::SensorEvent;
 
-/// The star-tracker heads the flight software takes: heads `0..FLIGHT_SOFTWARE_STAR_HEADS`.
-pub const FLIGHT_SOFTWARE_STAR_HEADS: usize = 1;
-
 /// The filter between the simulator's events and the flight software (or a log): passes
-/// every IMU and GNSS event and the star events of the heads the flight software takes,
-/// counts the star events it holds back.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// every IMU and GNSS event and the star events of heads `0..heads`, counts the star events it
+/// holds back. The default takes head 0 only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FlightStarHeads {
+    heads: usize,
     withheld: u64,
 }
 
+impl Default for FlightStarHeads {
+    fn default() -> Self {
+        Self::taking(1)
+    }
+}
+
 impl FlightStarHeads {
-    /// Whether `event` goes to the flight software; a star event of another head is counted
-    /// as withheld.
+    /// Takes the star events of heads `0..heads`.
+    pub fn taking(heads: usize) -> Self {
+        Self { heads, withheld: 0 }
+    }
+
+    /// Whether `event` goes on; a star event of another head is counted as withheld.
     pub fn hands_over(&mut self, event: &SensorEvent) -> bool {
         match event {
-            SensorEvent::Star { head, .. } if *head >= FLIGHT_SOFTWARE_STAR_HEADS => {
+            SensorEvent::Star { head, .. } if *head >= self.heads => {
                 self.withheld += 1;
                 false
             }
@@ -66,5 +74,9 @@ mod tests {
         assert!(!heads.hands_over(&star(1)));
         assert!(!heads.hands_over(&star(3)));
         assert_eq!(heads.withheld(), 2);
+        let mut two = FlightStarHeads::taking(2);
+        assert!(two.hands_over(&star(0)) && two.hands_over(&star(1)));
+        assert!(!two.hands_over(&star(2)));
+        assert_eq!(two.withheld(), 1);
     }
 }

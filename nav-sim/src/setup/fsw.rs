@@ -7,7 +7,7 @@ use nav_core::attitude;
 use nav_core::error_model::ProcessNoise;
 use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
 use nav_core::strapdown::NavigationState;
-use nav_fsw::config::FswConfig;
+use nav_fsw::config::{FswConfig, StarHeadConfig};
 use nav_fsw::replay::ReplaySetup;
 use nav_fsw::{ConfigField, FswError};
 use rand_distr::{Distribution, StandardNormal};
@@ -166,6 +166,36 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         star_slow_error_correlation_time_s: settings.star_slow_error.correlation_time_s,
         star_aberration_correction: settings.star_aberration_correction,
         star_noise_matching: settings.star_noise_matching,
+        star_second_head: second_head(scenario, &filter),
+    })
+}
+
+/// Pairs of the two heads accepted before the filter may hand its installation block to the
+/// other head: 100 pairs (10 s at 10 Hz) know the alignment to a tenth of the noise about
+/// the axes the heads share (nav-core `star_heads`: `σ/√n` per axis with `n` pairs).
+const PAIRS_BEFORE_HAND_OVER: u32 = 100;
+
+/// The flight software's second tracker head: the scenario's first
+/// `[[star_sensor.additional_heads]]` (its mounting and white noise per sensor axis), with
+/// the relative alignment's prior from both heads' installation 1σ (the filter's,
+/// `√2 σ_ψ`), the star gate for the pairs and [`PAIRS_BEFORE_HAND_OVER`]; `None` without
+/// additional heads.
+fn second_head(scenario: &Scenario, filter: &FilterConfig) -> Option<StarHeadConfig> {
+    let head = scenario.star_sensor.additional_heads.first()?;
+    let [x, y, z] = head.mounting_rotation_vector_deg;
+    let mounting = attitude::exp_rotation_vector(&Vector3::new(
+        x.to_radians(),
+        y.to_radians(),
+        z.to_radians(),
+    ));
+    let [cross_rad, _, roll_rad] = head.noise_per_axis_rad();
+    Some(StarHeadConfig {
+        mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
+        noise_rad: cross_rad.max(1e-12),
+        roll_noise_rad: roll_rad.max(1e-12),
+        alignment_prior_sigma_rad: std::f64::consts::SQRT_2 * filter.initial.star_installation_rad,
+        pair_gate_nis: scenario.filter.nis_gate.star_threshold,
+        pairs_before_hand_over: PAIRS_BEFORE_HAND_OVER,
     })
 }
 

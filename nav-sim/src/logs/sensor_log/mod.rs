@@ -35,8 +35,8 @@
 //! record per row, same order, same bits.
 //!
 //! ## Star-tracker heads
-//! A log holds the star measurements of head 0 (`[star_sensor]`) only: nav-fsw's record has
-//! no head field (its reserved bytes must be zero), and the CSV mirrors it. A simulation's
+//! A log holds the star measurements of head 0 (`[star_sensor]`) only: the CSV has no head
+//! column, and the binary form mirrors it (nav-fsw's record carries a head, 0 here). A simulation's
 //! other heads are held back by [`crate::logs::star_heads::FlightStarHeads`] and counted
 //! ([`RecordedLog::withheld_star_measurements`]); a star event of another head given to
 //! [`SensorLogWriter::write_event`] is refused ([`SensorLogError::StarHead`]).
@@ -355,8 +355,8 @@ pub enum SensorLogError {
     Simulation(#[from] SimulationError),
 }
 
-/// The log record of a simulator event (exact: every field is copied bit for bit). The record
-/// has no head: pass star events through [`crate::logs::star_heads::FlightStarHeads`] first.
+/// The log record of a simulator event (exact: every field is copied bit for bit), a star
+/// event's head with it.
 pub fn record_of(event: &SensorEvent) -> LogRecord {
     match event {
         SensorEvent::Imu {
@@ -375,7 +375,7 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
         SensorEvent::Star {
             time_tag_s,
             attitude_q_gs,
-            ..
+            head,
         } => LogRecord::Star(StarRecord {
             arrival_time_s: *time_tag_s,
             time_tag_s: *time_tag_s,
@@ -385,7 +385,8 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
                 attitude_q_gs.j,
                 attitude_q_gs.k,
             ],
-            head: 0,
+            // The scenario's validation bounds the heads far below 256.
+            head: u8::try_from(*head).unwrap_or(u8::MAX),
         }),
         SensorEvent::Gnss {
             gps_week,
@@ -485,7 +486,7 @@ pub fn event_of(record: &LogRecord, frames: &SensorFrames) -> Option<SensorEvent
             let [w, x, y, z] = star.attitude_wxyz;
             (star.arrival_time_s.to_bits() == star.time_tag_s.to_bits()).then_some(
                 SensorEvent::Star {
-                    head: 0,
+                    head: usize::from(star.head),
                     time_tag_s: star.time_tag_s,
                     attitude_q_gs: Quaternion::new(w, x, y, z),
                 },

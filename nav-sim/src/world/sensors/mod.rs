@@ -144,14 +144,14 @@ impl SensorEvent {
         }
     }
 
-    /// The star event as the flight software's port measurement (whatever its head: the
-    /// port has no head, so the caller chooses which heads to hand over), or `None`.
+    /// The star event as the flight software's port measurement, with its head (the caller
+    /// chooses which heads to hand over), or `None` (also for a head beyond 255).
     pub fn to_star_measurement(&self) -> Option<StarMeasurement> {
         match self {
             Self::Star {
                 time_tag_s,
                 attitude_q_gs,
-                ..
+                head,
             } => Some(StarMeasurement {
                 time_tag_s: *time_tag_s,
                 sensor_to_gcrf_wxyz: [
@@ -160,7 +160,7 @@ impl SensorEvent {
                     attitude_q_gs.j,
                     attitude_q_gs.k,
                 ],
-                head: 0,
+                head: u8::try_from(*head).ok()?,
             }),
             _ => None,
         }
