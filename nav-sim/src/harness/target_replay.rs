@@ -58,7 +58,7 @@ pub fn write_input<W: Write>(
     write_input_header(scenario, &mut writer)?;
     let mut simulation = Simulation::new(scenario)?;
     let mut events = Vec::new();
-    let mut star_heads = FlightStarHeads::default();
+    let mut star_heads = FlightStarHeads::for_scenario(scenario);
     let mut frames = 0;
     while frames < max_frames && simulation.step(&mut events)?.is_some() {
         for event in events
@@ -342,7 +342,7 @@ pub struct TargetReplayReport {
     /// The host's output words ([`FRAME_WORDS`] per frame, cost words 0).
     pub host_output: Vec<u64>,
     /// Star measurements of the additional star-tracker heads not in the replay input (the
-    /// flight software fuses head 0 only: [`FlightStarHeads`]).
+    /// flight software takes head 0, and head 1 when the scenario has it: [`FlightStarHeads`]).
     pub withheld_star_measurements: u64,
 }
 

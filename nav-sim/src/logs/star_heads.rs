@@ -28,6 +28,13 @@ impl FlightStarHeads {
         Self { heads, withheld: 0 }
     }
 
+    /// The heads the flight software set up for `scenario` takes: head 0, and head 1 when the
+    /// scenario has an additional head (`setup::fsw`, `star.second_head`).
+    pub fn for_scenario(scenario: &crate::scenario::Scenario) -> Self {
+        let second = usize::from(!scenario.star_sensor.additional_heads.is_empty());
+        Self::taking(1 + second)
+    }
+
     /// Whether `event` goes on; a star event of another head is counted as withheld.
     pub fn hands_over(&mut self, event: &SensorEvent) -> bool {
         match event {
