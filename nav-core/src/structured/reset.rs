@@ -36,6 +36,9 @@ fn reset_diagonal<const D: usize>(p: &mut CovarianceMatrix, jacobian: &Block) {
 /// `P ← J P Jᵀ` in place for the reset Jacobian `J` = identity except `J_ϑϑ = I − [ϑ̂×]` and
 /// `J_ψψ = I − [ψ̂×]`: only the attitude and installation block rows and columns change;
 /// each new block depends only on the same old block, so they are overwritten one by one.
+/// Inlined at its two call sites (the reset and the star heads' hand-over): out of line, its
+/// general form costs every update frame's reset (docs/performance.md).
+#[inline(always)]
 pub(crate) fn reset_covariance(
     p: &mut CovarianceMatrix,
     attitude: &Matrix3<f64>,

@@ -233,7 +233,7 @@ impl NavigationComputer {
     /// smaller noise are overconfident, and a run of rejections that follows is the fit's
     /// doing, not a fault of the tracker.
     pub(super) fn star_noise_exceeds_configured(&self) -> bool {
-        let (_, configured) = self.head_mounting_and_noise(self.aids.heads.active);
+        let (_, configured) = self.head_mounting_and_noise(self.heads.active);
         self.star_noise_rad()
             .iter()
             .zip(&configured)

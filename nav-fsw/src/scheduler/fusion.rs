@@ -75,7 +75,7 @@ impl NavigationComputer {
         match due {
             Due::Star(_, measured) => star_sensor(
                 &snapshot.attitude,
-                &self.head_mounting_and_noise(self.aids.heads.active).0,
+                &self.head_mounting_and_noise(self.heads.active).0,
                 &self.installation_estimate(),
                 &self.star_without_aberration(measured, snapshot)?,
                 &self.star_noise_rad(),
@@ -117,7 +117,7 @@ impl NavigationComputer {
     /// test has failed and `star.noise_matching` is on, the innovations' (nav-fsw
     /// `noise_matching`, never below the configured).
     pub fn star_noise_rad(&self) -> [f64; 3] {
-        let (_, configured) = self.head_mounting_and_noise(self.aids.heads.active);
+        let (_, configured) = self.head_mounting_and_noise(self.heads.active);
         self.aids.star_noise.noise_rad(&configured)
     }
 

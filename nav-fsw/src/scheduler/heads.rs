@@ -119,7 +119,7 @@ impl NavigationComputer {
     /// installation is handed back to head 0, which has just been heard. Run in a frame that
     /// fuses nothing, like the gravity field's share, so that no update frame pays for it.
     pub(super) fn pair_star_heads(&mut self) {
-        let heads = &mut self.aids.heads;
+        let heads = &mut self.heads;
         if !core::mem::take(&mut heads.pair_pending) {
             return;
         }
@@ -167,7 +167,7 @@ impl NavigationComputer {
         let Some(second) = self.config.star.second_head else {
             return;
         };
-        let heads = &self.aids.heads;
+        let heads = &self.heads;
         let other: u8 = if heads.active == 0 { 1 } else { 0 };
         let now_s = self.navigation.solution.time_s;
         let timeout_s = self.config.timing.outage_timeout_s;
@@ -184,10 +184,10 @@ impl NavigationComputer {
     /// matching and fault state cleared (they were the old head's). Counted in
     /// `star_head_handovers`; a refused hand-over changes nothing and counts a filter error.
     fn hand_over_to_head(&mut self, new: u8) {
-        let Some(alignment) = self.aids.heads.alignment else {
+        let Some(alignment) = self.heads.alignment else {
             return;
         };
-        let old = self.aids.heads.active;
+        let old = self.heads.active;
         let (old_mounting, _) = self.head_mounting_and_noise(old);
         let (new_mounting, _) = self.head_mounting_and_noise(new);
         // The alignment is head 1's to head 0: from head 1 back to head 0 it is reversed.
@@ -212,7 +212,7 @@ impl NavigationComputer {
         };
         self.calibration.estimate.star_installation_wxyz =
             [estimate.w, estimate.i, estimate.j, estimate.k];
-        self.aids.heads.active = new;
+        self.heads.active = new;
         for _ in 0..STAR_QUEUE_CAPACITY {
             if self.aids.star_queue.pop_due(f64::INFINITY).is_none() {
                 break;

@@ -83,14 +83,14 @@ fn the_pairs_align_the_second_head_and_an_outage_hands_the_installation_over_and
     let mut computer = two_head_computer();
     fly(&mut computer, 2_000, &[0, 1]);
     let health = *computer.health();
-    assert!(computer.aids.heads.pairs_accepted() >= 150, "{health:?}");
+    assert!(computer.heads.pairs_accepted() >= 150, "{health:?}");
     assert_eq!(health.star_pair_rejections, 0);
     assert_eq!(health.star_head_handovers, 0);
     assert_eq!(computer.active_star_head(), 0);
     // The second head's alignment to the first: its mounting turned by its misalignment.
     let (mounting, _) = computer.head_mounting_and_noise(1);
     let truth = attitude::product(&mounting, &head_one_misalignment());
-    let alignment = computer.aids.heads.alignment.unwrap();
+    let alignment = computer.heads.alignment.unwrap();
     let error = attitude::product(&attitude::conjugate(alignment.estimate()), &truth);
     assert!(error.imag().norm() < 2.0 * ARCSEC_RAD, "{error:?}");
 

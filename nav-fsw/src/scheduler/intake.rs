@@ -60,7 +60,7 @@ impl NavigationComputer {
                 continue;
             };
             // The outage monitor watches the head the filter fuses.
-            let active = measurement.head == self.aids.heads.active;
+            let active = measurement.head == self.heads.active;
             star_heard |= active;
             match check_star(
                 &measurement,
@@ -85,7 +85,7 @@ impl NavigationComputer {
                         .star_in_launch_inertial(&quaternion);
                     if self.config.star.second_head.is_some() {
                         let tag = measurement.time_tag_s;
-                        self.aids.heads.note(head, tag, launch_inertial);
+                        self.heads.note(head, tag, launch_inertial);
                     }
                     if !active {
                         continue;

@@ -163,17 +163,18 @@ impl core::error::Error for CommandError {}
 
 /// The flight software: strapdown, filter, input checks, fault handling and calibration.
 ///
-/// Its state is in five parts, each kept by the files of its job: `Navigation` (`navigate.rs`,
-/// `history.rs`), `Covariance` (`covariance.rs`), `Aids` (`intake.rs`, `aid.rs`), `Health` and
-/// `Calibration` (`calibration.rs`); `fusion.rs` joins them for one update.
+/// Its state is in six parts, each kept by the files of its job: `Navigation` (`navigate.rs`,
+/// `history.rs`), `Covariance` (`covariance.rs`), `Aids` (`intake.rs`, `aid.rs`), `Health`,
+/// `Calibration` (`calibration.rs`) and the tracker heads (`heads.rs`); `fusion.rs` joins them
+/// for one update.
 // Laid out in the order written (`repr(C)`, here and in the parts): the small members that
-// every frame reads first and the large arrays (model, filter, history) last, so that most
-// members lie within the reach of a load's offset from the computer's address on the target
-// (the compiler's own order puts some behind the large arrays; docs/performance.md).
+// every frame reads first, the large arrays (model, filter, history) after them, and last the
+// configuration, whose values each frame reads a few of, and the heads, so that most members
+// lie within the reach of a load's offset from the computer's address on the target (the
+// compiler's own order puts some behind the large arrays; docs/performance.md).
 #[derive(Debug, Clone)]
 #[repr(C)]
 pub struct NavigationComputer {
-    config: FswConfig,
     /// Frames run since start-up (wrapping).
     frame: u32,
     arithmetic: FilterArithmetic,
@@ -183,6 +184,9 @@ pub struct NavigationComputer {
     launch_frame: LaunchFrame,
     covariance: Covariance,
     navigation: Navigation,
+    config: FswConfig,
+    /// The tracker heads (`heads.rs`).
+    heads: StarHeads,
 }
 
 /// The navigation solution and what produces it: the IMU step's state and the history of the
@@ -267,8 +271,6 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
-    /// The tracker heads: the active one, the pairs, the relative alignment (`heads.rs`).
-    heads: StarHeads,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.
@@ -432,7 +434,7 @@ impl NavigationComputer {
     /// The star tracker head the filter fuses and whose installation error it carries (0, or
     /// 1 after a hand-over to `star.second_head`; `scheduler::heads`).
     pub fn active_star_head(&self) -> u8 {
-        self.aids.heads.active
+        self.heads.active
     }
 
     /// The launch-inertial frame in use.

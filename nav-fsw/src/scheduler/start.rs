@@ -167,7 +167,10 @@ impl NavigationComputer {
                 &config,
                 initial,
             )?;
-            Aids::init_in_place(&mut *addr_of_mut!((*computer).aids).cast(), &config)?;
+            Aids::init_in_place(&mut *addr_of_mut!((*computer).aids).cast());
+            let heads = StarHeads::new(&config.star)
+                .map_err(|_| FswError::InvalidConfiguration(ConfigField::StarSecondHead))?;
+            addr_of_mut!((*computer).heads).write(heads);
             Health::init_in_place(&mut *addr_of_mut!((*computer).health).cast());
             addr_of_mut!((*computer).config).write(config);
             addr_of_mut!((*computer).frame).write(0);
@@ -279,18 +282,11 @@ impl Navigation {
 
 impl Aids {
     /// Empty queues, no aid acquired or faulty, no outage and white innovations, in `slot`.
-    ///
-    /// # Errors
-    /// [`FswError::InvalidConfiguration`] (`star.second_head`) when the heads' alignment
-    /// cannot be set up (the validation refuses such a configuration first).
     #[inline(never)]
-    fn init_in_place(slot: &mut MaybeUninit<Self>, config: &FswConfig) -> Result<(), FswError> {
-        let heads = StarHeads::new(&config.star)
-            .map_err(|_| FswError::InvalidConfiguration(ConfigField::StarSecondHead))?;
+    fn init_in_place(slot: &mut MaybeUninit<Self>) {
         let part = slot.as_mut_ptr();
         // SAFETY: as for the covariance.
         unsafe {
-            addr_of_mut!((*part).heads).write(heads);
             addr_of_mut!((*part).last_star).write([None; MAX_STAR_HEADS]);
             addr_of_mut!((*part).star_queue).write(MeasurementBuffer::new());
             addr_of_mut!((*part).gnss_queue).write(MeasurementBuffer::new());
@@ -306,7 +302,6 @@ impl Aids {
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
         }
-        Ok(())
     }
 }
 

@@ -429,11 +429,9 @@ pub fn fly_observed(
             .collect()
     };
     let mut dropped = 0u32;
-    // A flight software configured with a second head takes head 1 too.
-    let mut star_heads = FlightStarHeads::taking(match computer.config().star.second_head {
-        Some(_) => nav_fsw::scheduler::MAX_STAR_HEADS,
-        None => 1,
-    });
+    // The tracker's port carries its first two heads, whether or not the flight software
+    // is configured with the second.
+    let mut star_heads = FlightStarHeads::for_scenario(scenario);
     let mut events = Vec::new();
     let mut samples = Vec::new();
     let mut next_record_s = start.time_s;

@@ -28,8 +28,9 @@ impl FlightStarHeads {
         Self { heads, withheld: 0 }
     }
 
-    /// The heads the flight software set up for `scenario` takes: head 0, and head 1 when the
-    /// scenario has an additional head (`setup::fsw`, `star.second_head`).
+    /// The heads a tracker port carries for `scenario`: head 0, and head 1 when the scenario
+    /// has an additional head (the flight software's `star.second_head`, `setup::fsw`, unless
+    /// `[filter] star_second_head = false`).
     pub fn for_scenario(scenario: &crate::scenario::Scenario) -> Self {
         let second = usize::from(!scenario.star_sensor.additional_heads.is_empty());
         Self::taking(1 + second)

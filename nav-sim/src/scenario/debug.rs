@@ -136,6 +136,9 @@ impl std::fmt::Debug for FilterSettings {
         if !self.star_noise_matching {
             debug.field("star_noise_matching", &self.star_noise_matching);
         }
+        if !self.star_second_head {
+            debug.field("star_second_head", &self.star_second_head);
+        }
         debug.finish()
     }
 }

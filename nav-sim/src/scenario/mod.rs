@@ -234,7 +234,7 @@ fn default_min_altitude_m() -> f64 {
     DEFAULT_MIN_ALTITUDE_M
 }
 
-fn default_star_noise_matching() -> bool {
+fn default_true() -> bool {
     true
 }
 
@@ -569,8 +569,14 @@ pub struct FilterSettings {
     /// Whether the flight software's star noise follows the innovations once they fail the
     /// consistency test (`star.noise_matching`, nav-fsw `noise_matching`); true (the default)
     /// = it does, false = the configured noise throughout.
-    #[serde(default = "default_star_noise_matching")]
+    #[serde(default = "default_true")]
     pub star_noise_matching: bool,
+    /// Whether the flight software is told of the tracker's second head (the first
+    /// `[[star_sensor.additional_heads]]`, as `star.second_head`); true (the default) = it
+    /// is, false = it is configured with one head, and the second head's measurements reach
+    /// its port as from a head it does not have (counted in `star_unknown_head`).
+    #[serde(default = "default_true")]
+    pub star_second_head: bool,
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

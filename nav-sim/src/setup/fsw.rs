@@ -179,9 +179,13 @@ const PAIRS_BEFORE_HAND_OVER: u32 = 100;
 /// `[[star_sensor.additional_heads]]` (its mounting and white noise per sensor axis), with
 /// the relative alignment's prior from both heads' installation 1σ (the filter's,
 /// `√2 σ_ψ`), the star gate for the pairs and [`PAIRS_BEFORE_HAND_OVER`]; `None` without
-/// additional heads.
+/// additional heads or with `[filter] star_second_head = false`.
 fn second_head(scenario: &Scenario, filter: &FilterConfig) -> Option<StarHeadConfig> {
-    let head = scenario.star_sensor.additional_heads.first()?;
+    let head = scenario
+        .star_sensor
+        .additional_heads
+        .first()
+        .filter(|_| scenario.filter.star_second_head)?;
     let [x, y, z] = head.mounting_rotation_vector_deg;
     let mounting = attitude::exp_rotation_vector(&Vector3::new(
         x.to_radians(),
