@@ -28,8 +28,57 @@ pub(super) struct StarHeads {
     pair_pending: bool,
     /// Head 1's alignment to head 0, `q_s0s1`; `None` with one head.
     pub(super) alignment: Option<RelativeAlignment>,
-    /// The pairs' consistency test.
+    /// The pairs' consistency test (their NIS).
     pair_consistency: ConsistencyMonitor,
+    /// The pairs' residual mean test ([`ResidualMean`]).
+    pair_mean: ResidualMean,
+    /// Time of validity of the last pair (s), for the slow error's walk of the alignment.
+    last_pair_s: Option<f64>,
+}
+
+/// A fading mean of a residual per axis, each axis normalised by its own σ (`√S_ii`), over
+/// about `N` residuals: `m ← m + (u − m)/N`. Under the model the normalised residuals are
+/// white with unit variance, so `m` has 1σ `√(1/(2N − 1))`; a relative alignment that moves
+/// (each head's slowly varying error, an aberration the tracker leaves in) holds `m` away
+/// from 0 by the motion over its σ however small the motion is against one residual's noise,
+/// which the NIS does not see. An episode begins when `|m|` on some axis exceeds
+/// [`RESIDUAL_MEAN_BOUND_SIGMA`] times that 1σ and ends below half of it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct ResidualMean {
+    mean: [f64; 3],
+    in_episode: bool,
+}
+
+/// The residual mean test's bound in its own σ: 5σ, for a false alarm per axis and
+/// independent stretch of `N` residuals of 6e-7 (a few hundred stretches a flight).
+const RESIDUAL_MEAN_BOUND_SIGMA: f64 = 5.0;
+
+impl ResidualMean {
+    /// Enters residual `z` with covariance diagonal `variances` over about `n` residuals;
+    /// true when an episode has just begun. A non-finite or non-positive variance enters
+    /// nothing.
+    fn observe(&mut self, z: &[f64; 3], variances: &[f64; 3], n: u32) -> bool {
+        let n = f64::from(n.max(1));
+        let bound = RESIDUAL_MEAN_BOUND_SIGMA / nav_core::float::sqrt(2.0 * n - 1.0);
+        let mut over = false;
+        let mut under_half = true;
+        for ((mean, residual), variance) in self.mean.iter_mut().zip(z).zip(variances) {
+            if !(variance.is_finite() && *variance > 0.0 && residual.is_finite()) {
+                return false;
+            }
+            let normalised = residual / nav_core::float::sqrt(*variance);
+            *mean += (normalised - *mean) / n;
+            over |= mean.abs() > bound;
+            under_half &= mean.abs() < 0.5 * bound;
+        }
+        let began = over && !self.in_episode;
+        if began {
+            self.in_episode = true;
+        } else if under_half {
+            self.in_episode = false;
+        }
+        began
+    }
 }
 
 impl StarHeads {
@@ -57,6 +106,8 @@ impl StarHeads {
             pair_pending: false,
             alignment,
             pair_consistency: ConsistencyMonitor::default(),
+            pair_mean: ResidualMean::default(),
+            last_pair_s: None,
         })
     }
 
@@ -123,7 +174,7 @@ impl NavigationComputer {
         if !core::mem::take(&mut heads.pair_pending) {
             return;
         }
-        let (Some(second), [Some((_, first_q)), Some((_, second_q))]) =
+        let (Some(second), [Some((time_s, first_q)), Some((_, second_q))]) =
             (self.config.star.second_head, heads.last)
         else {
             return;
@@ -132,6 +183,24 @@ impl NavigationComputer {
             return;
         };
         let star = &self.config.star;
+        // Each head's slow error moves the alignment: a walk of 2σ²/τ per head and axis
+        // (the bound of `StarSensorConfig::installation_walk_rad2_per_s`, in angle), both heads
+        // told the same σ.
+        let elapsed_s = heads
+            .last_pair_s
+            .map_or(0.0, |last| (time_s - last).max(0.0));
+        heads.last_pair_s = Some(time_s);
+        if star.has_slow_error() && elapsed_s > 0.0 {
+            let [x, y, z] = star
+                .slow_error_sigma_rad
+                .map(|sigma| 4.0 * sigma * sigma / star.slow_error_correlation_time_s * elapsed_s);
+            if alignment
+                .add_process_noise(&Matrix3::from_diagonal(&Vector3::new(x, y, z)))
+                .is_err()
+            {
+                count(&mut self.health.counters.filter_errors);
+            }
+        }
         let first_noise = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
         let gate = second.pair_gate_nis;
         let Ok(report) = alignment.update(
@@ -149,10 +218,19 @@ impl NavigationComputer {
         }
         let config = self.config.consistency;
         let nis = report.normalised_innovation_squared;
-        if heads
+        let nis_began = heads
             .pair_consistency
-            .observe(nis, report.accepted, gate, &config)
-        {
+            .observe(nis, report.accepted, gate, &config);
+        let residual = &report.residual_rad;
+        let covariance = &report.covariance_rad2;
+        let variances = [0, 1, 2].map(|i| covariance.get((i, i)).copied().unwrap_or(f64::NAN));
+        let mean_began = report.accepted
+            && heads.pair_mean.observe(
+                &[residual.x, residual.y, residual.z],
+                &variances,
+                config.time_constant_measurements,
+            );
+        if nis_began || mean_began {
             count(&mut self.health.counters.star_heads_inconsistent);
         }
         if heads.active == 1 && report.accepted {
