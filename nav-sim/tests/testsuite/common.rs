@@ -39,10 +39,13 @@ pub fn short_scenario() -> Scenario {
     scenario
 }
 
-/// The health counters a consistent flight with healthy sensors never raises: the aids'
-/// consistency verdicts, the star noise matching they engage and the fault declarations.
-pub const QUIET_COUNTERS: [&str; 6] = [
+/// The health counters a consistent flight with healthy sensors never raises: the aids' and
+/// the tracker heads' consistency verdicts, the star noise matching they engage, a head the
+/// flight software lacks and the fault declarations.
+pub const QUIET_COUNTERS: [&str; 8] = [
     "star_inconsistent",
+    "star_heads_inconsistent",
+    "star_unknown_head",
     "star_noise_matched",
     "gnss_inconsistent",
     "gnss_velocity_inconsistent",

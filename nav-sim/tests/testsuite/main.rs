@@ -26,6 +26,7 @@ mod realistic_errors;
 mod replay_logs;
 mod star_aberration;
 mod star_flight_noise;
+mod star_heads;
 mod star_slow_error;
 mod upper_stage;
 mod validation;
