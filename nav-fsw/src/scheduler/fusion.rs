@@ -164,7 +164,7 @@ impl NavigationComputer {
     /// As nav-core's `aberration::correct`: [`NavError::NonFiniteInput`] for a non-finite
     /// velocity or measurement, [`NavError::DegenerateQuaternion`] for one of (near) zero norm
     /// (the intake's unit-norm check refuses those before).
-    fn star_without_aberration(
+    pub(super) fn star_without_aberration(
         &self,
         measured: &Quaternion<f64>,
         snapshot: &Snapshot,

@@ -179,6 +179,26 @@ impl NavigationComputer {
         else {
             return;
         };
+        // A tracker that leaves the aberration in turns each head by its own rotation: both are
+        // corrected, as a fused measurement is, before they are compared.
+        let (first_q, second_q) = if self.config.star.aberration_correction {
+            let corrected = self.snapshot_at(time_s).map(|snapshot| {
+                (
+                    self.star_without_aberration(&first_q, &snapshot),
+                    self.star_without_aberration(&second_q, &snapshot),
+                )
+            });
+            match corrected {
+                Some((Ok(first), Ok(second))) => (first, second),
+                _ => {
+                    count(&mut self.health.counters.measurement_stale);
+                    return;
+                }
+            }
+        } else {
+            (first_q, second_q)
+        };
+        let heads = &mut self.heads;
         let Some(alignment) = heads.alignment.as_mut() else {
             return;
         };
