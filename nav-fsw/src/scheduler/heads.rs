@@ -170,59 +170,25 @@ impl NavigationComputer {
     /// installation is handed back to head 0, which has just been heard. Run in a frame that
     /// fuses nothing, like the gravity field's share, so that no update frame pays for it.
     pub(super) fn pair_star_heads(&mut self) {
-        let heads = &mut self.heads;
-        if !core::mem::take(&mut heads.pair_pending) {
+        if !core::mem::take(&mut self.heads.pair_pending) {
             return;
         }
         let (Some(second), [Some((time_s, first_q)), Some((_, second_q))]) =
-            (self.config.star.second_head, heads.last)
+            (self.config.star.second_head, self.heads.last)
         else {
             return;
         };
-        // A tracker that leaves the aberration in turns each head by its own rotation: both are
-        // corrected, as a fused measurement is, before they are compared.
-        let (first_q, second_q) = if self.config.star.aberration_correction {
-            let corrected = self.snapshot_at(time_s).map(|snapshot| {
-                (
-                    self.star_without_aberration(&first_q, &snapshot),
-                    self.star_without_aberration(&second_q, &snapshot),
-                )
-            });
-            match corrected {
-                Some((Ok(first), Ok(second))) => (first, second),
-                _ => {
-                    count(&mut self.health.counters.measurement_stale);
-                    return;
-                }
-            }
-        } else {
-            (first_q, second_q)
-        };
-        let heads = &mut self.heads;
-        let Some(alignment) = heads.alignment.as_mut() else {
+        let Some((first_q, second_q)) = self.comparable_pair(time_s, &first_q, &second_q) else {
+            count(&mut self.health.counters.measurement_stale);
             return;
         };
+        self.walk_alignment_to(time_s);
         let star = &self.config.star;
-        // Each head's slow error moves the alignment: a walk of 2σ²/τ per head and axis
-        // (the bound of `StarSensorConfig::installation_walk_rad2_per_s`, in angle), both heads
-        // told the same σ.
-        let elapsed_s = heads
-            .last_pair_s
-            .map_or(0.0, |last| (time_s - last).max(0.0));
-        heads.last_pair_s = Some(time_s);
-        if star.has_slow_error() && elapsed_s > 0.0 {
-            let [x, y, z] = star
-                .slow_error_sigma_rad
-                .map(|sigma| 4.0 * sigma * sigma / star.slow_error_correlation_time_s * elapsed_s);
-            if alignment
-                .add_process_noise(&Matrix3::from_diagonal(&Vector3::new(x, y, z)))
-                .is_err()
-            {
-                count(&mut self.health.counters.filter_errors);
-            }
-        }
         let first_noise = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
         let gate = second.pair_gate_nis;
+        let Some(alignment) = self.heads.alignment.as_mut() else {
+            return;
+        };
         let Ok(report) = alignment.update(
             &first_q,
             &second_q,
@@ -233,10 +199,64 @@ impl NavigationComputer {
             count(&mut self.health.counters.filter_errors);
             return;
         };
+        self.test_pair(&report, gate);
+        if self.heads.active == 1 && report.accepted {
+            self.hand_over_to_head(0);
+        }
+    }
+
+    /// The pair as the flight software compares it: a tracker that leaves the aberration in
+    /// turns each head by its own rotation, so both are corrected, as a fused measurement is,
+    /// when the flight software makes the correction; `None` when that fails (no navigation
+    /// solution at their time).
+    fn comparable_pair(
+        &self,
+        time_s: f64,
+        first: &Quaternion<f64>,
+        second: &Quaternion<f64>,
+    ) -> Option<(Quaternion<f64>, Quaternion<f64>)> {
+        if !self.config.star.aberration_correction {
+            return Some((*first, *second));
+        }
+        let snapshot = self.snapshot_at(time_s)?;
+        let first = self.star_without_aberration(first, &snapshot).ok()?;
+        let second = self.star_without_aberration(second, &snapshot).ok()?;
+        Some((first, second))
+    }
+
+    /// Walks the alignment to the pair at `time_s` for the heads' slow error: each head's moves
+    /// it by a walk of `2σ²/τ` per axis (the bound of
+    /// `StarSensorConfig::installation_walk_rad2_per_s`, as an angle), both heads told the same σ.
+    fn walk_alignment_to(&mut self, time_s: f64) {
+        let heads = &mut self.heads;
+        let elapsed_s = heads
+            .last_pair_s
+            .map_or(0.0, |last| (time_s - last).max(0.0));
+        heads.last_pair_s = Some(time_s);
+        let star = &self.config.star;
+        let Some(alignment) = heads.alignment.as_mut() else {
+            return;
+        };
+        if !(star.has_slow_error() && elapsed_s > 0.0) {
+            return;
+        }
+        let [x, y, z] = star
+            .slow_error_sigma_rad
+            .map(|sigma| 4.0 * sigma * sigma / star.slow_error_correlation_time_s * elapsed_s);
+        let walk = Matrix3::from_diagonal(&Vector3::new(x, y, z));
+        if alignment.add_process_noise(&walk).is_err() {
+            count(&mut self.health.counters.filter_errors);
+        }
+    }
+
+    /// Counts a rejected pair and feeds the pairs' NIS and residual mean tests (one
+    /// `star_heads_inconsistent` per episode of either).
+    fn test_pair(&mut self, report: &nav_core::star_heads::PairReport, gate: f64) {
         if !report.accepted {
             count(&mut self.health.counters.star_pair_rejections);
         }
         let config = self.config.consistency;
+        let heads = &mut self.heads;
         let nis = report.normalised_innovation_squared;
         let nis_began = heads
             .pair_consistency
@@ -252,9 +272,6 @@ impl NavigationComputer {
             );
         if nis_began || mean_began {
             count(&mut self.health.counters.star_heads_inconsistent);
-        }
-        if heads.active == 1 && report.accepted {
-            self.hand_over_to_head(0);
         }
     }
 
