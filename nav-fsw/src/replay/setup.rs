@@ -254,7 +254,8 @@ impl ReplaySetup {
     ///
     /// # Errors
     /// [`FswError::InvalidConfiguration`] (`InitialNavigation`) for a bad magic, mode or
-    /// flag (neither 0 nor 1); the values themselves are checked by
+    /// flag (neither 0 nor 1), or a second head's word not zero without a second head; the
+    /// values themselves are checked by
     /// [`crate::scheduler::NavigationComputer::new`].
     pub fn from_words(words: &[u64; SETUP_WORDS]) -> Result<Self, FswError> {
         let bad = FswError::InvalidConfiguration(ConfigField::InitialNavigation);
@@ -291,6 +292,22 @@ impl ReplaySetup {
                 pair_gate_nis: f64::from_bits(*head_gate),
                 pairs_before_hand_over: u32::try_from(*pairs).map_err(|_| bad)?,
             })
+        } else if [
+            pairs,
+            hw,
+            hx,
+            hy,
+            hz,
+            head_noise,
+            head_roll_noise,
+            head_prior,
+            head_gate,
+        ]
+        .iter()
+        .any(|word| **word != 0)
+        {
+            // Without a second head its words are zero: one setup, one encoding.
+            return Err(bad);
         } else {
             None
         };

@@ -266,9 +266,17 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         bad[slot] = 2;
         assert!(ReplaySetup::from_words(&bad).is_err());
     }
+    // Without a second head its words must be zero, the one encoding of that setup.
     bad = words;
     bad[flags + 2] = 0;
+    assert!(ReplaySetup::from_words(&bad).is_err());
+    for word in &mut bad[flags + 3..] {
+        *word = 0;
+    }
     let one_head = ReplaySetup::from_words(&bad).unwrap();
     assert_eq!(one_head.star_second_head, None);
     assert_eq!(one_head.to_words()[flags + 2..], [0; 10]);
+    bad = one_head.to_words();
+    bad[SETUP_WORDS - 1] = 1;
+    assert!(ReplaySetup::from_words(&bad).is_err());
 }
