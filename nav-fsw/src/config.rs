@@ -178,10 +178,7 @@ impl StarHeadConfig {
 
     /// Whether every value is valid (a unit mounting, squarable noises and prior, a gate).
     fn is_valid(&self) -> bool {
-        let [w, x, y, z] = self.mounting_wxyz;
-        let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
-        norm.is_finite()
-            && nav_core::attitude::is_unit_norm(norm)
+        is_unit_quaternion(&self.mounting_wxyz)
             && [
                 self.noise_rad,
                 self.roll_noise_rad,
@@ -193,7 +190,19 @@ impl StarHeadConfig {
     }
 }
 
+/// Whether `[w, x, y, z]` is a unit quaternion within nav-core's unit-norm tolerance (a
+/// mounting).
+fn is_unit_quaternion(wxyz: &[f64; 4]) -> bool {
+    let [w, x, y, z] = *wxyz;
+    let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
+    norm.is_finite() && nav_core::attitude::is_unit_norm(norm)
+}
+
 impl StarSensorConfig {
+    /// The first head's noise 1σ about sensor `x`, `y`, `z` (rad).
+    pub const fn noise_per_axis_rad(&self) -> [f64; 3] {
+        [self.noise_rad, self.noise_rad, self.roll_noise_rad]
+    }
     /// Whether the slowly varying error is configured (any 1σ non-zero).
     pub fn has_slow_error(&self) -> bool {
         self.slow_error_sigma_rad.iter().any(|sigma| *sigma != 0.0)
@@ -618,9 +627,7 @@ impl FswConfig {
     fn validate_sensors(&self) -> Result<(), FswError> {
         let invalid = |field| Err(FswError::InvalidConfiguration(field));
         let positive = |value: f64| value.is_finite() && value > 0.0;
-        let [w, x, y, z] = self.star.mounting_wxyz;
-        let norm = nav_core::float::sqrt(w * w + x * x + y * y + z * z);
-        if !(norm.is_finite() && nav_core::attitude::is_unit_norm(norm)) {
+        if !is_unit_quaternion(&self.star.mounting_wxyz) {
             return invalid(ConfigField::StarMounting);
         }
         if !is_gate(self.star.gate_nis) {

@@ -112,14 +112,22 @@ impl StarHeads {
     }
 
     /// Notes head `head`'s measurement `q_ls` of time `time_tag_s`: a pair is pending when
-    /// the other head's last measurement has the same time of validity.
-    pub(super) fn note(&mut self, head: usize, time_tag_s: f64, measured: Quaternion<f64>) {
+    /// the other head's last measurement has the same time of validity (closer than
+    /// `same_instant_s`: the heads are commanded on the flight computer's clock, so their tags
+    /// differ only by round-off).
+    pub(super) fn note(
+        &mut self,
+        head: usize,
+        time_tag_s: f64,
+        measured: Quaternion<f64>,
+        same_instant_s: f64,
+    ) {
         let Some(slot) = self.last.get_mut(head) else {
             return;
         };
         *slot = Some((time_tag_s, measured));
         if let [Some((first_s, _)), Some((second_s, _))] = self.last {
-            self.pair_pending = (first_s - second_s).abs() <= SAME_INSTANT_TOLERANCE_S;
+            self.pair_pending = (first_s - second_s).abs() <= same_instant_s;
         }
     }
 
@@ -135,10 +143,6 @@ impl StarHeads {
     }
 }
 
-/// Two time tags closer than this are the same exposure (the heads are commanded on the
-/// flight computer's clock; tags differ only by round-off).
-const SAME_INSTANT_TOLERANCE_S: f64 = 1e-6;
-
 impl NavigationComputer {
     /// The configured mounting `q_bs` and noise 1σ per sensor axis of head `head` (the
     /// first head's for any head but 1).
@@ -151,7 +155,7 @@ impl NavigationComputer {
             ),
             _ => (
                 ports::quaternion(&star.mounting_wxyz),
-                [star.noise_rad, star.noise_rad, star.roll_noise_rad],
+                star.noise_per_axis_rad(),
             ),
         }
     }
@@ -183,8 +187,7 @@ impl NavigationComputer {
             return;
         };
         self.walk_alignment_to(time_s);
-        let star = &self.config.star;
-        let first_noise = [star.noise_rad, star.noise_rad, star.roll_noise_rad];
+        let first_noise = self.config.star.noise_per_axis_rad();
         let gate = second.pair_gate_nis;
         let Some(alignment) = self.heads.alignment.as_mut() else {
             return;
@@ -334,9 +337,10 @@ impl NavigationComputer {
             }
             count(&mut self.health.counters.measurement_stale);
         }
+        // The default state is also not yet acquired: the new head's first measurement is
+        // gated by the acquisition gate.
         self.aids.star = AidingSensor::default();
         self.aids.star_noise.clear();
-        self.reacquire(Sensor::Star);
         count(&mut self.health.counters.star_head_handovers);
     }
 }

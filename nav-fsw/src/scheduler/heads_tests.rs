@@ -1,24 +1,17 @@
 //! Two tracker heads on a vehicle that does not turn: the pairs align the second head, an
 //! outage of the first hands the installation over, the first head's return hands it back.
 
+use super::tests;
 use super::*;
 use crate::config::StarHeadConfig;
 use crate::sensor_frames::SensorFrames;
-use nav_core::frames::LaunchSite;
 
 const ARCSEC_RAD: f64 = 4.848_136_811_095_36e-6;
 
 /// Head 1 with its boresight 90° from head 0's (turned about body x), 5″ across and 35″
 /// about the boresight on both heads, aligned after 20 pairs.
 fn two_head_computer() -> NavigationComputer {
-    let site = LaunchSite {
-        latitude_rad: 0.715,
-        longitude_rad: 1.750,
-        height_m: 1000.0,
-        azimuth_rad: 3.316,
-        earth_axis_ecef: [0.0, 0.0, 1.0],
-    };
-    let mut config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
+    let mut config = FswConfig::paper_defaults(tests::site(), SensorFrames::ALIGNED);
     config.star.noise_rad = 5.0 * ARCSEC_RAD;
     config.star.roll_noise_rad = 35.0 * ARCSEC_RAD;
     let half = core::f64::consts::FRAC_PI_4;
@@ -30,13 +23,7 @@ fn two_head_computer() -> NavigationComputer {
         pair_gate_nis: crate::config::GATE_NIS,
         pairs_before_hand_over: 20,
     });
-    let initial = NavigationState {
-        attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
-        position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
-        velocity_mps: Vector3::new(7.5e3, 10.0, -20.0),
-        time_s: 600.0,
-    };
-    NavigationComputer::new(config, initial).unwrap()
+    NavigationComputer::new(config, tests::initial_state()).unwrap()
 }
 
 /// Head 1's true installation error: 40″ about its x and 20″ about its z.
@@ -120,7 +107,7 @@ fn the_pairs_align_the_second_head_and_an_outage_hands_the_installation_over_and
 
 #[test]
 fn a_head_the_configuration_lacks_is_counted_and_ignored() {
-    let mut computer = super::tests::computer();
+    let mut computer = tests::computer();
     let mut ports = crate::replay::FramePorts::default();
     let measurement = crate::ports::StarMeasurement {
         time_tag_s: computer.navigation().time_s,

@@ -85,7 +85,9 @@ impl NavigationComputer {
                         .star_in_launch_inertial(&quaternion);
                     if self.config.star.second_head.is_some() {
                         let tag = measurement.time_tag_s;
-                        self.heads.note(head, tag, launch_inertial);
+                        let same_instant_s =
+                            SAME_INSTANT_FRACTION_OF_PERIOD * self.config.imu.period_s;
+                        self.heads.note(head, tag, launch_inertial, same_instant_s);
                     }
                     if !active {
                         continue;

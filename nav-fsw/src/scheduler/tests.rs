@@ -3,7 +3,7 @@ use super::*;
 use crate::sensor_frames::SensorFrames;
 use nav_core::frames::LaunchSite;
 
-fn site() -> LaunchSite {
+pub(super) fn site() -> LaunchSite {
     LaunchSite {
         latitude_rad: 0.715,
         longitude_rad: 1.750,
@@ -13,7 +13,7 @@ fn site() -> LaunchSite {
     }
 }
 
-fn initial_state() -> NavigationState {
+pub(super) fn initial_state() -> NavigationState {
     NavigationState {
         attitude: Quaternion::new(1.0, 0.0, 0.0, 0.0),
         position_m: Vector3::new(1.0e5, 5.0e5, 2.0e5),
