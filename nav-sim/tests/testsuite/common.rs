@@ -1,5 +1,6 @@
 //! Shared test scenarios.
 
+use nav_sim::campaign::monte_carlo::{fly_campaign, RunOutcome};
 use nav_sim::scenario::ManoeuvreSegment;
 use nav_sim::Scenario;
 
@@ -52,3 +53,25 @@ pub const QUIET_COUNTERS: [&str; 8] = [
     "star_declared_faulty",
     "gnss_declared_faulty",
 ];
+
+/// The runs of `name` flown: one (the scenario's seed plus `NAV_MC_FIRST_RUN`), or
+/// `NAV_MC_RUNS` when set. For the tracker cases, each a whole flight per run.
+pub fn one_run_unless_told(name: &str) -> Vec<RunOutcome> {
+    let scenario = crate::realistic_campaign::scenario(name);
+    let mut seeds = crate::realistic_campaign::seeds(&scenario);
+    if std::env::var_os("NAV_MC_RUNS").is_none() {
+        seeds.truncate(1);
+    }
+    fly_campaign(&scenario, &seeds, &|| {}).unwrap()
+}
+
+/// A health counter's final value in one run (0 when never raised).
+pub fn counted(outcome: &RunOutcome, key: &str) -> u32 {
+    outcome.health.get(key).copied().unwrap_or(0)
+}
+
+/// The NEES of one run's 15 calibration states.
+pub fn nees(outcome: &RunOutcome) -> f64 {
+    let inverse = outcome.covariance.try_inverse().unwrap();
+    (outcome.error.transpose() * inverse * outcome.error)[(0, 0)]
+}

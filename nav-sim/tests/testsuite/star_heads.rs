@@ -6,28 +6,10 @@
 //! docs' campaigns fly 20.
 
 use crate::common::QUIET_COUNTERS;
-use crate::realistic_campaign::{scenario, seeds, worst_sigma};
-use nav_sim::campaign::monte_carlo::{fly_campaign, RunOutcome};
+use crate::common::{counted, nees, one_run_unless_told as campaign};
+use crate::realistic_campaign::{scenario, worst_sigma};
 use nav_sim::scenario::star_sensor::arcsec_to_rad;
 use nav_sim::setup::fsw::{fsw_config, replay_setup};
-
-fn campaign(name: &str) -> Vec<RunOutcome> {
-    let scenario = scenario(name);
-    let mut seeds = seeds(&scenario);
-    if std::env::var_os("NAV_MC_RUNS").is_none() {
-        seeds.truncate(1);
-    }
-    fly_campaign(&scenario, &seeds, &|| {}).unwrap()
-}
-
-fn counted(outcome: &RunOutcome, key: &str) -> u32 {
-    outcome.health.get(key).copied().unwrap_or(0)
-}
-
-fn nees(outcome: &RunOutcome) -> f64 {
-    let inverse = outcome.covariance.try_inverse().unwrap();
-    (outcome.error.transpose() * inverse * outcome.error)[(0, 0)]
-}
 
 /// The scenario's first additional head reaches the flight software's configuration and the
 /// QEMU replay words; `[filter] star_second_head = false` leaves the flight software one head.

@@ -6,29 +6,11 @@
 //! (docs/sensor-errors.md). `NAV_MC_RUNS` runs, default 1 each here; the docs' campaigns fly
 //! 20.
 
-use crate::realistic_campaign::{scenario, seeds, worst_sigma};
-use nav_sim::campaign::monte_carlo::{fly_campaign, RunOutcome};
+use crate::common::{counted, nees, one_run_unless_told as campaign};
+use crate::realistic_campaign::{scenario, worst_sigma};
 use nav_sim::scenario::star_sensor::arcsec_to_rad;
 use nav_sim::setup::fsw::{fsw_config, replay_setup};
 use nav_sim::Scenario;
-
-fn campaign(name: &str) -> Vec<RunOutcome> {
-    let scenario = scenario(name);
-    let mut seeds = seeds(&scenario);
-    if std::env::var_os("NAV_MC_RUNS").is_none() {
-        seeds.truncate(1);
-    }
-    fly_campaign(&scenario, &seeds, &|| {}).unwrap()
-}
-
-fn counted(outcome: &RunOutcome, key: &str) -> u32 {
-    outcome.health.get(key).copied().unwrap_or(0)
-}
-
-fn nees(outcome: &RunOutcome) -> f64 {
-    let inverse = outcome.covariance.try_inverse().unwrap();
-    (outcome.error.transpose() * inverse * outcome.error)[(0, 0)]
-}
 
 /// The scenario key reaches the flight software and the QEMU replay words; without it the
 /// configuration is the paper's and the scenario renders (and hashes) as before the key.
