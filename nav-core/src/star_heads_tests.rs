@@ -5,13 +5,13 @@
 use super::*;
 use crate::attitude::from_vector_part;
 use crate::filter::{ErrorStateFilter, FilterMode};
-use crate::gnss_error::{GnssErrorModel, GnssErrorStates};
-use crate::imu_error_states::{ImuErrorModel, ImuErrorStates};
-use crate::state::{BlockMask, STAR_INSTALLATION, STATE_DIMENSION};
+use crate::gnss_error::GnssErrorModel;
+use crate::imu_error_states::ImuErrorModel;
+use crate::state::{BlockMask, STAR_INSTALLATION};
 use crate::structured::tests::{
-    filter_with, random_covariance, random_measurement, random_quaternion, random_vector,
+    filter_with, install_both_borders, random_covariance, random_measurement, random_quaternion,
+    random_vector, whole_covariance, whole_state, Bordered, BORDERED,
 };
-use nalgebra::{SMatrix, SVector};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -318,9 +318,6 @@ fn random_spd(rng: &mut ChaCha8Rng, scale: f64) -> Matrix3<f64> {
     (p + p.transpose()) * 0.5
 }
 
-const BORDERED: usize = STATE_DIMENSION + 3 + crate::imu_error::IMU_ERROR_DIMENSION;
-type Bordered = SMatrix<f64, BORDERED, BORDERED>;
-
 const RECEIVER: GnssErrorModel = GnssErrorModel {
     sigma_m: 8.0,
     correlation_time_s: 300.0,
@@ -343,76 +340,8 @@ fn random_filter(rng: &mut ChaCha8Rng, borders: bool) -> ErrorStateFilter {
     if !borders {
         return filter;
     }
-    let p24 = *filter.covariance();
-    let sigmas = IMU_MODEL.state_sigmas();
-    let scale = SVector::<f64, BORDERED>::from_fn(|i, _| match i {
-        0..24 => p24[(i, i)].sqrt(),
-        24..27 => RECEIVER.sigma_m,
-        _ => sigmas[i - 27],
-    });
-    let r = Bordered::from_fn(|_, _| rng.random_range(-1.0..1.0));
-    let d = Bordered::from_diagonal(&scale);
-    let p = d * (r * r.transpose() / (BORDERED as f64) + Bordered::identity() * 0.05) * d;
-    let p = (p + p.transpose()) * 0.5;
+    install_both_borders(&mut filter, rng, RECEIVER, IMU_MODEL);
     filter
-        .set_covariance(&p.fixed_view::<24, 24>(0, 0).into_owned())
-        .unwrap();
-    *filter.gnss_error_mut() = GnssErrorStates::new(RECEIVER).unwrap();
-    *filter.imu_error_mut() = ImuErrorStates::new(IMU_MODEL).unwrap();
-    let gnss_estimate = Vector3::from_fn(|_, _| rng.random_range(-5.0..5.0));
-    filter.gnss_error_mut().set(
-        &gnss_estimate,
-        &p.fixed_view::<3, 3>(24, 24).into_owned(),
-        &p.fixed_view::<24, 3>(0, 24).into_owned(),
-    );
-    let imu_estimate = SVector::<f64, 12>::from_fn(|a, _| sigmas[a] * rng.random_range(-1.0..1.0));
-    filter.imu_error_mut().set(
-        &imu_estimate,
-        &p.fixed_view::<12, 12>(27, 27).into_owned(),
-        &p.fixed_view::<24, 12>(0, 27).into_owned(),
-    );
-    filter
-        .imu_error_mut()
-        .set_gnss_cross(&p.fixed_view::<3, 12>(24, 27).into_owned());
-    filter
-}
-
-/// The filter's whole covariance (39 states; the border entries zero without borders).
-fn whole_covariance(filter: &ErrorStateFilter) -> Bordered {
-    let mut p = Bordered::zeros();
-    p.fixed_view_mut::<24, 24>(0, 0)
-        .copy_from(filter.covariance());
-    if filter.gnss_error().is_enabled() {
-        let c = filter.gnss_error().cross_covariance();
-        p.fixed_view_mut::<24, 3>(0, 24).copy_from(&c);
-        p.fixed_view_mut::<3, 24>(24, 0).copy_from(&c.transpose());
-        p.fixed_view_mut::<3, 3>(24, 24)
-            .copy_from(&filter.gnss_error().covariance());
-    }
-    if filter.imu_error().is_enabled() {
-        let imu = filter.imu_error();
-        let (c, b) = (imu.cross_covariance(), imu.gnss_cross_covariance());
-        p.fixed_view_mut::<24, 12>(0, 27).copy_from(&c);
-        p.fixed_view_mut::<12, 24>(27, 0).copy_from(&c.transpose());
-        p.fixed_view_mut::<12, 12>(27, 27)
-            .copy_from(&imu.covariance());
-        p.fixed_view_mut::<3, 12>(24, 27).copy_from(&b);
-        p.fixed_view_mut::<12, 3>(27, 24).copy_from(&b.transpose());
-    }
-    p
-}
-
-fn whole_state(filter: &ErrorStateFilter) -> SVector<f64, BORDERED> {
-    let (x, g, e) = (
-        filter.state(),
-        filter.gnss_error().estimate_m(),
-        filter.imu_error().estimate(),
-    );
-    SVector::from_fn(|i, _| match i {
-        0..24 => x[i],
-        24..27 => g[i - 24],
-        _ => e[i - 27],
-    })
 }
 
 /// The hand-over equals the dense `T_full P T_fullᵀ + E Q Eᵀ` and `x ← T_full x`

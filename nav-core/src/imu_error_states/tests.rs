@@ -11,7 +11,8 @@ use crate::imu_error::system_columns;
 use crate::measurement::LinearMeasurement;
 use crate::state::BlockMask;
 use crate::structured::tests::{
-    filter_with, random_covariance, random_mask, random_measurement, random_noise, random_point,
+    filter_with, install_both_borders, random_covariance, random_mask, random_measurement,
+    random_noise, random_point, whole_covariance, whole_state, Bordered, BORDERED,
 };
 use crate::structured::StructuredModel;
 use nalgebra::{Cholesky, Matrix3};
@@ -455,8 +456,8 @@ fn explicit_projection_equals_the_maps() {
 }
 
 /// Both borders: 24 + 3 correlated GNSS error states + 12 systematic IMU error states.
-const M: usize = STATE_DIMENSION + 3 + IMU_ERROR_DIMENSION;
-type Both = SMatrix<f64, M, M>;
+const M: usize = BORDERED;
+type Both = Bordered;
 
 const RECEIVER: crate::gnss_error::GnssErrorModel = crate::gnss_error::GnssErrorModel {
     sigma_m: 8.0,
@@ -464,79 +465,11 @@ const RECEIVER: crate::gnss_error::GnssErrorModel = crate::gnss_error::GnssError
 };
 
 /// A filter with both borders and a random positive-definite 39-state covariance
-/// `D (R Rᵀ/39 + 0.05 I) D` at physical scales, and random estimates.
+/// (`structured::tests::install_both_borders`) and random estimates.
 fn filter_with_both_borders(rng: &mut ChaCha8Rng, mode: FilterMode) -> ErrorStateFilter {
-    let p24 = random_covariance(rng);
-    let sigmas = MODEL.state_sigmas();
-    let scale = SVector::<f64, M>::from_fn(|i, _| match i {
-        0..24 => p24[(i, i)].sqrt(),
-        24..27 => RECEIVER.sigma_m,
-        _ => sigmas[i - 27],
-    });
-    let r = Both::from_fn(|_, _| rng.random_range(-1.0..1.0));
-    let d = Both::from_diagonal(&scale);
-    let p = d * (r * r.transpose() / (M as f64) + Both::identity() * 0.05) * d;
-    let p = (p + p.transpose()) * 0.5;
-    let mut filter = filter_with(mode, &p.fixed_view::<24, 24>(0, 0).into_owned());
-    *filter.gnss_error_mut() = crate::gnss_error::GnssErrorStates::new(RECEIVER).unwrap();
-    *filter.imu_error_mut() = ImuErrorStates::new(MODEL).unwrap();
-    let gnss_estimate = nalgebra::Vector3::from_fn(|_, _| rng.random_range(-5.0..5.0));
-    filter.gnss_error_mut().set(
-        &gnss_estimate,
-        &p.fixed_view::<3, 3>(24, 24).into_owned(),
-        &p.fixed_view::<24, 3>(0, 24).into_owned(),
-    );
-    let imu_estimate = SVector::<f64, IMU_ERROR_DIMENSION>::from_fn(|a, _| {
-        sigmas[a] * rng.random_range(-1.0..1.0)
-    });
-    filter.imu_error_mut().set(
-        &imu_estimate,
-        &p.fixed_view::<12, 12>(27, 27).into_owned(),
-        &p.fixed_view::<24, 12>(0, 27).into_owned(),
-    );
+    let mut filter = filter_with(mode, &random_covariance(rng));
+    install_both_borders(&mut filter, rng, RECEIVER, MODEL);
     filter
-        .imu_error_mut()
-        .set_gnss_cross(&p.fixed_view::<3, 12>(24, 27).into_owned());
-    filter
-}
-
-fn both_covariance(filter: &ErrorStateFilter) -> Both {
-    let mut p = Both::zeros();
-    p.fixed_view_mut::<24, 24>(0, 0)
-        .copy_from(filter.covariance());
-    let (c_g, p_gg) = (
-        filter.gnss_error().cross_covariance(),
-        filter.gnss_error().covariance(),
-    );
-    let imu = filter.imu_error();
-    let (c_i, p_ii, b) = (
-        imu.cross_covariance(),
-        imu.covariance(),
-        imu.gnss_cross_covariance(),
-    );
-    p.fixed_view_mut::<24, 3>(0, 24).copy_from(&c_g);
-    p.fixed_view_mut::<3, 24>(24, 0).copy_from(&c_g.transpose());
-    p.fixed_view_mut::<24, 12>(0, 27).copy_from(&c_i);
-    p.fixed_view_mut::<12, 24>(27, 0)
-        .copy_from(&c_i.transpose());
-    p.fixed_view_mut::<3, 3>(24, 24).copy_from(&p_gg);
-    p.fixed_view_mut::<12, 12>(27, 27).copy_from(&p_ii);
-    p.fixed_view_mut::<3, 12>(24, 27).copy_from(&b);
-    p.fixed_view_mut::<12, 3>(27, 24).copy_from(&b.transpose());
-    p
-}
-
-fn both_state(filter: &ErrorStateFilter) -> SVector<f64, M> {
-    let (x, g, e) = (
-        filter.state(),
-        filter.gnss_error().estimate_m(),
-        filter.imu_error().estimate(),
-    );
-    SVector::from_fn(|i, _| match i {
-        0..24 => x[i],
-        24..27 => g[i - 24],
-        _ => e[i - 27],
-    })
 }
 
 fn relative_both(a: &Both, b: &Both, scale: &Both) -> f64 {
@@ -565,7 +498,7 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
             FilterMode::ClosedLoop
         };
         let prior = filter_with_both_borders(&mut rng, mode);
-        let scale = both_covariance(&prior);
+        let scale = whole_covariance(&prior);
         // Propagation.
         let point = random_point(&mut rng);
         let noise = random_noise(&mut rng, case % 2 == 0);
@@ -601,11 +534,11 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         let expected = f * scale * f.transpose() + q;
         let mut propagated = prior;
         propagated.predict_structured(&model).unwrap();
-        let error = relative_both(&both_covariance(&propagated), &expected, &scale);
+        let error = relative_both(&whole_covariance(&propagated), &expected, &scale);
         assert!(error < 1e-12, "case {case}: propagation {error:e}");
         if mode == FilterMode::OpenLoop {
-            let x = f * both_state(&prior);
-            let got = both_state(&propagated);
+            let x = f * whole_state(&prior);
+            let got = whole_state(&propagated);
             for i in 0..M {
                 assert!(
                     (got[i] - x[i]).abs() < 1e-12 * scale[(i, i)].sqrt(),
@@ -632,7 +565,7 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         for k in 0..3 {
             h[(k, 24 + k)] = measurement.gnss_error_coefficient;
         }
-        let x = both_state(&prior);
+        let x = whole_state(&prior);
         let innovation = measurement.residual - h * x;
         let s = h * scale * h.transpose() + measurement.noise_covariance;
         let mut gain: SMatrix<f64, M, 3> =
@@ -651,9 +584,9 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         updated
             .update_structured(&measurement, f64::INFINITY, &frozen)
             .unwrap();
-        let error = relative_both(&both_covariance(&updated), &p, &scale);
+        let error = relative_both(&whole_covariance(&updated), &p, &scale);
         assert!(error < 1e-11, "case {case}: update {error:e}");
-        let got = both_state(&updated);
+        let got = whole_state(&updated);
         for i in 0..M {
             assert!(
                 (got[i] - x[i]).abs() < 1e-11 * scale[(i, i)].sqrt(),

@@ -738,3 +738,94 @@ pub(crate) fn assert_frozen_blocks_unmoved(
         }
     }
 }
+
+/// Every state with both border blocks: 24 + 3 correlated GNSS error states + 12 systematic
+/// IMU error states.
+pub(crate) const BORDERED: usize = STATE_DIMENSION + 3 + crate::imu_error::IMU_ERROR_DIMENSION;
+/// A matrix over [`BORDERED`] states.
+pub(crate) type Bordered = SMatrix<f64, BORDERED, BORDERED>;
+
+/// Gives `filter` both border blocks (`receiver`, `imu`) with a random positive-definite
+/// 39-state covariance `D (R Rᵀ/39 + 0.05 I) D` at physical scales around its 24-state `P`
+/// (whose diagonal sets `D` there; the borders' prior 1σ elsewhere), and random estimates.
+pub(crate) fn install_both_borders(
+    filter: &mut ErrorStateFilter,
+    rng: &mut ChaCha8Rng,
+    receiver: crate::gnss_error::GnssErrorModel,
+    imu: crate::imu_error_states::ImuErrorModel,
+) {
+    let p24 = *filter.covariance();
+    let sigmas = imu.state_sigmas();
+    let scale = nalgebra::SVector::<f64, BORDERED>::from_fn(|i, _| match i {
+        0..24 => p24[(i, i)].sqrt(),
+        24..27 => receiver.sigma_m,
+        _ => sigmas[i - 27],
+    });
+    let r = Bordered::from_fn(|_, _| rng.random_range(-1.0..1.0));
+    let d = Bordered::from_diagonal(&scale);
+    let p = d * (r * r.transpose() / (BORDERED as f64) + Bordered::identity() * 0.05) * d;
+    let p = (p + p.transpose()) * 0.5;
+    filter
+        .set_covariance(&p.fixed_view::<24, 24>(0, 0).into_owned())
+        .unwrap();
+    *filter.gnss_error_mut() = crate::gnss_error::GnssErrorStates::new(receiver).unwrap();
+    *filter.imu_error_mut() = crate::imu_error_states::ImuErrorStates::new(imu).unwrap();
+    let gnss_estimate = Vector3::from_fn(|_, _| rng.random_range(-5.0..5.0));
+    filter.gnss_error_mut().set(
+        &gnss_estimate,
+        &p.fixed_view::<3, 3>(24, 24).into_owned(),
+        &p.fixed_view::<24, 3>(0, 24).into_owned(),
+    );
+    let imu_estimate =
+        nalgebra::SVector::<f64, { crate::imu_error::IMU_ERROR_DIMENSION }>::from_fn(|a, _| {
+            sigmas[a] * rng.random_range(-1.0..1.0)
+        });
+    filter.imu_error_mut().set(
+        &imu_estimate,
+        &p.fixed_view::<12, 12>(27, 27).into_owned(),
+        &p.fixed_view::<24, 12>(0, 27).into_owned(),
+    );
+    filter
+        .imu_error_mut()
+        .set_gnss_cross(&p.fixed_view::<3, 12>(24, 27).into_owned());
+}
+
+/// The filter's whole covariance over [`BORDERED`] states (the border entries zero for a
+/// border not in use).
+pub(crate) fn whole_covariance(filter: &ErrorStateFilter) -> Bordered {
+    let mut p = Bordered::zeros();
+    p.fixed_view_mut::<24, 24>(0, 0)
+        .copy_from(filter.covariance());
+    if filter.gnss_error().is_enabled() {
+        let c = filter.gnss_error().cross_covariance();
+        p.fixed_view_mut::<24, 3>(0, 24).copy_from(&c);
+        p.fixed_view_mut::<3, 24>(24, 0).copy_from(&c.transpose());
+        p.fixed_view_mut::<3, 3>(24, 24)
+            .copy_from(&filter.gnss_error().covariance());
+    }
+    if filter.imu_error().is_enabled() {
+        let imu = filter.imu_error();
+        let (c, b) = (imu.cross_covariance(), imu.gnss_cross_covariance());
+        p.fixed_view_mut::<24, 12>(0, 27).copy_from(&c);
+        p.fixed_view_mut::<12, 24>(27, 0).copy_from(&c.transpose());
+        p.fixed_view_mut::<12, 12>(27, 27)
+            .copy_from(&imu.covariance());
+        p.fixed_view_mut::<3, 12>(24, 27).copy_from(&b);
+        p.fixed_view_mut::<12, 3>(27, 24).copy_from(&b.transpose());
+    }
+    p
+}
+
+/// The filter's whole error state over [`BORDERED`] states.
+pub(crate) fn whole_state(filter: &ErrorStateFilter) -> nalgebra::SVector<f64, BORDERED> {
+    let (x, g, e) = (
+        filter.state(),
+        filter.gnss_error().estimate_m(),
+        filter.imu_error().estimate(),
+    );
+    nalgebra::SVector::from_fn(|i, _| match i {
+        0..24 => x[i],
+        24..27 => g[i - 24],
+        _ => e[i - 27],
+    })
+}
