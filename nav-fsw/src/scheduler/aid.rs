@@ -211,7 +211,7 @@ impl NavigationComputer {
             });
             if sensor == Sensor::Star {
                 // A faulty head leaves its fault state behind when the other takes over.
-                self.hand_over_from_lost_head();
+                self.hand_over_from_lost_head(heads::HeadLoss::Fault);
             }
         }
     }

@@ -6,7 +6,10 @@
 //! silent (an outage) or is declared faulty and the other head is aligned, the filter's
 //! installation block is handed over to it (nav-core `hand_over_installation`: the block
 //! rotated into the new head's axes, the alignment's covariance added); when the first head
-//! pairs again, it is handed back. The pairs' residuals feed their own consistency test
+//! pairs again, it is handed back. A head declared faulty is remembered: it takes the block
+//! back only after `pairs_before_hand_over` pairs in a row agree with the head the filter
+//! fuses, and an outage hands the block only to a head whose last pair agreed (a head that
+//! disagrees with a healthy one is not trusted to carry it). The pairs' residuals feed their own consistency test
 //! (`star_heads_inconsistent`): a relative alignment that moves shows a slowly varying error
 //! or an uncorrected aberration that a single head hides in the attitude.
 //! docs/sensor-errors.md, "Two heads".
@@ -34,6 +37,20 @@ pub(super) struct StarHeads {
     pair_mean: ResidualMean,
     /// Time of validity of the last pair (s), for the slow error's walk of the alignment.
     last_pair_s: Option<f64>,
+    /// Each head declared faulty while it was active and not since cleared by
+    /// `pairs_before_hand_over` agreeing pairs.
+    faulty: [bool; MAX_STAR_HEADS],
+    /// Pairs accepted since the last rejected one.
+    agreeing_pairs: u32,
+}
+
+/// Why the active head is lost ([`NavigationComputer::hand_over_from_lost_head`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum HeadLoss {
+    /// It fell silent: its last pairs say whether the other head agreed with it.
+    Outage,
+    /// It was declared faulty: its last pairs disagree because of it.
+    Fault,
 }
 
 /// A fading mean of a residual per axis, each axis normalised by its own σ (`√S_ii`), over
@@ -108,6 +125,8 @@ impl StarHeads {
             pair_consistency: ConsistencyMonitor::default(),
             pair_mean: ResidualMean::default(),
             last_pair_s: None,
+            faulty: [false; MAX_STAR_HEADS],
+            agreeing_pairs: 0,
         })
     }
 
@@ -135,6 +154,22 @@ impl StarHeads {
     pub(super) fn pairs_accepted(&self) -> u32 {
         self.alignment
             .map_or(0, |alignment| alignment.pairs_accepted())
+    }
+
+    /// The head the filter does not fuse.
+    fn other(&self) -> u8 {
+        if self.active == 0 {
+            1
+        } else {
+            0
+        }
+    }
+
+    /// Whether head `head` may carry the installation block: aligned by at least
+    /// `pairs_to_align` pairs and not declared faulty.
+    fn may_carry(&self, head: u8, pairs_to_align: u32) -> bool {
+        let faulty = self.faulty.get(usize::from(head)).copied().unwrap_or(true);
+        !faulty && self.pairs_accepted() >= pairs_to_align
     }
 
     /// Whether head `head` was heard within `timeout_s` before `now_s`.
@@ -202,9 +237,19 @@ impl NavigationComputer {
             count(&mut self.health.counters.filter_errors);
             return;
         };
-        self.test_pair(&report, gate);
-        if self.heads.active == 1 && report.accepted {
-            self.hand_over_to_head(0);
+        self.test_pair(&report, gate, second.pairs_before_hand_over);
+        let heads = &self.heads;
+        let other = heads.other();
+        if self.aids.star.faulty {
+            // The active head was declared faulty: the other, heard now, takes over.
+            if heads.may_carry(other, second.pairs_before_hand_over) {
+                self.hand_over_to_head(other);
+            }
+        } else if heads.active == 1 && report.accepted {
+            let first_faulty = heads.faulty.first().copied().unwrap_or(true);
+            if !first_faulty || heads.agreeing_pairs >= second.pairs_before_hand_over {
+                self.hand_over_to_head(0);
+            }
         }
     }
 
@@ -254,12 +299,28 @@ impl NavigationComputer {
 
     /// Counts a rejected pair and feeds the pairs' NIS and residual mean tests (one
     /// `star_heads_inconsistent` per episode of either).
-    fn test_pair(&mut self, report: &nav_core::star_heads::PairReport, gate: f64) {
-        if !report.accepted {
+    /// A head declared faulty is cleared once `pairs_to_clear` pairs in a row agree with
+    /// the active head, itself not declared faulty.
+    fn test_pair(
+        &mut self,
+        report: &nav_core::star_heads::PairReport,
+        gate: f64,
+        pairs_to_clear: u32,
+    ) {
+        let heads = &mut self.heads;
+        if report.accepted {
+            heads.agreeing_pairs = heads.agreeing_pairs.saturating_add(1);
+        } else {
+            heads.agreeing_pairs = 0;
             count(&mut self.health.counters.star_pair_rejections);
         }
+        if heads.agreeing_pairs >= pairs_to_clear && !self.aids.star.faulty {
+            let other = usize::from(heads.other());
+            if let Some(faulty) = heads.faulty.get_mut(other) {
+                *faulty = false;
+            }
+        }
         let config = self.config.consistency;
-        let heads = &mut self.heads;
         let nis = report.normalised_innovation_squared;
         let nis_began = heads
             .pair_consistency
@@ -278,19 +339,28 @@ impl NavigationComputer {
         }
     }
 
-    /// After the active head's outage began or its fault was declared: the installation is
-    /// handed over to the other head if that head was heard within the outage timeout and
-    /// enough pairs have aligned it (`pairs_before_hand_over`).
-    pub(super) fn hand_over_from_lost_head(&mut self) {
+    /// After the active head's outage began or its fault was declared (`loss`; a fault is
+    /// remembered against the head): the installation is handed over to the other head if
+    /// that head was heard within the outage timeout, is aligned and not itself declared
+    /// faulty ([`StarHeads::may_carry`]), and, after an outage, agreed with the lost head at
+    /// their last pair.
+    pub(super) fn hand_over_from_lost_head(&mut self, loss: HeadLoss) {
         let Some(second) = self.config.star.second_head else {
             return;
         };
-        let heads = &self.heads;
-        let other: u8 = if heads.active == 0 { 1 } else { 0 };
+        let heads = &mut self.heads;
+        if loss == HeadLoss::Fault {
+            if let Some(faulty) = heads.faulty.get_mut(usize::from(heads.active)) {
+                *faulty = true;
+            }
+        }
+        let other = heads.other();
         let now_s = self.navigation.solution.time_s;
         let timeout_s = self.config.timing.outage_timeout_s;
+        let agreed = loss == HeadLoss::Fault || heads.agreeing_pairs > 0;
         if heads.heard_since(usize::from(other), now_s, timeout_s)
-            && heads.pairs_accepted() >= second.pairs_before_hand_over
+            && heads.may_carry(other, second.pairs_before_hand_over)
+            && agreed
         {
             self.hand_over_to_head(other);
         }

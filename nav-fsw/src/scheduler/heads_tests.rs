@@ -34,6 +34,16 @@ fn head_one_misalignment() -> Quaternion<f64> {
 /// Flies `frames` frames; every tenth frame each head in `heads` measures (noise-free) the
 /// constant attitude through its mounting (head 1 with [`head_one_misalignment`]).
 fn fly(computer: &mut NavigationComputer, frames: u32, heads: &[u8]) {
+    fly_with_steps(computer, frames, heads, &[]);
+}
+
+/// A step fault: 120″ about the sensor's x axis, far outside the gates.
+fn step() -> Quaternion<f64> {
+    attitude::exp_rotation_vector(&Vector3::new(120.0 * ARCSEC_RAD, 0.0, 0.0))
+}
+
+/// As [`fly`], the heads in `stepped` turned by [`step`].
+fn fly_with_steps(computer: &mut NavigationComputer, frames: u32, heads: &[u8], stepped: &[u8]) {
     let first = computer.frame.wrapping_add(1);
     for sequence in first..first + frames {
         let mut ports = crate::replay::FramePorts::default();
@@ -47,11 +57,14 @@ fn fly(computer: &mut NavigationComputer, frames: u32, heads: &[u8]) {
         if sequence % 10 == 0 {
             for head in heads {
                 let (mounting, _) = computer.head_mounting_and_noise(*head);
-                let sensor = if *head == 1 {
+                let mut sensor = if *head == 1 {
                     attitude::product(&mounting, &head_one_misalignment())
                 } else {
                     mounting
                 };
+                if stepped.contains(head) {
+                    sensor = attitude::product(&sensor, &step());
+                }
                 let q = attitude::product(&computer.navigation().attitude, &sensor);
                 let measurement = crate::ports::StarMeasurement {
                     time_tag_s: computer.navigation().time_s,
@@ -124,4 +137,76 @@ fn a_head_the_configuration_lacks_is_counted_and_ignored() {
     ports.run(&mut computer);
     assert_eq!(computer.health().star_unknown_head, 1);
     assert_eq!(computer.queued_measurements(), 0);
+}
+
+/// A computer whose pairs have aligned the second head (2,000 frames, 200 pairs).
+fn aligned_computer() -> NavigationComputer {
+    let mut computer = two_head_computer();
+    fly(&mut computer, 2_000, &[0, 1]);
+    assert!(computer.heads.pairs_accepted() >= 150);
+    computer
+}
+
+#[test]
+fn an_outage_does_not_hand_the_installation_to_a_head_that_disagrees() {
+    let mut computer = aligned_computer();
+    // Head 1 steps: its pairs are rejected, head 0 (fused) is not blamed.
+    fly_with_steps(&mut computer, 500, &[0, 1], &[1]);
+    let health = *computer.health();
+    assert!(health.star_pair_rejections >= 40, "{health:?}");
+    assert_eq!(health.star_declared_faulty, 0);
+    // Head 0 falls silent: the outage is counted, the block stays with head 0.
+    fly_with_steps(&mut computer, 3_000, &[1], &[1]);
+    let health = *computer.health();
+    assert_eq!(health.star_outages, 1, "{health:?}");
+    assert_eq!(health.star_head_handovers, 0);
+    assert_eq!(computer.active_star_head(), 0);
+    // Head 0 returns and is fused again.
+    assert!(!computer.aids.star.acquired);
+    fly_with_steps(&mut computer, 500, &[0, 1], &[1]);
+    assert!(computer.aids.star.acquired && !computer.aids.star.faulty);
+    assert_eq!(computer.active_star_head(), 0);
+    assert_eq!(computer.health().star_declared_faulty, 0);
+}
+
+#[test]
+fn a_faulty_head_hands_over_and_takes_the_block_back_only_once_it_agrees_again() {
+    let mut computer = aligned_computer();
+    // Head 0 steps: declared faulty, the block goes to head 1.
+    fly_with_steps(&mut computer, 1_000, &[0, 1], &[0]);
+    let health = *computer.health();
+    assert_eq!(health.star_declared_faulty, 1, "{health:?}");
+    assert_eq!(health.star_head_handovers, 1);
+    assert_eq!(computer.active_star_head(), 1);
+    // Still stepped: its pairs disagree and it does not take the block back.
+    fly_with_steps(&mut computer, 1_000, &[0, 1], &[0]);
+    assert_eq!(computer.health().star_head_handovers, 1);
+    assert_eq!(computer.active_star_head(), 1);
+    // The step ends: after 20 agreeing pairs (the configuration's) head 0 has the block back.
+    fly(&mut computer, 150, &[0, 1]);
+    assert_eq!(computer.active_star_head(), 1, "back after one pair");
+    fly(&mut computer, 100, &[0, 1]);
+    let health = *computer.health();
+    assert_eq!(health.star_head_handovers, 2, "{health:?}");
+    assert_eq!(computer.active_star_head(), 0);
+    assert_eq!(health.star_declared_faulty, 1);
+}
+
+#[test]
+fn a_carrying_head_declared_faulty_hands_the_block_back_when_the_first_returns() {
+    let mut computer = aligned_computer();
+    fly(&mut computer, 3_000, &[1]);
+    assert_eq!(computer.active_star_head(), 1);
+    // Head 1 steps while it carries the block and head 0 is silent: declared faulty.
+    fly_with_steps(&mut computer, 1_000, &[1], &[1]);
+    let health = *computer.health();
+    assert_eq!(health.star_declared_faulty, 1, "{health:?}");
+    assert_eq!(computer.active_star_head(), 1);
+    // Head 0 returns: its first pair hands the block back although the pair disagrees,
+    // and the filter fuses head 0 again.
+    fly_with_steps(&mut computer, 500, &[0, 1], &[1]);
+    let health = *computer.health();
+    assert_eq!(health.star_head_handovers, 2, "{health:?}");
+    assert_eq!(computer.active_star_head(), 0);
+    assert!(computer.aids.star.acquired && !computer.aids.star.faulty);
 }

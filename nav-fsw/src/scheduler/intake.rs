@@ -131,7 +131,7 @@ impl NavigationComputer {
         if self.aids.star_outage.observe(now_s, star_heard, timeout_s) {
             count(&mut self.health.counters.star_outages);
             self.reacquire(Sensor::Star);
-            self.hand_over_from_lost_head();
+            self.hand_over_from_lost_head(heads::HeadLoss::Outage);
         }
         if self.aids.gnss_outage.observe(now_s, gnss_heard, timeout_s) {
             count(&mut self.health.counters.gnss_outages);

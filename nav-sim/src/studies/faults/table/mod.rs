@@ -1,6 +1,6 @@
 //! The campaign's rows, one file per family in row order: the control and non-finite rows,
-//! the IMU, star-sensor, GNSS and timing rows, the correlated GNSS drift, the manoeuvres and
-//! the IMU errors the filter does not model.
+//! the IMU, star-sensor, GNSS and timing rows, the correlated GNSS drift, the manoeuvres,
+//! the IMU errors the filter does not model and a tracker with two heads.
 //! Each row gives its injection times in seconds from the fault start, turned into frames by
 //! the [`FrameSchedule`] of the flight's IMU rate.
 
@@ -11,6 +11,7 @@ mod imu_model;
 mod manoeuvre;
 mod non_finite;
 mod star;
+mod star_heads;
 mod timing;
 
 use nalgebra::Vector3;
@@ -52,6 +53,7 @@ pub fn campaign_at(frames: FrameSchedule) -> Vec<FaultClass> {
         drift::rows,
         manoeuvre::rows,
         imu_model::rows,
+        star_heads::rows,
     ]
     .into_iter()
     .flat_map(|rows| rows(frames))
