@@ -364,8 +364,8 @@ impl TargetReplayReport {
         };
         if self.withheld_star_measurements > 0 {
             text += &format!(
-                "Star measurements of the additional star-tracker heads not replayed (the \
-                 flight software fuses head 0 only): {}\n",
+                "Star measurements of star-tracker heads the flight software is not told of, \
+                 not replayed: {}\n",
                 self.withheld_star_measurements
             );
         }

@@ -1,7 +1,7 @@
 //! Which star-tracker heads reach the flight software or a log: the flight software takes
 //! two heads when it is configured with a second (`star.second_head`, nav-fsw
-//! `scheduler::heads`), one otherwise; the CSV sensor log and the QEMU replay carry head 0
-//! (`[star_sensor]`) only. Every place that hands simulated events to the flight software or
+//! `scheduler::heads`), one otherwise; the CSV sensor log carries the heads a tracker port
+//! carries (0 and 1), the QEMU replay input the heads the flight software is told of. Every place that hands simulated events to the flight software or
 //! writes them to a log passes them through [`FlightStarHeads`]; it counts the measurements of
 //! the heads it holds back, and the runs report that count.
 
@@ -9,7 +9,7 @@ use crate::world::sensors::SensorEvent;
 
 /// The filter between the simulator's events and the flight software (or a log): passes
 /// every IMU and GNSS event and the star events of heads `0..heads`, counts the star events it
-/// holds back. The default takes head 0 only.
+/// holds back. The default takes head 0 only ([`FlightStarHeads::port`]: the heads a port carries).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FlightStarHeads {
     heads: usize,
@@ -26,6 +26,12 @@ impl FlightStarHeads {
     /// Takes the star events of heads `0..heads`.
     pub fn taking(heads: usize) -> Self {
         Self { heads, withheld: 0 }
+    }
+
+    /// The heads a tracker port carries (nav-fsw `MAX_STAR_HEADS`: 0 and 1), what a sensor log
+    /// holds.
+    pub fn port() -> Self {
+        Self::taking(nav_fsw::scheduler::MAX_STAR_HEADS)
     }
 
     /// The heads a tracker port carries for `scenario`: head 0, and head 1 when the scenario

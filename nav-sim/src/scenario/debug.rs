@@ -139,6 +139,12 @@ impl std::fmt::Debug for FilterSettings {
         if !self.star_second_head {
             debug.field("star_second_head", &self.star_second_head);
         }
+        if self.star_pairs_before_hand_over != super::DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER {
+            debug.field(
+                "star_pairs_before_hand_over",
+                &self.star_pairs_before_hand_over,
+            );
+        }
         debug.finish()
     }
 }

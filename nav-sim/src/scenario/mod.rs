@@ -577,6 +577,21 @@ pub struct FilterSettings {
     /// its port as from a head it does not have (counted in `star_unknown_head`).
     #[serde(default = "default_true")]
     pub star_second_head: bool,
+    /// Pairs of the two heads accepted before the flight software may hand its installation
+    /// block to the second head, and agreeing pairs in a row before a head declared faulty
+    /// takes it back (`star.second_head.pairs_before_hand_over`); default
+    /// [`DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER`].
+    #[serde(default = "default_star_pairs_before_hand_over")]
+    pub star_pairs_before_hand_over: u32,
+}
+
+/// Default of `[filter] star_pairs_before_hand_over`: 100 pairs (10 s at 10 Hz) know the
+/// heads' alignment to a tenth of the noise about the axes they share (nav-core
+/// `star_heads`: `σ/√n` per axis with `n` pairs).
+pub const DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER: u32 = 100;
+
+fn default_star_pairs_before_hand_over() -> u32 {
+    DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core

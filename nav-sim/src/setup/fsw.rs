@@ -170,15 +170,10 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     })
 }
 
-/// Pairs of the two heads accepted before the filter may hand its installation block to the
-/// other head: 100 pairs (10 s at 10 Hz) know the alignment to a tenth of the noise about
-/// the axes the heads share (nav-core `star_heads`: `σ/√n` per axis with `n` pairs).
-const PAIRS_BEFORE_HAND_OVER: u32 = 100;
-
 /// The flight software's second tracker head: the scenario's first
 /// `[[star_sensor.additional_heads]]` (its mounting and white noise per sensor axis), with
 /// the relative alignment's prior from both heads' installation 1σ (the filter's,
-/// `√2 σ_ψ`), the star gate for the pairs and [`PAIRS_BEFORE_HAND_OVER`]; `None` without
+/// `√2 σ_ψ`), the star gate for the pairs and `[filter] star_pairs_before_hand_over`; `None` without
 /// additional heads or with `[filter] star_second_head = false`.
 fn second_head(scenario: &Scenario, filter: &FilterConfig) -> Option<StarHeadConfig> {
     let head = scenario
@@ -199,7 +194,7 @@ fn second_head(scenario: &Scenario, filter: &FilterConfig) -> Option<StarHeadCon
         roll_noise_rad: roll_rad.max(1e-12),
         alignment_prior_sigma_rad: std::f64::consts::SQRT_2 * filter.initial.star_installation_rad,
         pair_gate_nis: scenario.filter.nis_gate.star_threshold,
-        pairs_before_hand_over: PAIRS_BEFORE_HAND_OVER,
+        pairs_before_hand_over: scenario.filter.star_pairs_before_hand_over,
     })
 }
 

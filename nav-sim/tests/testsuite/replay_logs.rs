@@ -336,3 +336,42 @@ fn a_log_from_another_launch_epoch_is_refused_and_one_bad_tag_is_not() {
     let (summary, _) = replay(&glitch, &scenario).unwrap();
     assert_eq!(summary.health.measurement_future, 1, "{}", summary.text());
 }
+
+/// A two-head flight's log holds both heads' measurements, each naming its head, and replays
+/// through the flight software as the flight did: head 0 blind from 15 s to 25 s, its
+/// installation block handed to head 1 and back, nothing counted as an unknown head.
+#[test]
+fn a_two_head_log_replays_both_heads_and_their_hand_overs() {
+    let mut scenario = scenario();
+    let mut head = scenario.star_sensor.clone();
+    head.mounting_rotation_vector_deg = [-90.0, 0.0, 0.0];
+    head.installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3];
+    scenario.star_sensor.additional_heads = vec![head];
+    scenario.star_sensor.outages = vec![[15.0, 10.0]];
+    scenario.filter.star_pairs_before_hand_over = 20;
+    scenario.validate().unwrap();
+    let records = records(&scenario, 40.0);
+    let heads = |head: u8| {
+        records
+            .iter()
+            .filter(|r| matches!(r, LogRecord::Star(star) if star.head == head))
+            .count()
+    };
+    // 10 Hz for 40 s, head 0 silent for 10 of them.
+    assert_eq!((heads(0), heads(1)), (300, 400));
+    let read: Vec<LogRecord> = sensor_log::SensorLogReader::new(csv(&records).as_slice())
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_eq!(read.len(), records.len());
+    assert!(read
+        .iter()
+        .zip(&records)
+        .all(|(a, b)| a.encode() == b.encode()));
+    let (summary, _) = replay(&records, &scenario).unwrap();
+    let health = summary.health;
+    assert_eq!(health.star_head_handovers, 2, "{}", summary.text());
+    assert_eq!(health.star_unknown_head, 0);
+    assert_eq!(health.star_outages, 1);
+    assert_eq!(health.star_declared_faulty, 0);
+}

@@ -22,10 +22,12 @@
 //! | `velocity_ecef_{x,y,z}_mps` | | | ECEF velocity (all three, or all three empty for a position-only receiver) |
 //! | `gps_week` | | | time of validity: GPS week (full count) |
 //! | `gps_seconds_of_week` | | | time of validity: GPS seconds of week |
+//! | `star_head` | | the tracker head (0 = `[star_sensor]`, 1 = its first additional head; u8) | |
 //!
 //! Times other than the GNSS tags are navigation time (s since the launch epoch). A log of the
 //! earlier layout (18 or 21 columns: star relative to launch-inertial, GNSS tagged in
-//! navigation time) is refused with [`SensorLogError::OldLayout`].
+//! navigation time) is refused with [`SensorLogError::OldLayout`]; a log of the 23 columns
+//! before `star_head` is read with every star row of head 0.
 //!
 //! Floats are written in the shortest form that parses back to the same `f64` (ryu), so a
 //! file round-trips bit for bit; NaN and infinity are refused on writing and on reading. The
@@ -35,11 +37,11 @@
 //! record per row, same order, same bits.
 //!
 //! ## Star-tracker heads
-//! A log holds the star measurements of head 0 (`[star_sensor]`) only: the CSV has no head
-//! column, and the binary form mirrors it (nav-fsw's record carries a head, 0 here). A simulation's
-//! other heads are held back by [`crate::logs::star_heads::FlightStarHeads`] and counted
-//! ([`RecordedLog::withheld_star_measurements`]); a star event of another head given to
-//! [`SensorLogWriter::write_event`] is refused ([`SensorLogError::StarHead`]).
+//! A log holds the star measurements of the heads a tracker port carries (nav-fsw
+//! `MAX_STAR_HEADS`: head 0, `[star_sensor]`, and head 1, its first additional head), each row
+//! naming its head, as nav-fsw's binary record does (word 6). A simulation's further heads are
+//! held back by [`crate::logs::star_heads::FlightStarHeads`] and counted
+//! ([`RecordedLog::withheld_star_measurements`]).
 
 mod binary;
 mod reader;
@@ -61,7 +63,7 @@ use crate::world::sensors::SensorEvent;
 use crate::world::simulation::{Simulation, SimulationError};
 
 /// The CSV header, in column order.
-pub const COLUMNS: [&str; 23] = [
+pub const COLUMNS: [&str; 24] = [
     "kind",
     "arrival_time_s",
     "time_tag_s",
@@ -85,7 +87,11 @@ pub const COLUMNS: [&str; 23] = [
     "velocity_ecef_z_mps",
     "gps_week",
     "gps_seconds_of_week",
+    "star_head",
 ];
+
+/// Column count of the layout before the `star_head` column: read, its star rows head 0.
+const ONE_HEAD_LAYOUT_COLUMNS: usize = 23;
 
 /// Column counts of the earlier layouts (before the GPS-time columns; before the velocity).
 const OLD_LAYOUT_COLUMNS: [usize; 2] = [18, 21];
@@ -104,6 +110,7 @@ mod column {
     pub const VELOCITY: usize = 18;
     pub const GPS_WEEK: usize = 21;
     pub const GPS_SECONDS: usize = 22;
+    pub const STAR_HEAD: usize = 23;
 }
 
 /// Float columns of an IMU row, in the order of [`float_values`].
@@ -180,6 +187,7 @@ impl Kind {
         column == column::KIND
             || (self == Self::Imu && column == column::SEQUENCE)
             || (self == Self::Gnss && column == column::GPS_WEEK)
+            || (self == Self::Star && column == column::STAR_HEAD)
             || (self == Self::Gnss && (column::VELOCITY..column::VELOCITY + 3).contains(&column))
             || self.float_columns().contains(&column)
     }
@@ -330,18 +338,6 @@ pub enum SensorLogError {
         /// Time tag (s).
         time_tag_s: f64,
     },
-    /// A star event of a head other than 0, which the log cannot mark (module docs, "Star-tracker
-    /// heads").
-    #[error(
-        "a star measurement of head {head} at t = {time_tag_s} s: the log holds head 0 \
-         ([star_sensor]) only (nav-fsw's log record has no head)"
-    )]
-    StarHead {
-        /// The event's head.
-        head: usize,
-        /// Its time tag (s).
-        time_tag_s: f64,
-    },
     /// A binary record (0-based index; `None`: the file header) is invalid.
     #[error("binary log {}: {error}", match record { Some(index) => format!("record {index}"), None => "header".to_string() })]
     Binary {
@@ -406,8 +402,8 @@ pub fn record_of(event: &SensorEvent) -> LogRecord {
 }
 
 /// The records of the first `frames` frames of `scenario`'s sensor-event stream (fewer if the
-/// scenario ends first), in delivery order, with head 0's star measurements only
-/// ([`simulated_log`] also counts the others').
+/// scenario ends first), in delivery order, with the star measurements of the heads a tracker
+/// port carries ([`simulated_log`] also counts the others').
 ///
 /// # Errors
 /// [`SimulationError`] from the simulation.
@@ -434,7 +430,7 @@ pub fn simulated_log(
             break;
         }
     }
-    let mut heads = FlightStarHeads::default();
+    let mut heads = FlightStarHeads::port();
     let records = events
         .iter()
         .filter(|event| heads.hands_over(event))

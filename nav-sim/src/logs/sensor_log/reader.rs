@@ -9,7 +9,7 @@ use nav_fsw::sensor_frames::SensorFrames;
 use super::writer::OrderCheck;
 use super::{
     column, event_of, Kind, SensorLogError, COLUMNS, GNSS_FLOAT_COLUMNS, IMU_FLOAT_COLUMNS,
-    OLD_LAYOUT_COLUMNS, STAR_FLOAT_COLUMNS,
+    OLD_LAYOUT_COLUMNS, ONE_HEAD_LAYOUT_COLUMNS, STAR_FLOAT_COLUMNS,
 };
 use crate::world::sensors::SensorEvent;
 
@@ -20,6 +20,8 @@ pub struct SensorLogReader<R: Read> {
     failed: bool,
     /// Line of the last row read (1 before the first).
     line: u64,
+    /// Whether the log has the `star_head` column (else every star row is head 0's).
+    has_head_column: bool,
 }
 
 impl<R: Read> SensorLogReader<R> {
@@ -45,7 +47,12 @@ impl<R: Read> SensorLogReader<R> {
                 columns: header.len(),
             });
         }
-        let expected_columns = COLUMNS.len();
+        // The layout before the head column is this header without its last column.
+        let expected_columns = if header.len() == ONE_HEAD_LAYOUT_COLUMNS {
+            ONE_HEAD_LAYOUT_COLUMNS
+        } else {
+            COLUMNS.len()
+        };
         let mismatch = (0..expected_columns.max(header.len())).find_map(|index| {
             let found = header.get(index).unwrap_or("");
             let expected = COLUMNS
@@ -67,6 +74,7 @@ impl<R: Read> SensorLogReader<R> {
             order: OrderCheck::default(),
             failed: false,
             line: 1,
+            has_head_column: expected_columns == COLUMNS.len(),
         })
     }
 
@@ -151,11 +159,22 @@ impl<R: Read> SensorLogReader<R> {
             Kind::Star => {
                 let [arrival_time_s, time_tag_s, w, x, y, z] =
                     parse_floats(STAR_FLOAT_COLUMNS, &float)?;
+                let head = if self.has_head_column {
+                    let text = required(column::STAR_HEAD)?;
+                    text.parse().map_err(|_| SensorLogError::Invalid {
+                        line,
+                        column: COLUMNS[column::STAR_HEAD],
+                        value: text.to_string(),
+                        expected: "an unsigned 8-bit integer",
+                    })?
+                } else {
+                    0
+                };
                 LogRecord::Star(StarRecord {
                     arrival_time_s,
                     time_tag_s,
                     attitude_wxyz: [w, x, y, z],
-                    head: 0,
+                    head,
                 })
             }
             Kind::Gnss => {

@@ -177,9 +177,12 @@ fn recorded_mission_reads_back_as_the_event_stream() {
 
 /// `row` of the first 18 columns with the 5 columns after them empty (other rows as they
 /// are).
+/// A row of 18 or 23 fields (an IMU row's, a GNSS row's) padded to [`COLUMNS`]; any other
+/// row as it is (too short: the CSV error of unequal lengths).
 fn padded(row: &str) -> String {
-    if row.matches(',').count() == 17 {
-        format!("{row},,,,,")
+    let commas = row.matches(',').count();
+    if commas == 17 || commas == 22 {
+        format!("{row}{}", ",".repeat(COLUMNS.len() - 1 - commas))
     } else {
         row.to_string()
     }
@@ -196,13 +199,13 @@ fn error_of(row: &str) -> SensorLogError {
 #[test]
 fn gnss_velocity_columns() {
     let header = COLUMNS.join(",");
-    let row = "gnss,2,,,,,,,,,,,,,,1,2,3,0.5,-0.25,7500,2300,2";
+    let row = padded("gnss,2,,,,,,,,,,,,,,1,2,3,0.5,-0.25,7500,2300,2");
     let records = read_csv(format!("{header}\n{row}\n").as_bytes()).unwrap();
     let LogRecord::Gnss(gnss) = records[0] else {
         panic!("not a GNSS record")
     };
     assert_eq!(gnss.velocity_ecef_mps, Some([0.5, -0.25, 7500.0]));
-    let position_only = "gnss,2,,,,,,,,,,,,,,1,2,3,,,,2300,2";
+    let position_only = padded("gnss,2,,,,,,,,,,,,,,1,2,3,,,,2300,2");
     let records = read_csv(format!("{header}\n{position_only}\n").as_bytes()).unwrap();
     assert!(matches!(
         records[0],
@@ -211,7 +214,7 @@ fn gnss_velocity_columns() {
             ..
         })
     ));
-    let partial = "gnss,2,,,,,,,,,,,,,,1,2,3,0.5,,7500,2300,2";
+    let partial = padded("gnss,2,,,,,,,,,,,,,,1,2,3,0.5,,7500,2300,2");
     assert_eq!(
         read_csv(format!("{header}\n{partial}\n").as_bytes())
             .unwrap_err()
@@ -314,7 +317,7 @@ fn reader_errors_name_line_and_column() {
         "{}\n{}\n{}\n",
         COLUMNS.join(","),
         padded(IMU_ROW),
-        padded("star,1.25,1.25,,,,,,,,,1,0,0,0,,,")
+        "star,1.25,1.25,,,,,,,,,1,0,0,0,,,,,,,,,0"
     );
     assert!(matches!(
         read_csv(out_of_order.as_bytes()).unwrap_err(),
@@ -344,7 +347,7 @@ fn reader_errors_name_line_and_column() {
     let latency = format!(
         "{}\n{}\n",
         COLUMNS.join(","),
-        padded("star,1.25,1,,,,,,,,,1,0,0,0,,,")
+        "star,1.25,1,,,,,,,,,1,0,0,0,,,,,,,,,0"
     );
     assert!(read_csv(latency.as_bytes()).is_ok());
     assert!(matches!(
@@ -426,4 +429,50 @@ fn binary_errors_name_the_record() {
             error: LogRecordError::BadMagic
         }
     ));
+}
+
+/// The `star_head` column: written and read for every head, required in a star row, a u8;
+/// a log of the layout before it (23 columns) reads its star rows as head 0's.
+#[test]
+fn star_rows_carry_their_head() {
+    let star = |head: u8| {
+        LogRecord::Star(StarRecord {
+            arrival_time_s: 1.5,
+            time_tag_s: 1.5,
+            attitude_wxyz: [0.5, 0.5, -0.5, 0.5],
+            head,
+        })
+    };
+    let mut log = SensorLogWriter::new(Vec::new()).unwrap();
+    log.write(&star(0)).unwrap();
+    log.write(&star(1)).unwrap();
+    let written = log.finish().unwrap();
+    let text = String::from_utf8(written.clone()).unwrap();
+    assert!(text.lines().nth(2).unwrap().ends_with(",1"), "{text}");
+    let read = read_csv(&written).unwrap();
+    assert_eq!(read.len(), 2);
+    assert!(matches!(
+        read[1],
+        LogRecord::Star(StarRecord { head: 1, .. })
+    ));
+    assert_eq!(read[1].encode(), star(1).encode());
+
+    let header = COLUMNS.join(",");
+    let body = "star,1.5,1.5,,,,,,,,,0.5,0.5,-0.5,0.5,,,,,,,,";
+    let missing = read_csv(format!("{header}\n{body},\n").as_bytes()).unwrap_err();
+    assert_eq!(
+        missing.to_string(),
+        "line 2, column `star_head`: missing value (needed in `star` rows)"
+    );
+    let wide = read_csv(format!("{header}\n{body},256\n").as_bytes()).unwrap_err();
+    assert!(matches!(
+        wide,
+        SensorLogError::Invalid {
+            column: "star_head",
+            ..
+        }
+    ));
+    let one_head = COLUMNS[..COLUMNS.len() - 1].join(",");
+    let read = read_csv(format!("{one_head}\n{body}\n").as_bytes()).unwrap();
+    assert_eq!(read[0].encode(), star(0).encode());
 }

@@ -75,6 +75,9 @@ impl<W: Write> SensorLogWriter<W> {
         if let LogRecord::Gnss(gnss) = record {
             row[column::GPS_WEEK] = gnss.gps_week.to_string();
         }
+        if let LogRecord::Star(star) = record {
+            row[column::STAR_HEAD] = star.head.to_string();
+        }
         for (&index, value) in kind.float_columns().iter().zip(float_values(record)) {
             if !value.is_finite() {
                 return Err(SensorLogError::NonFinite {
@@ -117,20 +120,8 @@ impl<W: Write> SensorLogWriter<W> {
     /// Appends one simulator event.
     ///
     /// # Errors
-    /// [`SensorLogError::StarHead`] for a star event of a head other than 0 (the log has no
-    /// head); otherwise as [`SensorLogWriter::write`].
+    /// As [`SensorLogWriter::write`].
     pub fn write_event(&mut self, event: &SensorEvent) -> Result<(), SensorLogError> {
-        if let SensorEvent::Star {
-            head, time_tag_s, ..
-        } = event
-        {
-            if *head != 0 {
-                return Err(SensorLogError::StarHead {
-                    head: *head,
-                    time_tag_s: *time_tag_s,
-                });
-            }
-        }
         self.write(&record_of(event))
     }
 
@@ -150,13 +141,13 @@ impl<W: Write> SensorLogWriter<W> {
 pub struct RecordedLog {
     /// Rows written.
     pub rows: u64,
-    /// Star measurements of heads other than 0, not written (the log holds head 0 only:
-    /// [`FlightStarHeads`]).
+    /// Star measurements of heads beyond those a tracker port carries, not written
+    /// ([`FlightStarHeads::port`]).
     pub withheld_star_measurements: u64,
 }
 
-/// Runs a simulation to its end, streaming every sensor event the flight software takes
-/// ([`FlightStarHeads`]) into a CSV log (memory does not grow with the mission length).
+/// Runs a simulation to its end, streaming every sensor event a flight computer's ports carry
+/// ([`FlightStarHeads::port`]) into a CSV log (memory does not grow with the mission length).
 ///
 /// # Errors
 /// [`SensorLogError::Simulation`] or a writing error.
@@ -166,7 +157,7 @@ pub fn record_simulation<W: Write>(
 ) -> Result<RecordedLog, SensorLogError> {
     let mut log = SensorLogWriter::new(writer)?;
     let mut events = Vec::new();
-    let mut heads = FlightStarHeads::default();
+    let mut heads = FlightStarHeads::port();
     let mut rows = 0_u64;
     while simulation.step(&mut events)?.is_some() {
         for event in events.drain(..).filter(|event| heads.hands_over(event)) {

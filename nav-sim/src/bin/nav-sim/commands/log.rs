@@ -30,8 +30,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     println!("wrote {} sensor events to {}", recorded.rows, out.display());
     if recorded.withheld_star_measurements > 0 {
         println!(
-            "not written: {} star measurements of the additional star-tracker heads (the log \
-             holds head 0, [star_sensor], only)",
+            "not written: {} star measurements of star-tracker heads beyond the two a \
+             tracker port carries",
             recorded.withheld_star_measurements
         );
     }
