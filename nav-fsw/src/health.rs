@@ -103,10 +103,13 @@ pub struct HealthCounters {
     pub star_head_handovers: u32,
     /// Star measurements of a head the configuration does not have (ignored).
     pub star_unknown_head: u32,
+    /// Times the star innovations began to follow the velocity aberration the tracker leaves
+    /// in while the flight software is not told to correct it (nav-fsw `aberration_monitor`).
+    pub star_aberration_suspected: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
-pub const HEALTH_COUNTER_COUNT: usize = 39;
+pub const HEALTH_COUNTER_COUNT: usize = 40;
 
 impl HealthCounters {
     /// Every counter with its name (the field's), in declaration order: for reports and
@@ -172,6 +175,7 @@ impl HealthCounters {
             ("star_heads_inconsistent", self.star_heads_inconsistent),
             ("star_head_handovers", self.star_head_handovers),
             ("star_unknown_head", self.star_unknown_head),
+            ("star_aberration_suspected", self.star_aberration_suspected),
         ]
     }
 }

@@ -63,6 +63,7 @@
 /// Nominal IMU / minor-frame period (s): 500 Hz, as in the paper's Section 3.
 pub const MINOR_FRAME_PERIOD_S: f64 = 0.002;
 
+pub mod aberration_monitor;
 pub mod calibration_manager;
 pub mod config;
 pub mod consistency;

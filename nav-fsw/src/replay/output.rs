@@ -5,7 +5,7 @@ use crate::scheduler::NavigationComputer;
 use crate::telemetry::{FrameFusion, FrameTelemetry};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 93;
+pub const OUTPUT_WORDS: usize = 94;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -102,6 +102,7 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "star_head_handovers",
     "star_unknown_head",
     "star_active_head",
+    "star_aberration_suspected",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -212,5 +213,6 @@ pub fn output_words(
     put(u64::from(h.star_head_handovers));
     put(u64::from(h.star_unknown_head));
     put(u64::from(computer.active_star_head()));
+    put(u64::from(h.star_aberration_suspected));
     words
 }

@@ -37,11 +37,47 @@ impl NavigationComputer {
                 measurement = Err(error);
             }
         }
+        let signature = self.uncorrected_aberration(&due, &snapshot);
         let report = match &measurement {
             Ok(m) => self.update(m, aid),
             Err(error) => Err(*error),
         };
+        if let (Some(signature), Ok(report)) = (signature, &report) {
+            self.test_aberration(report, &signature);
+        }
         self.conclude(aid, report)
+    }
+
+    /// The aberration rotation `a_s` (sensor axes) a star measurement `due` carries if its
+    /// tracker leaves the aberration in, with the navigation velocity at its time of validity
+    /// (`snapshot`); `None` for another measurement or when the configuration corrects it.
+    fn uncorrected_aberration(&self, due: &Due, snapshot: &Snapshot) -> Option<Vector3<f64>> {
+        match due {
+            Due::Star(_, measured) if !self.config.star.aberration_correction => {
+                nav_core::aberration::rotation_rad(measured, &snapshot.velocity_mps).ok()
+            }
+            _ => None,
+        }
+    }
+
+    /// Feeds an accepted star innovation of an acquired tracker to the aberration test
+    /// (nav-fsw `aberration_monitor`; counted per episode).
+    fn test_aberration(
+        &mut self,
+        report: &nav_core::filter::InnovationReport,
+        signature: &Vector3<f64>,
+    ) {
+        if !(report.accepted && self.aids.star.acquired) {
+            return;
+        }
+        let n = self.config.consistency.time_constant_measurements;
+        if self
+            .aids
+            .star_aberration
+            .observe(&report.innovation, &report.covariance, signature, n)
+        {
+            count(&mut self.health.counters.star_aberration_suspected);
+        }
     }
 
     /// Whether `due` is a GNSS fix farther than `gnss.max_jump_m` from the antenna position

@@ -271,6 +271,9 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
+    /// The matched test for an aberration the tracker leaves in and the configuration does
+    /// not correct (`star.aberration_correction` off).
+    star_aberration: crate::aberration_monitor::AberrationMonitor,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.

@@ -301,6 +301,8 @@ impl Aids {
             addr_of_mut!((*part).star_noise).write(NoiseMatching::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
+            addr_of_mut!((*part).star_aberration)
+                .write(crate::aberration_monitor::AberrationMonitor::default());
         }
     }
 }

@@ -42,9 +42,10 @@ pub fn short_scenario() -> Scenario {
 
 /// The health counters a consistent flight with healthy sensors never raises: the aids' and
 /// the tracker heads' consistency verdicts, the star noise matching they engage, a head the
-/// flight software lacks and the fault declarations.
-pub const QUIET_COUNTERS: [&str; 8] = [
+/// flight software lacks, an aberration left in and the fault declarations.
+pub const QUIET_COUNTERS: [&str; 9] = [
     "star_inconsistent",
+    "star_aberration_suspected",
     "star_heads_inconsistent",
     "star_unknown_head",
     "star_noise_matched",

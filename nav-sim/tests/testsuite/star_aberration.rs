@@ -2,7 +2,8 @@
 //! the scenario keys reach the truth and the flight software (and the replay words); a short
 //! Monte Carlo of the default flight with a tracker that leaves the aberration in shows the
 //! flight software's correction consistent, and the flight software without it biased in the
-//! installation error, unflagged by the health counters (no healthy sensor blamed either).
+//! installation error and flagged by the aberration test (`star_aberration_suspected`), no
+//! healthy sensor blamed.
 //!
 //! One run of each (the docs' campaigns fly 20: `nav-sim monte-carlo
 //! nav-sim/scenarios/star_tracker_aberration.toml --runs 20`).
@@ -66,7 +67,8 @@ fn installation_x_sigma(outcome: &RunOutcome) -> f64 {
 /// run within 4σ, the star NIS near 3, no consistency counter, no sensor declared faulty.
 /// Not corrected (the flight software as it was): the installation error about sensor x
 /// ends beyond 5σ in every run (8.98–12.18σ over the docs' 20 runs), the aberration taken for
-/// installation error, and no health counter says so (docs/sensor-errors.md).
+/// installation error; the aberration test says so (`star_aberration_suspected`), no other
+/// consistency counter moves and no sensor is declared faulty (docs/sensor-errors.md).
 #[test]
 fn the_corrected_aberration_keeps_the_filter_consistent_and_the_uncorrected_one_biases_it() {
     for (name, corrected) in [
@@ -102,7 +104,12 @@ fn the_corrected_aberration_keeps_the_filter_consistent_and_the_uncorrected_one_
                 "{name} seed {}: {star_nis}",
                 outcome.seed
             );
-            for key in QUIET_COUNTERS {
+            let flagged = counter("star_aberration_suspected");
+            assert_eq!(flagged > 0, !corrected, "{name} seed {}", outcome.seed);
+            for key in QUIET_COUNTERS
+                .into_iter()
+                .filter(|key| *key != "star_aberration_suspected")
+            {
                 assert_eq!(counter(key), 0, "{name} seed {}: {key}", outcome.seed);
             }
         }
