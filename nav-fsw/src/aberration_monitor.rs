@@ -16,16 +16,34 @@
 //! `U = Σ λ^(n−k) u_k` and `W = Σ λ^(2(n−k)) w_k` (`λ = 1 − 1/N`, the consistency monitor's
 //! `N`) give `z = U / √W ~ N(0, 1)` at every measurement. An uncorrected aberration holds `z`
 //! at about `Σ λ^(n−k) w_k / √W`, growing with every measurement taken while the vehicle turns.
-//! An episode begins when `|z|` exceeds [`ABERRATION_BOUND_SIGMA`] and ends below half of it.
+//! An episode begins when `z` exceeds [`ABERRATION_BOUND_SIGMA`] (one-sided: the aberration
+//! adds `+s`) while the amplitude along the signature, `U / Σ λ^(n−k) w_k`, is at most
+//! [`MAX_ABERRATION_FRACTION`] of the aberration (a larger error that projects onto it is not
+//! the aberration) and the same statistic along the twin signature, `s` turned 90° about the
+//! boresight, stays within [`TWIN_BOUND_SIGMA`] (an aberration puts nothing there; an error of
+//! another origin, an IMU misalignment turning the attitude in the same rotations, does), and
+//! ends when `z` falls below half the bound.
 //!
 //! The test takes accepted measurements only (a rejected one is an outlier, not the model's)
 //! after the aid's acquisition; a non-finite or singular input enters nothing.
 
 use nalgebra::{Matrix3, Vector3};
 
-/// The bound on `|z|` in its own σ: 5σ, for a false alarm per independent stretch of `N`
-/// measurements of 6e-7 (a few hundred stretches a flight).
+/// The bound on `z` in its own σ: 5σ, for a false alarm per independent stretch of `N`
+/// measurements of 3e-7 (a few hundred stretches a flight).
 pub const ABERRATION_BOUND_SIGMA: f64 = 5.0;
+
+/// The largest fraction of the aberration an episode may claim: an aberration left in puts
+/// at most all of `a_s / 2` in the innovations (less what the filter absorbs), so a score
+/// beyond 1.5 times that is some larger error that happens to project onto the signature
+/// (an IMU misalignment turning the attitude in the same rotations), not the aberration.
+pub const MAX_ABERRATION_FRACTION: f64 = 1.5;
+
+/// The largest `|z|` of the twin signature (the aberration's turned 90° about the
+/// boresight) an episode allows: an aberration puts nothing along its twin, so the twin's
+/// statistic stays N(0, 1) (3σ: a claim lost in 0.3 % of the stretches); an error of another
+/// origin that projects onto the signature projects onto its twin as well.
+pub const TWIN_BOUND_SIGMA: f64 = 3.0;
 
 /// The fading sums of the aberration test and whether an episode is under way.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -34,14 +52,23 @@ pub struct AberrationMonitor {
     score: f64,
     /// `W = Σ λ^(2(n−k)) sᵀ S⁻¹ s`, the variance of `U` under the model.
     score_variance: f64,
+    /// `Σ λ^(n−k) sᵀ S⁻¹ s`: `U` over it is the fraction of the aberration the innovations
+    /// carry.
+    signature_weight: f64,
+    /// `U` and `W` of the twin signature (the signature turned 90° about the boresight).
+    twin_score: f64,
+    twin_variance: f64,
     in_episode: bool,
 }
 
 impl AberrationMonitor {
     /// Enters one accepted star innovation `innovation` with covariance `covariance` and the
     /// aberration rotation `aberration_rad` (`a_s`, sensor axes) over about `n` measurements;
-    /// true when an episode has just begun. A non-finite input or a covariance that cannot
-    /// be inverted enters nothing.
+    /// true when an episode has just begun, which it may only while `claimable` (the caller's
+    /// word that no larger error is in the innovations: the aberration is 5″ against the
+    /// noise, so a star stream failing its NIS test carries something else, which would
+    /// project onto the signature too). A non-finite input or a covariance that cannot be
+    /// inverted enters nothing.
     ///
     /// # Examples
     /// ```
@@ -54,7 +81,7 @@ impl AberrationMonitor {
     ///     .filter(|k| {
     ///         let angle = f64::from(*k) * 0.3;
     ///         let a = Vector3::new(angle.cos(), angle.sin(), 0.0) * 2.4e-5;
-    ///         monitor.observe(&(a / 2.0), &covariance, &a, 256)
+    ///         monitor.observe(&(a / 2.0), &covariance, &a, 256, true)
     ///     })
     ///     .count();
     /// assert_eq!(began, 1);
@@ -66,24 +93,36 @@ impl AberrationMonitor {
         covariance: &Matrix3<f64>,
         aberration_rad: &Vector3<f64>,
         n: u32,
+        claimable: bool,
     ) -> bool {
         let signature = aberration_rad * 0.5;
+        // The twin: the signature turned 90° about the boresight (sensor z), the
+        // cross-boresight velocity direction itself, which an aberration does not produce.
+        let twin = Vector3::new(-signature.y, signature.x, 0.0);
         let finite = innovation
             .iter()
             .chain(signature.iter())
             .all(|v| v.is_finite());
-        let Some(weighted) = covariance.cholesky().map(|c| c.solve(&signature)) else {
+        let Some(cholesky) = covariance.cholesky() else {
             return false;
         };
+        let (weighted, weighted_twin) = (cholesky.solve(&signature), cholesky.solve(&twin));
         let (score, variance) = (weighted.dot(innovation), weighted.dot(&signature));
-        if !(finite && score.is_finite() && variance.is_finite() && variance >= 0.0) {
+        let (twin_score, twin_variance) = (weighted_twin.dot(innovation), weighted_twin.dot(&twin));
+        let sums = [score, variance, twin_score, twin_variance];
+        if !(finite && sums.iter().all(|v| v.is_finite()) && variance >= 0.0) {
             return false;
         }
         let fading = 1.0 - 1.0 / f64::from(n.max(1));
         self.score = fading * self.score + score;
         self.score_variance = fading * fading * self.score_variance + variance;
+        self.signature_weight = fading * self.signature_weight + variance;
+        self.twin_score = fading * self.twin_score + twin_score;
+        self.twin_variance = fading * fading * self.twin_variance + twin_variance;
         let z = self.statistic_sigma();
-        let began = z > ABERRATION_BOUND_SIGMA && !self.in_episode;
+        let explained = self.fraction() <= MAX_ABERRATION_FRACTION
+            && self.twin_sigma().abs() <= TWIN_BOUND_SIGMA;
+        let began = z > ABERRATION_BOUND_SIGMA && explained && claimable && !self.in_episode;
         if began {
             self.in_episode = true;
         } else if z < 0.5 * ABERRATION_BOUND_SIGMA {
@@ -92,10 +131,31 @@ impl AberrationMonitor {
         began
     }
 
-    /// `|z|`, the test statistic in its own σ (0 before any signature was entered).
+    /// The twin statistic in its own σ: the innovations' score along the signature turned
+    /// 90° about the boresight (0 before any was entered).
+    pub fn twin_sigma(&self) -> f64 {
+        if self.twin_variance > 0.0 {
+            self.twin_score / nav_core::float::sqrt(self.twin_variance)
+        } else {
+            0.0
+        }
+    }
+
+    /// `z`, the test statistic in its own σ, positive when the innovations follow the
+    /// aberration (0 before any signature was entered).
     pub fn statistic_sigma(&self) -> f64 {
         if self.score_variance > 0.0 {
-            (self.score / nav_core::float::sqrt(self.score_variance)).abs()
+            self.score / nav_core::float::sqrt(self.score_variance)
+        } else {
+            0.0
+        }
+    }
+
+    /// The fraction of the aberration the innovations carry, `U / Σ λ^(n−k) sᵀ S⁻¹ s` (the
+    /// weighted least-squares amplitude along the signature; 0 before any was entered).
+    pub fn fraction(&self) -> f64 {
+        if self.signature_weight > 0.0 {
+            self.score / self.signature_weight
         } else {
             0.0
         }
@@ -124,7 +184,7 @@ mod tests {
         let (mut sum_squares, mut count) = (0.0, 0.0);
         for k in 0..20_000 {
             let innovation = sigma.map(|s| s * normal());
-            let began = monitor.observe(&innovation, &covariance, &turning(k), 256);
+            let began = monitor.observe(&innovation, &covariance, &turning(k), 256, true);
             assert!(!began, "measurement {k}: {}σ", monitor.statistic_sigma());
             if k % 256 == 255 {
                 sum_squares += monitor.statistic_sigma().powi(2);
@@ -142,13 +202,57 @@ mod tests {
         // An offset the turning signature averages out (a step is the fault logic's).
         for k in 0..2_000 {
             let offset = Vector3::new(3e-6, 0.0, 0.0);
-            assert!(!monitor.observe(&offset, &covariance, &turning(k), 256));
+            assert!(!monitor.observe(&offset, &covariance, &turning(k), 256, true));
         }
         assert!(
-            monitor.statistic_sigma() < 2.0,
+            monitor.statistic_sigma().abs() < 2.0,
             "{}",
             monitor.statistic_sigma()
         );
+    }
+
+    #[test]
+    fn an_error_larger_than_the_aberration_or_opposite_to_it_is_not_claimed() {
+        let covariance = Matrix3::identity() * COVARIANCE_SCALE;
+        for scale in [3.0, -1.0] {
+            let mut monitor = AberrationMonitor::default();
+            for k in 0..2_000 {
+                let innovation = turning(k) * (0.5 * scale);
+                assert!(!monitor.observe(&innovation, &covariance, &turning(k), 256, true));
+            }
+            assert!(
+                (monitor.fraction() - scale).abs() < 1e-9,
+                "{}",
+                monitor.fraction()
+            );
+        }
+        // Half the aberration (the rest absorbed): claimed, its fraction 0.5.
+        let mut monitor = AberrationMonitor::default();
+        let began = (0..2_000)
+            .filter(|k| {
+                monitor.observe(&(turning(*k) * 0.25), &covariance, &turning(*k), 256, true)
+            })
+            .count();
+        assert_eq!(began, 1);
+        assert!((monitor.fraction() - 0.5).abs() < 1e-9);
+        // Half the aberration plus as much along its twin (an error of another origin that
+        // projects onto both): not claimed.
+        let mut monitor = AberrationMonitor::default();
+        assert!(!(0..2_000).any(|k| {
+            let a = turning(k);
+            let twin = Vector3::new(-a.y, a.x, 0.0);
+            monitor.observe(&((a + twin) * 0.25), &covariance, &a, 256, true)
+        }));
+        assert!(monitor.twin_sigma() > 5.0, "{}", monitor.twin_sigma());
+        // The same while the caller says the stream carries a larger error: not claimed.
+        let mut monitor = AberrationMonitor::default();
+        assert!(!(0..2_000).any(|k| monitor.observe(
+            &(turning(k) * 0.25),
+            &covariance,
+            &turning(k),
+            256,
+            false
+        )));
     }
 
     #[test]
@@ -156,9 +260,21 @@ mod tests {
         let mut monitor = AberrationMonitor::default();
         let good = Matrix3::identity() * COVARIANCE_SCALE;
         let signature = turning(1);
-        assert!(!monitor.observe(&signature, &Matrix3::zeros(), &signature, 256));
-        assert!(!monitor.observe(&Vector3::new(f64::NAN, 0.0, 0.0), &good, &signature, 256));
-        assert!(!monitor.observe(&signature, &good, &Vector3::new(f64::INFINITY, 0.0, 0.0), 0));
+        assert!(!monitor.observe(&signature, &Matrix3::zeros(), &signature, 256, true));
+        assert!(!monitor.observe(
+            &Vector3::new(f64::NAN, 0.0, 0.0),
+            &good,
+            &signature,
+            256,
+            true
+        ));
+        assert!(!monitor.observe(
+            &signature,
+            &good,
+            &Vector3::new(f64::INFINITY, 0.0, 0.0),
+            0,
+            true
+        ));
         assert_eq!(monitor, AberrationMonitor::default());
     }
 }

@@ -216,7 +216,7 @@ impl NavigationComputer {
         self.aids.star_noise.clear();
         self.aids.gnss_consistency.clear();
         self.aids.gnss_velocity_consistency.clear();
-        self.aids.star_aberration = crate::aberration_monitor::AberrationMonitor::default();
+        self.star_aberration = crate::aberration_monitor::AberrationMonitor::default();
     }
 
     /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless

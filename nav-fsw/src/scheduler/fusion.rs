@@ -37,7 +37,11 @@ impl NavigationComputer {
                 measurement = Err(error);
             }
         }
-        let signature = self.uncorrected_aberration(&due, &snapshot);
+        let signature = if aid == Aid::Star {
+            self.uncorrected_aberration(&due, &snapshot)
+        } else {
+            None
+        };
         let report = match &measurement {
             Ok(m) => self.update(m, aid),
             Err(error) => Err(*error),
@@ -51,6 +55,8 @@ impl NavigationComputer {
     /// The aberration rotation `a_s` (sensor axes) a star measurement `due` carries if its
     /// tracker leaves the aberration in, with the navigation velocity at its time of validity
     /// (`snapshot`); `None` for another measurement or when the configuration corrects it.
+    /// Out of line, as [`Self::test_aberration`]: the GNSS frames, the dearest, pay a branch.
+    #[inline(never)]
     fn uncorrected_aberration(&self, due: &Due, snapshot: &Snapshot) -> Option<Vector3<f64>> {
         match due {
             Due::Star(_, measured) if !self.config.star.aberration_correction => {
@@ -62,6 +68,7 @@ impl NavigationComputer {
 
     /// Feeds an accepted star innovation of an acquired tracker to the aberration test
     /// (nav-fsw `aberration_monitor`; counted per episode).
+    #[inline(never)]
     fn test_aberration(
         &mut self,
         report: &nav_core::filter::InnovationReport,
@@ -71,11 +78,24 @@ impl NavigationComputer {
             return;
         }
         let n = self.config.consistency.time_constant_measurements;
-        if self
-            .aids
-            .star_aberration
-            .observe(&report.innovation, &report.covariance, signature, n)
-        {
+        // A flight whose innovations have shown a larger unmodelled error (an aid failing its
+        // NIS test, a run blamed on the inertial solution, the star noise matched) carries
+        // something the aberration cannot be told from: it would project onto the signature
+        // too. The aberration is what is left when those monitors are quiet.
+        let counters = &self.health.counters;
+        let quiet = counters.star_inconsistent == 0
+            && counters.gnss_inconsistent == 0
+            && counters.gnss_velocity_inconsistent == 0
+            && counters.inertial_suspect == 0
+            && !self.aids.star_noise.engaged();
+        let claimable = quiet && !self.aids.star_consistency.failing();
+        if self.star_aberration.observe(
+            &report.innovation,
+            &report.covariance,
+            signature,
+            n,
+            claimable,
+        ) {
             count(&mut self.health.counters.star_aberration_suspected);
         }
     }

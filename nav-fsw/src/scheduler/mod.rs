@@ -187,6 +187,10 @@ pub struct NavigationComputer {
     config: FswConfig,
     /// The tracker heads (`heads.rs`).
     heads: StarHeads,
+    /// The matched test for an aberration the tracker leaves in and the configuration does
+    /// not correct (`star.aberration_correction` off). Last, with the other small members
+    /// the update frames do not read, so that it moves none of theirs out of a load's reach.
+    star_aberration: crate::aberration_monitor::AberrationMonitor,
 }
 
 /// The navigation solution and what produces it: the IMU step's state and the history of the
@@ -271,9 +275,6 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
-    /// The matched test for an aberration the tracker leaves in and the configuration does
-    /// not correct (`star.aberration_correction` off).
-    star_aberration: crate::aberration_monitor::AberrationMonitor,
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.

@@ -171,6 +171,8 @@ impl NavigationComputer {
             let heads = StarHeads::new(&config.star)
                 .map_err(|_| FswError::InvalidConfiguration(ConfigField::StarSecondHead))?;
             addr_of_mut!((*computer).heads).write(heads);
+            addr_of_mut!((*computer).star_aberration)
+                .write(crate::aberration_monitor::AberrationMonitor::default());
             Health::init_in_place(&mut *addr_of_mut!((*computer).health).cast());
             addr_of_mut!((*computer).config).write(config);
             addr_of_mut!((*computer).frame).write(0);
@@ -301,8 +303,6 @@ impl Aids {
             addr_of_mut!((*part).star_noise).write(NoiseMatching::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
-            addr_of_mut!((*part).star_aberration)
-                .write(crate::aberration_monitor::AberrationMonitor::default());
         }
     }
 }
