@@ -307,33 +307,3 @@ fn the_two_head_scenario_files_are_their_single_head_files_plus_head_one() {
         );
     }
 }
-
-#[test]
-fn the_flight_softwares_second_head_follows_the_filter_keys() {
-    let one_head = with_heads(&[&head(10.0)]);
-    let told = Scenario::from_toml_str(&one_head).unwrap();
-    assert!(!format!("{told:?}").contains("star_pairs_before_hand_over"));
-    let config = crate::setup::fsw::fsw_config(&told).unwrap();
-    let second = config.star.second_head.unwrap();
-    assert_eq!(second.pairs_before_hand_over, 100);
-    assert_eq!(
-        second.pairs_before_hand_over,
-        crate::scenario::DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER
-    );
-    let keyed = one_head.replacen(
-        "[filter]\n",
-        "[filter]\nstar_pairs_before_hand_over = 7\n",
-        1,
-    );
-    let keyed = Scenario::from_toml_str(&keyed).unwrap();
-    assert!(format!("{keyed:?}").contains("star_pairs_before_hand_over: 7"));
-    let config = crate::setup::fsw::fsw_config(&keyed).unwrap();
-    assert_eq!(config.star.second_head.unwrap().pairs_before_hand_over, 7);
-    let untold = one_head.replacen("[filter]\n", "[filter]\nstar_second_head = false\n", 1);
-    let untold = Scenario::from_toml_str(&untold).unwrap();
-    assert!(crate::setup::fsw::fsw_config(&untold)
-        .unwrap()
-        .star
-        .second_head
-        .is_none());
-}

@@ -466,4 +466,36 @@ mod tests {
             0.0f64.to_bits()
         );
     }
+
+    #[test]
+    fn the_flight_softwares_second_head_follows_the_filter_keys() {
+        let one_head = crate::scenario::DEFAULT_SCENARIO_TOML.replacen(
+            "\n[gnss]\n",
+            "\n[[star_sensor.additional_heads]]\nrate_hz = 10.0\nnoise_arcsec = 10.0\n\
+         mounting_rotation_vector_deg = [90.0, 0.0, 0.0]\n\
+         installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3]\n\n[gnss]\n",
+            1,
+        );
+        let told = crate::scenario::Scenario::from_toml_str(&one_head).unwrap();
+        assert!(!format!("{told:?}").contains("star_pairs_before_hand_over"));
+        let config = fsw_config(&told).unwrap();
+        let second = config.star.second_head.unwrap();
+        assert_eq!(second.pairs_before_hand_over, 100);
+        assert_eq!(
+            second.pairs_before_hand_over,
+            crate::scenario::DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER
+        );
+        let keyed = one_head.replacen(
+            "[filter]\n",
+            "[filter]\nstar_pairs_before_hand_over = 7\n",
+            1,
+        );
+        let keyed = crate::scenario::Scenario::from_toml_str(&keyed).unwrap();
+        assert!(format!("{keyed:?}").contains("star_pairs_before_hand_over: 7"));
+        let config = fsw_config(&keyed).unwrap();
+        assert_eq!(config.star.second_head.unwrap().pairs_before_hand_over, 7);
+        let untold = one_head.replacen("[filter]\n", "[filter]\nstar_second_head = false\n", 1);
+        let untold = crate::scenario::Scenario::from_toml_str(&untold).unwrap();
+        assert!(fsw_config(&untold).unwrap().star.second_head.is_none());
+    }
 }

@@ -65,7 +65,7 @@ fn the_default_schedule_is_500_hz_and_every_row_is_built() {
     assert_eq!(frames.frames(0.5), 250);
     assert_eq!(frames.frames(600.0), 300_000);
     let classes = campaign_for(&scenario);
-    assert_eq!(classes.len(), 37);
+    assert_eq!(classes.len(), 40);
     assert_eq!(classes.len(), campaign().len());
     let saturation = row(&classes, "IMU saturation held 1 s");
     assert_eq!(saturation.counts[0].1, Expected::Exactly(1000));
