@@ -134,21 +134,13 @@ impl AberrationMonitor {
     /// The twin statistic in its own σ: the innovations' score along the signature turned
     /// 90° about the boresight (0 before any was entered).
     pub fn twin_sigma(&self) -> f64 {
-        if self.twin_variance > 0.0 {
-            self.twin_score / nav_core::float::sqrt(self.twin_variance)
-        } else {
-            0.0
-        }
+        in_own_sigma(self.twin_score, self.twin_variance)
     }
 
     /// `z`, the test statistic in its own σ, positive when the innovations follow the
     /// aberration (0 before any signature was entered).
     pub fn statistic_sigma(&self) -> f64 {
-        if self.score_variance > 0.0 {
-            self.score / nav_core::float::sqrt(self.score_variance)
-        } else {
-            0.0
-        }
+        in_own_sigma(self.score, self.score_variance)
     }
 
     /// The fraction of the aberration the innovations carry, `U / Σ λ^(n−k) sᵀ S⁻¹ s` (the
@@ -159,6 +151,15 @@ impl AberrationMonitor {
         } else {
             0.0
         }
+    }
+}
+
+/// A fading score over its σ under the model, `U / √W` (0 while `W` is not positive).
+fn in_own_sigma(score: f64, variance: f64) -> f64 {
+    if variance > 0.0 {
+        score / nav_core::float::sqrt(variance)
+    } else {
+        0.0
     }
 }
 

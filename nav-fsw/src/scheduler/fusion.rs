@@ -37,10 +37,9 @@ impl NavigationComputer {
                 measurement = Err(error);
             }
         }
-        let signature = if aid == Aid::Star {
-            self.uncorrected_aberration(&due, &snapshot)
-        } else {
-            None
+        let signature = match &due {
+            Due::Star(_, measured) => self.uncorrected_aberration(measured, &snapshot),
+            _ => None,
         };
         let report = match &measurement {
             Ok(m) => self.update(m, aid),
@@ -52,18 +51,20 @@ impl NavigationComputer {
         self.conclude(aid, report)
     }
 
-    /// The aberration rotation `a_s` (sensor axes) a star measurement `due` carries if its
-    /// tracker leaves the aberration in, with the navigation velocity at its time of validity
-    /// (`snapshot`); `None` for another measurement or when the configuration corrects it.
-    /// Out of line, as [`Self::test_aberration`]: the GNSS frames, the dearest, pay a branch.
+    /// The aberration rotation `a_s` (sensor axes) the star measurement `measured` carries if
+    /// its tracker leaves the aberration in, with the navigation velocity at its time of
+    /// validity (`snapshot`); `None` when the configuration corrects it. Out of line, as
+    /// [`Self::test_aberration`]: the GNSS frames, the dearest, pay a branch.
     #[inline(never)]
-    fn uncorrected_aberration(&self, due: &Due, snapshot: &Snapshot) -> Option<Vector3<f64>> {
-        match due {
-            Due::Star(_, measured) if !self.config.star.aberration_correction => {
-                nav_core::aberration::rotation_rad(measured, &snapshot.velocity_mps).ok()
-            }
-            _ => None,
+    fn uncorrected_aberration(
+        &self,
+        measured: &Quaternion<f64>,
+        snapshot: &Snapshot,
+    ) -> Option<Vector3<f64>> {
+        if self.config.star.aberration_correction {
+            return None;
         }
+        nav_core::aberration::rotation_rad(measured, &snapshot.velocity_mps).ok()
     }
 
     /// Feeds an accepted star innovation of an acquired tracker to the aberration test

@@ -238,18 +238,14 @@ impl NavigationComputer {
             return;
         };
         self.test_pair(&report, gate, second.pairs_before_hand_over);
+        // The other head, heard now, takes the block when the active head was declared
+        // faulty, and head 0 takes it back at an agreeing pair; either only if it may carry
+        // it (a head declared faulty is cleared by `test_pair` after enough agreeing pairs).
         let heads = &self.heads;
         let other = heads.other();
-        if self.aids.star.faulty {
-            // The active head was declared faulty: the other, heard now, takes over.
-            if heads.may_carry(other, second.pairs_before_hand_over) {
-                self.hand_over_to_head(other);
-            }
-        } else if heads.active == 1 && report.accepted {
-            let first_faulty = heads.faulty.first().copied().unwrap_or(true);
-            if !first_faulty || heads.agreeing_pairs >= second.pairs_before_hand_over {
-                self.hand_over_to_head(0);
-            }
+        let wanted = self.aids.star.faulty || (heads.active == 1 && report.accepted);
+        if wanted && heads.may_carry(other, second.pairs_before_hand_over) {
+            self.hand_over_to_head(other);
         }
     }
 
@@ -299,6 +295,7 @@ impl NavigationComputer {
 
     /// Counts a rejected pair and feeds the pairs' NIS and residual mean tests (one
     /// `star_heads_inconsistent` per episode of either).
+    ///
     /// A head declared faulty is cleared once `pairs_to_clear` pairs in a row agree with
     /// the active head, itself not declared faulty.
     fn test_pair(
