@@ -105,6 +105,20 @@ pub fn arcsec_to_rad(arcsec: f64) -> f64 {
 }
 
 impl StarSensorSettings {
+    /// A second head as the two-head scenario files have it (`star_tracker_two_heads.toml`):
+    /// this head's keys with the boresight along body +y (mounting `exp(−90° about body x)`,
+    /// 90° from the default head's), an installation error of the default head's size in
+    /// another direction, no outages and no further heads. For the studies and tests that add
+    /// a head to a one-head scenario.
+    pub fn head_across(&self) -> StarSensorSettings {
+        let mut head = self.clone();
+        head.additional_heads.clear();
+        head.outages.clear();
+        head.mounting_rotation_vector_deg = [-90.0, 0.0, 0.0];
+        head.installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3];
+        head
+    }
+
     /// Noise 1σ per axis (rad): the isotropic `noise_arcsec` (with per-axis keys, the larger
     /// of them; the flight software is told [`Self::noise_per_axis_rad`]).
     pub fn noise_rad(&self) -> f64 {

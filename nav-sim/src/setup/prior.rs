@@ -39,12 +39,10 @@ pub fn with_truth_drawn_from_prior(scenario: &Scenario, seed: u64) -> Scenario {
 mod tests {
     use super::*;
 
-    /// The default scenario with a second head (its installation error the scenario's).
+    /// The default scenario with a second head.
     fn two_heads() -> Scenario {
         let mut scenario = Scenario::default_scenario().unwrap();
-        let mut head = scenario.star_sensor.clone();
-        head.mounting_rotation_vector_deg = [-90.0, 0.0, 0.0];
-        scenario.star_sensor.additional_heads = vec![head];
+        scenario.star_sensor.additional_heads = vec![scenario.star_sensor.head_across()];
         scenario
     }
 

@@ -76,3 +76,18 @@ pub fn nees(outcome: &RunOutcome) -> f64 {
     let inverse = outcome.covariance.try_inverse().unwrap();
     (outcome.error.transpose() * inverse * outcome.error)[(0, 0)]
 }
+
+/// Prints one run's worst calibration state, NEES and health counters, and holds the run
+/// consistent: every calibration state within 4σ, the NEES below the χ²(15) 99.9 % point.
+pub fn assert_run_within_bounds(outcome: &RunOutcome) {
+    let (worst, nees) = (
+        crate::realistic_campaign::worst_sigma(outcome),
+        nees(outcome),
+    );
+    println!(
+        "seed {}: worst {worst:.2} sigma, NEES {nees:.1}, {:?}",
+        outcome.seed, outcome.health
+    );
+    assert!(worst <= 4.0, "seed {}: {worst:.2} sigma", outcome.seed);
+    assert!(nees < 37.70, "seed {}: NEES {nees:.1}", outcome.seed);
+}

@@ -84,8 +84,7 @@ fn the_modelled_field_keeps_the_calibration_consistent() {
     println!("{}", summary.nees_line());
     for outcome in &outcomes {
         let worst = worst_sigma(outcome);
-        let inverse = outcome.covariance.try_inverse().unwrap();
-        let nees = (outcome.error.transpose() * inverse * outcome.error)[(0, 0)];
+        let nees = crate::common::nees(outcome);
         let counted = |key: &str| outcome.health.get(key).copied().unwrap_or(0);
         assert_eq!(
             counted("gravity_allowance_short"),

@@ -343,10 +343,7 @@ fn a_log_from_another_launch_epoch_is_refused_and_one_bad_tag_is_not() {
 #[test]
 fn a_two_head_log_replays_both_heads_and_their_hand_overs() {
     let mut scenario = scenario();
-    let mut head = scenario.star_sensor.clone();
-    head.mounting_rotation_vector_deg = [-90.0, 0.0, 0.0];
-    head.installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3];
-    scenario.star_sensor.additional_heads = vec![head];
+    scenario.star_sensor.additional_heads = vec![scenario.star_sensor.head_across()];
     scenario.star_sensor.outages = vec![[15.0, 10.0]];
     scenario.filter.star_pairs_before_hand_over = 20;
     scenario.validate().unwrap();

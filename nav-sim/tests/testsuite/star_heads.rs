@@ -6,8 +6,8 @@
 //! docs' campaigns fly 20.
 
 use crate::common::QUIET_COUNTERS;
-use crate::common::{counted, nees, one_run_unless_told as campaign};
-use crate::realistic_campaign::{scenario, worst_sigma};
+use crate::common::{assert_run_within_bounds, counted, one_run_unless_told as campaign};
+use crate::realistic_campaign::scenario;
 use nav_sim::scenario::star_sensor::arcsec_to_rad;
 use nav_sim::setup::fsw::{fsw_config, replay_setup};
 
@@ -40,13 +40,7 @@ fn the_second_head_reaches_the_flight_software_and_the_replay_words() {
 #[test]
 fn told_of_the_second_head_the_calibration_stays_consistent_through_the_outage() {
     for outcome in campaign("star_tracker_two_heads") {
-        let (worst, nees) = (worst_sigma(&outcome), nees(&outcome));
-        println!(
-            "seed {}: worst {worst:.2} sigma, NEES {nees:.1}, {:?}",
-            outcome.seed, outcome.health
-        );
-        assert!(worst <= 4.0, "seed {}: {worst:.2} sigma", outcome.seed);
-        assert!(nees < 37.70, "seed {}: NEES {nees:.1}", outcome.seed);
+        assert_run_within_bounds(&outcome);
         assert_eq!(counted(&outcome, "star_head_handovers"), 2);
         assert_eq!(counted(&outcome, "star_outages"), 1);
         for key in QUIET_COUNTERS {

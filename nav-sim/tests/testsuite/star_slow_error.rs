@@ -6,7 +6,7 @@
 //! (docs/sensor-errors.md). `NAV_MC_RUNS` runs, default 1 each here; the docs' campaigns fly
 //! 20.
 
-use crate::common::{counted, nees, one_run_unless_told as campaign};
+use crate::common::{assert_run_within_bounds, counted, nees, one_run_unless_told as campaign};
 use crate::realistic_campaign::{scenario, worst_sigma};
 use nav_sim::scenario::star_sensor::arcsec_to_rad;
 use nav_sim::setup::fsw::{fsw_config, replay_setup};
@@ -58,13 +58,7 @@ fn the_slow_error_the_flight_software_is_told_reaches_its_configuration() {
 #[test]
 fn told_of_the_slow_error_the_calibration_stays_consistent() {
     for outcome in campaign("star_tracker_slow_error") {
-        let (worst, nees) = (worst_sigma(&outcome), nees(&outcome));
-        println!(
-            "seed {}: worst {worst:.2} sigma, NEES {nees:.1}, {:?}",
-            outcome.seed, outcome.health
-        );
-        assert!(worst <= 4.0, "seed {}: {worst:.2} sigma", outcome.seed);
-        assert!(nees < 37.70, "seed {}: NEES {nees:.1}", outcome.seed);
+        assert_run_within_bounds(&outcome);
         assert_eq!(counted(&outcome, "star_declared_faulty"), 0);
         assert_eq!(counted(&outcome, "gnss_declared_faulty"), 0);
     }

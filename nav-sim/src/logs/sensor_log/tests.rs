@@ -175,8 +175,6 @@ fn recorded_mission_reads_back_as_the_event_stream() {
     );
 }
 
-/// `row` of the first 18 columns with the 5 columns after them empty (other rows as they
-/// are).
 /// A row of 18 or 23 fields (an IMU row's, a GNSS row's) padded to [`COLUMNS`]; any other
 /// row as it is (too short: the CSV error of unequal lengths).
 fn padded(row: &str) -> String {

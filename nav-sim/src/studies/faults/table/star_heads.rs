@@ -5,7 +5,6 @@
 //! noise), told to the flight software.
 
 use super::*;
-use crate::scenario::StarSensorSettings;
 use crate::studies::faults::Injector;
 
 /// The step fault of these rows: 120″ about sensor x, seven times the gate's reach at 10″.
@@ -13,16 +12,11 @@ const STEP_DEG: f64 = 120.0 / 3600.0;
 
 /// Adds the second head (boresight along body +y, 90° from head 0's) to the scenario.
 fn add_second_head(scenario: &mut Scenario) {
-    let mut head: StarSensorSettings = scenario.star_sensor.clone();
-    head.additional_heads.clear();
-    head.outages.clear();
-    head.mounting_rotation_vector_deg = [-90.0, 0.0, 0.0];
-    head.installation_error_rotation_vector_rad = [-3.0e-3, 1.0e-3, 2.0e-3];
-    scenario.star_sensor.additional_heads = vec![head];
+    scenario.star_sensor.additional_heads = vec![scenario.star_sensor.head_across()];
 }
 
-/// On the frames of `window`, turns head `head`'s measurements by the step and silences the
-/// heads in `silent` over `silent_window`.
+/// On the frames of `window`, turns head `head`'s measurements by the step, and silences
+/// head `silent` over `silent_window`.
 fn stepped_and_silent(
     head: u8,
     window: std::ops::Range<i64>,
