@@ -157,9 +157,11 @@ pub fn fly_campaign(
     run_parallel(
         seeds,
         |seed| {
-            let seeded = crate::setup::prior::with_truth_drawn_from_prior(scenario, seed);
-            // The flight software is configured from the undispersed scenario: a dispersion
-            // changes only the truth ([`crate::setup::dispersion::truth_scenario`]).
+            // The run's mission (a turned ground track when drawn), then its sensor errors.
+            let mission = crate::setup::dispersion::mission_scenario(scenario, seed);
+            let seeded = crate::setup::prior::with_truth_drawn_from_prior(&mission, seed);
+            // The flight software is configured from the mission undispersed otherwise: the
+            // other entries change only the truth ([`crate::setup::dispersion::truth_scenario`]).
             let truth = crate::setup::dispersion::truth_scenario(&seeded, seed);
             let flight_config = crate::setup::dispersion::flight_config(&seeded, &truth)?;
             let run_options = crate::harness::flight::FlightOptions::default();

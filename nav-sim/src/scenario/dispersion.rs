@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 /// The entries' keys, in stream order (entry `i` draws from stream
 /// `DISPERSION_STREAM_BASE` + `i`, the setup layer's dispersion streams).
-pub const ENTRY_KEYS: [&str; 14] = [
+pub const ENTRY_KEYS: [&str; 15] = [
     "initial_attitude_deg",
     "initial_position_m",
     "initial_velocity_mps",
@@ -21,10 +21,14 @@ pub const ENTRY_KEYS: [&str; 14] = [
     "gyro_misalignment_rad",
     "accelerometer_misalignment_rad",
     "gyro_g_sensitivity_rad_s_per_mps2",
+    "launch_longitude_deg",
 ];
 
 /// Index in [`ENTRY_KEYS`] of `gnss_latency_frames` (its stream).
 pub const GNSS_LATENCY_ENTRY: usize = 10;
+
+/// Index in [`ENTRY_KEYS`] of `launch_longitude_deg` (its stream).
+pub const LAUNCH_LONGITUDE_ENTRY: usize = 14;
 
 /// Smallest factor a dispersed correlation time is scaled by: a first-order Gauss–Markov
 /// error needs τ > 0, and a draw at or below −100 % would make it zero or negative.
@@ -93,4 +97,10 @@ pub struct Dispersion {
     pub accelerometer_misalignment_rad: Option<Distribution>,
     /// Added per axis to the true gyro g-sensitivity (rad/s per m/s²).
     pub gyro_g_sensitivity_rad_s_per_mps2: Option<Distribution>,
+    /// Turn of the whole flight about the Earth's axis (deg, east): the launch site's
+    /// longitude and the orbit's node move together, so the flight in the launch frame is the
+    /// same while its ground track, and the gravity field under it, is another. Unlike the
+    /// other entries this draws another mission, not a mismatch: the flight software is
+    /// configured for the turned flight ([`crate::setup::dispersion::mission_scenario`]).
+    pub launch_longitude_deg: Option<Distribution>,
 }

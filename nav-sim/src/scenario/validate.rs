@@ -370,6 +370,12 @@ impl Checker<'_> {
                 MAX_G_SENSITIVITY_RAD_S_PER_MPS2,
                 "the g-sensitivity key's own limit",
             ),
+            (
+                "launch_longitude_deg",
+                dispersion.launch_longitude_deg,
+                180.0,
+                "a turn of 180° either way reaches every longitude",
+            ),
         ];
         for (name, distribution, max, reason) in entries {
             let Some(distribution) = distribution else {

@@ -15,7 +15,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution as _, StandardNormal};
 
 use crate::scenario::dispersion::{
-    Dispersion, Distribution, GNSS_LATENCY_ENTRY, MIN_CORRELATION_TIME_FACTOR,
+    Dispersion, Distribution, GNSS_LATENCY_ENTRY, LAUNCH_LONGITUDE_ENTRY,
+    MIN_CORRELATION_TIME_FACTOR,
 };
 use crate::scenario::Scenario;
 use crate::setup::streams::{self, Stream};
@@ -52,6 +53,8 @@ pub struct Draw {
     pub accelerometer_misalignment_rad: [f64; 6],
     /// Added gyro g-sensitivity per axis (rad/s per m/s²).
     pub gyro_g_sensitivity_rad_s_per_mps2: [f64; 3],
+    /// Turn of the flight about the Earth's axis (deg, east).
+    pub launch_longitude_deg: f64,
 }
 
 /// The off-diagonal `(row, column)` pairs of a misalignment matrix, in draw order.
@@ -134,7 +137,42 @@ pub fn draw(dispersion: &Dispersion, seed: u64) -> Draw {
             seed,
             13,
         ),
+        launch_longitude_deg: draw1(
+            dispersion.launch_longitude_deg.as_ref(),
+            seed,
+            LAUNCH_LONGITUDE_ENTRY,
+        ),
     }
+}
+
+/// The mission of the run with `seed`: `scenario` turned about the Earth's axis by the drawn
+/// `launch_longitude_deg` (the site's longitude and the orbit's node, which is measured in the
+/// frame that is Earth-fixed at the launch epoch, both move east by it), or `scenario`
+/// unchanged without that entry. Both the truth and the flight software's configuration are
+/// made from the turned scenario: the flight in the launch frame is the same, its ground track
+/// and the gravity field along it another.
+pub fn mission_scenario(scenario: &Scenario, seed: u64) -> Scenario {
+    let Some(dispersion) = scenario
+        .dispersion
+        .as_ref()
+        .filter(|dispersion| dispersion.launch_longitude_deg.is_some())
+    else {
+        return scenario.clone();
+    };
+    turned(scenario, draw(dispersion, seed).launch_longitude_deg)
+}
+
+/// `scenario` turned east about the Earth's axis by `turn_deg`: the launch site's longitude
+/// and the orbit's node (measured in the frame that is Earth-fixed at the launch epoch) both
+/// move by it, wrapped to `[−180°, 180°)` and `[0°, 360°)`.
+pub fn turned(scenario: &Scenario, turn_deg: f64) -> Scenario {
+    let mut mission = scenario.clone();
+    let site = &mut mission.launch_site;
+    site.longitude_deg = (site.longitude_deg + turn_deg + 180.0).rem_euclid(360.0) - 180.0;
+    let orbit = &mut mission.initial_orbit;
+    orbit.right_ascension_of_node_deg =
+        (orbit.right_ascension_of_node_deg + turn_deg).rem_euclid(360.0);
+    mission
 }
 
 /// `1 + percent / 100`, at least `floor`: a noise level cannot fall below zero.
@@ -303,5 +341,71 @@ mod tests {
                 scenario.accelerometer.misalignment_rad
             );
         }
+    }
+
+    /// A turned mission is the same flight in the launch frame (the initial truth state to
+    /// rounding) over another longitude: the site's longitude and the node move together, every
+    /// other key and every other entry's draw is unchanged, and without the entry the
+    /// scenario is returned bit for bit.
+    #[test]
+    fn a_turned_mission_is_the_same_flight_over_another_longitude() {
+        let scenario = Scenario::default_scenario().unwrap();
+        let initial = |scenario: &Scenario| {
+            let frame = crate::setup::launch::launch_frame(scenario).unwrap();
+            crate::setup::launch::initial_state(scenario, &frame).unwrap()
+        };
+        let before = initial(&scenario);
+        for turn_deg in [-170.0, 45.0, 180.0] {
+            let mission = turned(&scenario, turn_deg);
+            let moved =
+                (mission.launch_site.longitude_deg - scenario.launch_site.longitude_deg - turn_deg)
+                    .rem_euclid(360.0);
+            assert!(moved.min(360.0 - moved) < 1e-9, "{turn_deg}: {moved}");
+            assert!((-180.0..180.0).contains(&mission.launch_site.longitude_deg));
+            let node = (mission.initial_orbit.right_ascension_of_node_deg
+                - scenario.initial_orbit.right_ascension_of_node_deg
+                - turn_deg)
+                .rem_euclid(360.0);
+            assert!(node.min(360.0 - node) < 1e-9, "{turn_deg}: {node}");
+            let after = initial(&mission);
+            assert!((after.position_m - before.position_m).norm() < 1e-6);
+            assert!((after.velocity_mps - before.velocity_mps).norm() < 1e-9);
+            let unturned = Scenario {
+                launch_site: scenario.launch_site.clone(),
+                initial_orbit: scenario.initial_orbit.clone(),
+                ..mission
+            };
+            assert_eq!(unturned, scenario);
+        }
+
+        let with_turn = Dispersion {
+            launch_longitude_deg: Some(Distribution::Uniform { half_width: 180.0 }),
+            gyro_noise_percent: Some(Distribution::Normal { sigma: 10.0 }),
+            ..Dispersion::default()
+        };
+        let without = Dispersion {
+            launch_longitude_deg: None,
+            ..with_turn.clone()
+        };
+        let mut dispersed = scenario.clone();
+        dispersed.dispersion = Some(without.clone());
+        assert_eq!(mission_scenario(&dispersed, 3), dispersed);
+        dispersed.dispersion = Some(with_turn.clone());
+        let draws: Vec<f64> = (1..=8)
+            .map(|seed| {
+                let draw = draw(&with_turn, seed);
+                assert_eq!(
+                    draw.gyro_noise_percent.to_bits(),
+                    super::draw(&without, seed).gyro_noise_percent.to_bits()
+                );
+                let mission = mission_scenario(&dispersed, seed);
+                assert_eq!(mission, turned(&dispersed, draw.launch_longitude_deg));
+                draw.launch_longitude_deg
+            })
+            .collect();
+        assert!(draws.iter().all(|turn| turn.abs() <= 180.0));
+        assert!(draws
+            .windows(2)
+            .all(|pair| (pair[0] - pair[1]).abs() > 1e-6));
     }
 }

@@ -34,6 +34,9 @@ pub struct Statistics {
     pub q_periodogram_m2_s3: f64,
     /// The frequency of that maximum (Hz).
     pub periodogram_peak_hz: f64,
+    /// `λ_max(S(0))` of the averaged periodogram (m²/s³): the density a constant state sees,
+    /// over the horizon of one segment (its mean included).
+    pub q_zero_frequency_m2_s3: f64,
     /// Length of the periodogram's segments (s) and how many were averaged.
     pub segment_s: f64,
     /// Number of segments averaged.
@@ -87,6 +90,7 @@ pub fn statistics(difference: &[Vector3<f64>], options: &OmissionOptions) -> Sta
         q_bound_m2_s3: moments.gershgorin_bound(max_lag, sample_s),
         q_periodogram_m2_s3: periodogram.q_m2_s3,
         periodogram_peak_hz: periodogram.frequency_hz,
+        q_zero_frequency_m2_s3: periodogram.zero_frequency_m2_s3,
         segment_s: segment as f64 * sample_s,
         segments: periodogram.segments,
         bounds_by_lag,
@@ -183,13 +187,15 @@ impl CrossMoments {
 struct PeriodogramPeak {
     q_m2_s3: f64,
     frequency_hz: f64,
+    zero_frequency_m2_s3: f64,
     segments: usize,
 }
 
 /// Welch's averaged periodogram of the three axes: Hann-windowed (periodic, `w_k =
 /// sin²(πk/S)`) segments of `segment` samples overlapping by half, the two-sided spectral
 /// matrix `S(f) = Δ/(Σ w²) · mean X Xᴴ` at `f = k/(SΔ)`, `k = 0..=S/2` (a real signal's
-/// `S(−f)` is the conjugate, with the same eigenvalues); returns `max_f λ_max(S(f))`.
+/// `S(−f)` is the conjugate, with the same eigenvalues); returns `max_f λ_max(S(f))` and
+/// `λ_max(S(0))`.
 fn welch_peak(
     planner: &mut FftPlanner<f64>,
     axes: &[Vec<f64>; 3],
@@ -240,6 +246,9 @@ fn welch_peak(
     PeriodogramPeak {
         q_m2_s3: largest,
         frequency_hz: bin as f64 / (segment as f64 * sample_s),
+        zero_frequency_m2_s3: sums
+            .first()
+            .map_or(0.0, |sum| largest_eigenvalue(sum) * scale),
         segments,
     }
 }
@@ -355,6 +364,10 @@ mod tests {
         let relative = (statistics.q_periodogram_m2_s3 - periodogram).abs() / periodogram;
         assert!(relative < 1e-3, "{}", statistics.q_periodogram_m2_s3);
         assert!(statistics.periodogram_peak_hz.abs() < 1e-12);
+        assert_eq!(
+            statistics.q_zero_frequency_m2_s3.to_bits(),
+            statistics.q_periodogram_m2_s3.to_bits()
+        );
         assert_eq!(statistics.correlation_time_s, None);
         assert!((statistics.rms_mps2 - c).abs() < 1e-18);
     }
@@ -380,6 +393,9 @@ mod tests {
             "{statistics:?}"
         );
         assert!(statistics.q_bound_m2_s3 > statistics.q_periodogram_m2_s3);
+        // White: the zero-frequency bin is the density too, within the same scatter.
+        assert!(statistics.q_zero_frequency_m2_s3 > density / 4.0);
+        assert!(statistics.q_zero_frequency_m2_s3 <= statistics.q_periodogram_m2_s3);
         assert_eq!(statistics.correlation_time_s, Some(sample_s));
     }
 

@@ -39,6 +39,11 @@ pub struct Args {
     /// Largest lag L of the bound (s); the periodogram's segments are 2L long.
     #[arg(long, default_value_t = DEFAULT_MAX_LAG_S, allow_negative_numbers = true)]
     max_lag_s: f64,
+    /// Turn the whole flight east about the Earth's axis by this angle (deg, -180..=180): the
+    /// same flight over another ground track, as the `[dispersion] launch_longitude_deg`
+    /// entry draws it.
+    #[arg(long, allow_negative_numbers = true)]
+    turn_deg: Option<f64>,
 }
 
 impl Args {
@@ -77,7 +82,15 @@ impl Args {
 
 /// Flies the scenario's truth once and prints the omitted field of each flight model.
 pub fn run(args: Args) -> Result<(), Failure> {
-    let scenario = Scenario::load(&args.scenario)?;
+    let mut scenario = Scenario::load(&args.scenario)?;
+    if let Some(turn_deg) = args.turn_deg {
+        if !(turn_deg.is_finite() && (-180.0..=180.0).contains(&turn_deg)) {
+            return Err(
+                format!("--turn-deg {turn_deg} must be a number of degrees in -180..=180").into(),
+            );
+        }
+        scenario = nav_sim::setup::dispersion::turned(&scenario, turn_deg);
+    }
     let truth = truth_field(&scenario);
     let flights = args.flights(truth);
     eprintln!(
@@ -134,6 +147,7 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
         "corr. time (s)",
         "q_bound (m²/s³)",
         "q_periodogram (m²/s³) @ f (Hz)",
+        "q at f = 0 (m²/s³)",
         "√q_bound (m/s/√s)",
         "flight check σ (m/s²)",
     ]);
@@ -154,6 +168,7 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
                 scientific(statistics.q_periodogram_m2_s3),
                 statistics.periodogram_peak_hz
             )),
+            right(scientific(statistics.q_zero_frequency_m2_s3)),
             right(scientific(report.velocity_random_walk_mps_per_sqrt_s())),
             right(if report.flight_check_sigma_mps2.is_nan() {
                 "-".to_string()
@@ -167,7 +182,8 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
         text,
         "flight check σ: the omitted field's RMS per axis at the lowest altitude ({:.0} km), \
          as the flight software checks its allowance (filter.gravity.omitted_field_sigma_mps2 \
-         at least this); - beyond the flight's degree and order 12",
+         at least this); - beyond the flight's degree and order 12; q at f = 0: the \
+         periodogram's zero-frequency bin, the density the constant calibration states see",
         first.lowest_altitude_m / 1e3
     );
     let _ = writeln!(text, "q_bound (m²/s³) against the largest lag L:");
