@@ -409,9 +409,10 @@ pub struct FswConfig {
 /// The flight's gravity beyond the strapdown's point mass + `J2` (nav-core
 /// `gravity::harmonics`), and the allowance for the field it leaves out: white velocity noise
 /// of spectral density `omitted_field_psd_m2_per_s3` (isotropic, per axis) added to the
-/// filter's process noise, which covers the omitted field when it is at least the supremum
-/// over frequency of the field's spectral density along the flight (docs/gravity.md derives
-/// it, `nav-sim gravity-omission`); and the 1σ per axis of the omitted field it is meant for,
+/// filter's process noise: the omitted field's spectral density at zero frequency, averaged
+/// over ground tracks, is what the constant calibration states see, and its supremum over
+/// frequency dominates the field over every horizon (docs/gravity.md derives both, `nav-sim
+/// gravity-omission`); and the 1σ per axis of the omitted field it is meant for,
 /// `omitted_field_sigma_mps2`. Each evaluation compares the RMS magnitude of the omitted
 /// field at the vehicle's radius with `√3 σ`; above it (a model too coarse for its allowance,
 /// a flight lower than designed for, or no allowance at all), `gravity_allowance_short`
