@@ -161,9 +161,18 @@ impl StarSensorSettings {
             .any(|amplitude| *amplitude != 0.0)
     }
 
-    /// The dispersed noise: `noise_arcsec` and the per-axis keys scaled by `factor` (the
-    /// larger per-axis value stays equal to `noise_arcsec`, as multiplication is monotonic).
+    /// The dispersed noise of every head: `noise_arcsec` and the per-axis keys scaled by
+    /// `factor` (the larger per-axis value stays equal to `noise_arcsec`, as multiplication is
+    /// monotonic). One factor for the tracker: its heads share one specification.
     pub fn scale_noise(&mut self, factor: f64) {
+        self.scale_head_noise(factor);
+        for head in &mut self.additional_heads {
+            head.scale_head_noise(factor);
+        }
+    }
+
+    /// This head's noise keys scaled by `factor`.
+    fn scale_head_noise(&mut self, factor: f64) {
         self.noise_arcsec *= factor;
         for value in [
             &mut self.cross_boresight_noise_arcsec,

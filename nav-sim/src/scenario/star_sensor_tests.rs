@@ -307,3 +307,25 @@ fn the_two_head_scenario_files_are_their_single_head_files_plus_head_one() {
         );
     }
 }
+
+/// The noise dispersion scales every head's noise by the one factor, per-axis keys included.
+#[test]
+fn the_noise_dispersion_scales_every_head() {
+    let mut tracker = Scenario::default_scenario().unwrap().star_sensor;
+    tracker.noise_arcsec = 10.0;
+    tracker.roll_noise_arcsec = Some(10.0);
+    tracker.cross_boresight_noise_arcsec = Some(4.0);
+    let mut second = tracker.head_across();
+    second.noise_arcsec = 20.0;
+    tracker.additional_heads.push(second);
+    tracker.scale_noise(1.5);
+    let bits = |value: Option<f64>| value.map(f64::to_bits);
+    assert_eq!(tracker.noise_arcsec.to_bits(), 15.0_f64.to_bits());
+    assert_eq!(bits(tracker.roll_noise_arcsec), bits(Some(15.0)));
+    assert_eq!(bits(tracker.cross_boresight_noise_arcsec), bits(Some(6.0)));
+    assert_eq!(
+        tracker.additional_heads[0].noise_arcsec.to_bits(),
+        30.0_f64.to_bits()
+    );
+    assert!(tracker.additional_heads[0].additional_heads.is_empty());
+}
