@@ -281,4 +281,17 @@ fn command_prints_the_table_and_refuses_a_field_above_the_truth() {
         stderr.contains("nav-sim: flight degree = 12 must be in 2..=8"),
         "{stderr}"
     );
+    // Turned a quarter of the way round, the same flight crosses another field.
+    let turned = run(&["--max-lag-s", "10", "--turn-deg", "90"]);
+    let turned_stdout = String::from_utf8_lossy(&turned.stdout);
+    assert!(turned.status.success(), "{turned:?}");
+    assert!(turned_stdout.contains("601 samples"), "{turned_stdout}");
+    assert_ne!(turned_stdout, stdout);
+    let refused = run(&["--turn-deg", "200"]);
+    assert!(!refused.status.success());
+    assert!(
+        String::from_utf8_lossy(&refused.stderr)
+            .contains("--turn-deg 200 must be a number of degrees in -180..=180"),
+        "{refused:?}"
+    );
 }
