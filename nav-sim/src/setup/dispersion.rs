@@ -152,14 +152,17 @@ pub fn draw(dispersion: &Dispersion, seed: u64) -> Draw {
 /// made from the turned scenario: the flight in the launch frame is the same, its ground track
 /// and the gravity field along it another.
 pub fn mission_scenario(scenario: &Scenario, seed: u64) -> Scenario {
-    let Some(dispersion) = scenario
+    let Some(distribution) = scenario
         .dispersion
         .as_ref()
-        .filter(|dispersion| dispersion.launch_longitude_deg.is_some())
+        .and_then(|dispersion| dispersion.launch_longitude_deg.as_ref())
     else {
         return scenario.clone();
     };
-    turned(scenario, draw(dispersion, seed).launch_longitude_deg)
+    turned(
+        scenario,
+        draw1(Some(distribution), seed, LAUNCH_LONGITUDE_ENTRY),
+    )
 }
 
 /// `scenario` turned east about the Earth's axis by `turn_deg`: the launch site's longitude

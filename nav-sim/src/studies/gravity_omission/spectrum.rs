@@ -229,26 +229,29 @@ fn welch_peak(
         start += hop;
     }
     let scale = sample_s / (window_power * segments.max(1) as f64);
-    let (bin, largest) = sums
+    let spectrum: Vec<f64> = sums
         .iter()
         .map(|sum| largest_eigenvalue(sum) * scale)
-        .enumerate()
-        .fold(
-            (0, 0.0),
-            |best, (bin, value)| {
-                if value > best.1 {
-                    (bin, value)
-                } else {
-                    best
-                }
-            },
-        );
+        .collect();
+    let (bin, largest) =
+        spectrum
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, 0.0),
+                |best, (bin, value)| {
+                    if value > best.1 {
+                        (bin, value)
+                    } else {
+                        best
+                    }
+                },
+            );
     PeriodogramPeak {
         q_m2_s3: largest,
         frequency_hz: bin as f64 / (segment as f64 * sample_s),
-        zero_frequency_m2_s3: sums
-            .first()
-            .map_or(0.0, |sum| largest_eigenvalue(sum) * scale),
+        zero_frequency_m2_s3: spectrum.first().copied().unwrap_or(0.0),
         segments,
     }
 }
