@@ -409,14 +409,14 @@ pub struct FswConfig {
 /// The flight's gravity beyond the strapdown's point mass + `J2` (nav-core
 /// `gravity::harmonics`), and the allowance for the field it leaves out: white velocity noise
 /// of spectral density `omitted_field_psd_m2_per_s3` (isotropic, per axis) added to the
-/// filter's process noise: the omitted field's spectral density at zero frequency, averaged
-/// over ground tracks, is what the constant calibration states see, and its supremum over
-/// frequency dominates the field over every horizon (docs/gravity.md derives both, `nav-sim
-/// gravity-omission`); and the 1σ per axis of the omitted field it is meant for,
-/// `omitted_field_sigma_mps2`. Each evaluation compares the RMS magnitude of the omitted
-/// field at the vehicle's radius with `√3 σ`; above it (a model too coarse for its allowance,
-/// a flight lower than designed for, or no allowance at all), `gravity_allowance_short`
-/// counts an episode.
+/// filter's process noise where the omitted field is `omitted_field_sigma_mps2` per axis, and
+/// scaled with the omitted field's power at the vehicle's radius below that: the omitted
+/// field's spectral density at zero frequency, scaled to that σ and averaged over ground
+/// tracks, is what the constant calibration states see (docs/gravity.md, "The allowance with
+/// the altitude"; `nav-sim gravity-omission`). Each evaluation compares the RMS magnitude of
+/// the omitted field at the vehicle's radius with `√3 σ`; above it (a model too coarse for
+/// its allowance, a flight lower than designed for, or no allowance at all),
+/// `gravity_allowance_short` counts an episode.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityConfig {
@@ -424,7 +424,8 @@ pub struct GravityConfig {
     pub field: nav_core::gravity::harmonics::FieldModel,
     /// 1σ per axis of the omitted field the allowance is for (m/s²); 0: no allowance.
     pub omitted_field_sigma_mps2: f64,
-    /// Spectral density of the white velocity noise that covers it (m²/s³); 0: none.
+    /// Spectral density of the white velocity noise that covers a field of that 1σ (m²/s³),
+    /// scaled down with the field's power where it is weaker; 0: none.
     pub omitted_field_psd_m2_per_s3: f64,
 }
 

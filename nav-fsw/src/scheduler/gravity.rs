@@ -7,31 +7,46 @@ use super::*;
 /// `√3`: the RMS magnitude of a vector of three independent axes of unit 1σ.
 const SQRT_3: f64 = 1.732_050_807_568_877_2;
 
-/// `config.process_noise` with the gravity allowance `q` (m²/s³, [`GravityConfig`]) added
-/// to the accelerometer density squared: in launch-inertial axes the accelerometer's white
-/// noise enters the velocity as `C (σ_a² I) Cᵀ = σ_a² I`, so an isotropic white velocity noise
-/// of density `q` is the same as an accelerometer density `√(σ_a² + q)`. Without an
-/// allowance the configured noise, bit for bit.
+/// `config.process_noise` with the gravity allowance added where the omitted field has the
+/// RMS magnitude `omitted_rms_mps2`: the allowance `q` (m²/s³, [`GravityConfig`]) is for a
+/// field of `σ` per axis (RMS magnitude `√3 σ`), and its density scales with the field's
+/// power, `q_r = q · min(1, (rms / √3 σ)²)`: the omitted degrees' field falls with the radius
+/// as `(a/r)^(n+2)`, and a flight that climbs from its parking orbit leaves the field behind
+/// (docs/gravity.md, "The allowance with the altitude"). Above `√3 σ` the allowance stays `q`
+/// and the check raises `gravity_allowance_short`; an RMS that is not a number counts as above.
+/// In launch-inertial axes the accelerometer's white noise enters the velocity as
+/// `C (σ_a² I) Cᵀ = σ_a² I`, so an isotropic white velocity noise of density `q_r` is the
+/// same as an accelerometer density `√(σ_a² + q_r)`. Without an allowance the configured
+/// noise, bit for bit.
 ///
 /// [`GravityConfig`]: crate::config::GravityConfig
-pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
+pub(super) fn process_noise_at(config: &FswConfig, omitted_rms_mps2: f64) -> ProcessNoise {
     let mut noise = config.process_noise;
     let allowance = config.gravity.omitted_field_psd_m2_per_s3;
     if allowance > 0.0 {
+        // σ > 0 whenever an allowance is configured (GravityConfig::is_valid).
+        let ratio = omitted_rms_mps2 / (SQRT_3 * config.gravity.omitted_field_sigma_mps2);
+        let share = if ratio < 1.0 { ratio * ratio } else { 1.0 };
         let density = noise.accel_noise_density_mps2_per_sqrt_hz;
         noise.accel_noise_density_mps2_per_sqrt_hz =
-            nav_core::float::sqrt(density * density + allowance);
+            nav_core::float::sqrt(density * density + allowance * share);
     }
     noise
+}
+
+/// The process noise before the field's first evaluation: the whole allowance.
+pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
+    process_noise_at(config, f64::INFINITY)
 }
 
 impl NavigationComputer {
     /// This frame's share of the field's evaluation at the navigation solution (called in
     /// frames that fuse no measurement, so a share never adds to an update frame); when an
     /// evaluation completes, its value goes to the strapdown (a model beyond `J2` only) and
-    /// its omitted RMS (of the magnitude) is checked against the allowance's `√3 σ`: above it
-    /// begins an episode of
-    /// `gravity_allowance_short`. A refused evaluation is counted and the held value kept.
+    /// its omitted RMS (of the magnitude) is checked against the allowance's `√3 σ` (above it
+    /// begins an episode of `gravity_allowance_short`) and sets the allowance's share of the
+    /// process noise ([`process_noise_at`]). A refused evaluation is counted and the held
+    /// value kept.
     #[inline(never)]
     pub(super) fn advance_gravity_field(&mut self) {
         let navigation = &mut self.navigation;
@@ -50,6 +65,7 @@ impl NavigationComputer {
         if field.evaluations() == before {
             return;
         }
+        let omitted_rms_mps2 = field.omitted_rms_mps2();
         if !field.model().is_j2_only() {
             navigation
                 .strapdown
@@ -58,10 +74,69 @@ impl NavigationComputer {
         // The omitted RMS is of the vector's magnitude; an allowance of σ per axis covers a
         // magnitude RMS of √3 σ.
         let covered_rms = SQRT_3 * self.config.gravity.omitted_field_sigma_mps2;
-        let short = field.omitted_rms_mps2() > covered_rms;
+        let short = omitted_rms_mps2 > covered_rms;
         if short && !navigation.gravity_allowance_short {
             count(&mut self.health.counters.gravity_allowance_short);
         }
         navigation.gravity_allowance_short = short;
+        if self.config.gravity.omitted_field_psd_m2_per_s3 > 0.0 {
+            self.covariance.process_noise = process_noise_at(&self.config, omitted_rms_mps2);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor_frames::SensorFrames;
+
+    /// The allowance's share follows the omitted field's power up to `√3 σ` and stays whole
+    /// above it (or for an RMS that is not a number); without an allowance the configured
+    /// noise, bit for bit, at any RMS.
+    #[test]
+    fn the_allowance_scales_with_the_omitted_fields_power() {
+        let mut config =
+            FswConfig::paper_defaults(super::super::tests::site(), SensorFrames::ALIGNED);
+        let configured = config.process_noise;
+        for rms in [0.0, 1e-5, f64::INFINITY, f64::NAN] {
+            assert_eq!(process_noise_at(&config, rms), configured);
+        }
+        let (sigma, q) = (2.0e-5, 1.2e-8);
+        config.gravity.omitted_field_sigma_mps2 = sigma;
+        config.gravity.omitted_field_psd_m2_per_s3 = q;
+        let density = configured.accel_noise_density_mps2_per_sqrt_hz;
+        let with_share =
+            |rms: f64| process_noise_at(&config, rms).accel_noise_density_mps2_per_sqrt_hz;
+        let covered = 3.0_f64.sqrt() * sigma;
+        for (rms, share) in [
+            (0.0, 0.0),
+            (0.5 * covered, 0.25),
+            (0.9 * covered, 0.81),
+            (covered, 1.0),
+            (2.0 * covered, 1.0),
+            (f64::INFINITY, 1.0),
+            (f64::NAN, 1.0),
+        ] {
+            let expected = (density * density + q * share).sqrt();
+            let got = with_share(rms);
+            assert!(
+                (got - expected).abs() <= 1e-15 * expected,
+                "{rms}: {got} vs {expected}"
+            );
+        }
+        // Before the first evaluation: the whole allowance, as the configured density grown
+        // by q.
+        assert_eq!(
+            process_noise(&config)
+                .accel_noise_density_mps2_per_sqrt_hz
+                .to_bits(),
+            (density * density + q).sqrt().to_bits()
+        );
+        // Only the accelerometer's density changes.
+        let scaled = process_noise_at(&config, 0.5 * covered);
+        assert_eq!(
+            scaled.gyro_noise_density_rad_s_per_sqrt_hz.to_bits(),
+            configured.gyro_noise_density_rad_s_per_sqrt_hz.to_bits()
+        );
     }
 }

@@ -100,8 +100,9 @@ pub struct FilterGravity {
     /// 0 = no allowance.
     #[serde(default)]
     pub omitted_field_sigma_mps2: f64,
-    /// Spectral density of the white velocity noise that covers it (m²/s³); > 0 when the 1σ
-    /// is.
+    /// Spectral density of the white velocity noise that covers a field of that 1σ (m²/s³),
+    /// scaled in flight with the omitted field's power at the vehicle's radius; > 0 when the
+    /// 1σ is.
     #[serde(default)]
     pub omitted_field_psd_m2_per_s3: f64,
 }

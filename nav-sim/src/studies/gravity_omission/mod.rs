@@ -183,6 +183,12 @@ pub struct OmissionReport {
     /// `filter.gravity.omitted_field_sigma_mps2` at least this raises no
     /// `gravity_allowance_short` on this flight. NaN for a model beyond the flight's 12 × 12.
     pub flight_check_sigma_mps2: f64,
+    /// `λ_max(S(0))` of `d` scaled to the field at the lowest altitude, `d_k · rms(r_low) /
+    /// rms(r_k)` with `rms(r)` the flight software's omitted RMS at radius `r` (m²/s³): the
+    /// allowance the flight software scales down with the omitted field's power where the
+    /// vehicle is higher (docs/gravity.md, "The allowance with the altitude"). NaN where the
+    /// check σ is.
+    pub q_zero_frequency_scaled_m2_s3: f64,
 }
 
 impl OmissionReport {
@@ -276,6 +282,20 @@ pub fn omitted_fields(
             .map(|(truth, flight)| truth - flight)
             .collect();
         let lowest_radius_m = path.lowest_radius_m(&launch);
+        let flight_check_sigma_mps2 = flight_check_sigma(flight, &launch, lowest_radius_m)?;
+        let q_zero_frequency_scaled_m2_s3 = if flight_check_sigma_mps2.is_nan() {
+            f64::NAN
+        } else {
+            let radii = path.sample_radii_m(sample_frames, &launch);
+            let scaled = scaled_to_lowest(
+                flight,
+                &launch,
+                &difference,
+                &radii,
+                flight_check_sigma_mps2,
+            )?;
+            spectrum::statistics(&scaled, options).q_zero_frequency_m2_s3
+        };
         reports.push(OmissionReport {
             flight: *flight,
             truth_field: truth,
@@ -283,10 +303,44 @@ pub fn omitted_fields(
             sample_s: options.sample_s,
             statistics: spectrum::statistics(&difference, options),
             lowest_altitude_m: lowest_radius_m - nav_core::gravity::egm2008::RADIUS_M,
-            flight_check_sigma_mps2: flight_check_sigma(flight, &launch, lowest_radius_m)?,
+            flight_check_sigma_mps2,
+            q_zero_frequency_scaled_m2_s3,
         });
     }
     Ok(reports)
+}
+
+/// Radii are grouped in bins of this width (m) for the omitted RMS, which changes by 0.05 %
+/// over one bin in low orbit (`(a/r)^(n+2)`, `n` ≤ 60).
+const RADIUS_BIN_M: f64 = 100.0;
+
+/// `d_k · σ_low / σ(r_k)`: the difference scaled to the field at the lowest altitude, `σ(r)`
+/// the flight software's omitted RMS per axis at `r` (evaluated once per [`RADIUS_BIN_M`]).
+fn scaled_to_lowest(
+    flight: &FlightGravityModel,
+    launch: &Launch,
+    difference: &[Vector3<f64>],
+    radii_m: &[f64],
+    lowest_sigma_mps2: f64,
+) -> Result<Vec<Vector3<f64>>, OmissionError> {
+    let mut sigma_by_bin = std::collections::HashMap::new();
+    difference
+        .iter()
+        .zip(radii_m)
+        .map(|(d, &radius_m)| {
+            // Radii of a flight are far below 2^63 bins; the cast saturates otherwise.
+            let bin = (radius_m / RADIUS_BIN_M).round() as i64;
+            let sigma = match sigma_by_bin.get(&bin) {
+                Some(&sigma) => sigma,
+                None => {
+                    let sigma = flight_check_sigma(flight, launch, bin as f64 * RADIUS_BIN_M)?;
+                    sigma_by_bin.insert(bin, sigma);
+                    sigma
+                }
+            };
+            Ok(d * (lowest_sigma_mps2 / sigma))
+        })
+        .collect()
 }
 
 /// The flight software's own omitted RMS at `radius_m` (one whole evaluation of nav-core's

@@ -47,3 +47,44 @@ fn held_value_comes_from_the_refresh_before_the_last() {
     assert_eq!(gcd(50, 20), 10);
     assert_eq!(gcd(7, 0), 7);
 }
+
+/// Scaled to the lowest altitude, a sample there keeps its value and a sample 500 km higher
+/// grows by the omitted field's fall with the radius: the 12 × 12 model omits degrees 13–60,
+/// each falling as `(a/r)^(n+2)`, so the factor lies between `(r_h/r_l)^15` and
+/// `(r_h/r_l)^62`; a model beyond the flight software's 12 × 12 has no figure.
+#[test]
+fn the_difference_scaled_to_the_lowest_altitude_follows_the_omitted_degrees() {
+    let scenario = crate::Scenario::from_toml_str(include_str!(
+        "../../../scenarios/gravity_field_modelled.toml"
+    ))
+    .unwrap();
+    let launch = Launch::new(&scenario).unwrap();
+    let flight = FlightGravityModel::new(12, 12);
+    let (low_m, high_m) = (6_800_000.0, 7_300_000.0);
+    let low_sigma = flight_check_sigma(&flight, &launch, low_m).unwrap();
+    let sample = Vector3::new(1e-5, -2e-5, 3e-5);
+    let scaled = scaled_to_lowest(
+        &flight,
+        &launch,
+        &[sample, sample],
+        &[low_m, high_m],
+        low_sigma,
+    )
+    .unwrap();
+    assert!(
+        (scaled[0] - sample).norm() <= 1e-12 * sample.norm(),
+        "{scaled:?}"
+    );
+    let factor = scaled[1].norm() / sample.norm();
+    let ratio: f64 = high_m / low_m;
+    assert!(
+        (ratio.powi(15)..ratio.powi(62)).contains(&factor),
+        "{factor} outside [{}, {}]",
+        ratio.powi(15),
+        ratio.powi(62)
+    );
+    // The direction is kept.
+    assert!(scaled[1].normalize().dot(&sample.normalize()) > 1.0 - 1e-12);
+    let beyond = flight_check_sigma(&FlightGravityModel::new(16, 16), &launch, low_m).unwrap();
+    assert!(beyond.is_nan());
+}

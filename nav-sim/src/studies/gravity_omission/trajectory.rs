@@ -46,6 +46,18 @@ impl Trajectory {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The geocentric radius at every `sample_frames`-th boundary (m), as the samples of
+    /// [`truth_remainder`] are taken.
+    pub fn sample_radii_m(&self, sample_frames: u64, launch: &Launch) -> Vec<f64> {
+        self.samples(sample_frames)
+            .map(|boundary| {
+                self.position_m(boundary).map_or(f64::NAN, |position| {
+                    launch.frame.geocentric_position_launch(position).norm()
+                })
+            })
+            .collect()
+    }
+
     /// The last frame boundary stored.
     fn last_boundary(&self) -> u64 {
         (self.positions_m.len().saturating_sub(1) as u64) * self.stride

@@ -148,6 +148,7 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
         "q_bound (m²/s³)",
         "q_periodogram (m²/s³) @ f (Hz)",
         "q at f = 0 (m²/s³)",
+        "q at f = 0, scaled (m²/s³)",
         "√q_bound (m/s/√s)",
         "flight check σ (m/s²)",
     ]);
@@ -169,6 +170,11 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
                 statistics.periodogram_peak_hz
             )),
             right(scientific(statistics.q_zero_frequency_m2_s3)),
+            right(if report.q_zero_frequency_scaled_m2_s3.is_nan() {
+                "-".to_string()
+            } else {
+                scientific(report.q_zero_frequency_scaled_m2_s3)
+            }),
             right(scientific(report.velocity_random_walk_mps_per_sqrt_s())),
             right(if report.flight_check_sigma_mps2.is_nan() {
                 "-".to_string()
@@ -183,7 +189,9 @@ fn text(args: &Args, truth: (usize, usize), reports: &[OmissionReport]) -> Strin
         "flight check σ: the omitted field's RMS per axis at the lowest altitude ({:.0} km), \
          as the flight software checks its allowance (filter.gravity.omitted_field_sigma_mps2 \
          at least this); - beyond the flight's degree and order 12; q at f = 0: the \
-         periodogram's zero-frequency bin, the density the constant calibration states see",
+         periodogram's zero-frequency bin, the density the constant calibration states see; \
+         scaled: of d scaled to the field at the lowest altitude, the allowance the flight \
+         software scales with the omitted field's power",
         first.lowest_altitude_m / 1e3
     );
     let _ = writeln!(text, "q_bound (m²/s³) against the largest lag L:");
