@@ -257,16 +257,9 @@ pub fn omitted_fields(
         .fold(sample_frames, |stride, frames| gcd(stride, *frames));
     let path = trajectory::fly(scenario, &launch, stride)?;
     let truth_values = trajectory::truth_remainder(&path, sample_frames, truth_remainder.as_ref())?;
-    if truth_values.len() < 2 {
-        return Err(OmissionError::Setting {
-            key: "sample_s",
-            value: options.sample_s.to_string(),
-            requirement: format!(
-                "must leave at least two samples in the flight ({} s)",
-                scenario.duration_s()
-            ),
-        });
-    }
+    check_samples(truth_values.len(), scenario, options)?;
+    let radii_m = path.sample_radii_m(sample_frames, &launch);
+    let lowest_radius_m = path.lowest_radius_m(&launch);
     let mut reports = Vec::with_capacity(flights.len());
     for (flight, refresh) in flights.iter().zip(refresh_frames) {
         let flight_remainder = flight_remainder(flight, launch.frame)?;
@@ -281,21 +274,15 @@ pub fn omitted_fields(
             .zip(&flight_values)
             .map(|(truth, flight)| truth - flight)
             .collect();
-        let lowest_radius_m = path.lowest_radius_m(&launch);
         let flight_check_sigma_mps2 = flight_check_sigma(flight, &launch, lowest_radius_m)?;
-        let q_zero_frequency_scaled_m2_s3 = if flight_check_sigma_mps2.is_nan() {
-            f64::NAN
-        } else {
-            let radii = path.sample_radii_m(sample_frames, &launch);
-            let scaled = scaled_to_lowest(
-                flight,
-                &launch,
-                &difference,
-                &radii,
-                flight_check_sigma_mps2,
-            )?;
-            spectrum::statistics(&scaled, options).q_zero_frequency_m2_s3
-        };
+        let q_zero_frequency_scaled_m2_s3 = zero_frequency_scaled(
+            flight,
+            &launch,
+            flight_check_sigma_mps2,
+            &difference,
+            &radii_m,
+            options,
+        )?;
         reports.push(OmissionReport {
             flight: *flight,
             truth_field: truth,
@@ -308,6 +295,43 @@ pub fn omitted_fields(
         });
     }
     Ok(reports)
+}
+
+/// A record of at least two samples, or a setting error naming `sample_s`.
+fn check_samples(
+    samples: usize,
+    scenario: &Scenario,
+    options: &OmissionOptions,
+) -> Result<(), OmissionError> {
+    if samples >= 2 {
+        return Ok(());
+    }
+    Err(OmissionError::Setting {
+        key: "sample_s",
+        value: options.sample_s.to_string(),
+        requirement: format!(
+            "must leave at least two samples in the flight ({} s)",
+            scenario.duration_s()
+        ),
+    })
+}
+
+/// `λ_max(S(0))` of the difference scaled to the field at the lowest altitude
+/// ([`scaled_to_lowest`], `lowest_sigma_mps2` the flight's check σ there), or NaN where that
+/// σ is (a model beyond the flight software's 12 × 12).
+fn zero_frequency_scaled(
+    flight: &FlightGravityModel,
+    launch: &Launch,
+    lowest_sigma_mps2: f64,
+    difference: &[Vector3<f64>],
+    radii_m: &[f64],
+    options: &OmissionOptions,
+) -> Result<f64, OmissionError> {
+    if lowest_sigma_mps2.is_nan() {
+        return Ok(f64::NAN);
+    }
+    let scaled = scaled_to_lowest(flight, launch, difference, radii_m, lowest_sigma_mps2)?;
+    Ok(spectrum::statistics(&scaled, options).q_zero_frequency_m2_s3)
 }
 
 /// Radii are grouped in bins of this width (m) for the omitted RMS, which changes by 0.05 %
