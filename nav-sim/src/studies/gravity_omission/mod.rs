@@ -334,8 +334,9 @@ fn zero_frequency_scaled(
     Ok(spectrum::statistics(&scaled, options).q_zero_frequency_m2_s3)
 }
 
-/// Radii are grouped in bins of this width (m) for the omitted RMS, which changes by 0.05 %
-/// over one bin in low orbit (`(a/r)^(n+2)`, `n` ≤ 60).
+/// Radii are grouped in bins of this width (m) for the omitted RMS, which changes by less
+/// than 0.1 % over one bin in low orbit (each degree as `(a/r)^(n+2)`, so by at most
+/// `(n + 2) Δr / r` = 62 · 100 / 6.6e6 for `n` ≤ 60).
 const RADIUS_BIN_M: f64 = 100.0;
 
 /// `d_k · σ_low / σ(r_k)`: the difference scaled to the field at the lowest altitude, `σ(r)`
