@@ -258,6 +258,37 @@ impl LaunchFrame {
         Ok(self.launch_from_ecef * (rotation_about(&self.earth_axis_ecef, angle) * inertial))
     }
 
+    /// ECEF velocity (m/s, relative to the rotating Earth) turned into launch-inertial axes at
+    /// navigation time `time_s` (s since the launch epoch), `C R_k(θ) v_e`: the launch-inertial
+    /// velocity without its Earth-rotation term, which needs the position
+    /// ([`EarthRotation::velocity_at`]; the two add to
+    /// [`Self::ecef_velocity_to_launch_inertial`]). A receiver's velocity is converted in these
+    /// two parts so that the Earth-rotation term can take the navigation's position instead of
+    /// the fix's own, whose error `ε` would add `Ω × ε` (7e-4 m/s for 10 m) to the velocity.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteInput`] for a non-finite velocity or time.
+    pub fn ecef_velocity_to_launch_axes(
+        &self,
+        velocity_ecef_mps: &Vector3<f64>,
+        time_s: f64,
+    ) -> Result<Vector3<f64>, NavError> {
+        if !(all_finite3(velocity_ecef_mps) && time_s.is_finite()) {
+            return Err(NavError::NonFiniteInput);
+        }
+        let angle = WGS84_EARTH_RATE_RAD_S * time_s;
+        Ok(self.launch_from_ecef
+            * (rotation_about(&self.earth_axis_ecef, angle) * velocity_ecef_mps))
+    }
+
+    /// The Earth's rotation in launch-inertial axes ([`EarthRotation`]).
+    pub fn earth_rotation(&self) -> EarthRotation {
+        EarthRotation {
+            rate_launch_rad_s: self.earth_axis_launch * WGS84_EARTH_RATE_RAD_S,
+            centre_launch_m: self.earth_centre_launch_m,
+        }
+    }
+
     /// Inverse of [`Self::ecef_velocity_to_launch_inertial`]: launch-inertial velocity (m/s)
     /// at launch-inertial position `position_launch_m` (m) to ECEF velocity (m/s),
     /// `v_e = R_k(−θ) Cᵀ v_i − ω_e k × r_e`.
@@ -336,6 +367,39 @@ impl LaunchFrame {
     }
 }
 
+/// The Earth's rotation in launch-inertial axes: its rate `Ω = ω_e C k` and its centre
+/// `c = −C r_site`. A point fixed to the Earth at launch-inertial position `p` moves at
+/// `Ω × (p − c)`: the launch-inertial form of the ECEF term `C R_k(θ) (ω_e k × r_e)`, since a
+/// rotation carries a cross product (`R (a × b) = R a × R b`), `R_k(θ) k = k` and
+/// `C R_k(θ) r_e = p − c` ([`LaunchFrame::ecef_to_launch_inertial`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EarthRotation {
+    /// `Ω = ω_e C k` (rad/s, launch-inertial axes).
+    pub rate_launch_rad_s: Vector3<f64>,
+    /// `c = −C r_site` (m, launch-inertial axes).
+    pub centre_launch_m: Vector3<f64>,
+}
+
+impl EarthRotation {
+    /// The velocity (m/s) of the Earth-fixed point at launch-inertial position
+    /// `position_launch_m` (m): `Ω × (p − c)`.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::frames::{LaunchFrame, LaunchSite};
+    /// use nalgebra::Vector3;
+    /// let site = LaunchSite { latitude_rad: 0.0, longitude_rad: 0.0, height_m: 0.0,
+    ///     azimuth_rad: 0.0, earth_axis_ecef: [0.0, 0.0, 1.0] };
+    /// let earth = LaunchFrame::new(&site).unwrap().earth_rotation();
+    /// // The launch site on the equator moves eastward at ω_e a ≈ 465 m/s.
+    /// assert!((earth.velocity_at(&Vector3::zeros()).norm() - 465.1).abs() < 0.1);
+    /// ```
+    pub fn velocity_at(&self, position_launch_m: &Vector3<f64>) -> Vector3<f64> {
+        self.rate_launch_rad_s
+            .cross(&(position_launch_m - self.centre_launch_m))
+    }
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -380,6 +444,16 @@ pub(crate) mod tests {
             "{}",
             (numerical - analytic).norm()
         );
+        // Turned in two parts, the Earth-rotation term at the converted position.
+        let earth = frame.earth_rotation();
+        let parts = frame.ecef_velocity_to_launch_axes(&v_e, t).unwrap()
+            + earth.velocity_at(&position_at(t));
+        assert!(
+            (parts - analytic).norm() < 1e-9,
+            "{}",
+            (parts - analytic).norm()
+        );
+        assert!(frame.ecef_velocity_to_launch_axes(&v_e, f64::NAN).is_err());
         // The Earth-rotation term matters: without it the answer is ~470 m/s off.
         let without = frame.launch_from_ecef() * v_e;
         assert!((without - analytic).norm() > 100.0);

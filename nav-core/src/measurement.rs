@@ -38,19 +38,27 @@
 //!
 //! ## GNSS velocity
 //! The antenna moves at `v + C (ω × ℓ)` (`ω` the true body rate). The receiver's ECEF
-//! velocity is converted to the launch-inertial frame with the Earth-rotation term
-//! ([`crate::frames::LaunchFrame::ecef_velocity_to_launch_inertial`]). With `u = ω̂ × ℓ`,
-//! residual `z = v_gnss − v̂ − Ĉ u = δv + (C − Ĉ) u + Ĉ (δω × ℓ)` to first order, where
+//! velocity `v_e` becomes launch-inertial as `C R_k(θ) v_e + Ω × (p_a − c)`
+//! ([`crate::frames::EarthRotation`]), the Earth-rotation term at the antenna's position
+//! `p_a`. The fix's own position would carry its correlated error `ε` (8 m for a 10 m
+//! receiver) into the velocity as `Ω × ε`, 6e-4 m/s correlated over minutes, which the
+//! white Doppler noise model does not cover; over a long flight it makes the accelerometer
+//! states overconfident (`docs/upper-stage.md`). The term takes the estimated antenna position `p̂_a = p̂ + Ĉ ℓ` instead, whose error
+//! `p_a − p̂_a = δp − 2 Ĉ [ℓ×] ϑ` is in the state. With `u = ω̂ × ℓ`, residual
+//! `z = C R_k(θ) v_e + Ω × (p̂_a − c) − v̂ − Ĉ u
+//!    = δv + (C − Ĉ) u + Ĉ (δω × ℓ) − Ω × (δp − 2 Ĉ [ℓ×] ϑ)` to first order, where
 //! `(C − Ĉ) u = −2 Ĉ [u×] ϑ` as above and `δω = ω − ω̂ = −δb_g − diag(ω_m) δλ_g`
 //! (`ω = ω_m − diag(ω_m) λ_g − b_g`, [`crate::error_model`]), so
 //! `Ĉ (δω × ℓ) = Ĉ [ℓ×] (δb_g + diag(ω_m) δλ_g)`:
-//! `H_velocity = I`, `H_attitude = −2 Ĉ [u×]`, `H_gyro_bias = Ĉ [ℓ×]`,
-//! `H_gyro_scale = Ĉ [ℓ×] diag(ω_m)`. The receiver's velocity error is white (Doppler).
+//! `H_velocity = I`, `H_position = −[Ω×]`, `H_attitude = −2 Ĉ [u×] + 2 [Ω×] Ĉ [ℓ×]`,
+//! `H_gyro_bias = Ĉ [ℓ×]`, `H_gyro_scale = Ĉ [ℓ×] diag(ω_m)`. The receiver's velocity
+//! error is white (Doppler).
 
 use nalgebra::{ArrayStorage, Matrix3, Quaternion, SMatrix, Vector3};
 
 use crate::attitude::{all_finite3, canonical, conjugate, product, rotation_matrix, skew};
 use crate::error_model::set_block;
+use crate::frames::EarthRotation;
 use crate::state::{
     ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION, STAR_INSTALLATION, STATE_DIMENSION, VELOCITY,
 };
@@ -185,11 +193,22 @@ pub struct BodyRate {
     pub measured_rad_s: Vector3<f64>,
 }
 
+/// A receiver velocity in the two parts of its conversion to the launch-inertial frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GnssVelocityFix {
+    /// The ECEF velocity turned into launch-inertial axes, `C R_k(θ) v_e` (m/s,
+    /// [`crate::frames::LaunchFrame::ecef_velocity_to_launch_axes`]).
+    pub turned_velocity_mps: Vector3<f64>,
+    /// The Earth's rotation, whose velocity term [`gnss_velocity`] adds at the estimated
+    /// antenna position.
+    pub earth: EarthRotation,
+}
+
 /// GNSS velocity measurement in the launch-inertial frame (module docs for the derivation).
 ///
-/// * `attitude` `q̂_ib`, `velocity_mps` `v̂` (IMU velocity), `lever_arm_body_m` `ℓ`,
-///   `rate` the body rates;
-/// * `measured_velocity_mps`: the antenna velocity converted to the launch-inertial frame;
+/// * `attitude` `q̂_ib`, `position_m` `p̂` and `velocity_mps` `v̂` (IMU), `lever_arm_body_m`
+///   `ℓ`, `rate` the body rates;
+/// * `fix`: the receiver's velocity, turned into launch-inertial axes;
 /// * `noise_mps`: 1σ per axis; `R = σ² I`.
 ///
 /// # Errors
@@ -197,61 +216,71 @@ pub struct BodyRate {
 #[inline(never)]
 pub fn gnss_velocity(
     attitude: &Quaternion<f64>,
+    position_m: &Vector3<f64>,
     velocity_mps: &Vector3<f64>,
     lever_arm_body_m: &Vector3<f64>,
     rate: &BodyRate,
-    measured_velocity_mps: &Vector3<f64>,
+    fix: &GnssVelocityFix,
     noise_mps: f64,
 ) -> Result<LinearMeasurement, NavError> {
     let inputs_finite = quaternion_is_finite(attitude)
+        && all_finite3(position_m)
         && all_finite3(velocity_mps)
         && all_finite3(lever_arm_body_m)
         && all_finite3(&rate.corrected_rad_s)
         && all_finite3(&rate.measured_rad_s)
-        && all_finite3(measured_velocity_mps);
+        && all_finite3(&fix.turned_velocity_mps)
+        && all_finite3(&fix.earth.rate_launch_rad_s)
+        && all_finite3(&fix.earth.centre_launch_m);
     if !(inputs_finite && noise_mps.is_finite() && noise_mps >= 0.0) {
         return Err(NavError::NonFiniteInput);
     }
     let body_to_inertial = rotation_matrix(attitude);
+    let antenna_position = position_m + body_to_inertial * lever_arm_body_m;
+    let measured = fix.turned_velocity_mps + fix.earth.velocity_at(&antenna_position);
     let lever_velocity = rate.corrected_rad_s.cross(lever_arm_body_m);
     let predicted = velocity_mps + body_to_inertial * lever_velocity;
     let lever = body_to_inertial * skew(lever_arm_body_m);
-    let attitude_block = -2.0 * body_to_inertial * skew(&lever_velocity);
+    let earth_rate = skew(&fix.earth.rate_launch_rad_s);
+    let attitude_block = (earth_rate * lever - body_to_inertial * skew(&lever_velocity)) * 2.0;
     let scale_block = lever * Matrix3::from_diagonal(&rate.measured_rad_s);
     Ok(LinearMeasurement {
-        residual: measured_velocity_mps - predicted,
-        jacobian: velocity_jacobian(&attitude_block, &lever, &scale_block),
+        residual: measured - predicted,
+        jacobian: velocity_jacobian(&attitude_block, &-earth_rate, &lever, &scale_block),
         noise_covariance: Matrix3::identity() * (noise_mps * noise_mps),
         gnss_error_coefficient: 0.0,
     })
 }
 
-/// The GNSS velocity's `H` (module docs) from its blocks `H_attitude`, `H_gyro_bias` and
-/// `H_gyro_scale` (`H_velocity = I`), as one expression of its 24 columns (nalgebra stores
-/// columns), in [`gnss_velocity`], which is not inlined: LLVM then writes most of it into
-/// the caller's result directly, where a zero-filled `H` written by blocks, or this one
-/// inlined into the scheduler, is assembled in a temporary and copied.
+/// The GNSS velocity's `H` (module docs) from its blocks `H_attitude`, `H_position`,
+/// `H_gyro_bias` and `H_gyro_scale` (`H_velocity = I`), as one expression of its 24 columns
+/// (nalgebra stores columns), in [`gnss_velocity`], which is not inlined: LLVM then writes
+/// most of it into the caller's result directly, where a zero-filled `H` written by blocks,
+/// or this one inlined into the scheduler, is assembled in a temporary and copied.
 #[inline(always)]
 fn velocity_jacobian(
     attitude: &Matrix3<f64>,
+    position: &Matrix3<f64>,
     gyro_bias: &Matrix3<f64>,
     gyro_scale: &Matrix3<f64>,
 ) -> MeasurementJacobian {
     // The column positions below are those of the state layout.
     const _: () = assert!(
         ATTITUDE.index() == 0
+            && POSITION.index() == 3
             && VELOCITY.index() == 6
             && GYRO_BIAS.index() == 9
             && GYRO_SCALE_FACTOR.index() == 18
             && STATE_DIMENSION == 24
     );
     let [a0, a1, a2] = attitude.data.0;
+    let [p0, p1, p2] = position.data.0;
     let [b0, b1, b2] = gyro_bias.data.0;
     let [s0, s1, s2] = gyro_scale.data.0;
     let z = [0.0; 3];
     let [v0, v1, v2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     MeasurementJacobian::from_data(ArrayStorage([
-        a0, a1, a2, z, z, z, v0, v1, v2, b0, b1, b2, z, z, z, z, z, z, s0, s1, s2, z, z, z,
+        a0, a1, a2, p0, p1, p2, v0, v1, v2, b0, b1, b2, z, z, z, z, z, z, s0, s1, s2, z, z, z,
     ]))
 }
 
@@ -376,6 +405,33 @@ mod tests {
         }
     }
 
+    /// An Earth turning far faster than the real one (rad/s), so that its terms weigh in
+    /// the test as much as the lever arm's, with its centre 2 km from the estimate so that
+    /// the Earth-rotation velocity stays small enough for round-off not to hide them.
+    fn earth() -> EarthRotation {
+        EarthRotation {
+            rate_launch_rad_s: Vector3::new(0.02, -0.05, 0.03),
+            centre_launch_m: estimate().position + Vector3::new(100.0, -2.0e3, 300.0),
+        }
+    }
+
+    /// The receiver's velocity for the truth `estimate ⊕ error`, turned into launch-inertial
+    /// axes: the antenna's inertial velocity less the Earth's rotation at its true position.
+    fn turned_velocity(
+        error: &SVector<f64, 24>,
+        true_rate: impl Fn(&crate::error_model::tests::Hypothesis) -> Vector3<f64>,
+    ) -> GnssVelocityFix {
+        let truth = perturbed(&estimate(), error);
+        let body_to_inertial = rotation_matrix(&truth.attitude);
+        let antenna_velocity =
+            truth.velocity + body_to_inertial * true_rate(&truth).cross(&LEVER_ARM);
+        let antenna_position = truth.position + body_to_inertial * LEVER_ARM;
+        GnssVelocityFix {
+            turned_velocity_mps: antenna_velocity - earth().velocity_at(&antenna_position),
+            earth: earth(),
+        }
+    }
+
     #[test]
     fn gnss_velocity_jacobian_predicts_the_nonlinear_residual_to_second_order() {
         use crate::error_model::tests::MEASURED_RATE;
@@ -387,59 +443,52 @@ mod tests {
             corrected_rad_s: true_rate(&est),
             measured_rad_s: MEASURED_RATE,
         };
-        for block in [ATTITUDE, VELOCITY, GYRO_BIAS, GYRO_SCALE_FACTOR] {
-            assert_second_order(block, scale(block), |error| {
-                let truth = perturbed(&est, error);
-                let antenna = truth.velocity
-                    + rotation_matrix(&truth.attitude) * true_rate(&truth).cross(&LEVER_ARM);
-                let m = gnss_velocity(
-                    &est.attitude,
-                    &est.velocity,
-                    &LEVER_ARM,
-                    &rate,
-                    &antenna,
-                    0.05,
-                )
-                .unwrap();
-                (m.residual, m.jacobian * error)
-            });
-        }
-        let m = gnss_velocity(
-            &est.attitude,
-            &est.velocity,
-            &LEVER_ARM,
-            &rate,
-            &est.velocity,
-            0.05,
-        )
-        .unwrap();
-        assert!((m.noise_covariance[(0, 0)] - 0.0025).abs() < 1e-15);
-        assert_eq!(m.gnss_error_coefficient.to_bits(), 0.0f64.to_bits());
-        for block in [POSITION, STAR_INSTALLATION] {
-            assert_eq!(
-                m.jacobian
-                    .fixed_columns::<3>(block.index())
-                    .amax()
-                    .to_bits(),
-                0.0f64.to_bits()
-            );
-        }
-        let bad = Vector3::new(f64::NAN, 0.0, 0.0);
-        assert_eq!(
-            gnss_velocity(&est.attitude, &est.velocity, &LEVER_ARM, &rate, &bad, 0.05),
-            Err(NavError::NonFiniteInput)
-        );
-        assert_eq!(
+        let measure = |fix: &GnssVelocityFix, noise_mps: f64| {
             gnss_velocity(
                 &est.attitude,
+                &est.position,
                 &est.velocity,
                 &LEVER_ARM,
                 &rate,
-                &est.velocity,
-                -1.0
-            ),
-            Err(NavError::NonFiniteInput)
+                fix,
+                noise_mps,
+            )
+        };
+        for block in [ATTITUDE, POSITION, VELOCITY, GYRO_BIAS, GYRO_SCALE_FACTOR] {
+            assert_second_order(block, scale(block), |error| {
+                let m = measure(&turned_velocity(error, true_rate), 0.05).unwrap();
+                (m.residual, m.jacobian * error)
+            });
+        }
+        let exact = turned_velocity(&SVector::zeros(), true_rate);
+        let m = measure(&exact, 0.05).unwrap();
+        assert!(m.residual.amax() < 1e-9, "{}", m.residual.amax());
+        assert!((m.noise_covariance[(0, 0)] - 0.0025).abs() < 1e-15);
+        assert_eq!(m.gnss_error_coefficient.to_bits(), 0.0f64.to_bits());
+        assert_eq!(
+            m.jacobian
+                .fixed_columns::<3>(STAR_INSTALLATION.index())
+                .amax()
+                .to_bits(),
+            0.0f64.to_bits()
         );
+        let bad = Vector3::new(f64::NAN, 0.0, 0.0);
+        for fix in [
+            GnssVelocityFix {
+                turned_velocity_mps: bad,
+                ..exact
+            },
+            GnssVelocityFix {
+                earth: EarthRotation {
+                    rate_launch_rad_s: bad,
+                    ..earth()
+                },
+                ..exact
+            },
+        ] {
+            assert_eq!(measure(&fix, 0.05), Err(NavError::NonFiniteInput));
+        }
+        assert_eq!(measure(&exact, -1.0), Err(NavError::NonFiniteInput));
     }
 
     /// The star measurement of a sensor that sees exactly the estimated attitude.

@@ -145,7 +145,7 @@ impl NavigationComputer {
                 position,
                 self.config.gnss.noise_m,
             ),
-            Due::GnssVelocity(_, velocity) => {
+            Due::GnssVelocity(_, turned_velocity) => {
                 // The lever-arm term's body rates: the mean of the last propagation interval.
                 let rate = self.covariance.last_point.map_or(
                     BodyRate {
@@ -157,12 +157,17 @@ impl NavigationComputer {
                         measured_rad_s: point.measured_rate_rad_s,
                     },
                 );
+                let fix = GnssVelocityFix {
+                    turned_velocity_mps: *turned_velocity,
+                    earth: self.launch_frame.earth_rotation(),
+                };
                 gnss_velocity(
                     &snapshot.attitude,
+                    &snapshot.position_m,
                     &snapshot.velocity_mps,
                     &lever_arm,
                     &rate,
-                    velocity,
+                    &fix,
                     self.config.gnss.velocity_noise_mps,
                 )
             }

@@ -7,9 +7,12 @@ use super::*;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct GnssQueued {
     pub(super) position_m: [f64; 3],
-    /// Valid when `has_velocity` (the receiver outputs velocity and velocity fusion is
-    /// configured); plain words rather than an `Option` keep the queue's copies word-aligned.
-    pub(super) velocity_mps: [f64; 3],
+    /// The receiver's ECEF velocity turned into launch-inertial axes, without the Earth's
+    /// rotation, which the fusion adds at the estimated antenna position (nav-core
+    /// `measurement::gnss_velocity`). Valid when `has_velocity` (the receiver outputs velocity
+    /// and velocity fusion is configured); plain words rather than an `Option` keep the
+    /// queue's copies word-aligned.
+    pub(super) turned_velocity_mps: [f64; 3],
     pub(super) has_velocity: bool,
 }
 
@@ -17,6 +20,7 @@ pub(super) struct GnssQueued {
 pub(super) enum Due {
     Star(f64, Quaternion<f64>),
     GnssPosition(f64, Vector3<f64>),
+    /// The fix's velocity turned into launch-inertial axes (`GnssQueued::turned_velocity_mps`).
     GnssVelocity(f64, Vector3<f64>),
 }
 
@@ -154,22 +158,19 @@ impl NavigationComputer {
         let position_m = self
             .launch_frame
             .ecef_to_launch_inertial(&position_ecef, time_tag_s)?;
-        let velocity_mps = match fix.velocity_ecef_mps {
-            Some(velocity) if self.config.gnss.velocity_noise_mps > 0.0 => {
-                Some(self.launch_frame.ecef_velocity_to_launch_inertial(
-                    &position_ecef,
-                    &ports::vector(&velocity),
-                    time_tag_s,
-                )?)
-            }
+        let turned_velocity_mps = match fix.velocity_ecef_mps {
+            Some(velocity) if self.config.gnss.velocity_noise_mps > 0.0 => Some(
+                self.launch_frame
+                    .ecef_velocity_to_launch_axes(&ports::vector(&velocity), time_tag_s)?,
+            ),
             _ => None,
         };
         Ok((
             time_tag_s,
             GnssQueued {
                 position_m: array3(&position_m),
-                velocity_mps: velocity_mps.as_ref().map_or([0.0; 3], array3),
-                has_velocity: velocity_mps.is_some(),
+                turned_velocity_mps: turned_velocity_mps.as_ref().map_or([0.0; 3], array3),
+                has_velocity: turned_velocity_mps.is_some(),
             },
         ))
     }
@@ -220,7 +221,10 @@ impl NavigationComputer {
             let position = ports::vector(&fix.position_m);
             if fix.has_velocity {
                 self.aids.pending_gnss_position = Some((tag, position));
-                Some(Due::GnssVelocity(tag, ports::vector(&fix.velocity_mps)))
+                Some(Due::GnssVelocity(
+                    tag,
+                    ports::vector(&fix.turned_velocity_mps),
+                ))
             } else {
                 Some(Due::GnssPosition(tag, position))
             }

@@ -55,7 +55,7 @@ use nav_core::filter::{
 use nav_core::frames::LaunchFrame;
 use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::measurement::{
-    gnss_position, gnss_velocity, star_sensor, BodyRate, LinearMeasurement,
+    gnss_position, gnss_velocity, star_sensor, BodyRate, GnssVelocityFix, LinearMeasurement,
 };
 use nav_core::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,

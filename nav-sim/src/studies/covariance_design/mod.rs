@@ -51,7 +51,7 @@ use nav_core::attitude::{exp_rotation_vector, rotation_matrix};
 use nav_core::discretise::discretise;
 use nav_core::error_model::{noise_input_matrix, system_matrix, LinearisationPoint, ProcessNoise};
 use nav_core::filter::{ErrorState, ErrorStateFilter, FilterMode};
-use nav_core::frames::LaunchFrame;
+use nav_core::frames::{EarthRotation, LaunchFrame};
 use nav_core::gravity::GravityModel;
 use nav_core::imu_error::IMU_ERROR_DIMENSION;
 use nav_core::measurement;
@@ -396,6 +396,8 @@ struct Aiding {
     gnss_noise_m: f64,
     /// 0 = the receiver outputs no velocity (no velocity update).
     gnss_velocity_noise_mps: f64,
+    /// The Earth's rotation, whose velocity term couples the velocity update to position.
+    earth: EarthRotation,
     star_max_rate_rad_s: f64,
     star_reacquisition_s: f64,
     star_blind_until_s: f64,
@@ -404,7 +406,11 @@ struct Aiding {
 }
 
 impl Aiding {
-    fn new(scenario: &Scenario, options: &DesignOptions) -> Result<Self, DesignError> {
+    fn new(
+        scenario: &Scenario,
+        options: &DesignOptions,
+        earth: EarthRotation,
+    ) -> Result<Self, DesignError> {
         let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
         // One update stands for the mean of n epochs: 1/n of the variance.
         let stride_sigma = 1.0 / f64::from(options.measurement_stride.max(1)).sqrt();
@@ -430,6 +436,7 @@ impl Aiding {
             star_noise_rad: star.noise_rad().max(1e-12) * stride_sigma,
             gnss_noise_m: gnss_noise_m.max(1e-6) * stride_sigma,
             gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps * stride_sigma,
+            earth,
             star_max_rate_rad_s: star.max_rate_deg_per_s.to_radians(),
             star_reacquisition_s: star.reacquisition_s,
             star_blind_until_s: f64::NEG_INFINITY,
@@ -498,12 +505,17 @@ impl Aiding {
                 corrected_rad_s: Vector3::zeros(),
                 measured_rad_s: Vector3::zeros(),
             };
+            let fix = measurement::GnssVelocityFix {
+                turned_velocity_mps: truth.velocity_mps - self.earth.velocity_at(&truth.position_m),
+                earth: self.earth,
+            };
             measurement::gnss_velocity(
                 &truth.attitude_q_ib,
+                &truth.position_m,
                 &truth.velocity_mps,
                 &Vector3::zeros(),
                 &rate,
-                &truth.velocity_mps,
+                &fix,
                 self.gnss_velocity_noise_mps,
             )
             .and_then(|linear| filter.update(&linear))
@@ -611,7 +623,7 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
     let stride = u64::from(options.measurement_stride.max(1));
     let star_frames = frames_in(1.0 / scenario.star_sensor.rate_hz, period_s).max(1) * stride;
     let gnss_frames = frames_in(1.0 / scenario.gnss.rate_hz, period_s).max(1) * stride;
-    let mut aiding = Aiding::new(scenario, options)?;
+    let mut aiding = Aiding::new(scenario, options, frame.earth_rotation())?;
     let step_frames = usize::try_from(options.step_frames).unwrap_or(usize::MAX);
 
     let mut orbit = OrbitTracker {
