@@ -272,12 +272,12 @@ const STAR_SLOW_ERROR_SCENARIO: &str = "nav-sim/scenarios/star_tracker_slow_erro
 /// The realistic-sensor scenario of the replay test.
 const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";
 /// Worst frame the flight path may take on the Cortex-M7 (instructions) with the
-/// correlated-GNSS-error states and the velocity update (measured 20,360: a GNSS velocity
-/// update referred by one frame, in a frame that fuses and does not propagate;
+/// correlated-GNSS-error states and the velocity update (the dearest frame is a GNSS velocity
+/// update referred by one frame, in a frame that fuses and does not propagate; measured in
 /// docs/performance.md).
 const WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 23_000;
 /// Worst frame of the paper's flight (white GNSS errors, no error states) on the Cortex-M7
-/// (instructions; measured 17,400, docs/performance.md).
+/// (instructions; measured in docs/performance.md).
 const PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 20_000;
 
 /// A recorded log with what real logs have: IMU samples missing (one, then five in a row), a
