@@ -70,9 +70,10 @@ fn default_scenario_replays_bit_for_bit_on_host_and_target() {
 /// The realistic-sensor flight path on the target: the default flight with a receiver whose
 /// errors are 6 m white + 8 m correlated (τ = 300 s) and that outputs velocity (0.05 m/s),
 /// a star tracker blind above 3 °/s for 10 s after, and the filter given the receiver's
-/// specification (`nav-sim/scenarios/realistic_sensors.toml`): the correlated-error states
-/// and the velocity update run on QEMU bit for bit with the host, every frame within the
-/// worst-frame budget.
+/// specification, in the real gravity field with the flight's 12 × 12 model and its allowance
+/// (`nav-sim/scenarios/realistic_sensors.toml`): the correlated-error states, the velocity
+/// update and the field's evaluation run on QEMU bit for bit with the host, every frame
+/// within the worst-frame budget.
 #[test]
 #[ignore = "needs qemu-system-arm and the replay firmware; run by scripts/test.sh"]
 fn realistic_sensor_scenario_replays_bit_for_bit_on_host_and_target() {

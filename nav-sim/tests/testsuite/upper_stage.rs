@@ -65,26 +65,26 @@ fn the_upper_stage_scenario_keeps_the_vehicles_limits() {
     assert!((total_m - 10.0).abs() < 1e-9 && gnss.velocity_noise_mps > 0.0);
 }
 
-/// The upper stage reaches the paper's figure on every state its manoeuvres excite (gyro
-/// scale factors from 24 slow turns, the x accelerometer scale factor from the 1.25 km/s of
-/// main-engine burns), and honestly not on the y and z accelerometer scale factors, which 50 m/s
-/// of RCS translation cannot resolve (σ/accuracy measured 23.7 and 17.7).
+/// The upper stage in the real gravity field reaches the paper's figure on every state its
+/// manoeuvres excite and the field leaves to it (gyro scale factors from 24 slow turns, the
+/// biases, the installation error), comes near it on the x accelerometer scale factor, which
+/// 1.25 km/s of main-engine burns observe through a velocity the omitted field's allowance
+/// blurs (σ/accuracy measured 1.13; 0.67 in a `J2` world, docs/upper-stage.md), and honestly
+/// not on the y and z accelerometer scale factors, which 50 m/s of RCS translation cannot
+/// resolve (σ/accuracy measured 68 and 56).
 #[test]
 fn the_upper_stage_flight_calibrates_what_its_manoeuvres_reach() {
     let scenario = Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap();
     let (rows, nees) = fly_whole(&scenario);
     for row in &rows {
         let ratio = sigma_ratio(row);
-        let lateral_accelerometer = row.parameter == Parameter::AccelerometerScaleFactor
-            && row.axis != nav_sim::output::report::Axis::X;
-        if lateral_accelerometer {
-            assert!(
-                (10.0..40.0).contains(&ratio),
-                "{row:?}: σ/accuracy {ratio:.2}"
-            );
-        } else {
-            assert!(ratio < 1.0, "{row:?}: σ/accuracy {ratio:.2}");
-        }
+        let accelerometer_scale = row.parameter == Parameter::AccelerometerScaleFactor;
+        let bound = match row.axis {
+            _ if !accelerometer_scale => 0.0..1.0,
+            nav_sim::output::report::Axis::X => 1.0..1.5,
+            _ => 30.0..100.0,
+        };
+        assert!(bound.contains(&ratio), "{row:?}: σ/accuracy {ratio:.2}");
     }
     assert!(nees < CALIBRATION_NEES_BOUND, "NEES {nees:.1}");
 }

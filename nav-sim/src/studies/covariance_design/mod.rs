@@ -26,7 +26,10 @@
 //! * the flight software's second-order attitude growth while the star sensor is unheard
 //!   (`covariance.second_order_attitude`, nav-core `unmodelled`), with the scheduler's rule:
 //!   grown after each propagation that no star update follows, restarted by a star update;
-//!   while the sensor is unheard the covariance steps are single frames, as in flight.
+//!   while the sensor is unheard the covariance steps are single frames, as in flight;
+//! * the flight software's allowance for the gravity field its model omits
+//!   (`[filter.gravity]`), scaled with the omitted field's power at the truth's radius
+//!   (`allowance.rs`).
 //!
 //! Simplifications (stated in `docs/scenario-design.md`):
 //! * the covariance is propagated over steps of [`DesignOptions::step_frames`] IMU frames
@@ -69,10 +72,12 @@ use crate::setup::SetupError;
 use crate::world::sensors::{star_tracker_tracks, SensorErrorTruth, SensorSimulator};
 use crate::world::truth::{TruthError, TruthFrame, TruthSimulator};
 
+mod allowance;
 mod augmented;
 mod imu_errors;
 mod orbit;
 
+use allowance::GravityAllowance;
 use augmented::AnalysedFilter;
 use imu_errors::MultiplierTracker;
 pub use imu_errors::{ImuErrorReport, ImuErrorRow};
@@ -612,10 +617,11 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
             error,
         }
     })?);
-    let noise = options
+    let base_noise = options
         .process_noise
-        .unwrap_or_else(|| scenario_process_noise(scenario))
-        .spectral_density_diagonal();
+        .unwrap_or_else(|| scenario_process_noise(scenario));
+    let mut allowance = GravityAllowance::new(scenario, base_noise);
+    let noise = base_noise.spectral_density_diagonal();
     let gravity = GravityModel { j2_enabled: true };
     let gravity_for_gradient = options.gravity_gradient.then_some(&gravity);
 
@@ -689,10 +695,16 @@ pub fn analyse(scenario: &Scenario, options: &DesignOptions) -> Result<DesignRep
         }
         let mut measured_rate = None;
         if let Some((point, interval_s, time_s)) = step.point(&frame, gravity_for_gradient) {
+            let step_noise = match &mut allowance {
+                Some(allowance) => allowance
+                    .noise_at(&launch, &current.position_m)?
+                    .spectral_density_diagonal(),
+                None => noise,
+            };
             let model = discretise(
                 &system_matrix(&point),
                 &noise_input_matrix(&point),
-                &noise,
+                &step_noise,
                 interval_s,
                 config.discretisation_order,
             )

@@ -371,7 +371,7 @@ fn scaled_to_lowest(
 /// The flight software's own omitted RMS at `radius_m` (one whole evaluation of nav-core's
 /// `FieldRemainder` at a point of that radius: the figure depends on the radius only), per
 /// axis.
-fn flight_check_sigma(
+pub(crate) fn flight_check_sigma(
     flight: &FlightGravityModel,
     launch: &Launch,
     radius_m: f64,
