@@ -4,10 +4,8 @@
 //! `s = min(1, (rms / √3 σ)²)` of the omitted field's RMS at the vehicle's radius (nav-fsw
 //! `scheduler::gravity::process_noise_at`, docs/gravity.md). The flight takes the RMS from
 //! its own evaluation at the navigation solution every 0.1 s; the analysis takes the same
-//! evaluation at the truth's radius, once per 100 m of radius (the RMS changes by under
-//! 0.1 % across a bin, the bound of `gravity_omission`'s radius bins).
-
-use std::collections::HashMap;
+//! evaluation at the truth's radius, once per 100 m of radius (`gravity_omission`'s radius
+//! bins, across which the RMS changes by under 0.1 %).
 
 use nalgebra::Vector3;
 use nav_core::error_model::ProcessNoise;
@@ -15,18 +13,14 @@ use nav_core::error_model::ProcessNoise;
 use super::DesignError;
 use crate::scenario::Scenario;
 use crate::setup::launch::Launch;
-use crate::studies::gravity_omission::{flight_check_sigma, FlightGravityModel};
+use crate::studies::gravity_omission::{CheckSigmaByRadius, FlightGravityModel};
 
-/// Width of the radius bins the omitted RMS is evaluated for (m).
-const RADIUS_BIN_M: f64 = 100.0;
-
-/// The allowance of one flight and the omitted RMS per radius bin evaluated so far.
+/// The allowance of one flight and its flight model's omitted RMS by radius.
 pub(super) struct GravityAllowance {
     base: ProcessNoise,
     psd_m2_per_s3: f64,
     sigma_mps2: f64,
-    flight: FlightGravityModel,
-    sigma_by_bin: HashMap<i64, f64>,
+    check: CheckSigmaByRadius,
 }
 
 impl GravityAllowance {
@@ -37,11 +31,10 @@ impl GravityAllowance {
             base,
             psd_m2_per_s3: gravity.omitted_field_psd_m2_per_s3,
             sigma_mps2: gravity.omitted_field_sigma_mps2,
-            flight: FlightGravityModel::new(
+            check: CheckSigmaByRadius::new(FlightGravityModel::new(
                 usize::from(gravity.degree),
                 usize::from(gravity.order),
-            ),
-            sigma_by_bin: HashMap::new(),
+            )),
         })
     }
 
@@ -55,17 +48,10 @@ impl GravityAllowance {
         position_m: &Vector3<f64>,
     ) -> Result<ProcessNoise, DesignError> {
         let radius_m = launch.frame.geocentric_position_launch(position_m).norm();
-        // Radii of a flight are far below 2^63 bins; the cast saturates otherwise.
-        let bin = (radius_m / RADIUS_BIN_M).round() as i64;
-        let per_axis_mps2 = match self.sigma_by_bin.get(&bin) {
-            Some(&sigma) => sigma,
-            None => {
-                let sigma = flight_check_sigma(&self.flight, launch, bin as f64 * RADIUS_BIN_M)
-                    .map_err(|error| DesignError::Sensor(error.to_string()))?;
-                self.sigma_by_bin.insert(bin, sigma);
-                sigma
-            }
-        };
+        let per_axis_mps2 = self
+            .check
+            .at(launch, radius_m)
+            .map_err(|error| DesignError::Sensor(error.to_string()))?;
         // The flight's ratio rms / (√3 σ) with the per-axis figure: rms = √3 · per axis. A
         // figure that is not a number counts as above, as in flight.
         let ratio = per_axis_mps2 / self.sigma_mps2;

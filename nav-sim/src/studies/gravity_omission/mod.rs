@@ -339,8 +339,40 @@ fn zero_frequency_scaled(
 /// `(n + 2) Δr / r` = 62 · 100 / 6.6e6 for `n` ≤ 60).
 const RADIUS_BIN_M: f64 = 100.0;
 
+/// The flight software's omitted RMS per axis by radius ([`flight_check_sigma`]), evaluated
+/// once per [`RADIUS_BIN_M`] bin and kept.
+pub(crate) struct CheckSigmaByRadius {
+    flight: FlightGravityModel,
+    sigma_by_bin: std::collections::HashMap<i64, f64>,
+}
+
+impl CheckSigmaByRadius {
+    /// For the flight model `flight`, nothing evaluated yet.
+    pub(crate) fn new(flight: FlightGravityModel) -> Self {
+        Self {
+            flight,
+            sigma_by_bin: std::collections::HashMap::new(),
+        }
+    }
+
+    /// The omitted RMS per axis (m/s²) at the centre of `radius_m`'s bin.
+    ///
+    /// # Errors
+    /// [`OmissionError::Setting`] if the flight model's evaluation fails.
+    pub(crate) fn at(&mut self, launch: &Launch, radius_m: f64) -> Result<f64, OmissionError> {
+        // Radii of a flight are far below 2^63 bins; the cast saturates otherwise.
+        let bin = (radius_m / RADIUS_BIN_M).round() as i64;
+        if let Some(&sigma) = self.sigma_by_bin.get(&bin) {
+            return Ok(sigma);
+        }
+        let sigma = flight_check_sigma(&self.flight, launch, bin as f64 * RADIUS_BIN_M)?;
+        self.sigma_by_bin.insert(bin, sigma);
+        Ok(sigma)
+    }
+}
+
 /// `d_k · σ_low / σ(r_k)`: the difference scaled to the field at the lowest altitude, `σ(r)`
-/// the flight software's omitted RMS per axis at `r` (evaluated once per [`RADIUS_BIN_M`]).
+/// the flight software's omitted RMS per axis at `r` ([`CheckSigmaByRadius`]).
 fn scaled_to_lowest(
     flight: &FlightGravityModel,
     launch: &Launch,
@@ -348,30 +380,18 @@ fn scaled_to_lowest(
     radii_m: &[f64],
     lowest_sigma_mps2: f64,
 ) -> Result<Vec<Vector3<f64>>, OmissionError> {
-    let mut sigma_by_bin = std::collections::HashMap::new();
+    let mut check = CheckSigmaByRadius::new(*flight);
     difference
         .iter()
         .zip(radii_m)
-        .map(|(d, &radius_m)| {
-            // Radii of a flight are far below 2^63 bins; the cast saturates otherwise.
-            let bin = (radius_m / RADIUS_BIN_M).round() as i64;
-            let sigma = match sigma_by_bin.get(&bin) {
-                Some(&sigma) => sigma,
-                None => {
-                    let sigma = flight_check_sigma(flight, launch, bin as f64 * RADIUS_BIN_M)?;
-                    sigma_by_bin.insert(bin, sigma);
-                    sigma
-                }
-            };
-            Ok(d * (lowest_sigma_mps2 / sigma))
-        })
+        .map(|(d, &radius_m)| Ok(d * (lowest_sigma_mps2 / check.at(launch, radius_m)?)))
         .collect()
 }
 
 /// The flight software's own omitted RMS at `radius_m` (one whole evaluation of nav-core's
 /// `FieldRemainder` at a point of that radius: the figure depends on the radius only), per
 /// axis.
-pub(crate) fn flight_check_sigma(
+fn flight_check_sigma(
     flight: &FlightGravityModel,
     launch: &Launch,
     radius_m: f64,
