@@ -213,6 +213,29 @@ pub struct GnssVelocityFix {
 ///
 /// # Errors
 /// [`NavError::NonFiniteInput`] for NaN/Inf in any input or a negative noise.
+///
+/// # Examples
+/// ```
+/// use nalgebra::{Quaternion, Vector3};
+/// use nav_core::frames::EarthRotation;
+/// use nav_core::measurement::{gnss_velocity, BodyRate, GnssVelocityFix};
+/// let earth = EarthRotation {
+///     rate_launch_rad_s: Vector3::new(0.0, 7.292115e-5, 0.0),
+///     centre_launch_m: Vector3::new(0.0, -6.4e6, 0.0),
+/// };
+/// let (position, velocity) = (Vector3::new(0.0, 5.0e5, 0.0), Vector3::new(7600.0, 0.0, 0.0));
+/// // A receiver that sees the estimated motion: its ECEF velocity, turned into launch
+/// // axes, is the inertial velocity less the Earth's rotation at the antenna.
+/// let turned_velocity_mps = velocity - earth.velocity_at(&position);
+/// let fix = GnssVelocityFix { turned_velocity_mps, earth };
+/// let rate = BodyRate { corrected_rad_s: Vector3::zeros(), measured_rad_s: Vector3::zeros() };
+/// let no_lever_arm = Vector3::zeros();
+/// let m = gnss_velocity(&Quaternion::identity(), &position, &velocity, &no_lever_arm, &rate, &fix, 0.05)
+///     .unwrap();
+/// assert!(m.residual.norm() < 1e-9);
+/// // The position error moves the Earth-rotation term: H_position = −[Ω×].
+/// assert!((m.jacobian[(2, 3)] - 7.292115e-5).abs() < 1e-15);
+/// ```
 #[inline(never)]
 pub fn gnss_velocity(
     attitude: &Quaternion<f64>,
