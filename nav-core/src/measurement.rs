@@ -43,8 +43,9 @@
 //! `p_a`. The fix's own position would carry its correlated error `ε` (8 m for a 10 m
 //! receiver) into the velocity as `Ω × ε`, 6e-4 m/s correlated over minutes, which the
 //! white Doppler noise model does not cover; over a long flight it makes the accelerometer
-//! states overconfident (`docs/upper-stage.md`). The term takes the estimated antenna position `p̂_a = p̂ + Ĉ ℓ` instead, whose error
-//! `p_a − p̂_a = δp − 2 Ĉ [ℓ×] ϑ` is in the state. With `u = ω̂ × ℓ`, residual
+//! states overconfident (`docs/upper-stage.md`). The term takes the estimated antenna
+//! position `p̂_a = p̂ + Ĉ ℓ` instead, whose error `p_a − p̂_a = δp − 2 Ĉ [ℓ×] ϑ` is in the
+//! state. With `u = ω̂ × ℓ`, residual
 //! `z = C R_k(θ) v_e + Ω × (p̂_a − c) − v̂ − Ĉ u
 //!    = δv + (C − Ĉ) u + Ĉ (δω × ℓ) − Ω × (δp − 2 Ĉ [ℓ×] ϑ)` to first order, where
 //! `(C − Ĉ) u = −2 Ĉ [u×] ϑ` as above and `δω = ω − ω̂ = −δb_g − diag(ω_m) δλ_g`
@@ -229,8 +230,8 @@ pub struct GnssVelocityFix {
 /// let turned_velocity_mps = velocity - earth.velocity_at(&position);
 /// let fix = GnssVelocityFix { turned_velocity_mps, earth };
 /// let rate = BodyRate { corrected_rad_s: Vector3::zeros(), measured_rad_s: Vector3::zeros() };
-/// let no_lever_arm = Vector3::zeros();
-/// let m = gnss_velocity(&Quaternion::identity(), &position, &velocity, &no_lever_arm, &rate, &fix, 0.05)
+/// let (attitude, no_lever_arm) = (Quaternion::identity(), Vector3::zeros());
+/// let m = gnss_velocity(&attitude, &position, &velocity, &no_lever_arm, &rate, &fix, 0.05)
 ///     .unwrap();
 /// assert!(m.residual.norm() < 1e-9);
 /// // The position error moves the Earth-rotation term: H_position = −[Ω×].

@@ -429,6 +429,9 @@ pub struct GravityConfig {
     pub omitted_field_psd_m2_per_s3: f64,
 }
 
+/// `√3`: the RMS magnitude of a vector of three independent axes of unit 1σ.
+const SQRT_3: f64 = 1.732_050_807_568_877_2;
+
 impl GravityConfig {
     /// Point mass + `J2` and no allowance: the paper's model.
     pub const J2_ONLY: Self = Self {
@@ -447,6 +450,54 @@ impl GravityConfig {
         let off = sigma == 0.0 && psd == 0.0;
         let on = sigma_is_squarable(sigma) && psd > 0.0 && psd <= 1.0;
         self.field.validate().is_ok() && (off || on)
+    }
+
+    /// The RMS magnitude of the omitted field the allowance covers (m/s²): `σ` per axis is
+    /// `√3 σ` in magnitude, the figure the flight software's omitted RMS is checked against.
+    pub fn covered_rms_mps2(&self) -> f64 {
+        SQRT_3 * self.omitted_field_sigma_mps2
+    }
+
+    /// `base` with the allowance added where the omitted field has the RMS magnitude
+    /// `omitted_rms_mps2`: the allowance `q` (m²/s³) is for a field of `σ` per axis (RMS
+    /// magnitude `√3 σ`), and its density scales with the field's power,
+    /// `q_r = q · min(1, (rms / √3 σ)²)`: the omitted degrees' field falls with the radius as
+    /// `(a/r)^(n+2)`, and a flight that climbs from its parking orbit leaves the field behind
+    /// (docs/gravity.md, "The allowance with the altitude"). Above `√3 σ` the allowance stays
+    /// `q`; an RMS that is not a number counts as above. In launch-inertial axes the
+    /// accelerometer's white noise enters the velocity as `C (σ_a² I) Cᵀ = σ_a² I`, so an
+    /// isotropic white velocity noise of density `q_r` is the same as an accelerometer
+    /// density `√(σ_a² + q_r)`. Without an allowance `base`, bit for bit.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::error_model::ProcessNoise;
+    /// use nav_fsw::config::GravityConfig;
+    /// let gravity = GravityConfig {
+    ///     omitted_field_sigma_mps2: 2.0e-5,
+    ///     omitted_field_psd_m2_per_s3: 1.0e-7,
+    ///     ..GravityConfig::J2_ONLY
+    /// };
+    /// let base = ProcessNoise::PAPER;
+    /// // Half the covered RMS: a quarter of the allowance.
+    /// let half = gravity.process_noise_at(&base, 0.5 * gravity.covered_rms_mps2());
+    /// let density = base.accel_noise_density_mps2_per_sqrt_hz;
+    /// let expected = (density * density + 0.25e-7).sqrt();
+    /// assert!((half.accel_noise_density_mps2_per_sqrt_hz - expected).abs() < 1e-18);
+    /// assert_eq!(GravityConfig::J2_ONLY.process_noise_at(&base, 1.0), base);
+    /// ```
+    pub fn process_noise_at(&self, base: &ProcessNoise, omitted_rms_mps2: f64) -> ProcessNoise {
+        let mut noise = *base;
+        let allowance = self.omitted_field_psd_m2_per_s3;
+        if allowance > 0.0 {
+            // σ > 0 whenever an allowance is configured (`is_valid`).
+            let ratio = omitted_rms_mps2 / self.covered_rms_mps2();
+            let share = if ratio < 1.0 { ratio * ratio } else { 1.0 };
+            let density = noise.accel_noise_density_mps2_per_sqrt_hz;
+            noise.accel_noise_density_mps2_per_sqrt_hz =
+                nav_core::float::sqrt(density * density + allowance * share);
+        }
+        noise
     }
 }
 

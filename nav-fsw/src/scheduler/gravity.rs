@@ -4,39 +4,11 @@
 
 use super::*;
 
-/// `√3`: the RMS magnitude of a vector of three independent axes of unit 1σ.
-const SQRT_3: f64 = 1.732_050_807_568_877_2;
-
-/// `config.process_noise` with the gravity allowance added where the omitted field has the
-/// RMS magnitude `omitted_rms_mps2`: the allowance `q` (m²/s³, [`GravityConfig`]) is for a
-/// field of `σ` per axis (RMS magnitude `√3 σ`), and its density scales with the field's
-/// power, `q_r = q · min(1, (rms / √3 σ)²)`: the omitted degrees' field falls with the radius
-/// as `(a/r)^(n+2)`, and a flight that climbs from its parking orbit leaves the field behind
-/// (docs/gravity.md, "The allowance with the altitude"). Above `√3 σ` the allowance stays `q`
-/// and the check raises `gravity_allowance_short`; an RMS that is not a number counts as above.
-/// In launch-inertial axes the accelerometer's white noise enters the velocity as
-/// `C (σ_a² I) Cᵀ = σ_a² I`, so an isotropic white velocity noise of density `q_r` is the
-/// same as an accelerometer density `√(σ_a² + q_r)`. Without an allowance the configured
-/// noise, bit for bit.
-///
-/// [`GravityConfig`]: crate::config::GravityConfig
-pub(super) fn process_noise_at(config: &FswConfig, omitted_rms_mps2: f64) -> ProcessNoise {
-    let mut noise = config.process_noise;
-    let allowance = config.gravity.omitted_field_psd_m2_per_s3;
-    if allowance > 0.0 {
-        // σ > 0 whenever an allowance is configured (GravityConfig::is_valid).
-        let ratio = omitted_rms_mps2 / (SQRT_3 * config.gravity.omitted_field_sigma_mps2);
-        let share = if ratio < 1.0 { ratio * ratio } else { 1.0 };
-        let density = noise.accel_noise_density_mps2_per_sqrt_hz;
-        noise.accel_noise_density_mps2_per_sqrt_hz =
-            nav_core::float::sqrt(density * density + allowance * share);
-    }
-    noise
-}
-
 /// The process noise before the field's first evaluation: the whole allowance.
 pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
-    process_noise_at(config, f64::INFINITY)
+    config
+        .gravity
+        .process_noise_at(&config.process_noise, f64::INFINITY)
 }
 
 impl NavigationComputer {
@@ -45,8 +17,8 @@ impl NavigationComputer {
     /// evaluation completes, its value goes to the strapdown (a model beyond `J2` only) and
     /// its omitted RMS (of the magnitude) is checked against the allowance's `√3 σ` (above it
     /// begins an episode of `gravity_allowance_short`) and sets the allowance's share of the
-    /// process noise ([`process_noise_at`]). A refused evaluation is counted and the held
-    /// value kept.
+    /// process noise ([`crate::config::GravityConfig::process_noise_at`]). A refused
+    /// evaluation is counted and the held value kept.
     #[inline(never)]
     pub(super) fn advance_gravity_field(&mut self) {
         let navigation = &mut self.navigation;
@@ -71,16 +43,17 @@ impl NavigationComputer {
                 .strapdown
                 .set_field_beyond_j2(Some(*field.acceleration_launch_mps2()));
         }
-        // The omitted RMS is of the vector's magnitude; an allowance of σ per axis covers a
-        // magnitude RMS of √3 σ.
-        let covered_rms = SQRT_3 * self.config.gravity.omitted_field_sigma_mps2;
-        let short = omitted_rms_mps2 > covered_rms;
+        // The omitted RMS is of the vector's magnitude, as is the allowance's cover.
+        let short = omitted_rms_mps2 > self.config.gravity.covered_rms_mps2();
         if short && !navigation.gravity_allowance_short {
             count(&mut self.health.counters.gravity_allowance_short);
         }
         navigation.gravity_allowance_short = short;
         if self.config.gravity.omitted_field_psd_m2_per_s3 > 0.0 {
-            self.covariance.process_noise = process_noise_at(&self.config, omitted_rms_mps2);
+            self.covariance.process_noise = self
+                .config
+                .gravity
+                .process_noise_at(&self.config.process_noise, omitted_rms_mps2);
         }
     }
 }
@@ -95,6 +68,9 @@ mod tests {
     /// noise, bit for bit, at any RMS.
     #[test]
     fn the_allowance_scales_with_the_omitted_fields_power() {
+        let process_noise_at = |config: &FswConfig, rms: f64| {
+            config.gravity.process_noise_at(&config.process_noise, rms)
+        };
         let mut config =
             FswConfig::paper_defaults(super::super::tests::site(), SensorFrames::ALIGNED);
         let configured = config.process_noise;

@@ -69,9 +69,8 @@ fn the_upper_stage_scenario_keeps_the_vehicles_limits() {
 /// manoeuvres excite and the field leaves to it (gyro scale factors from 24 slow turns, the
 /// biases, the installation error), comes near it on the x accelerometer scale factor, which
 /// 1.25 km/s of main-engine burns observe through a velocity the omitted field's allowance
-/// blurs (σ/accuracy measured 1.13; 0.67 in a `J2` world, docs/upper-stage.md), and honestly
-/// not on the y and z accelerometer scale factors, which 50 m/s of RCS translation cannot
-/// resolve (σ/accuracy measured 68 and 56).
+/// blurs, and honestly not on the y and z accelerometer scale factors, which 50 m/s of RCS
+/// translation cannot resolve (the measured ratios: docs/upper-stage.md).
 #[test]
 fn the_upper_stage_flight_calibrates_what_its_manoeuvres_reach() {
     let scenario = Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap();
