@@ -3,7 +3,7 @@
 use super::*;
 use crate::attitude::{exp_rotation_vector, rotation_matrix};
 use crate::discretise::discretise;
-use crate::error_model::{noise_input_matrix, ProcessNoise};
+use crate::error_model::{noise_input_matrix, system_matrix, LinearisationPoint, ProcessNoise};
 
 use nalgebra::{Quaternion, Vector3};
 

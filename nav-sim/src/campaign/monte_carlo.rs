@@ -163,7 +163,7 @@ pub fn fly_campaign(
             // The flight software is configured from the mission undispersed otherwise: the
             // other entries change only the truth ([`crate::setup::dispersion::truth_scenario`]).
             let truth = crate::setup::dispersion::truth_scenario(&seeded, seed);
-            let flight_config = crate::setup::dispersion::flight_config(&seeded, &truth)?;
+            let flight_config = crate::setup::fsw::run_config(&seeded, &truth)?;
             let run_options = crate::harness::flight::FlightOptions::default();
             crate::harness::flight::fly_with(
                 &truth,

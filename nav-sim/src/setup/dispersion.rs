@@ -249,26 +249,6 @@ pub fn initial_error_offsets(scenario: &Scenario) -> (Vector3<f64>, Vector3<f64>
     )
 }
 
-/// The flight software's configuration for a run: made from the undispersed `scenario`
-/// ([`crate::setup::fsw::fsw_config`]), with the measurement history's latency window widened to
-/// the `truth`'s dispersed GNSS latency plus the hand-over frame, as the scenario's own
-/// `gnss.latency_s` widens it: the window is a buffer length, not a model the filter assumes,
-/// and a fix older than it would be dropped rather than fused late.
-///
-/// # Errors
-/// As [`crate::setup::fsw::fsw_config`].
-pub fn flight_config(
-    scenario: &Scenario,
-    truth: &Scenario,
-) -> Result<nav_fsw::config::FswConfig, SetupError> {
-    let mut config = crate::setup::fsw::fsw_config(scenario)?;
-    if truth.gnss.latency_s > scenario.gnss.latency_s {
-        let window_s = truth.gnss.latency_s + scenario.imu.frame_period_s();
-        config.timing.max_latency_s = config.timing.max_latency_s.max(window_s);
-    }
-    Ok(config)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -94,7 +94,7 @@ fn each_run_draws_its_own_truth_and_keeps_the_filters_configuration() {
                 .map(f64::to_bits),
         );
         // The flight software's configuration is the undispersed scenario's.
-        let config = nav_sim::setup::dispersion::flight_config(&seeded, &truth).unwrap();
+        let config = nav_sim::setup::fsw::run_config(&seeded, &truth).unwrap();
         let nominal = fsw_config(&with_truth_drawn_from_prior(&undispersed, seed)).unwrap();
         assert_eq!(
             config.star.noise_rad.to_bits(),

@@ -1,6 +1,6 @@
 //! The library's layering (`src/lib.rs`, "Layers"), derived from the sources: every module
 //! imports only from its own layer and the layers below, no two source files import each
-//! other in a circle, and no source file is longer than a reader can hold.
+//! other in a circle, and no Rust file of the repository is longer than a reader can hold.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -62,12 +62,62 @@ fn code_lines(text: &str) -> impl Iterator<Item = &str> {
         .filter(|line| !line.trim().is_empty())
 }
 
-/// Every `crate::a::b::…` and `super::…` path in `code`, resolved to an absolute path, for
-/// a file whose module is `module` (`is_mod_file`: a `mod.rs`, whose `super` is its parent).
+/// The paths one use-tree names, starting at `text` (after its `crate::`, `super::` or
+/// `self::`), each appended to `prefix`: `a::b`, `a::{b, c::{d, self}}`, `a::*`,
+/// `a::b as c`. Returns the text after the tree. Grouped imports are expanded, so
+/// `crate::setup::{dispersion, SetupError}` names `setup::dispersion`, which a reader of the
+/// first segment alone would miss.
+fn use_tree<'a>(mut text: &'a str, prefix: &[String], paths: &mut Vec<Vec<String>>) -> &'a str {
+    let mut path = prefix.to_vec();
+    loop {
+        text = text.trim_start();
+        if let Some(inner) = text.strip_prefix('{') {
+            text = inner;
+            loop {
+                text = text.trim_start();
+                if let Some(after) = text.strip_prefix('}') {
+                    return after;
+                }
+                text = use_tree(text, &path, paths).trim_start();
+                if let Some(after) = text.strip_prefix(',') {
+                    text = after;
+                } else {
+                    return text.strip_prefix('}').unwrap_or(text);
+                }
+            }
+        }
+        let name: String = text
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '*')
+            .collect();
+        text = &text[name.len()..];
+        if !name.is_empty() && name != "self" && name != "*" {
+            path.push(name);
+        }
+        match text.strip_prefix("::") {
+            Some(next) => text = next,
+            None => {
+                paths.push(path);
+                // `a::b as c`: the alias names nothing of the crate.
+                return match text.trim_start().strip_prefix("as ") {
+                    Some(alias) => alias
+                        .trim_start()
+                        .trim_start_matches(|c: char| c.is_ascii_alphanumeric() || c == '_'),
+                    None => text,
+                };
+            }
+        }
+    }
+}
+
+/// Every `crate::…`, `super::…` and `self::…` path in `code`, in any form (a `use`, a
+/// grouped `use`, a path-qualified call), resolved to an absolute path, for a file whose
+/// module is `module` (`is_mod_file`: a `mod.rs`, whose `super` is its parent). A group
+/// directly at the crate root (`crate::{a::X, b::Y}`) is returned as the one path `["{"]`.
 fn referenced_paths(code: &str, module: &[String], is_mod_file: bool) -> Vec<Vec<String>> {
     let mut paths = Vec::new();
     let bytes = code.as_bytes();
-    for keyword in ["crate::", "super::"] {
+    for keyword in ["crate::", "super::", "self::"] {
         for (at, _) in code.match_indices(keyword) {
             let starts_word = at == 0
                 || !(bytes[at - 1].is_ascii_alphanumeric()
@@ -77,46 +127,30 @@ fn referenced_paths(code: &str, module: &[String], is_mod_file: bool) -> Vec<Vec
                 continue;
             }
             let rest = &code[at + keyword.len()..];
-            let mut segments: Vec<String> = Vec::new();
-            let mut remaining = rest;
-            loop {
-                let name: String = remaining
-                    .chars()
-                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                    .collect();
-                if name.is_empty() {
-                    break;
-                }
-                remaining = &remaining[name.len()..];
-                segments.push(name);
-                if let Some(next) = remaining.strip_prefix("::") {
-                    remaining = next;
-                } else {
-                    break;
-                }
+            if keyword == "crate::" && rest.starts_with('{') {
+                paths.push(vec!["{".to_string()]);
+                continue;
             }
-            if rest.starts_with('{') {
-                segments.push("{".to_string());
-            }
-            let mut absolute: Vec<String> = if keyword == "crate::" {
-                Vec::new()
-            } else {
-                // `super` of a file module is its parent; of a `mod.rs` (or of an inline
-                // `mod tests` inside a file) the parent of the directory.
-                let mut base = module.to_vec();
-                if !is_mod_file {
-                    base.pop();
-                }
-                base
+            // `super` of a file module is its parent; of a `mod.rs` (or of an inline `mod
+            // tests` inside a file) the parent of the directory. `self` is the module.
+            let base: Vec<String> = match keyword {
+                "crate::" => Vec::new(),
+                "super::" if !is_mod_file => module[..module.len().saturating_sub(1)].to_vec(),
+                _ => module.to_vec(),
             };
-            for segment in segments {
-                if segment == "super" {
-                    absolute.pop();
-                } else {
-                    absolute.push(segment);
+            let mut named = Vec::new();
+            use_tree(rest, &[], &mut named);
+            for segments in named {
+                let mut absolute = base.clone();
+                for segment in segments {
+                    if segment == "super" {
+                        absolute.pop();
+                    } else {
+                        absolute.push(segment);
+                    }
                 }
+                paths.push(absolute);
             }
-            paths.push(absolute);
         }
     }
     paths
@@ -275,25 +309,6 @@ fn no_source_files_import_each_other_in_a_circle() {
 }
 
 #[test]
-fn no_source_file_is_longer_than_the_limit() {
-    let root = source_root();
-    let mut files = Vec::new();
-    rust_files(&root, &mut files);
-    let long: Vec<String> = files
-        .iter()
-        .filter_map(|file| {
-            let lines = std::fs::read_to_string(file).unwrap().lines().count();
-            (lines > MAX_FILE_LINES).then(|| format!("{} has {lines} lines", file.display()))
-        })
-        .collect();
-    assert!(
-        long.is_empty(),
-        "longer than {MAX_FILE_LINES} lines:\n{}",
-        long.join("\n")
-    );
-}
-
-#[test]
 fn the_checker_sees_an_upward_import_a_cycle_and_a_grouped_import() {
     let source = |module: &str, text: &str| Source {
         module: module.split("::").map(str::to_string).collect(),
@@ -327,4 +342,65 @@ fn the_checker_sees_an_upward_import_a_cycle_and_a_grouped_import() {
     let mut acyclic = graph.clone();
     acyclic.insert(strings("world::sensors"), BTreeSet::new());
     assert_eq!(find_cycle(&acyclic), None);
+}
+
+#[test]
+fn the_checker_sees_grouped_nested_aliased_and_self_imports() {
+    let module = |path: &str| -> Vec<String> { path.split("::").map(str::to_string).collect() };
+    let code = "use crate::setup::{dispersion, streams::{self, Stream as S}, SetupError};\n\
+                use super::{launch::*, prior};\n\
+                fn f() { self::inner::g(); crate::world::truth::h() }";
+    let mut paths = referenced_paths(code, &module("setup::fsw"), false);
+    paths.sort();
+    let expected: Vec<Vec<String>> = [
+        "setup::SetupError",
+        "setup::dispersion",
+        "setup::fsw::inner::g",
+        "setup::launch",
+        "setup::prior",
+        "setup::streams",
+        "setup::streams::Stream",
+        "world::truth::h",
+    ]
+    .iter()
+    .map(|path| module(path))
+    .collect();
+    assert_eq!(paths, expected);
+}
+
+/// The same length rule in every crate of the repository (flight, simulator, firmware, tests,
+/// fuzz targets, the integrator example), not only in this library.
+#[test]
+fn no_rust_file_of_the_repository_is_longer_than_the_limit() {
+    let repository = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut files = Vec::new();
+    for crate_dir in [
+        "nav-core",
+        "nav-fsw",
+        "nav-sim",
+        "tests-host",
+        "qemu",
+        "fuzz",
+        "examples",
+    ] {
+        for tree in ["src", "tests", "benches", "fuzz_targets", "integrator/src"] {
+            let directory = repository.join(crate_dir).join(tree);
+            if directory.is_dir() {
+                rust_files(&directory, &mut files);
+            }
+        }
+    }
+    assert!(files.len() > 100, "found only {} Rust files", files.len());
+    let long: Vec<String> = files
+        .iter()
+        .filter_map(|file| {
+            let lines = std::fs::read_to_string(file).unwrap().lines().count();
+            (lines > MAX_FILE_LINES).then(|| format!("{} has {lines} lines", file.display()))
+        })
+        .collect();
+    assert!(
+        long.is_empty(),
+        "longer than {MAX_FILE_LINES} lines:\n{}",
+        long.join("\n")
+    );
 }

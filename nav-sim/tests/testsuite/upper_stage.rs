@@ -127,7 +127,7 @@ fn a_tail_draw_of_the_installation_error_does_not_lose_the_star_tracker() {
         "{installation_z_rad}"
     );
     let truth = nav_sim::setup::dispersion::truth_scenario(&seeded, seed);
-    let config = nav_sim::setup::dispersion::flight_config(&seeded, &truth).unwrap();
+    let config = nav_sim::setup::fsw::run_config(&seeded, &truth).unwrap();
     let options = FlightOptions {
         record_interval_s: 60.0,
     };
