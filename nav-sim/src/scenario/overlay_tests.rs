@@ -41,13 +41,19 @@ fn an_overlay_changes_only_its_keys_and_replaces_arrays_whole() {
     );
     let (scenario, resolved) = Scenario::load_resolved(&path).unwrap();
     let default = Scenario::default_scenario().unwrap();
-    assert_eq!(scenario.star_sensor.max_rate_deg_per_s, 3.0);
     assert_eq!(
-        scenario.star_sensor.noise_arcsec,
-        default.star_sensor.noise_arcsec
+        scenario.star_sensor.max_rate_deg_per_s.to_bits(),
+        3.0_f64.to_bits()
+    );
+    assert_eq!(
+        scenario.star_sensor.noise_arcsec.to_bits(),
+        default.star_sensor.noise_arcsec.to_bits()
     );
     assert_eq!(scenario.manoeuvres.len(), 1);
-    assert_eq!(scenario.manoeuvres[0].duration_s, 10.0);
+    assert_eq!(
+        scenario.manoeuvres[0].duration_s.to_bits(),
+        10.0_f64.to_bits()
+    );
     assert_eq!(scenario.gnss, default.gnss);
     assert_eq!(resolved.files().len(), 2);
     assert!(!resolved.table().contains_key("extends"));
@@ -103,7 +109,7 @@ fn the_base_is_found_beside_the_overlay_and_a_chain_names_every_file() {
     );
     let (scenario, resolved) = Scenario::load_resolved(&path).unwrap();
     assert_eq!(scenario.simulation.seed, 7);
-    assert_eq!(scenario.gnss.noise_m, 12.0);
+    assert_eq!(scenario.gnss.noise_m.to_bits(), 12.0_f64.to_bits());
     assert_eq!(resolved.files().len(), 3);
     assert!(resolved.files()[2].ends_with("default.toml"));
 }
