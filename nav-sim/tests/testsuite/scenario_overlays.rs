@@ -98,3 +98,20 @@ fn the_resolved_command_fails_on_a_bad_overlay_naming_file_and_key() {
         "{stderr}"
     );
 }
+
+#[test]
+fn every_overlay_resolves_to_its_original_file() {
+    let originals = scenarios().join("original");
+    let mut compared = 0;
+    for entry in std::fs::read_dir(originals).unwrap() {
+        let original = entry.unwrap().path();
+        let name = original.file_name().unwrap().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(&original).unwrap();
+        let values: toml::Table = text.parse().unwrap();
+        let resolved = resolve_file(&scenarios().join(&name)).unwrap();
+        assert!(resolved.files().len() >= 2, "{name} is not an overlay");
+        assert_eq!(resolved.table(), &values, "{name}");
+        compared += 1;
+    }
+    assert_eq!(compared, 37);
+}
