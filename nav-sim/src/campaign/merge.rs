@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::campaign::runs::RunRecord;
 use crate::campaign::shards::{CampaignError, Header, FORMAT, FORMAT_VERSION};
+use crate::output::scenario_label::ScenarioLabel;
 
 /// The shard files among `paths`: a directory stands for its `shard-*-of-*.jsonl` files
 /// (sorted by name), a file for itself.
@@ -116,8 +117,9 @@ fn read_shard(path: &Path) -> Result<(Header, Vec<RunRecord>), CampaignError> {
 /// A campaign read back from its shard files.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MergedCampaign {
-    /// The scenario file the first shard names (`None`: the built-in scenario).
-    pub scenario: Option<String>,
+    /// The scenario the first shard names: its file (`None`: the built-in scenario) and
+    /// resolved SHA-256.
+    pub scenario: ScenarioLabel,
     /// Every run, in run order.
     pub records: Vec<RunRecord>,
 }
@@ -186,7 +188,10 @@ pub fn merge(paths: &[PathBuf]) -> Result<MergedCampaign, CampaignError> {
         });
     }
     Ok(MergedCampaign {
-        scenario: header.scenario,
+        scenario: ScenarioLabel {
+            file: header.scenario,
+            sha256: header.scenario_sha256,
+        },
         records: runs.into_values().map(|(_, record)| record).collect(),
     })
 }
@@ -204,6 +209,7 @@ mod tests {
                 version: FORMAT_VERSION,
                 scenario: Some("my scenario.toml".into()),
                 scenario_hash: "0123456789abcdef".into(),
+                scenario_sha256: None,
                 seed_base: 100,
                 runs,
                 shard: index,
@@ -238,11 +244,12 @@ mod tests {
             merged.records.iter().map(|r| r.run).collect::<Vec<_>>(),
             (0..7).collect::<Vec<_>>()
         );
-        assert_eq!(merged.scenario.as_deref(), Some("my scenario.toml"));
+        assert_eq!(merged.scenario.file.as_deref(), Some("my scenario.toml"));
+        assert_eq!(merged.scenario.sha256, None);
         // Run 4 with its first state 10σ off.
         let mut records = merged.records.clone();
         records[4].outcome.error[0] = 1.0e-2;
-        let report = CampaignReport::new(&records, merged.scenario.as_deref()).unwrap();
+        let report = CampaignReport::new(&records, &merged.scenario).unwrap();
         assert_eq!(report.outliers.len(), 1);
         assert!(report
             .json()

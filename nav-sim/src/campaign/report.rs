@@ -13,6 +13,7 @@ use crate::campaign::monte_carlo::{
 };
 use crate::campaign::runs::RunRecord;
 use crate::harness::flight::FlightError;
+use crate::output::scenario_label::ScenarioLabel;
 
 /// Probability below the NEES bound that marks a run as an outlier: the χ²(15) 99.9 % point.
 pub const OUTLIER_NEES_PROBABILITY: f64 = 0.999;
@@ -109,6 +110,8 @@ pub fn counters_over_runs(outcomes: &[RunOutcome]) -> Vec<CounterOverRuns> {
 /// runs outside 3σ.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CampaignReport {
+    /// The scenario flown: its file and resolved SHA-256.
+    pub scenario: ScenarioLabel,
     /// RMS error, mean 1σ, NEES and NIS tests.
     pub summary: MonteCarloSummary,
     /// Per calibration state, percentiles of the final |error| (state units).
@@ -147,15 +150,15 @@ pub fn rerun_command(scenario: Option<&str>, run: u64) -> String {
 }
 
 impl CampaignReport {
-    /// The report of `records` (in run order); `scenario` is the scenario file as given, for
-    /// the re-run commands (`None`: the built-in scenario).
+    /// The report of `records` (in run order) of `scenario` (its file as given names it in
+    /// the re-run commands).
     ///
     /// # Errors
     /// [`MonteCarloError`] from the statistics (no runs, a covariance not positive definite,
     /// χ² quantiles refused).
     pub fn new(
         records: &[RunRecord],
-        scenario: Option<&str>,
+        scenario: &ScenarioLabel,
     ) -> Result<Self, MonteCarloError<FlightError>> {
         let outcomes: Vec<RunOutcome> = records
             .iter()
@@ -200,11 +203,12 @@ impl CampaignReport {
                     seed: outcome.seed,
                     nees,
                     states,
-                    command: rerun_command(scenario, record.run),
+                    command: rerun_command(scenario.file.as_deref(), record.run),
                 })
             })
             .collect();
         Ok(Self {
+            scenario: scenario.clone(),
             imu_error: ImuErrorCampaign::of(records)?,
             summary,
             error_percentiles,
@@ -219,7 +223,11 @@ impl CampaignReport {
     /// the runs outside 3σ with their re-run commands.
     pub fn text(&self) -> String {
         let labels = monte_carlo::calibration_labels();
-        let mut text = format!("{}\n", self.summary.table(&labels));
+        let mut text = format!(
+            "{}\n{}\n",
+            self.scenario.line(),
+            self.summary.table(&labels)
+        );
         let mut table = Table::new();
         table.load_preset(UTF8_FULL_CONDENSED).set_header([
             "parameter",
@@ -325,7 +333,8 @@ impl CampaignReport {
         format!("health counters raised (final values over {runs} runs):\n{table}")
     }
 
-    /// The report as one JSON object: the summary's (`runs`, `nees_mean`,
+    /// The report as one JSON object: `scenario` (`{file, sha256}`), the summary's (`runs`,
+    /// `nees_mean`,
     /// `nees_interval_95`, `states` with `rms_error` and `mean_sigma`), each state with
     /// `abs_error_percentiles` `{p50, p95, p99}` (report units), `position_error_m_percentiles`,
     /// `star_nis` and `gnss_nis` (`{average, interval_95, updates}` or null),
@@ -388,6 +397,7 @@ impl CampaignReport {
             })
             .collect();
         if let Some(object) = value.as_object_mut() {
+            object.insert("scenario".into(), self.scenario.json());
             object.insert(
                 "position_error_m_percentiles".into(),
                 self.position_error_percentiles.json(1.0),

@@ -267,6 +267,10 @@ pub(crate) struct Header {
     /// the re-run commands of the report, the campaign is identified by the hash.
     pub(crate) scenario: Option<String>,
     pub(crate) scenario_hash: String,
+    /// The SHA-256 of the resolved scenario, which the report names (absent in shard files
+    /// written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) scenario_sha256: Option<String>,
     pub(crate) seed_base: u64,
     pub(crate) runs: u64,
     pub(crate) shard: u64,
@@ -432,6 +436,7 @@ impl RunRecord {
 pub fn write_shard(
     scenario: &Scenario,
     scenario_path: Option<&Path>,
+    scenario_sha256: &str,
     runs: u64,
     shard: Shard,
     directory: &Path,
@@ -447,6 +452,7 @@ pub fn write_shard(
         version: FORMAT_VERSION,
         scenario: scenario_path.map(|path| path.display().to_string()),
         scenario_hash: format!("{:016x}", scenario_hash(scenario)),
+        scenario_sha256: Some(scenario_sha256.to_string()),
         seed_base: scenario.simulation.seed,
         runs,
         shard: shard.index,

@@ -9,6 +9,7 @@
 //! Every error names its path. The calibration table, its CSVs and plots are [`report`].
 
 pub mod report;
+pub mod scenario_label;
 
 use std::fs::{File, Metadata};
 use std::io::{self, BufWriter, Write};

@@ -4,6 +4,10 @@
 //! `include_str!` and parsed from that same text, so the printed file and the default can never
 //! diverge ([`DEFAULT_SCENARIO_TOML`], [`Scenario::default_scenario`]).
 //!
+//! A scenario file may name a base and hold only what differs from it (`extends = "base.toml"`,
+//! `remove = ["gravity"]`; [`overlay`]); `nav-sim scenario --resolved FILE` prints the result,
+//! and the outputs name a scenario by its resolved SHA-256.
+//!
 //! Every table is `deny_unknown_fields`: a misspelt key is an error naming it. Every value is
 //! checked by [`Scenario::validate`], whose errors name the key (`"imu.rate_hz must be > 0"`).
 //! Units are SI unless a field name says otherwise (`_deg`, `_arcsec`, `_deg_per_h_...`).
@@ -18,6 +22,9 @@ mod debug;
 pub mod dispersion;
 pub mod epoch;
 pub mod gravity;
+pub mod overlay;
+#[cfg(test)]
+mod overlay_tests;
 pub mod star_sensor;
 #[cfg(test)]
 mod tests;
@@ -141,6 +148,14 @@ pub enum ScenarioError {
         key: String,
         /// What the value must satisfy, e.g. "must be > 0".
         requirement: String,
+    },
+    /// An overlay chain (`extends`, `remove`) cannot be resolved ([`overlay`]).
+    #[error("scenario {file}: {error}")]
+    Overlay {
+        /// The file whose `extends` or `remove` is at fault.
+        file: String,
+        /// What is wrong.
+        error: overlay::OverlayError,
     },
 }
 
@@ -719,7 +734,7 @@ impl Scenario {
     /// # Errors
     /// Only if the embedded file is broken, which the crate's tests rule out.
     pub fn default_scenario() -> Result<Self, ScenarioError> {
-        Self::parse(DEFAULT_SCENARIO_TOML, "<built-in default>")
+        Self::parse(DEFAULT_SCENARIO_TOML, overlay::DEFAULT_ORIGIN)
     }
 
     /// Parses and validates a scenario from TOML text.
@@ -731,27 +746,32 @@ impl Scenario {
         Self::parse(text, "<string>")
     }
 
-    /// Reads, parses and validates a scenario file.
+    /// Reads, resolves ([`overlay`]: `extends`, `remove`), parses and validates a scenario
+    /// file.
     ///
     /// # Errors
-    /// [`ScenarioError::Io`] if the file cannot be read; otherwise as
-    /// [`Scenario::from_toml_str`], with the file's path in the message.
+    /// [`ScenarioError::Io`] if a file cannot be read, [`ScenarioError::Overlay`] if its
+    /// chain cannot be resolved; otherwise as [`Scenario::from_toml_str`], with the file's
+    /// path in the message.
     pub fn load(path: &Path) -> Result<Self, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::parse(&text, &path.display().to_string())
+        Self::load_resolved(path).map(|(scenario, _)| scenario)
     }
 
     fn parse(text: &str, origin: &str) -> Result<Self, ScenarioError> {
-        let scenario: Scenario = toml::from_str(text).map_err(|error| ScenarioError::Parse {
-            origin: origin.to_string(),
-            message: error.to_string(),
+        let scenario: Scenario = toml::from_str(text).map_err(|error| {
+            // Text with `extends` has no file to find its base from: say so, not "unknown key".
+            match overlay::resolve_str(text, origin) {
+                Err(overlay_error @ ScenarioError::Overlay { .. }) => overlay_error,
+                _ => ScenarioError::Parse {
+                    origin: origin.to_string(),
+                    message: error.to_string(),
+                },
+            }
         })?;
         scenario.validate_from(origin)?;
         Ok(scenario)
     }
+
     /// Total scenario length: the sum of the manoeuvre segments (s).
     pub fn duration_s(&self) -> f64 {
         self.manoeuvres

@@ -10,7 +10,6 @@ use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
 const UPPER_STAGE_TOML: &str = include_str!("../../scenarios/upper_stage.toml");
-const BLIND_TRACKER_TOML: &str = include_str!("../../scenarios/star_tracker_rate_limited.toml");
 
 /// Largest relative difference allowed between predicted and flown final 1σ.
 const AGREEMENT: f64 = 0.10;
@@ -56,24 +55,23 @@ fn assert_agrees(report: &DesignReport, flown: &[f64]) {
     }
 }
 
-/// The analysis of the scenario in `toml` against its flight. Steps end at every 10 Hz epoch
+/// The analysis of `scenario` against its flight. Steps end at every 10 Hz epoch
 /// anyway; 50 frames only caps them at 0.1 s.
-fn assert_analysis_agrees_with_flight(toml: &str) {
-    let scenario = Scenario::from_toml_str(toml).unwrap();
+fn assert_analysis_agrees_with_flight(scenario: &Scenario) {
     let options = DesignOptions {
         step_frames: 50,
         truth_substeps_per_frame: Some(1),
         ..DesignOptions::default()
     };
-    let report = analyse(&scenario, &options).unwrap();
-    assert_agrees(&report, &flown_sigmas(&scenario));
+    let report = analyse(scenario, &options).unwrap();
+    assert_agrees(&report, &flown_sigmas(scenario));
 }
 
 #[test]
 fn the_covariance_analysis_predicts_the_upper_stage_flight_within_ten_percent() {
     // Receiver velocity and correlated GNSS error. Measured agreement: within 0.1 % on
     // every axis.
-    assert_analysis_agrees_with_flight(UPPER_STAGE_TOML);
+    assert_analysis_agrees_with_flight(&Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap());
 }
 
 #[test]
@@ -82,7 +80,9 @@ fn the_covariance_analysis_predicts_a_flight_behind_a_blind_star_tracker_within_
     // unmeasured for seconds at a time and the second-order attitude growth acts. Measured
     // agreement: within 0.1 % (with 0.1 s steps while blind, the gyro scale factors came
     // out 6-12 % low).
-    assert_analysis_agrees_with_flight(BLIND_TRACKER_TOML);
+    assert_analysis_agrees_with_flight(&crate::realistic_campaign::scenario(
+        "star_tracker_rate_limited",
+    ));
 }
 
 #[test]

@@ -10,10 +10,6 @@ use nav_sim::studies::covariance_design::{analyse, DesignOptions};
 use nav_sim::studies::manoeuvre_design::{self, Constraints};
 use nav_sim::Scenario;
 
-const IMU_ERRORS_ESTIMATED_TOML: &str = include_str!("../../scenarios/imu_errors_estimated.toml");
-const UPPER_STAGE_IMU_ERRORS_ESTIMATED_TOML: &str =
-    include_str!("../../scenarios/upper_stage_imu_errors_estimated.toml");
-
 /// Largest relative difference allowed between predicted and flown final 1σ, for the 15
 /// calibration states and for the twelve IMU error states that the flight moves from their
 /// prior.
@@ -25,7 +21,7 @@ const MOVED: f64 = 0.9;
 /// 156 s of the default flight with the IMU error states on: a coast, 3 turns about x, y and
 /// z at 100 °/s, then 300 m/s along +x, +y and +z at 50 m/s², each followed by a 20 s coast.
 fn short_flight() -> Scenario {
-    let mut scenario = Scenario::from_toml_str(IMU_ERRORS_ESTIMATED_TOML).unwrap();
+    let mut scenario = crate::realistic_campaign::scenario("imu_errors_estimated");
     let quiet = [2.4e-4; 3];
     let mut manoeuvres = vec![segment("initial coast", 20.0, 0.0, quiet, [0.0; 3])];
     for (axis, name) in ["x", "y", "z"].iter().enumerate() {
@@ -154,7 +150,7 @@ fn the_covariance_analysis_predicts_the_imu_error_states_beside_the_gnss_error_s
 /// gyro non-orthogonality terms, the input's (no z slew) not the two that need one.
 #[test]
 fn nav_sim_design_reports_the_imu_error_states_of_both_schedules() {
-    let mut scenario = Scenario::from_toml_str(UPPER_STAGE_IMU_ERRORS_ESTIMATED_TOML).unwrap();
+    let mut scenario = crate::realistic_campaign::scenario("upper_stage_imu_errors_estimated");
     scenario.manoeuvres.truncate(9);
     let design = manoeuvre_design::design(&scenario, &Constraints::upper_stage(), 2).unwrap();
     let text = design.text();

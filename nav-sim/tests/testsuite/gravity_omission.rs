@@ -18,14 +18,12 @@ use nav_sim::world::gravity::{RotatingRemainder, EGM2008_GFC};
 use nav_sim::world::truth::TruthSimulator;
 use nav_sim::Scenario;
 
-const GRAVITY_FIELD_TOML: &str = include_str!("../../scenarios/gravity_field.toml");
-
 /// Length of the short flight's coast (s).
 const COAST_S: f64 = 300.0;
 
 /// `gravity_field.toml` (truth 20×20) with one quiet coast of [`COAST_S`].
 fn short_flight() -> Scenario {
-    let mut scenario = Scenario::from_toml_str(GRAVITY_FIELD_TOML).unwrap();
+    let mut scenario = crate::realistic_campaign::scenario("gravity_field");
     let mut coast = scenario.manoeuvres[0].clone();
     assert_eq!(coast.label, "initial coast");
     coast.duration_s = COAST_S;
@@ -246,13 +244,12 @@ fn bad_input_is_a_clear_error() {
 fn command_prints_the_table_and_refuses_a_field_above_the_truth() {
     let directory = tempfile::tempdir().unwrap();
     let path = directory.path().join("short_gravity_field.toml");
-    let mut text = GRAVITY_FIELD_TOML.replace("degree = 20\norder = 20", "degree = 8\norder = 8");
-    let first = text.find("[[manoeuvre]]").unwrap();
-    let filter = text.find("[filter]").unwrap();
-    text.replace_range(
-        first..filter,
-        "[[manoeuvre]]\nlabel = \"coast\"\nduration_s = 60.0\nramp_s = 0.0\n\
-         body_rate_deg_per_s = [0.0, 0.0, 0.0]\nspecific_force_mps2 = [0.0, 0.0, 0.0]\n\n",
+    // An overlay of the shipped file: its truth field lowered, one short coast.
+    let base = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/gravity_field.toml");
+    let text = format!(
+        "extends = '{base}'\n[gravity]\ndegree = 8\norder = 8\n\
+         [[manoeuvre]]\nlabel = \"coast\"\nduration_s = 60.0\nramp_s = 0.0\n\
+         body_rate_deg_per_s = [0.0, 0.0, 0.0]\nspecific_force_mps2 = [0.0, 0.0, 0.0]\n"
     );
     std::fs::write(&path, text).unwrap();
     let run = |arguments: &[&str]| {

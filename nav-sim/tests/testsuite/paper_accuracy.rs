@@ -10,7 +10,6 @@ use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
 use nav_sim::output::report::{CalibrationResult, Parameter};
 use nav_sim::Scenario;
 
-const MADE_UP_ERRORS_TOML: &str = include_str!("../../scenarios/made_up_errors.toml");
 /// χ²(15) 99.9 % point: the bound on one run's NEES of the 15 calibration states.
 const CALIBRATION_NEES_BOUND: f64 = 37.70;
 
@@ -67,7 +66,7 @@ fn the_default_scenario_meets_every_accuracy_the_paper_reports() {
 
 #[test]
 fn made_up_truth_errors_are_estimated_just_as_well() {
-    let made_up = Scenario::from_toml_str(MADE_UP_ERRORS_TOML).unwrap();
+    let made_up = crate::realistic_campaign::scenario("made_up_errors");
     let default = Scenario::default_scenario().unwrap();
     // Really different truths (every component at least 1e-5 relative away from the paper's),
     // same manoeuvres and sensors.

@@ -305,15 +305,25 @@ fn json_reports_have_the_documented_shape() {
     let last = result.samples.last().unwrap().time_history();
     let table =
         nav_sim::output::report::CalibrationResult::from_sample(&last, &Parameter::CALIBRATION);
+    let (_, resolved) = Scenario::default_resolved().unwrap();
+    let label = nav_sim::output::scenario_label::ScenarioLabel {
+        file: None,
+        sha256: Some(resolved.sha256("default").unwrap()),
+    };
     let report: serde_json::Value = serde_json::from_str(
         &table
-            .report_json(result.calibration_nees(), &result.health)
+            .report_json(result.calibration_nees(), &result.health, &label)
             .unwrap(),
     )
     .unwrap();
     let mut keys: Vec<&String> = report.as_object().unwrap().keys().collect();
     keys.sort();
-    assert_eq!(keys, ["health", "met", "nees", "rows"]);
+    assert_eq!(keys, ["health", "met", "nees", "rows", "scenario"]);
+    assert_eq!(report["scenario"]["file"], serde_json::Value::Null);
+    assert_eq!(
+        report["scenario"]["sha256"].as_str(),
+        Some(resolved.sha256("default").unwrap().as_str())
+    );
     assert_eq!(report["rows"].as_array().unwrap().len(), 15);
     let met = report["rows"]
         .as_array()

@@ -7,7 +7,6 @@ use nav_sim::output::report::{CalibrationResult, CalibrationRow, Parameter};
 use nav_sim::Scenario;
 
 const UPPER_STAGE_TOML: &str = include_str!("../../scenarios/upper_stage.toml");
-const PAPER_AS_PRINTED_TOML: &str = include_str!("../../scenarios/paper_strategy_as_printed.toml");
 /// χ²(15) 99.9 % point: the bound on one run's NEES of the 15 calibration states.
 const CALIBRATION_NEES_BOUND: f64 = 37.70;
 
@@ -94,7 +93,7 @@ fn the_upper_stage_flight_calibrates_what_its_manoeuvres_reach() {
 /// measured 69–74).
 #[test]
 fn the_papers_strategy_as_printed_leaves_the_accelerometer_scale_factors_near_their_prior() {
-    let scenario = Scenario::from_toml_str(PAPER_AS_PRINTED_TOML).unwrap();
+    let scenario = crate::realistic_campaign::scenario("paper_strategy_as_printed");
     let (rows, nees) = fly_whole(&scenario);
     for row in &rows {
         let ratio = sigma_ratio(row);

@@ -41,7 +41,8 @@ enum Command {
     /// Replay a recorded sensor log (CSV) through the flight software and write its
     /// per-second navigation and calibration output as CSV.
     Replay(replay::Args),
-    /// Print the built-in default scenario (TOML) to standard output.
+    /// Print the built-in default scenario (TOML) to standard output, or with `--resolved FILE`
+    /// a scenario file resolved (its `extends` chain merged, `remove` applied).
     Scenario(scenario::Args),
     /// Print the flight configuration's ground constants (launch site with the day's Earth
     /// axis, GCRF → launch-inertial rotation, launch epoch in GPS time) for a launch, as TOML,

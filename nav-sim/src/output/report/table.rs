@@ -115,9 +115,10 @@ impl CalibrationResult {
         Ok(serde_json::to_string_pretty(&rows)?)
     }
 
-    /// The calibration report as one JSON object: `{"rows": [...as json()...], "met": n,
-    /// "nees": x, "health": {counter: value, ...}}` (`met` counts the rows that meet the
-    /// paper's figure; `nees` is `null` without a positive definite covariance).
+    /// The calibration report as one JSON object: `{"scenario": {"file", "sha256"}, "rows":
+    /// [...as json()...], "met": n, "nees": x, "health": {counter: value, ...}}` (`met` counts
+    /// the rows that meet the paper's figure; `nees` is `null` without a positive definite
+    /// covariance).
     ///
     /// # Errors
     /// [`ReportError::Json`] if serialisation fails.
@@ -125,6 +126,7 @@ impl CalibrationResult {
         &self,
         nees: Option<f64>,
         health: &nav_fsw::health::HealthCounters,
+        scenario: &crate::output::scenario_label::ScenarioLabel,
     ) -> Result<String, ReportError> {
         let rows: serde_json::Value = serde_json::from_str(&self.json()?)?;
         let met = self
@@ -138,6 +140,7 @@ impl CalibrationResult {
             .map(|(name, value)| ((*name).to_string(), (*value).into()))
             .collect();
         let report = serde_json::json!({
+            "scenario": scenario.json(),
             "rows": rows,
             "met": met,
             "nees": nees,

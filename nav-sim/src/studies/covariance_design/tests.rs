@@ -5,7 +5,7 @@ use nav_core::frames::WGS84_GM_M3_S2;
 use nav_core::state::ACCEL_SCALE_FACTOR;
 
 /// The second shipped scenario: the default schedule with different true sensor errors.
-const MADE_UP_ERRORS_TOML: &str = include_str!("../../../scenarios/made_up_errors.toml");
+const MADE_UP_ERRORS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/made_up_errors.toml");
 
 /// Coarse but exact enough for the tests: a covariance step is at most 50 frames (0.1 s,
 /// and the 10 Hz measurements end a step every 0.1 s anyway); one truth substep.
@@ -60,7 +60,7 @@ fn default_schedule_calibrates_every_state_to_half_the_papers_accuracy() {
 
 #[test]
 fn made_up_errors_are_calibrated_as_well_as_the_papers() {
-    let made_up = Scenario::from_toml_str(MADE_UP_ERRORS_TOML).unwrap();
+    let made_up = Scenario::load(std::path::Path::new(MADE_UP_ERRORS)).unwrap();
     let default = Scenario::default_scenario().unwrap();
     // Every true error component differs from the default's (signs and magnitudes).
     let differ =

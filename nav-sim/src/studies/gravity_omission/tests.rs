@@ -54,9 +54,10 @@ fn held_value_comes_from_the_refresh_before_the_last() {
 /// `(r_h/r_l)^62`; a model beyond the flight software's 12 × 12 has no figure.
 #[test]
 fn the_difference_scaled_to_the_lowest_altitude_follows_the_omitted_degrees() {
-    let scenario = crate::Scenario::from_toml_str(include_str!(
-        "../../../scenarios/gravity_field_modelled.toml"
-    ))
+    let scenario = crate::Scenario::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios/gravity_field_modelled.toml"),
+    )
     .unwrap();
     let launch = Launch::new(&scenario).unwrap();
     let flight = FlightGravityModel::new(12, 12);

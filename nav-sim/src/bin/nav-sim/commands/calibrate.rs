@@ -8,7 +8,7 @@ use nav_sim::harness::flight::{self, FlightOptions, FlightResult};
 use nav_sim::output::report::{self, CalibrationResult, Parameter, TimeHistorySample};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use super::{frame_bar, inputs, load, prepare_outputs, Failure};
+use super::{frame_bar, inputs, load_labelled, prepare_outputs, Failure};
 
 /// The arguments of `nav-sim calibrate`.
 #[derive(clap::Args, Default)]
@@ -18,7 +18,8 @@ pub struct Args {
     /// Write time-history CSVs and PNG plots into this directory.
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Print one JSON object: `{"rows": [...], "met": n, "nees": x, "health": {...}}`.
+    /// Print one JSON object: `{"scenario": {"file", "sha256"}, "rows": [...], "met": n,
+    /// "nees": x, "health": {...}}`.
     #[arg(long)]
     json: bool,
     /// Exit non-zero if a parameter axis misses the paper's accuracy or the NEES of the
@@ -83,7 +84,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let scenario_path = args.scenario.as_deref();
     let out = args.out.as_deref();
     let json = args.json;
-    let scenario = load(scenario_path)?;
+    let (scenario, label) = load_labelled(scenario_path)?;
     if let Some(directory) = out {
         prepare_outputs(
             directory,
@@ -106,8 +107,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
     let nees = result.calibration_nees();
     if json {
-        println!("{}", table.report_json(nees, &result.health)?);
+        println!("{}", table.report_json(nees, &result.health, &label)?);
     } else {
+        println!("{}", label.line());
         println!(
             "{} frames ({:.0} s of flight) through nav-fsw in {:.2?}",
             result.frames,

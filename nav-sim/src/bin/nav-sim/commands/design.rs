@@ -91,16 +91,26 @@ pub fn run(args: Args) -> Result<(), Failure> {
 }
 
 fn design(args: &Args) -> Result<(), ManoeuvreDesignError> {
-    let text = match &args.scenario {
-        Some(path) => std::fs::read_to_string(path).map_err(|source| ManoeuvreDesignError::Io {
-            path: path.display().to_string(),
-            source,
-        })?,
-        None => UPPER_STAGE_TOML.to_string(),
-    };
-    let scenario = match &args.scenario {
-        Some(path) => Scenario::load(path)?,
-        None => Scenario::from_toml_str(UPPER_STAGE_TOML)?,
+    let (scenario, text) = match &args.scenario {
+        Some(path) => {
+            let (scenario, resolved) = Scenario::load_resolved(path)?;
+            // The written scenario is the input with its schedule replaced: an overlay's own
+            // text may hold no schedule and names its base relative to its own directory, so
+            // its resolved text stands in for it.
+            let text = if resolved.files().len() > 1 {
+                resolved.to_toml(&path.display().to_string())?
+            } else {
+                std::fs::read_to_string(path).map_err(|source| ManoeuvreDesignError::Io {
+                    path: path.display().to_string(),
+                    source,
+                })?
+            };
+            (scenario, text)
+        }
+        None => (
+            Scenario::from_toml_str(UPPER_STAGE_TOML)?,
+            UPPER_STAGE_TOML.to_string(),
+        ),
     };
     let inputs: Vec<&Path> = args.scenario.iter().map(PathBuf::as_path).collect();
     // The output is refused or created before the search, so a bad --out fails at once.

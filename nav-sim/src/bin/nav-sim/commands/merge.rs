@@ -34,7 +34,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         prepare_outputs(directory, &campaign_plots(directory), &inputs)?;
     }
     let merged = campaign::merge(&args.paths)?;
-    let report = CampaignReport::new(&merged.records, merged.scenario.as_deref())?;
+    let report = CampaignReport::new(&merged.records, &merged.scenario)?;
     print_campaign(&report, args.json)?;
     if let Some(directory) = out {
         write_campaign_plots(&report, directory, args.json)?;

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use nav_sim::output;
+use nav_sim::output::scenario_label::ScenarioLabel;
 use nav_sim::Scenario;
 
 pub mod benefit;
@@ -41,6 +42,21 @@ pub fn load(scenario: Option<&Path>) -> Result<Scenario, Failure> {
         Some(path) => Scenario::load(path)?,
         None => Scenario::default_scenario()?,
     })
+}
+
+/// The scenario at `scenario`, or the built-in one, and the label the outputs name it by
+/// (the file and its resolved SHA-256).
+pub fn load_labelled(scenario: Option<&Path>) -> Result<(Scenario, ScenarioLabel), Failure> {
+    let (loaded, resolved) = match scenario {
+        Some(path) => Scenario::load_resolved(path)?,
+        None => Scenario::default_resolved()?,
+    };
+    let file = scenario.map(|path| path.display().to_string());
+    let origin = file
+        .as_deref()
+        .unwrap_or(nav_sim::scenario::overlay::DEFAULT_ORIGIN);
+    let sha256 = Some(resolved.sha256(origin)?);
+    Ok((loaded, ScenarioLabel { file, sha256 }))
 }
 
 /// The scenario file as the input list of a command (the built-in one has none).

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use nav_sim::campaign::{self, CampaignReport, Shard};
 
-use super::{campaign_bar, inputs, load, prepare_outputs, Failure};
+use super::{campaign_bar, inputs, load_labelled, prepare_outputs, Failure};
 
 /// The arguments of `nav-sim monte-carlo`.
 #[derive(clap::Args)]
@@ -30,7 +30,8 @@ pub struct Args {
     /// shard file OUT/shard-K-of-M.jsonl).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Print one JSON object: `{"runs", "nees_mean", "nees_interval_95", "states", ...}`.
+    /// Print one JSON object: `{"scenario", "runs", "nees_mean", "nees_interval_95",
+    /// "states", ...}`.
     #[arg(long)]
     json: bool,
     /// Exit non-zero if the average NEES is outside its 95 % interval.
@@ -46,7 +47,7 @@ fn runs_bar(count: usize, show: bool) -> indicatif::ProgressBar {
 /// Flies the campaign (or its shard, or one run) and prints its report or its lines.
 pub fn run(args: Args) -> Result<(), Failure> {
     let scenario_path = args.scenario.as_deref();
-    let scenario = load(scenario_path)?;
+    let (scenario, label) = load_labelled(scenario_path)?;
     if let Some(run) = args.run {
         for record in campaign::fly_runs(&scenario, &[run], &|| {})? {
             println!("{}", record.json_line()?);
@@ -58,6 +59,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         let written = campaign::write_shard(
             &scenario,
             scenario_path,
+            label.sha256.as_deref().unwrap_or_default(),
             args.runs,
             shard,
             directory,
@@ -80,8 +82,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let records = campaign::fly_runs(&scenario, &runs, &|| bar.inc(1));
     bar.finish();
     let records = records?;
-    let label = scenario_path.map(|path| path.display().to_string());
-    let report = CampaignReport::new(&records, label.as_deref())?;
+    let report = CampaignReport::new(&records, &label)?;
     print_campaign(&report, args.json)?;
     if let Some(directory) = args.out.as_deref() {
         write_campaign_plots(&report, directory, args.json)?;
