@@ -156,7 +156,10 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
 /// run, without an assembler, passes its ports' dropped measurements in
 /// [`AssemblyCounts::measurements_dropped`]). One line per word in the order of
 /// [`OUTPUT_FIELD_NAMES`], so the two read side by side; longer than a function usually is for
-/// that reason.
+/// that reason. Not inlined: inlined into a firmware's frame loop, its locals would be reserved
+/// in the loop's stack frame on the Cortex-M7 (the replay firmware measured a deeper stack and
+/// dearer frames that way).
+#[inline(never)]
 pub fn output_words(
     telemetry: &FrameTelemetry,
     computer: &NavigationComputer,

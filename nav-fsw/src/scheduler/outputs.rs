@@ -61,7 +61,10 @@ impl NavigationComputer {
     /// (square roots of the covariance diagonal); `None` for a block it does not fly. Read
     /// when they are reported, not in every frame (module docs of `crate::telemetry`). The
     /// systematic IMU errors are [`Self::imu_error_estimate`]'s (the fed-back corrections if
-    /// the open-loop sum is not finite, as [`Self::calibration_estimate`] keeps them).
+    /// the open-loop sum is not finite, as [`Self::calibration_estimate`] keeps them). Not
+    /// inlined: the IMU block's covariance would take its place in the caller's stack frame,
+    /// the frame loop's on the Cortex-M7.
+    #[inline(never)]
     pub fn optional_states(&self) -> OptionalStateTelemetry {
         let filter = &self.covariance.filter;
         let gnss = filter.gnss_error();
