@@ -60,7 +60,7 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub over_time: Vec<OverTimeSample>,
     /// The systematic IMU error states' final error and covariance, when the filter
     /// estimates them (`[filter.imu_errors]`).
-    pub imu_error: Option<crate::harness::filter_gauge::ImuErrorOutcome>,
+    pub imu_error: Option<crate::harness::optional_blocks::ImuErrorOutcome>,
     /// The correlated GNSS error states' final error and covariance, when the filter
     /// estimates them (`[filter] gnss_correlated_sigma_m`).
     pub gnss_error: Option<crate::harness::optional_blocks::GnssErrorOutcome>,

@@ -534,15 +534,17 @@ pub(super) mod tests {
                 health: [("star_gate_rejections".to_string(), 3 + run as u32)]
                     .into_iter()
                     .collect(),
-                imu_error: (run % 2 == 1).then(|| crate::harness::filter_gauge::ImuErrorOutcome {
-                    error: SVector::from_fn(|state, _| (state as f64 - 5.0) * 1.0e-6 / 7.0),
-                    covariance: SMatrix::from_fn(|row, column| {
-                        if row == column {
-                            1e-10 * (row as f64 + 1.0)
-                        } else {
-                            1e-13 / (3.0 + row as f64 + column as f64)
-                        }
-                    }),
+                imu_error: (run % 2 == 1).then(|| {
+                    crate::harness::optional_blocks::ImuErrorOutcome {
+                        error: SVector::from_fn(|state, _| (state as f64 - 5.0) * 1.0e-6 / 7.0),
+                        covariance: SMatrix::from_fn(|row, column| {
+                            if row == column {
+                                1e-10 * (row as f64 + 1.0)
+                            } else {
+                                1e-13 / (3.0 + row as f64 + column as f64)
+                            }
+                        }),
+                    }
                 }),
                 gnss_error: (run % 3 == 2).then(|| BlockOutcome {
                     error: SVector::from_fn(|state, _| (state as f64 - 1.0) / 3.0),

@@ -10,10 +10,6 @@ use nav_core::NavError;
 
 use crate::world::sensors::SensorErrorTruth;
 
-/// The final error (truth in the filter's gauge − estimate, nav-core `ImuErrorBlock` order)
-/// and covariance of the twelve systematic IMU error states of a run.
-pub type ImuErrorOutcome = crate::harness::optional_blocks::BlockOutcome<IMU_ERROR_DIMENSION>;
-
 /// The twelve states of an estimate as one vector (nav-core `ImuErrorBlock` order).
 pub fn imu_error_vector(estimate: &ImuErrorEstimate) -> SVector<f64, IMU_ERROR_DIMENSION> {
     SVector::from_iterator(

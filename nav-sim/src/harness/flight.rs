@@ -15,8 +15,10 @@ use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
 
-use crate::harness::filter_gauge::{in_filter_gauge, ImuErrorOutcome};
-use crate::harness::optional_blocks::{gnss_error_outcome, imu_error_outcome, GnssErrorOutcome};
+use crate::harness::filter_gauge::in_filter_gauge;
+use crate::harness::optional_blocks::{
+    gnss_error_outcome, imu_error_outcome, GnssErrorOutcome, ImuErrorOutcome,
+};
 use crate::logs::sensor_log;
 use crate::logs::star_heads::FlightStarHeads;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
@@ -507,8 +509,9 @@ pub fn fly_observed(
     }
     progress(frames, total_frames);
     let (errors, imu_truth) = filter_view(&computer, &simulation.error_truth())?;
-    let imu_error = imu_error_outcome(&computer, imu_truth.as_ref())?;
-    let gnss_error = gnss_error_outcome(&computer, &simulation)?;
+    let imu_error = imu_error_outcome(&computer, imu_truth.as_ref()).map_err(FlightError::Gauge)?;
+    let gnss_error =
+        gnss_error_outcome(&computer, &simulation).map_err(FlightError::GnssErrorTruth)?;
     Ok(FlightResult {
         samples,
         table: *computer.calibration_table(),

@@ -6,12 +6,11 @@
 //! fix is the true position plus it).
 
 use nalgebra::{SMatrix, SVector, Vector3};
-use nav_core::imu_error::ImuErrorEstimate;
+use nav_core::imu_error::{ImuErrorEstimate, IMU_ERROR_DIMENSION};
 use nav_core::NavError;
 use nav_fsw::scheduler::NavigationComputer;
 
 use crate::harness::filter_gauge::imu_error_vector;
-use crate::harness::flight::FlightError;
 use crate::world::simulation::Simulation;
 
 /// The final error and covariance of one optional state block of a run.
@@ -42,6 +41,9 @@ pub fn nees<const N: usize>(
     Some(whitened.norm_squared())
 }
 
+/// The twelve systematic IMU error states' outcome (truth in the filter's gauge − estimate,
+/// nav-core `ImuErrorBlock` order).
+pub type ImuErrorOutcome = BlockOutcome<IMU_ERROR_DIMENSION>;
 /// The correlated GNSS error states' outcome (m, launch-inertial axes).
 pub type GnssErrorOutcome = BlockOutcome<3>;
 
@@ -49,15 +51,15 @@ pub type GnssErrorOutcome = BlockOutcome<3>;
 /// covariance, or `None` without a truth in the gauge (the states not flown).
 ///
 /// # Errors
-/// [`FlightError::Gauge`] if the open-loop estimate is not finite.
+/// nav-core's error if the open-loop estimate is not finite.
 pub fn imu_error_outcome(
     computer: &NavigationComputer,
     truth: Option<&ImuErrorEstimate>,
-) -> Result<Option<crate::harness::filter_gauge::ImuErrorOutcome>, FlightError> {
+) -> Result<Option<ImuErrorOutcome>, NavError> {
     let Some(truth) = truth else {
         return Ok(None);
     };
-    let estimate = computer.imu_error_estimate().map_err(FlightError::Gauge)?;
+    let estimate = computer.imu_error_estimate()?;
     Ok(Some(BlockOutcome {
         error: imu_error_vector(truth) - imu_error_vector(&estimate),
         covariance: computer.filter().imu_error().covariance(),
@@ -69,19 +71,18 @@ pub fn imu_error_outcome(
 /// does not fly them.
 ///
 /// # Errors
-/// [`FlightError::GnssErrorTruth`] for a non-finite truth or time.
+/// nav-core's error for a non-finite truth or time.
 pub fn gnss_error_outcome(
     computer: &NavigationComputer,
     simulation: &Simulation,
-) -> Result<Option<GnssErrorOutcome>, FlightError> {
+) -> Result<Option<GnssErrorOutcome>, NavError> {
     let states = computer.filter().gnss_error();
     if !states.is_enabled() {
         return Ok(None);
     }
     let time_s = computer.covariance_time_s();
     let truth_ecef_m = simulation.gnss_correlated_error_ecef_m(time_s);
-    let truth_m = ecef_offset_to_launch_inertial(computer, &truth_ecef_m, time_s)
-        .map_err(FlightError::GnssErrorTruth)?;
+    let truth_m = ecef_offset_to_launch_inertial(computer, &truth_ecef_m, time_s)?;
     Ok(Some(BlockOutcome {
         error: truth_m - states.estimate_m(),
         covariance: states.covariance(),
