@@ -27,7 +27,10 @@ pub use assembler::{
     AssemblyCounts, FrameAssembler, FrameAssemblyError, FrameGrid, DEFAULT_MAX_GAP_S,
     MAX_GAP_FRAMES,
 };
-pub use output::{output_words, OUTPUT_FIELD_NAMES, OUTPUT_WORDS};
+pub use output::{
+    optional_state_words, output_words, GNSS_ERROR_BLOCK_BIT, IMU_ERROR_BLOCK_BIT,
+    OPTIONAL_STATE_WORDS, OUTPUT_FIELD_NAMES, OUTPUT_WORDS,
+};
 pub use setup::{ReplaySetup, SETUP_MAGIC, SETUP_WORDS};
 
 use heapless::Deque;

@@ -1,11 +1,26 @@
-//! A frame's output record: fixed-layout 8-byte words, compared bit for bit.
+//! A frame's output record: fixed-layout 8-byte words, compared bit for bit. The optional
+//! state blocks' words are always present: a block the filter does not fly has its bit clear
+//! in `optional_blocks` and NaN in its words, never values that look like estimates.
 
 use super::AssemblyCounts;
 use crate::scheduler::NavigationComputer;
-use crate::telemetry::{FrameFusion, FrameTelemetry};
+use crate::telemetry::{
+    FrameFusion, FrameTelemetry, OptionalStateTelemetry, GNSS_ERROR_FIELD_NAMES,
+    IMU_ERROR_FIELD_NAMES,
+};
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 94;
+pub const OUTPUT_WORDS: usize = 94 + OPTIONAL_STATE_WORDS;
+
+/// Words of the optional state blocks: the `optional_blocks` bits, then the correlated GNSS
+/// error's and the systematic IMU errors' fields.
+pub const OPTIONAL_STATE_WORDS: usize =
+    1 + GNSS_ERROR_FIELD_NAMES.len() + IMU_ERROR_FIELD_NAMES.len();
+
+/// `optional_blocks` bit of the correlated GNSS error states.
+pub const GNSS_ERROR_BLOCK_BIT: u64 = 1;
+/// `optional_blocks` bit of the systematic IMU error states.
+pub const IMU_ERROR_BLOCK_BIT: u64 = 2;
 
 /// Names of the output words, in order.
 pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
@@ -103,6 +118,37 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "star_unknown_head",
     "star_active_head",
     "star_aberration_suspected",
+    "optional_blocks",
+    "gnss_error_x_m",
+    "gnss_error_y_m",
+    "gnss_error_z_m",
+    "gnss_error_sigma_x_m",
+    "gnss_error_sigma_y_m",
+    "gnss_error_sigma_z_m",
+    "gyro_non_orthogonality_yx_rad",
+    "gyro_non_orthogonality_zx_rad",
+    "gyro_non_orthogonality_zy_rad",
+    "gyro_non_orthogonality_sigma_yx_rad",
+    "gyro_non_orthogonality_sigma_zx_rad",
+    "gyro_non_orthogonality_sigma_zy_rad",
+    "accel_misalignment_xy_rad",
+    "accel_misalignment_xz_rad",
+    "accel_misalignment_yx_rad",
+    "accel_misalignment_yz_rad",
+    "accel_misalignment_zx_rad",
+    "accel_misalignment_zy_rad",
+    "accel_misalignment_sigma_xy_rad",
+    "accel_misalignment_sigma_xz_rad",
+    "accel_misalignment_sigma_yx_rad",
+    "accel_misalignment_sigma_yz_rad",
+    "accel_misalignment_sigma_zx_rad",
+    "accel_misalignment_sigma_zy_rad",
+    "gyro_g_sensitivity_x_rad_s_per_mps2",
+    "gyro_g_sensitivity_y_rad_s_per_mps2",
+    "gyro_g_sensitivity_z_rad_s_per_mps2",
+    "gyro_g_sensitivity_sigma_x_rad_s_per_mps2",
+    "gyro_g_sensitivity_sigma_y_rad_s_per_mps2",
+    "gyro_g_sensitivity_sigma_z_rad_s_per_mps2",
 ];
 
 /// The output record of a frame (module docs): telemetry (without the platform's frame cost,
@@ -110,7 +156,10 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
 /// run, without an assembler, passes its ports' dropped measurements in
 /// [`AssemblyCounts::measurements_dropped`]). One line per word in the order of
 /// [`OUTPUT_FIELD_NAMES`], so the two read side by side; longer than a function usually is for
-/// that reason.
+/// that reason. Not inlined: inlined into a firmware's frame loop, its locals would be reserved
+/// in the loop's stack frame on the Cortex-M7 (the replay firmware measured a deeper stack and
+/// dearer frames that way).
+#[inline(never)]
 pub fn output_words(
     telemetry: &FrameTelemetry,
     computer: &NavigationComputer,
@@ -214,5 +263,36 @@ pub fn output_words(
     put(u64::from(h.star_unknown_head));
     put(u64::from(computer.active_star_head()));
     put(u64::from(h.star_aberration_suspected));
+    // Read from the computer at output time, not in the frame (`crate::telemetry`).
+    for word in optional_state_words(&computer.optional_states()) {
+        put(word);
+    }
+    words
+}
+
+/// The optional state blocks' words: the `optional_blocks` bits ([`GNSS_ERROR_BLOCK_BIT`],
+/// [`IMU_ERROR_BLOCK_BIT`]), then each block's fields, NaN for a block not flown.
+pub fn optional_state_words(states: &OptionalStateTelemetry) -> [u64; OPTIONAL_STATE_WORDS] {
+    let mut words = [f64::NAN.to_bits(); OPTIONAL_STATE_WORDS];
+    let gnss = states.gnss_error.map(|block| block.values());
+    let imu = states.imu_error.map(|block| block.values());
+    let mut blocks = 0;
+    if gnss.is_some() {
+        blocks |= GNSS_ERROR_BLOCK_BIT;
+    }
+    if imu.is_some() {
+        blocks |= IMU_ERROR_BLOCK_BIT;
+    }
+    let (first, fields) = words.split_at_mut(1);
+    if let Some(word) = first.first_mut() {
+        *word = blocks;
+    }
+    let (gnss_words, imu_words) = fields.split_at_mut(GNSS_ERROR_FIELD_NAMES.len());
+    for (slot, value) in gnss_words.iter_mut().zip(gnss.iter().flatten()) {
+        *slot = value.to_bits();
+    }
+    for (slot, value) in imu_words.iter_mut().zip(imu.iter().flatten()) {
+        *slot = value.to_bits();
+    }
     words
 }

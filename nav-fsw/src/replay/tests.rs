@@ -280,3 +280,97 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
     bad[SETUP_WORDS - 1] = 1;
     assert!(ReplaySetup::from_words(&bad).is_err());
 }
+
+/// The optional state blocks' words follow the record's other words: their names are the
+/// telemetry's field names (the systematic IMU errors' from nav-core's block and component
+/// names), a block not flown has its bit clear and NaN in its words, and a flown block's
+/// fields land bit for bit in its words.
+#[test]
+fn the_optional_state_words_carry_each_flown_block_and_nan_for_the_others() {
+    use crate::telemetry::{
+        GnssErrorTelemetry, ImuErrorTelemetry, OptionalStateTelemetry, GNSS_ERROR_FIELD_NAMES,
+        IMU_ERROR_FIELD_NAMES,
+    };
+    use nav_core::imu_error::ImuErrorBlock;
+    let first = OUTPUT_WORDS - OPTIONAL_STATE_WORDS;
+    assert_eq!(OUTPUT_FIELD_NAMES[first], "optional_blocks");
+    let names: Vec<&str> = GNSS_ERROR_FIELD_NAMES
+        .iter()
+        .chain(&IMU_ERROR_FIELD_NAMES)
+        .copied()
+        .collect();
+    assert_eq!(OUTPUT_FIELD_NAMES[first + 1..], names[..]);
+    let mut nav_core_names = Vec::new();
+    for block in ImuErrorBlock::ALL {
+        let unit = match block {
+            ImuErrorBlock::GyroGSensitivity => "rad_s_per_mps2",
+            _ => "rad",
+        };
+        for sigma in ["", "sigma_"] {
+            for k in 0..block.dimension() {
+                let component = block.component_name(k);
+                nav_core_names.push(format!("{}_{sigma}{component}_{unit}", block.name()));
+            }
+        }
+    }
+    assert_eq!(
+        IMU_ERROR_FIELD_NAMES.map(str::to_owned).to_vec(),
+        nav_core_names
+    );
+
+    let none = optional_state_words(&OptionalStateTelemetry::default());
+    assert_eq!(none[0], 0);
+    assert!(none[1..].iter().all(|word| *word == f64::NAN.to_bits()));
+
+    let gnss = GnssErrorTelemetry {
+        estimate_m: [1.5, -2.25, 3.0],
+        sigma_m: [7.5, 7.75, 8.0],
+    };
+    fn ramp<const N: usize>(offset: f64) -> [f64; N] {
+        core::array::from_fn(|k| offset + k as f64 / 8.0)
+    }
+    let imu = ImuErrorTelemetry {
+        gyro_non_orthogonality_rad: ramp(1.0),
+        gyro_non_orthogonality_sigma_rad: ramp(2.0),
+        accel_misalignment_rad: ramp(3.0),
+        accel_misalignment_sigma_rad: ramp(4.0),
+        gyro_g_sensitivity_rad_s_per_mps2: ramp(5.0),
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: ramp(6.0),
+    };
+    let bits = |values: &[f64]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&imu.estimates()[3..5]), bits(&[3.0, 3.125]));
+    assert_eq!(bits(&imu.sigmas()[9..]), bits(&[6.0, 6.125, 6.25]));
+    let word = |words: &[u64], name: &str| {
+        let index = OUTPUT_FIELD_NAMES.iter().position(|n| *n == name).unwrap();
+        words[index - first]
+    };
+    let both = optional_state_words(&OptionalStateTelemetry {
+        gnss_error: Some(gnss),
+        imu_error: Some(imu),
+    });
+    assert_eq!(both[0], GNSS_ERROR_BLOCK_BIT | IMU_ERROR_BLOCK_BIT);
+    assert_eq!(word(&both, "gnss_error_y_m"), f64::to_bits(-2.25));
+    assert_eq!(word(&both, "gnss_error_sigma_z_m"), f64::to_bits(8.0));
+    assert_eq!(
+        word(&both, "gyro_non_orthogonality_sigma_zx_rad"),
+        f64::to_bits(2.125)
+    );
+    assert_eq!(
+        word(&both, "accel_misalignment_zy_rad"),
+        f64::to_bits(3.625)
+    );
+    assert_eq!(
+        word(&both, "gyro_g_sensitivity_sigma_z_rad_s_per_mps2"),
+        f64::to_bits(6.25)
+    );
+    let imu_only = optional_state_words(&OptionalStateTelemetry {
+        gnss_error: None,
+        imu_error: Some(imu),
+    });
+    assert_eq!(imu_only[0], IMU_ERROR_BLOCK_BIT);
+    assert!(f64::from_bits(word(&imu_only, "gnss_error_x_m")).is_nan());
+    assert_eq!(
+        word(&imu_only, "accel_misalignment_sigma_xy_rad"),
+        f64::to_bits(4.0)
+    );
+}

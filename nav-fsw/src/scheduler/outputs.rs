@@ -1,6 +1,13 @@
-//! The navigation solution and the frame telemetry on the way out.
+//! The navigation solution, the frame telemetry and the optional state blocks' estimates on
+//! the way out.
 
 use super::*;
+use crate::telemetry::{GnssErrorTelemetry, ImuErrorTelemetry, OptionalStateTelemetry};
+
+/// 1σ of a variance (a negative variance, which the filter's floors prevent, reads as 0).
+fn sigma_of(variance: f64) -> f64 {
+    nav_core::float::sqrt(variance.max(0.0))
+}
 
 impl NavigationComputer {
     /// The best navigation solution (open loop: `x` applied on the way out).
@@ -47,6 +54,48 @@ impl NavigationComputer {
             health: self.health.counters,
             last_frame_cost: self.health.cost.last,
             worst_frame_cost: self.health.cost.worst,
+        }
+    }
+
+    /// The estimates of the optional state blocks the filter flies, with their filter 1σ
+    /// (square roots of the covariance diagonal); `None` for a block it does not fly. Read
+    /// when they are reported, not in every frame (module docs of `crate::telemetry`). The
+    /// systematic IMU errors are [`Self::imu_error_estimate`]'s (the fed-back corrections if
+    /// the open-loop sum is not finite, as [`Self::calibration_estimate`] keeps them). Not
+    /// inlined: the IMU block's covariance would take its place in the caller's stack frame,
+    /// the frame loop's on the Cortex-M7.
+    #[inline(never)]
+    pub fn optional_states(&self) -> OptionalStateTelemetry {
+        let filter = &self.covariance.filter;
+        let gnss = filter.gnss_error();
+        let gnss_error = gnss.is_enabled().then(|| {
+            let variances = gnss.covariance().diagonal();
+            GnssErrorTelemetry {
+                estimate_m: array3(&gnss.estimate_m()),
+                sigma_m: array3(&variances.map(sigma_of)),
+            }
+        });
+        let imu = filter.imu_error();
+        let imu_error = imu.is_enabled().then(|| {
+            let estimate = self
+                .imu_error_estimate()
+                .unwrap_or(self.calibration.imu_errors);
+            let sigma: [f64; 12] = imu.covariance().diagonal().map(sigma_of).into();
+            let [g0, g1, g2, a0, a1, a2, a3, a4, a5, s0, s1, s2] = sigma;
+            ImuErrorTelemetry {
+                gyro_non_orthogonality_rad: estimate.gyro_non_orthogonality_rad.into(),
+                gyro_non_orthogonality_sigma_rad: [g0, g1, g2],
+                accel_misalignment_rad: estimate.accel_misalignment_rad.into(),
+                accel_misalignment_sigma_rad: [a0, a1, a2, a3, a4, a5],
+                gyro_g_sensitivity_rad_s_per_mps2: estimate
+                    .gyro_g_sensitivity_rad_s_per_mps2
+                    .into(),
+                gyro_g_sensitivity_sigma_rad_s_per_mps2: [s0, s1, s2],
+            }
+        });
+        OptionalStateTelemetry {
+            gnss_error,
+            imu_error,
         }
     }
 }

@@ -1,21 +1,24 @@
 //! Monte Carlo campaigns: runs over seeds with their statistics and the NEES test
 //! ([`monte_carlo`], plotted by [`plots`]), the runs of a campaign ([`runs`]), flown in shards
-//! ([`shards`]), merged again ([`mod@merge`]) and reported ([`report`]).
+//! ([`shards`]), merged again ([`mod@merge`]) and reported ([`report`]; the optional state
+//! blocks' statistics in [`optional_block_report`]).
 //!
 //! The campaign functions draw no progress bar: they take a progress callback,
 //! `progress: &(dyn Fn() + Sync)`, called once per finished run from the rayon workers
 //! (`&|| {}` for none).
 
-pub mod imu_error_report;
 pub mod merge;
 pub mod monte_carlo;
+pub mod optional_block_report;
 pub mod plots;
 pub mod report;
 pub mod runs;
 pub mod shards;
 
-pub use imu_error_report::ImuErrorCampaign;
 pub use merge::*;
+pub use optional_block_report::{
+    GnssErrorCampaign, ImuErrorCampaign, OptionalBlockCampaign, ReportedBlock,
+};
 pub use report::*;
 pub use runs::*;
 pub use shards::*;

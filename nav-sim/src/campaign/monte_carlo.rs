@@ -60,7 +60,10 @@ pub struct RunOutcome<const N: usize = CALIBRATION_STATES> {
     pub over_time: Vec<OverTimeSample>,
     /// The systematic IMU error states' final error and covariance, when the filter
     /// estimates them (`[filter.imu_errors]`).
-    pub imu_error: Option<crate::harness::filter_gauge::ImuErrorOutcome>,
+    pub imu_error: Option<crate::harness::optional_blocks::ImuErrorOutcome>,
+    /// The correlated GNSS error states' final error and covariance, when the filter
+    /// estimates them (`[filter] gnss_correlated_sigma_m`).
+    pub gnss_error: Option<crate::harness::optional_blocks::GnssErrorOutcome>,
     /// The flight software's health counters at the end of the run, the non-zero ones by
     /// name (`nav_fsw::health::HealthCounters::named`).
     pub health: std::collections::BTreeMap<String, u32>,
@@ -94,6 +97,7 @@ impl RunOutcome {
             over_time: over_time(&result.samples),
             health: non_zero_counters(&result.health),
             imu_error: result.imu_error.clone(),
+            gnss_error: result.gnss_error.clone(),
         }
     }
 }
@@ -455,10 +459,7 @@ impl NisTest {
 
 /// The NEES of one run, `eᵀ P⁻¹ e`, or `None` if its covariance is not positive definite.
 pub fn run_nees<const N: usize>(outcome: &RunOutcome<N>) -> Option<f64> {
-    // εᵢ = eᵀ P⁻¹ e = |L⁻¹ e|² with P = L Lᵀ.
-    let cholesky = outcome.covariance.cholesky()?;
-    let whitened = cholesky.l().solve_lower_triangular(&outcome.error)?;
-    Some(whitened.norm_squared())
+    crate::harness::optional_blocks::nees(&outcome.error, &outcome.covariance)
 }
 
 /// Computes the per-state statistics and the NEES test of the runs.

@@ -1,16 +1,18 @@
 //! The report of a campaign, flown in one process or merged from shards: the Monte Carlo
 //! summary, percentiles of the final errors, the runs outside 3σ with their re-run commands
-//! and the health counters the runs raised, as text and as JSON.
+//! and the health counters the runs raised, as text and as JSON; the optional state blocks'
+//! statistics beside them when the filter estimates a block (none otherwise: the report of a
+//! campaign without one is as it was).
 
 use std::fmt::Write as _;
 
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::campaign::imu_error_report::ImuErrorCampaign;
 use crate::campaign::monte_carlo::{
     self, MonteCarloError, MonteCarloSummary, RunOutcome, CALIBRATION_STATES,
 };
+use crate::campaign::optional_block_report::{GnssErrorCampaign, ImuErrorCampaign};
 use crate::campaign::runs::RunRecord;
 use crate::harness::flight::FlightError;
 use crate::output::scenario_label::ScenarioLabel;
@@ -122,6 +124,8 @@ pub struct CampaignReport {
     pub outlier_nees_bound: f64,
     /// The systematic IMU error states' statistics, when the filter estimates them.
     pub imu_error: Option<ImuErrorCampaign>,
+    /// The correlated GNSS error states' statistics, when the filter estimates them.
+    pub gnss_error: Option<GnssErrorCampaign>,
     /// The runs outside 3σ, in run order.
     pub outliers: Vec<Outlier>,
     /// The health counters non-zero in some run, by name: how many runs raised each.
@@ -210,6 +214,7 @@ impl CampaignReport {
         Ok(Self {
             scenario: scenario.clone(),
             imu_error: ImuErrorCampaign::of(records)?,
+            gnss_error: GnssErrorCampaign::of(records)?,
             summary,
             error_percentiles,
             position_error_percentiles,
@@ -306,6 +311,9 @@ impl CampaignReport {
         if let Some(imu_error) = &self.imu_error {
             let _ = write!(text, "{}", imu_error.text());
         }
+        if let Some(gnss_error) = &self.gnss_error {
+            let _ = write!(text, "{}", gnss_error.text());
+        }
         let _ = writeln!(text, "{}", self.health_text());
         text
     }
@@ -340,7 +348,8 @@ impl CampaignReport {
     /// `star_nis` and `gnss_nis` (`{average, interval_95, updates}` or null),
     /// `outlier_nees_bound`, `outliers` (`[{run, seed, nees, states: [{parameter, axis,
     /// error_over_sigma}], command}]`) and `health` (`[{counter, runs, max, total}]`, the
-    /// counters non-zero in some run).
+    /// counters non-zero in some run), and per optional state block estimated its statistics
+    /// (`imu_error`, `gnss_error`: [`crate::campaign::OptionalBlockCampaign::json_value`]).
     ///
     /// # Errors
     /// A serialisation error (none expected).
@@ -420,15 +429,17 @@ impl CampaignReport {
                 .collect();
             object.insert("health".into(), health.into());
             if let Some(imu_error) = &self.imu_error {
-                object.insert("imu_error".into(), imu_error.json_value());
+                object.insert(imu_error.block.json_key().into(), imu_error.json_value());
+            }
+            if let Some(gnss_error) = &self.gnss_error {
+                object.insert(gnss_error.block.json_key().into(), gnss_error.json_value());
             }
         }
         serde_json::to_string_pretty(&value)
     }
 
-    /// What `--check` refuses: the average NEES (of the calibration states, and of the
-    /// systematic IMU error states when estimated) outside its 95 % interval (`None` if
-    /// inside).
+    /// What `--check` refuses: the average NEES (of the calibration states, and of each
+    /// optional state block estimated) outside its 95 % interval (`None` if inside).
     pub fn check_failure(&self) -> Option<String> {
         let outside = |nees: &monte_carlo::NeesTest, what: &str| {
             (!nees.consistent()).then(|| {
@@ -439,10 +450,19 @@ impl CampaignReport {
                 )
             })
         };
+        let imu_error = self
+            .imu_error
+            .as_ref()
+            .map(|imu| (&imu.summary.nees, imu.block));
+        let gnss_error = self
+            .gnss_error
+            .as_ref()
+            .map(|gnss| (&gnss.summary.nees, gnss.block));
         outside(&self.summary.nees, "calibration states").or_else(|| {
-            self.imu_error.as_ref().and_then(|imu_error| {
-                outside(&imu_error.summary.nees, "systematic IMU error states")
-            })
+            imu_error
+                .into_iter()
+                .chain(gnss_error)
+                .find_map(|(nees, block)| outside(nees, block.states_noun()))
         })
     }
 }

@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::campaign::monte_carlo::{self, MonteCarloError, RunOutcome, CALIBRATION_STATES};
 use crate::campaign::runs::{fly_runs, RunRecord};
 use crate::harness::flight::{FlightError, NisSum};
+use crate::harness::optional_blocks::BlockOutcome;
 use crate::output::{OutputError, OutputFile};
 use crate::scenario::Scenario;
 
@@ -244,17 +245,50 @@ struct RunLine {
     /// The systematic IMU error states' final error and covariance (absent when the filter
     /// does not estimate them, so such lines read as before the field existed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    imu_error: Option<ImuErrorLine>,
+    imu_error: Option<BlockLine>,
+    /// The correlated GNSS error states' final error and covariance (absent when the filter
+    /// does not estimate them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    gnss_error: Option<BlockLine>,
 }
 
-/// The twelve systematic IMU error states of a run, as hexadecimal bits.
+/// An optional state block of a run, as hexadecimal bits.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct ImuErrorLine {
-    /// Final error, truth in the filter's gauge − estimate.
+struct BlockLine {
+    /// Final error, truth − estimate (the systematic IMU errors' truth in the filter's gauge).
     error: Vec<String>,
     /// Final covariance, column by column.
     covariance: Vec<String>,
+}
+
+impl BlockLine {
+    fn of<const N: usize>(outcome: &BlockOutcome<N>) -> Self {
+        Self {
+            error: outcome.error.iter().copied().map(hex).collect(),
+            covariance: outcome.covariance.iter().copied().map(hex).collect(),
+        }
+    }
+
+    /// The block's outcome; `name` (the line's key) names it in a message.
+    fn outcome<const N: usize>(&self, name: &str) -> Result<BlockOutcome<N>, String> {
+        let floats = |field: &str, texts: &[String], count: usize| {
+            if texts.len() != count {
+                return Err(format!(
+                    "{name}.{field}: {} values, expected {count}",
+                    texts.len()
+                ));
+            }
+            texts
+                .iter()
+                .map(|text| from_hex(text).map_err(|message| format!("{name}.{field}: {message}")))
+                .collect::<Result<Vec<f64>, String>>()
+        };
+        Ok(BlockOutcome {
+            error: SVector::from_iterator(floats("error", &self.error, N)?),
+            covariance: SMatrix::from_iterator(floats("covariance", &self.covariance, N * N)?),
+        })
+    }
 }
 
 /// The first line of a shard file.
@@ -337,10 +371,8 @@ impl RunRecord {
                 })
                 .collect(),
             health: outcome.health.clone(),
-            imu_error: outcome.imu_error.as_ref().map(|imu| ImuErrorLine {
-                error: imu.error.iter().copied().map(hex).collect(),
-                covariance: imu.covariance.iter().copied().map(hex).collect(),
-            }),
+            imu_error: outcome.imu_error.as_ref().map(BlockLine::of),
+            gnss_error: outcome.gnss_error.as_ref().map(BlockLine::of),
         })
     }
 
@@ -403,21 +435,12 @@ impl RunRecord {
                 imu_error: parsed
                     .imu_error
                     .as_ref()
-                    .map(|line| {
-                        let states = nav_core::imu_error::IMU_ERROR_DIMENSION;
-                        Ok::<_, String>(crate::harness::filter_gauge::ImuErrorOutcome {
-                            error: SVector::from_iterator(floats(
-                                "imu_error.error",
-                                &line.error,
-                                states,
-                            )?),
-                            covariance: SMatrix::from_iterator(floats(
-                                "imu_error.covariance",
-                                &line.covariance,
-                                states * states,
-                            )?),
-                        })
-                    })
+                    .map(|line| line.outcome("imu_error"))
+                    .transpose()?,
+                gnss_error: parsed
+                    .gnss_error
+                    .as_ref()
+                    .map(|line| line.outcome("gnss_error"))
                     .transpose()?,
             },
         })
@@ -517,13 +540,25 @@ pub(super) mod tests {
                 health: [("star_gate_rejections".to_string(), 3 + run as u32)]
                     .into_iter()
                     .collect(),
-                imu_error: (run % 2 == 1).then(|| crate::harness::filter_gauge::ImuErrorOutcome {
-                    error: SVector::from_fn(|state, _| (state as f64 - 5.0) * 1.0e-6 / 7.0),
+                imu_error: (run % 2 == 1).then(|| {
+                    crate::harness::optional_blocks::ImuErrorOutcome {
+                        error: SVector::from_fn(|state, _| (state as f64 - 5.0) * 1.0e-6 / 7.0),
+                        covariance: SMatrix::from_fn(|row, column| {
+                            if row == column {
+                                1e-10 * (row as f64 + 1.0)
+                            } else {
+                                1e-13 / (3.0 + row as f64 + column as f64)
+                            }
+                        }),
+                    }
+                }),
+                gnss_error: (run % 3 == 2).then(|| BlockOutcome {
+                    error: SVector::from_fn(|state, _| (state as f64 - 1.0) / 3.0),
                     covariance: SMatrix::from_fn(|row, column| {
                         if row == column {
-                            1e-10 * (row as f64 + 1.0)
+                            64.0 + row as f64
                         } else {
-                            1e-13 / (3.0 + row as f64 + column as f64)
+                            1.0 / (5.0 + row as f64 + column as f64)
                         }
                     }),
                 }),
@@ -584,21 +619,41 @@ pub(super) mod tests {
                         .map(|v| v.to_bits()),
                 );
             }
+            if let Some(gnss) = &outcome.gnss_error {
+                bits.extend(
+                    gnss.error
+                        .iter()
+                        .chain(gnss.covariance.iter())
+                        .map(|v| v.to_bits()),
+                );
+            }
             bits
         };
         assert!(original.outcome.imu_error.is_some());
+        assert!(original.outcome.gnss_error.is_some());
         assert_eq!(bits(&parsed), bits(&original));
         assert!(parsed.outcome.imu_error.is_some());
+        assert_eq!(parsed.outcome.gnss_error, original.outcome.gnss_error);
         assert_eq!(parsed.json_line().unwrap(), line);
-        // Without the systematic states the line has no such field.
+        // Without the optional blocks the line has no such fields.
         let without = record(4);
-        assert!(!without.json_line().unwrap().contains("imu_error"));
+        let without_line = without.json_line().unwrap();
+        assert!(!without_line.contains("imu_error") && !without_line.contains("gnss_error"));
+        let parsed_without = RunRecord::parse(&without_line).unwrap().outcome;
         assert_eq!(
-            RunRecord::parse(&without.json_line().unwrap())
-                .unwrap()
-                .outcome
-                .imu_error,
-            None
+            (parsed_without.imu_error, parsed_without.gnss_error),
+            (None, None)
+        );
+        // A block of the wrong size is refused, naming it.
+        let short = line.replacen(
+            "\"gnss_error\":{\"error\":[",
+            "\"gnss_error\":{\"error\":[\"0\",",
+            1,
+        );
+        let refused = RunRecord::parse(&short).unwrap_err();
+        assert!(
+            refused.contains("gnss_error.error: 4 values, expected 3"),
+            "{refused}"
         );
         assert!(RunRecord::parse(&line.replace("\"run\":5", "\"run\":5,\"x\":1")).is_err());
     }

@@ -4,20 +4,11 @@
 //! gauge (nav-core `imu_error::to_filter_gauge`), and its twelve systematic states to the
 //! mapped misalignments and g-sensitivity. Without the states the truth is compared as it is.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 use nav_core::imu_error::{to_filter_gauge, ImuErrorEstimate, ImuTruth, IMU_ERROR_DIMENSION};
 use nav_core::NavError;
 
 use crate::world::sensors::SensorErrorTruth;
-
-/// The final error and covariance of the twelve systematic IMU error states of a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ImuErrorOutcome {
-    /// Truth (in the filter's gauge) − estimate, in nav-core `ImuErrorBlock` order.
-    pub error: SVector<f64, IMU_ERROR_DIMENSION>,
-    /// The filter's covariance of the twelve states.
-    pub covariance: SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
-}
 
 /// The twelve states of an estimate as one vector (nav-core `ImuErrorBlock` order).
 pub fn imu_error_vector(estimate: &ImuErrorEstimate) -> SVector<f64, IMU_ERROR_DIMENSION> {

@@ -15,7 +15,10 @@ use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
 
-use crate::harness::filter_gauge::{imu_error_vector, in_filter_gauge, ImuErrorOutcome};
+use crate::harness::filter_gauge::in_filter_gauge;
+use crate::harness::optional_blocks::{
+    gnss_error_outcome, imu_error_outcome, GnssErrorOutcome, ImuErrorOutcome,
+};
 use crate::logs::sensor_log;
 use crate::logs::star_heads::FlightStarHeads;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
@@ -43,6 +46,10 @@ pub enum FlightError {
     /// software's systematic estimate is not finite.
     #[error("the systematic IMU errors in the filter's gauge: {0}")]
     Gauge(nav_core::NavError),
+    /// The receiver's correlated error could not be turned into launch-inertial axes (a
+    /// non-finite value or time).
+    #[error("the receiver's correlated error in launch-inertial axes: {0}")]
+    GnssErrorTruth(nav_core::NavError),
 }
 
 /// Values of the five calibration blocks, per axis, in [`StateBlock::CALIBRATION`] order (gyro
@@ -110,6 +117,9 @@ pub struct FlightResult {
     /// The systematic IMU error states' final error and covariance (`[filter.imu_errors]`
     /// on; the calibration error is then in the filter's gauge too, [`crate::harness::filter_gauge`]).
     pub imu_error: Option<ImuErrorOutcome>,
+    /// The correlated GNSS error states' final error and covariance (`[filter]`
+    /// `gnss_correlated_sigma_m` above zero; [`crate::harness::optional_blocks`]).
+    pub gnss_error: Option<GnssErrorOutcome>,
 }
 
 /// The sensor errors as the filter sees them: in its gauge when it estimates the systematic
@@ -124,21 +134,6 @@ fn filter_view(
     } else {
         Ok((*errors, None))
     }
-}
-
-/// The systematic states' final error (truth in the gauge − estimate) and covariance.
-fn imu_error_outcome(
-    computer: &NavigationComputer,
-    truth: Option<&ImuErrorEstimate>,
-) -> Result<Option<ImuErrorOutcome>, FlightError> {
-    let Some(truth) = truth else {
-        return Ok(None);
-    };
-    let estimate = computer.imu_error_estimate().map_err(FlightError::Gauge)?;
-    Ok(Some(ImuErrorOutcome {
-        error: imu_error_vector(truth) - imu_error_vector(&estimate),
-        covariance: computer.filter().imu_error().covariance(),
-    }))
 }
 
 /// Sum of the normalised innovation squared over the updates of one sensor (the gate's
@@ -514,7 +509,9 @@ pub fn fly_observed(
     }
     progress(frames, total_frames);
     let (errors, imu_truth) = filter_view(&computer, &simulation.error_truth())?;
-    let imu_error = imu_error_outcome(&computer, imu_truth.as_ref())?;
+    let imu_error = imu_error_outcome(&computer, imu_truth.as_ref()).map_err(FlightError::Gauge)?;
+    let gnss_error =
+        gnss_error_outcome(&computer, &simulation).map_err(FlightError::GnssErrorTruth)?;
     Ok(FlightResult {
         samples,
         table: *computer.calibration_table(),
@@ -527,5 +524,6 @@ pub fn fly_observed(
         star_nis,
         gnss_nis,
         imu_error,
+        gnss_error,
     })
 }

@@ -2,15 +2,16 @@
 //! flight software frame by frame by nav-fsw's `FrameAssembler` (the one the QEMU replay
 //! firmware uses), which places every record by its own time: a missing IMU sample is a frame
 //! without one, never a shift of navigation time. The output CSV has one row per second of
-//! navigation time and one at the end: the estimates with their filter 1σ, the flight
-//! software's health counters and the assembler's counts, so nothing in the log goes unseen.
+//! navigation time and one at the end: the estimates with their filter 1σ (those of the
+//! optional state blocks the filter flies included), the flight software's health counters
+//! and the assembler's counts, so nothing in the log goes unseen.
 
 use std::io::{Read, Write};
 
 use nav_core::state::{ATTITUDE, POSITION, VELOCITY};
 use nav_fsw::replay::{AssemblyCounts, FrameAssembler};
 use nav_fsw::scheduler::NavigationComputer;
-use nav_fsw::telemetry::FrameTelemetry;
+use nav_fsw::telemetry::{FrameTelemetry, GNSS_ERROR_FIELD_NAMES, IMU_ERROR_FIELD_NAMES};
 
 use crate::logs::sensor_log::SensorLogReader;
 use crate::scenario::Scenario;
@@ -74,6 +75,14 @@ pub fn output_columns(computer: &NavigationComputer) -> Vec<String> {
         columns.extend(AXES.map(|a| format!("{}_{a}", block.name())));
         columns.extend(AXES.map(|a| format!("{}_sigma_{a}", block.name())));
     }
+    // Only the blocks the filter flies: a flight without them has the columns it always had.
+    let optional = computer.optional_states();
+    if optional.gnss_error.is_some() {
+        columns.extend(GNSS_ERROR_FIELD_NAMES.map(str::to_owned));
+    }
+    if optional.imu_error.is_some() {
+        columns.extend(IMU_ERROR_FIELD_NAMES.map(str::to_owned));
+    }
     columns.extend(computer.health().named().map(|(name, _)| name.to_owned()));
     columns.extend(
         [
@@ -109,6 +118,13 @@ fn output_row(
     for (_, entry) in computer.calibration_table().entries() {
         put(&entry.value);
         put(&entry.sigma());
+    }
+    let optional = computer.optional_states();
+    if let Some(gnss_error) = optional.gnss_error {
+        put(&gnss_error.values());
+    }
+    if let Some(imu_error) = optional.imu_error {
+        put(&imu_error.values());
     }
     let counters = computer.health().named().map(|(_, value)| value);
     let replay = [

@@ -20,7 +20,6 @@ use crate::scenario::dispersion::{
 };
 use crate::scenario::Scenario;
 use crate::setup::streams::{self, Stream};
-use crate::setup::SetupError;
 
 /// The values one run draws, in the entries' units (zero for an absent entry).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -83,6 +83,12 @@ impl Simulation {
         self.sensors.error_truth()
     }
 
+    /// The receiver's correlated position error at `time_s` (ECEF, m;
+    /// [`SensorSimulator::gnss_correlated_error_ecef_m`]).
+    pub fn gnss_correlated_error_ecef_m(&self, time_s: f64) -> nalgebra::Vector3<f64> {
+        self.sensors.gnss_correlated_error_ecef_m(time_s)
+    }
+
     /// The number of star-tracker heads ([`SensorSimulator::star_head_count`]).
     pub fn star_head_count(&self) -> usize {
         self.sensors.star_head_count()

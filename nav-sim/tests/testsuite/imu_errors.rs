@@ -107,6 +107,7 @@ fn assert_estimated_consistent(name: &str, outcomes: &[RunOutcome]) {
                 over_time: Vec::new(),
                 health: Default::default(),
                 imu_error: None,
+                gnss_error: None,
             }
         })
         .collect();

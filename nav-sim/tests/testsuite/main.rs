@@ -20,6 +20,7 @@ mod imu_errors;
 mod layers;
 mod model_mismatch;
 mod nees_over_time;
+mod optional_outputs;
 mod paper_accuracy;
 mod realistic_campaign;
 mod realistic_errors;

@@ -48,6 +48,7 @@ fn synthetic_runs(
                 over_time: Vec::new(),
                 health: std::collections::BTreeMap::new(),
                 imu_error: None,
+                gnss_error: None,
             }
         })
         .collect()

@@ -89,7 +89,7 @@ fn bias_target(block: StateBlock) -> f64 {
 }
 
 /// `block.component` of state `k` (0-11), nav-core's names (the campaign report's).
-pub use crate::campaign::imu_error_report::state_name;
+pub use crate::campaign::optional_block_report::imu_state_name as state_name;
 
 impl ImuErrorReport {
     /// One row per state.

@@ -475,6 +475,14 @@ impl SensorSimulator {
         }
     }
 
+    /// The receiver's correlated position error (ECEF, m) at `time_s`: its last fix's value
+    /// carried forward by the Gauss–Markov process, drawn from a copy of the process so the
+    /// flight's random streams are unchanged (zero when the receiver has none). A time
+    /// before the last fix gives the last fix's value.
+    pub fn gnss_correlated_error_ecef_m(&self, time_s: f64) -> Vector3<f64> {
+        self.gnss_correlated.clone().at(time_s)
+    }
+
     /// Appends to `events` what the sensors deliver during truth frame `truth` (see the module
     /// docs for the order).
     ///

@@ -1,11 +1,14 @@
 //! `nav-sim calibrate` (also `nav-sim` alone): one flight of the calibration scenario through
-//! the flight software, its calibration table, NEES and health, and `--check`.
+//! the flight software, its calibration table, NEES and health (and each optional state
+//! block's final errors and NEES when the filter flies it), and `--check`.
 
 use std::path::PathBuf;
 
 use nav_sim::campaign::monte_carlo;
+use nav_sim::campaign::optional_block_report::{flight_json, flight_text, ReportedBlock};
 use nav_sim::harness::flight::{self, FlightOptions, FlightResult};
 use nav_sim::output::report::{self, CalibrationResult, Parameter, TimeHistorySample};
+use nav_sim::output::scenario_label::ScenarioLabel;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use super::{frame_bar, inputs, load_labelled, prepare_outputs, Failure};
@@ -19,7 +22,8 @@ pub struct Args {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Print one JSON object: `{"scenario": {"file", "sha256"}, "rows": [...], "met": n,
-    /// "nees": x, "health": {...}}`.
+    /// "nees": x, "health": {...}}`, with `imu_error` and `gnss_error` (`{"nees", "states"}`)
+    /// when the filter flies them.
     #[arg(long)]
     json: bool,
     /// Exit non-zero if a parameter axis misses the paper's accuracy or the NEES of the
@@ -78,6 +82,32 @@ fn calibration_failures(
     (!failures.is_empty()).then(|| failures.join("; "))
 }
 
+/// The JSON report: the calibration table's, with the optional state blocks the filter flies
+/// (a flight without them prints the table's report untouched).
+fn json_report(
+    table: &CalibrationResult,
+    nees: Option<f64>,
+    result: &FlightResult,
+    label: &ScenarioLabel,
+) -> Result<String, Failure> {
+    let text = table.report_json(nees, &result.health, label)?;
+    if result.imu_error.is_none() && result.gnss_error.is_none() {
+        return Ok(text);
+    }
+    let mut report: serde_json::Value = serde_json::from_str(&text)?;
+    if let Some(object) = report.as_object_mut() {
+        if let Some(imu_error) = &result.imu_error {
+            let block = ReportedBlock::ImuError;
+            object.insert(block.json_key().into(), flight_json(block, imu_error));
+        }
+        if let Some(gnss_error) = &result.gnss_error {
+            let block = ReportedBlock::GnssError;
+            object.insert(block.json_key().into(), flight_json(block, gnss_error));
+        }
+    }
+    Ok(serde_json::to_string_pretty(&report)?)
+}
+
 /// Flies the scenario, prints the calibration (text or JSON), writes the time histories and
 /// plots if asked, and fails under `--check` if the calibration misses.
 pub fn run(args: Args) -> Result<(), Failure> {
@@ -107,7 +137,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
     let nees = result.calibration_nees();
     if json {
-        println!("{}", table.report_json(nees, &result.health, &label)?);
+        println!("{}", json_report(&table, nees, &result, &label)?);
     } else {
         println!("{}", label.line());
         println!(
@@ -121,6 +151,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
             println!(
                 "NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below {nees_bound:.1})"
             );
+        }
+        if let Some(imu_error) = &result.imu_error {
+            println!("{}", flight_text(ReportedBlock::ImuError, imu_error));
+        }
+        if let Some(gnss_error) = &result.gnss_error {
+            println!("{}", flight_text(ReportedBlock::GnssError, gnss_error));
         }
         println!("{}", report::health_table(&result.health));
         if result.withheld_star_measurements > 0 {
