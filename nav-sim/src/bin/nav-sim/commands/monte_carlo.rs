@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use nav_sim::campaign::{self, CampaignReport, Shard};
 
-use super::{campaign_bar, inputs, load, prepare_outputs, Failure};
+use super::{campaign_bar, inputs, load, prepare_outputs, Failure, ResultsArg};
 
 /// The arguments of `nav-sim monte-carlo`.
 #[derive(clap::Args)]
@@ -36,6 +36,8 @@ pub struct Args {
     /// Exit non-zero if the average NEES is outside its 95 % interval.
     #[arg(long)]
     check: bool,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 /// A progress bar over the runs of a campaign, hidden unless `show`.
@@ -83,6 +85,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let label = scenario_path.map(|path| path.display().to_string());
     let report = CampaignReport::new(&records, label.as_deref())?;
     print_campaign(&report, args.json)?;
+    args.results
+        .write("monte-carlo", scenario_path, &report.text())?;
     if let Some(directory) = args.out.as_deref() {
         write_campaign_plots(&report, directory, args.json)?;
     }
