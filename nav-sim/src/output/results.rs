@@ -3,7 +3,7 @@
 //!
 //! A results file is Markdown: one header line naming the command that wrote it, then the
 //! table in a text block. Its content is deterministic (no wall time), so a committed file
-//! compared with a fresh one shows a changed figure in review. [`write`] writes one (through
+//! compared with a fresh one shows a changed figure in review. [`write()`] writes one (through
 //! an [`OutputFile`], so a failed run leaves the old file); [`compare_or_bless`] is what a
 //! test does with a committed output (a results file, the change indication): rewrite it
 //! when blessing, otherwise report the first line that differs.
