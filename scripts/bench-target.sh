@@ -7,6 +7,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
+# The firmware as scripts/test.sh builds it (paths remapped), so its figures compare.
+source scripts/firmware-flags.sh
 seconds="${1:-60}"
 (cd qemu && cargo build --release --bin replay)
 elf="${CARGO_TARGET_DIR:-qemu/target}/thumbv7em-none-eabihf/release/replay"

@@ -5,19 +5,24 @@
 #    qemu-system-arm (apt-get when root), defmt-print;
 # 2. formatting, clippy (host workspace and firmware workspace) and the workspace's API docs
 #    with warnings as errors;
-# 3. host tests, then the fault-injection campaign with its table, then the docs' Slurm recipe
-#    on a single-node Slurm (munge, slurmctld, slurmd: apt-get when root);
+# 3. host tests (with the docs' figure check and the default flight's change indication), then
+#    the fault-injection campaign with its table and the host commands' results compared with
+#    docs/results/, then the docs' Slurm recipe on a single-node Slurm (munge, slurmctld,
+#    slurmd: apt-get when root);
 # 4. the firmware build for the Cortex-M7, with a disassembly check that f64 arithmetic is
 #    hardware double precision (vmul.f64/vadd.f64, no __aeabi_d* soft-float calls);
 # 5. the panic-free flight build, and proof that it rejects a deliberately added panic path;
 # 6. the target checks on QEMU (decoded defmt log shown), then the host tests that compare
-#    the target's results with the host's bit for bit.
+#    the target's results with the host's bit for bit, and its measured cost, stack, flash and
+#    RAM with docs/results/ (a difference fails: regenerate with scripts/results.sh qemu).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 export PATH="$HOME/.cargo/bin:$PATH"
 TARGET=thumbv7em-none-eabihf
 step() { printf "\n==== %s  [t=%d s]\n" "$*" "$SECONDS"; }
+# The firmware's flags, with its paths remapped (its measured figures are compared exactly).
+source scripts/firmware-flags.sh
 
 step "prerequisites"
 if ! rustup target list --installed | grep -qx "$TARGET"; then rustup target add "$TARGET"; fi
@@ -67,6 +72,9 @@ cargo test --workspace
 step "fault-injection campaign (nav_sim::studies::faults): the table, every row met"
 # --workspace: the same feature set as the host tests above, so nothing is compiled again.
 cargo test --workspace --test fault_campaign -- --include-ignored --nocapture
+
+step "the host commands' measured tables written again and compared with docs/results/"
+bash scripts/results.sh check
 
 step "the Slurm recipe of docs/monte-carlo.md on a single-node Slurm: sharded campaign merged = one-process campaign"
 bash scripts/slurm-check.sh

@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod doc_figures;
+pub mod docs;
 pub mod target_log;
 
 /// Root of the project (parent of this crate's directory).

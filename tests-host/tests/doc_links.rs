@@ -1,9 +1,11 @@
-//! Every relative link in README.md, CHANGELOG.md and docs/*.md resolves to a file inside the
-//! repository (a link to `../shared` or a moved page would break in a clone), README.md and
-//! docs/*.md describe the present (no sessions, rounds or issue numbers), and so do the
-//! comments of the code (no issue numbers).
+//! Every relative link in README.md, CHANGELOG.md and the pages under docs/ resolves to a
+//! file inside the repository (a link to `../shared` or a moved page would break in a clone),
+//! README.md and the pages under docs/ describe the present (no sessions, rounds or issue
+//! numbers), and so do the comments of the code (no issue numbers).
 
 use std::path::{Path, PathBuf};
+
+use tests_host::docs::current_pages;
 
 /// The targets of the Markdown links `[text](target)` of `text` (code spans included: a link
 /// is written the same way there only on purpose).
@@ -23,13 +25,8 @@ fn link_targets(text: &str) -> Vec<String> {
 fn every_relative_link_resolves_inside_the_repository() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     let root = root.canonicalize().unwrap();
-    let mut pages: Vec<PathBuf> = vec![root.join("README.md"), root.join("CHANGELOG.md")];
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|extension| extension == "md") {
-            pages.push(path);
-        }
-    }
+    let mut pages = current_pages(&root);
+    pages.push(root.join("CHANGELOG.md"));
     let mut checked = 0;
     for page in &pages {
         let text = std::fs::read_to_string(page).unwrap();
@@ -53,18 +50,6 @@ fn every_relative_link_resolves_inside_the_repository() {
     }
     // The README alone links a dozen pages: a parser that finds nothing is a broken test.
     assert!(checked >= 12, "only {checked} links found");
-}
-
-/// README.md and docs/*.md (history belongs in CHANGELOG.md and the commit messages).
-fn current_pages(root: &Path) -> Vec<PathBuf> {
-    let mut pages = vec![root.join("README.md")];
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|extension| extension == "md") {
-            pages.push(path);
-        }
-    }
-    pages
 }
 
 /// The first phrase of `text` that narrates the project's history rather than its state:
@@ -163,6 +148,78 @@ fn the_code_comments_carry_no_issue_numbers() {
             );
         }
     }
+}
+
+/// The documentation pages a text names as `docs/<page>.md` (or a page under a docs/
+/// subdirectory), in order.
+fn named_pages(text: &str) -> Vec<String> {
+    let mut pages = Vec::new();
+    for (at, _) in text.match_indices("docs/") {
+        let preceded = text[..at]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '-');
+        let rest = &text[at..];
+        let end = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || "/-_.".contains(c)))
+            .unwrap_or(rest.len());
+        let name = rest[..end].trim_end_matches('.');
+        if !preceded && name.ends_with(".md") {
+            pages.push(name.to_string());
+        }
+    }
+    pages
+}
+
+/// Code, scripts and scenarios name documentation pages in their comments and messages
+/// (`see docs/model.md`); a moved or renamed page must take them along.
+#[test]
+fn every_docs_page_the_code_and_scenarios_name_exists() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .unwrap();
+    let mut files = Vec::new();
+    for directory in [
+        "nav-core",
+        "nav-fsw",
+        "nav-sim",
+        "qemu",
+        "tests-host",
+        "scripts",
+    ] {
+        source_files(&root.join(directory), &mut files);
+    }
+    for entry in std::fs::read_dir(root.join("nav-sim/scenarios")).unwrap() {
+        files.push(entry.unwrap().path());
+    }
+    let this_test = root.join("tests-host/tests/doc_links.rs");
+    let mut named = 0;
+    let mut missing = Vec::new();
+    for file in files.iter().filter(|file| **file != this_test) {
+        let text = std::fs::read_to_string(file).unwrap_or_default();
+        for page in named_pages(&text) {
+            named += 1;
+            if !root.join(&page).is_file() {
+                missing.push(format!("{}: {page}", file.display()));
+            }
+        }
+    }
+    // The scenarios alone name pages a hundred times: a parser that finds few is broken.
+    assert!(named >= 100, "only {named} page names found");
+    assert!(
+        missing.is_empty(),
+        "pages that do not exist:\n{}",
+        missing.join("\n")
+    );
+}
+
+#[test]
+fn page_names_are_found_in_text() {
+    assert_eq!(
+        named_pages("see docs/model.md. and (docs/results/a.md), not mydocs/x.md or docs/x.rs"),
+        ["docs/model.md", "docs/results/a.md"]
+    );
 }
 
 #[test]

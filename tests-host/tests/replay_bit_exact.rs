@@ -2,8 +2,9 @@
 //! input file, by the firmware on QEMU (500 Hz SysTick frames in virtual time); every output
 //! word of every frame must agree bit for bit, and the painted stack must stay within its
 //! budget. Prints the per-frame target cost (instructions) by frame type, the stack
-//! high-water mark and the image's static memory, and writes them to
-//! `target/qemu/replay-report.txt`.
+//! high-water mark and the image's static memory, writes them to
+//! `target/qemu/replay-report.txt` and compares them with the committed
+//! `docs/results/qemu-replay-*.md` (`NAV_RESULTS_BLESS=1` rewrites those).
 //!
 //! Ignored by default (needs QEMU and the firmware): `scripts/test.sh` builds the firmware
 //! and runs it with `NAV_QEMU_REPLAY_ELF` set; `NAV_REPLAY_SECONDS` (default 300) sets how
@@ -42,6 +43,7 @@ fn default_scenario_replays_bit_for_bit_on_host_and_target() {
     let text = report.text();
     print!("{text}");
     std::fs::write(root.join("target/qemu/replay-report.txt"), &text).unwrap();
+    check_replay_results("default", &report);
     assert_eq!(report.frames, (seconds * 500).min(scenario.frame_count()));
     if let Some(difference) = &report.difference {
         panic!("host and target differ first at {difference:?}");
@@ -244,7 +246,24 @@ fn replay_scenario(scenario: &Scenario, seconds: u64, name: &str) -> TargetRepla
     if let Some(difference) = &report.difference {
         panic!("{name}: host and target differ first at {difference:?}");
     }
+    check_replay_results(name, &report);
     report
+}
+
+/// Compares the measured cost, stack and memory of the replay `name` with the committed
+/// `docs/results/qemu-replay-{name}.md` (`-icount` makes them deterministic for one
+/// firmware binary), unless `NAV_REPLAY_SECONDS` shortened the replays.
+fn check_replay_results(name: &str, report: &TargetReplayReport) {
+    let full = std::env::var("NAV_REPLAY_SECONDS").map_or(true, |seconds| seconds == "300");
+    if !full {
+        println!("NAV_REPLAY_SECONDS set: the results of {name} are not compared");
+        return;
+    }
+    tests_host::docs::check_results(
+        &format!("qemu-replay-{name}.md"),
+        "scripts/results.sh qemu",
+        &report.measured_text(),
+    );
 }
 
 /// The scenario with every optional state block on.

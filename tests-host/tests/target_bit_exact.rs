@@ -39,6 +39,28 @@ fn instruction_counter_matches_a_loop_of_known_length_within_one_percent() {
     }
 }
 
+/// The cost of each workload on the target (instructions under `-icount`, deterministic for
+/// one firmware binary) and the structured / dense ratios, as the committed
+/// `docs/results/qemu-checks.md` holds them (`NAV_RESULTS_BLESS=1` rewrites it).
+#[test]
+#[ignore = "needs the QEMU log: run scripts/test.sh"]
+fn target_costs_are_the_committed_results() {
+    let log = checks_log();
+    assert!(
+        log.costs.len() >= 6,
+        "only {} costs logged",
+        log.costs.len()
+    );
+    let mut text = String::from("workload                                   instructions\n");
+    for (name, instructions) in &log.costs {
+        text += &format!("{name:<42} {instructions:>12}\n");
+    }
+    for line in log.lines.iter().filter(|line| line.starts_with("RATIO ")) {
+        text += &format!("{line}\n");
+    }
+    tests_host::docs::check_results("qemu-checks.md", "scripts/results.sh qemu", &text);
+}
+
 #[test]
 fn a_changed_bit_is_reported_with_its_index() {
     let log = TargetLog::parse("BITS w 0 3ff0000000000000\nBITS w 1 4000000000000000\n").unwrap();

@@ -349,6 +349,16 @@ pub struct TargetReplayReport {
 impl TargetReplayReport {
     /// The report as text (what the test command and `nav-sim target-bench` print).
     pub fn text(&self) -> String {
+        format!(
+            "{}QEMU wall time {:.1?}\n",
+            self.measured_text(),
+            self.qemu_wall_time
+        )
+    }
+
+    /// [`Self::text`] without the QEMU wall time: only what `-icount` makes deterministic,
+    /// as a results file holds it.
+    pub fn measured_text(&self) -> String {
         let mut text = match &self.difference {
             None => format!(
                 "Replay of the scenario's first {} frames ({:.0} s): host and target \
@@ -378,15 +388,13 @@ impl TargetReplayReport {
         }
         text += &format!(
             "Stack high-water mark of the frame loop {} bytes (budget {} bytes; start-up {} bytes; stack region {} bytes)\n\
-             Image: flash {} bytes, static RAM {} bytes\n\
-             QEMU wall time {:.1?}\n",
+             Image: flash {} bytes, static RAM {} bytes\n",
             self.stack.high_water_bytes,
             STACK_BUDGET_BYTES,
             self.stack.start_up_bytes,
             self.stack.region_bytes,
             self.memory.flash_bytes,
             self.memory.static_ram_bytes,
-            self.qemu_wall_time
         );
         text
     }

@@ -6,9 +6,11 @@
 //! Creating it up front also proves the target writable before a long run starts.
 //! [`refuse_inputs`] refuses an output that is one of the command's inputs before anything is
 //! opened for writing, and [`prepare_directory`] checks an output directory the same way.
-//! Every error names its path. The calibration table, its CSVs and plots are [`report`].
+//! Every error names its path. The calibration table, its CSVs and plots are [`report`]; the
+//! measured tables the documentation includes are [`results`].
 
 pub mod report;
+pub mod results;
 pub mod scenario_label;
 
 use std::fs::{File, Metadata};

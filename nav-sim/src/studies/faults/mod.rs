@@ -344,15 +344,24 @@ impl CampaignResult {
 
     /// One line: rows met, flights, wall time, and the common criteria.
     pub fn summary_line(&self) -> String {
+        format!(
+            "{}; {:.1} s wall time",
+            self.measured_summary_line(),
+            self.wall_time_s
+        )
+    }
+
+    /// [`Self::summary_line`] without the wall time, the machine's rather than the
+    /// campaign's: what a results file holds.
+    pub fn measured_summary_line(&self) -> String {
         let met = self.outcomes.iter().filter(|o| o.met()).count();
         let checks: u64 = self.outcomes.iter().map(|o| o.definiteness_checks).sum();
         format!(
             "{met} of {} rows met; flights of {SHORT_FLIGHT_S:.0} s ({LONG_FLIGHT_S:.0} s for \
              injections over {SHORT_INJECTION_LIMIT_S:.0} s), faults from {FAULT_START_S:.0} s; \
              no panic; state and P finite at every frame after the fault; P symmetric positive \
-             definite at all {checks} checked frames; {:.1} s wall time",
+             definite at all {checks} checked frames",
             self.outcomes.len(),
-            self.wall_time_s
         )
     }
 }

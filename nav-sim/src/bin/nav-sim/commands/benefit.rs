@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use nav_sim::output;
 use nav_sim::studies::benefit::{self, BenefitOptions, OutagePlan};
 
-use super::{campaign_bar, load, Failure};
+use super::{campaign_bar, load, Failure, ResultsArg};
 
 /// The arguments of `nav-sim benefit`.
 #[derive(clap::Args)]
@@ -36,6 +36,8 @@ pub struct Args {
     /// Write the error-growth plot (benefit.png) into this directory.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 impl Args {
@@ -70,6 +72,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let bar = campaign_bar(flights, "benefit", "flights", true);
     let report = benefit::run(&scenario, &options, args.out.as_deref(), &|| bar.inc(1));
     bar.finish_and_clear();
-    print!("{}", report?);
+    let printed = report?.to_string();
+    print!("{printed}");
+    // The run time is the machine's, not a measurement of the flight.
+    let measured: String = printed
+        .lines()
+        .filter(|line| !line.contains(" frames through nav-fsw in "))
+        .map(|line| format!("{line}\n"))
+        .collect();
+    args.results
+        .write("benefit", args.scenario.as_deref(), &measured)?;
     Ok(())
 }

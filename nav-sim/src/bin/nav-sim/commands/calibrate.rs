@@ -11,7 +11,7 @@ use nav_sim::output::report::{self, CalibrationResult, Parameter, TimeHistorySam
 use nav_sim::output::scenario_label::ScenarioLabel;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use super::{frame_bar, inputs, load_labelled, prepare_outputs, Failure};
+use super::{frame_bar, inputs, load_labelled, prepare_outputs, Failure, ResultsArg};
 
 /// The arguments of `nav-sim calibrate`.
 #[derive(clap::Args, Default)]
@@ -30,6 +30,8 @@ pub struct Args {
     /// calibration states is above its χ² 95 % bound.
     #[arg(long)]
     check: bool,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 fn history(result: &FlightResult) -> Vec<TimeHistorySample> {
@@ -108,6 +110,37 @@ fn json_report(
     Ok(serde_json::to_string_pretty(&report)?)
 }
 
+/// The calibration table, the NEES of the calibration states and the health counters as
+/// `calibrate` prints them (everything but the run time).
+fn measured_text(
+    table: &CalibrationResult,
+    nees: Option<f64>,
+    nees_bound: f64,
+    result: &FlightResult,
+) -> String {
+    let mut text = format!("{}\n", report::summary(table));
+    if let Some(nees) = nees {
+        text += &format!(
+            "NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below {nees_bound:.1})\n"
+        );
+    }
+    if let Some(imu_error) = &result.imu_error {
+        text += &format!("{}\n", flight_text(ReportedBlock::ImuError, imu_error));
+    }
+    if let Some(gnss_error) = &result.gnss_error {
+        text += &format!("{}\n", flight_text(ReportedBlock::GnssError, gnss_error));
+    }
+    text += &format!("{}\n", report::health_table(&result.health));
+    if result.withheld_star_measurements > 0 {
+        text += &format!(
+            "star measurements of the additional star-tracker heads not handed to the \
+             flight software (it fuses head 0, [star_sensor], only): {}\n",
+            result.withheld_star_measurements
+        );
+    }
+    text
+}
+
 /// Flies the scenario, prints the calibration (text or JSON), writes the time histories and
 /// plots if asked, and fails under `--check` if the calibration misses.
 pub fn run(args: Args) -> Result<(), Failure> {
@@ -136,6 +169,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let last = history.last().ok_or("the scenario has no frames")?;
     let table = CalibrationResult::from_sample(last, &Parameter::CALIBRATION);
     let nees = result.calibration_nees();
+    let measured = measured_text(&table, nees, nees_bound, &result);
     if json {
         println!("{}", json_report(&table, nees, &result, &label)?);
     } else {
@@ -146,27 +180,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
             result.frames as f64 * scenario.imu.frame_period_s(),
             started.elapsed()
         );
-        println!("{}", report::summary(&table));
-        if let Some(nees) = nees {
-            println!(
-                "NEES of the 15 calibration states at the end: {nees:.1} (χ²(15): mean 15, 95 % below {nees_bound:.1})"
-            );
-        }
-        if let Some(imu_error) = &result.imu_error {
-            println!("{}", flight_text(ReportedBlock::ImuError, imu_error));
-        }
-        if let Some(gnss_error) = &result.gnss_error {
-            println!("{}", flight_text(ReportedBlock::GnssError, gnss_error));
-        }
-        println!("{}", report::health_table(&result.health));
-        if result.withheld_star_measurements > 0 {
-            println!(
-                "star measurements of the additional star-tracker heads not handed to the \
-                 flight software (it fuses head 0, [star_sensor], only): {}",
-                result.withheld_star_measurements
-            );
-        }
+        print!("{measured}");
     }
+    args.results.write("calibrate", scenario_path, &measured)?;
     if let Some(directory) = out {
         let csv = report::write_time_histories(directory, &history)?;
         let png = report::write_plots(directory, &history)?;

@@ -4,13 +4,15 @@ use std::path::PathBuf;
 
 use indicatif::ProgressBar;
 
-use super::{load, Failure};
+use super::{load, Failure, ResultsArg};
 
 /// The arguments of `nav-sim faults`.
 #[derive(clap::Args)]
 pub struct Args {
     /// Scenario TOML (default: the built-in one).
     scenario: Option<PathBuf>,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 /// Flies every fault class, prints the table and fails if a row is not met.
@@ -24,6 +26,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
     bar.finish_and_clear();
     println!("{}", result.table());
     println!("{}", result.summary_line());
+    let measured = format!("{}\n{}\n", result.table(), result.measured_summary_line());
+    args.results
+        .write("faults", args.scenario.as_deref(), &measured)?;
     if result.all_met() {
         Ok(())
     } else {

@@ -64,6 +64,47 @@ pub fn inputs(scenario: Option<&Path>) -> Vec<&Path> {
     scenario.into_iter().collect()
 }
 
+/// `--results DIR` of the measuring commands: the measured tables to write as a results file
+/// (`docs/results/` holds the committed ones, which the documentation includes).
+#[derive(clap::Args, Default)]
+pub struct ResultsArg {
+    /// Also write the measured table (without timings) as the results file
+    /// DIR/<command>-<scenario>.md, headed by the command line that wrote it.
+    #[arg(long, value_name = "DIR")]
+    results: Option<PathBuf>,
+}
+
+impl ResultsArg {
+    /// Writes `body` as the results file of `command` flown on `scenario` (the built-in one:
+    /// `default`) if `--results` was given, and says where.
+    pub fn write(&self, command: &str, scenario: Option<&Path>, body: &str) -> Result<(), Failure> {
+        let Some(directory) = self.results.as_deref() else {
+            return Ok(());
+        };
+        let stem = scenario
+            .and_then(Path::file_stem)
+            .map_or_else(|| "default".into(), |stem| stem.to_string_lossy());
+        let name = format!("{command}-{stem}.md");
+        let written = output::results::write(directory, &name, &command_line(), body)?;
+        eprintln!("results written to {}", written.display());
+        Ok(())
+    }
+}
+
+/// This process's command line without `--results DIR`, as a results file's header names it.
+fn command_line() -> String {
+    let mut words = vec!["nav-sim".to_string()];
+    let mut arguments = std::env::args().skip(1);
+    while let Some(argument) = arguments.next() {
+        if argument == "--results" {
+            arguments.next();
+        } else if !argument.starts_with("--results=") {
+            words.push(argument);
+        }
+    }
+    words.join(" ")
+}
+
 /// Checks an output directory and the files a command writes into it before the run, so a
 /// bad `--out` fails at once rather than after the flight.
 pub fn prepare_outputs(

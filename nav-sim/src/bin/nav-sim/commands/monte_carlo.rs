@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use nav_sim::campaign::{self, CampaignReport, Shard};
 
-use super::{campaign_bar, inputs, load_labelled, prepare_outputs, Failure};
+use super::{campaign_bar, inputs, load_labelled, prepare_outputs, Failure, ResultsArg};
 
 /// The arguments of `nav-sim monte-carlo`.
 #[derive(clap::Args)]
@@ -37,6 +37,8 @@ pub struct Args {
     /// Exit non-zero if the average NEES is outside its 95 % interval.
     #[arg(long)]
     check: bool,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 /// A progress bar over the runs of a campaign, hidden unless `show`.
@@ -84,6 +86,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let records = records?;
     let report = CampaignReport::new(&records, &label)?;
     print_campaign(&report, args.json)?;
+    args.results
+        .write("monte-carlo", scenario_path, &report.text())?;
     if let Some(directory) = args.out.as_deref() {
         write_campaign_plots(&report, directory, args.json)?;
     }

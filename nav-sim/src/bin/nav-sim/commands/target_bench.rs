@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use nav_sim::output::OutputFile;
 
-use super::{load, Failure};
+use super::{load, Failure, ResultsArg};
 
 /// The arguments of `nav-sim target-bench`.
 #[derive(clap::Args)]
@@ -25,6 +25,8 @@ pub struct Args {
     /// Working directory for the replay files; the report is written there too.
     #[arg(long, default_value = "target/qemu/bench")]
     out: PathBuf,
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 /// Replays on the target and the host, prints and writes the report, and fails if the two
@@ -46,6 +48,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     file.write_all(text.as_bytes())?;
     file.commit()?;
     println!("report written to {}", path.display());
+    args.results.write(
+        "target-bench",
+        args.scenario.as_deref(),
+        &report.measured_text(),
+    )?;
     if let Some(difference) = report.difference {
         return Err(format!("host and target differ first at {difference:?}").into());
     }
