@@ -30,9 +30,14 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use crate::block::{self, dot, row_add, row_scale, Block, FiniteCheck, Row, ZERO};
 use crate::measurement::MeasurementJacobian;
-use crate::state::{BlockMask, DYNAMIC_DIMENSION as DYNAMIC_ROWS, STATE_DIMENSION};
+use crate::state::{
+    BlockMask, OptionalBlock, BLOCK_DIMENSION, DYNAMIC_DIMENSION as DYNAMIC_ROWS, STATE_DIMENSION,
+};
 use crate::structured::{StateRows, StructuredModel};
 use crate::NavError;
+
+/// The layout's block: three states, one per axis, kept as 3-vectors and 3×3 blocks here.
+const _: () = assert!(OptionalBlock::GnssError.dimension() == BLOCK_DIMENSION);
 
 /// The receiver's correlated position-error specification (configuration).
 #[derive(Debug, Clone, Copy, PartialEq)]
