@@ -28,11 +28,15 @@
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-use crate::block::{self, dot, row_add, row_scale, Block, FiniteCheck, Row, ZERO};
+#[cfg(feature = "gnss-error-states")]
+use crate::block::{self, dot, row_add, row_scale, FiniteCheck, ZERO};
+use crate::block::{Block, Row};
+#[cfg(feature = "gnss-error-states")]
 use crate::measurement::MeasurementJacobian;
-use crate::state::{
-    BlockMask, OptionalBlock, BLOCK_DIMENSION, DYNAMIC_DIMENSION as DYNAMIC_ROWS, STATE_DIMENSION,
-};
+#[cfg(feature = "gnss-error-states")]
+use crate::state::{BlockMask, DYNAMIC_DIMENSION as DYNAMIC_ROWS};
+use crate::state::{OptionalBlock, BLOCK_DIMENSION, STATE_DIMENSION};
+#[cfg(feature = "gnss-error-states")]
 use crate::structured::{StateRows, StructuredModel};
 use crate::NavError;
 
@@ -71,11 +75,14 @@ impl GnssErrorModel {
     }
 
     /// Checks the values: `sigma_m` finite and `≥ 0`; when it is `> 0`, `correlation_time_s`
-    /// finite and `> 0`.
+    /// finite and `> 0` and the states compiled in (feature `gnss-error-states`).
     ///
     /// # Errors
     /// [`NavError::InvalidConfiguration`] otherwise.
     pub fn validate(&self) -> Result<(), NavError> {
+        if self.is_enabled() && !OptionalBlock::GnssError.is_compiled() {
+            return Err(NavError::InvalidConfiguration);
+        }
         let sigma_ok = self.sigma_m.is_finite() && self.sigma_m >= 0.0;
         let tau_ok = self.correlation_time_s.is_finite() && self.correlation_time_s > 0.0;
         if sigma_ok && (!self.is_enabled() || tau_ok) {
@@ -114,6 +121,7 @@ impl GnssErrorModel {
 }
 
 /// The border of the 27-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
+#[cfg(feature = "gnss-error-states")]
 #[derive(Debug, Clone, Copy)]
 pub struct GnssErrorStates {
     model: GnssErrorModel,
@@ -132,6 +140,7 @@ pub struct GnssErrorStates {
     pending: (Block, Row),
 }
 
+#[cfg(feature = "gnss-error-states")]
 impl PartialEq for GnssErrorStates {
     /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
     fn eq(&self, other: &Self) -> bool {
@@ -153,6 +162,7 @@ pub(crate) struct Border {
     pub(crate) products: [Row; 3],
 }
 
+#[cfg(feature = "gnss-error-states")]
 impl GnssErrorStates {
     /// The prior: `ε̂ = 0`, `P_εε = σ² I`, `C = 0` (all zero when the model is white).
     ///
@@ -480,6 +490,30 @@ impl GnssErrorStates {
         self.second_active = !self.second_active;
     }
 
+    /// [`GnssErrorStates::updated`] kept until [`GnssErrorStates::commit_update`]; `false`
+    /// if a value is not finite (nothing changed but the spare buffer).
+    pub(crate) fn prepare_update(
+        &mut self,
+        border: &Border,
+        core: (&StateRows, &StateRows, &BlockMask),
+        solve: impl Fn(Row) -> Row,
+        innovation: Row,
+    ) -> bool {
+        match self.updated(border, core, solve, innovation) {
+            Some((estimate, covariance)) => {
+                self.pending = (covariance, estimate);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Makes the update prepared last current.
+    pub(crate) fn commit_update(&mut self) {
+        let (covariance, estimate) = self.pending;
+        self.commit(estimate, &covariance);
+    }
+
     /// `C ← J C` for the reset Jacobian (attitude rows `J_ϑϑ`, installation rows `J_ψψ`,
     /// identity elsewhere).
     pub(crate) fn reset(&mut self, attitude: &Block, installation: &Block) {
@@ -505,7 +539,49 @@ impl GnssErrorStates {
     }
 }
 
-#[cfg(test)]
+/// The states compiled out (feature `gnss-error-states` off): no memory, the read accessors
+/// of the real states, inert.
+#[cfg(not(feature = "gnss-error-states"))]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GnssErrorStates;
+
+#[cfg(not(feature = "gnss-error-states"))]
+impl GnssErrorStates {
+    /// [`GnssErrorModel::WHITE`] only (the model's validation refuses any other).
+    ///
+    /// # Errors
+    /// As [`GnssErrorModel::validate`].
+    pub fn new(model: GnssErrorModel) -> Result<Self, NavError> {
+        model.validate().map(|()| Self)
+    }
+
+    /// The model: [`GnssErrorModel::WHITE`].
+    pub fn model(&self) -> &GnssErrorModel {
+        &GnssErrorModel::WHITE
+    }
+
+    /// Never in use.
+    pub fn is_enabled(&self) -> bool {
+        false
+    }
+
+    /// Zero.
+    pub fn estimate_m(&self) -> Vector3<f64> {
+        Vector3::zeros()
+    }
+
+    /// Zero.
+    pub fn covariance(&self) -> Matrix3<f64> {
+        Matrix3::zeros()
+    }
+
+    /// Zero.
+    pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, 3> {
+        SMatrix::zeros()
+    }
+}
+
+#[cfg(all(test, feature = "gnss-error-states"))]
 mod tests {
     use super::*;
     use crate::discretise::{discretise, CovarianceMatrix};

@@ -1,5 +1,5 @@
 //! The state layout: every block of the error state, the paper's 24 states (eq. 15) and the
-//! optional blocks a mission may fly, declared once in one table ([`state_layout!`], PX4
+//! optional blocks a mission may fly, declared once in one table (`state_layout!` below, PX4
 //! EKF2's generated `state.h` idea). Every index, name, unit, dimension, freeze permission
 //! and carrying cargo feature used elsewhere comes from it, never a magic number.
 //!
