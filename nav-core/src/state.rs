@@ -247,49 +247,35 @@ pub const GYRO_SCALE_FACTOR: StateBlock = StateBlock::GyroScaleFactor;
 /// [`StateBlock::AccelScaleFactor`].
 pub const ACCEL_SCALE_FACTOR: StateBlock = StateBlock::AccelScaleFactor;
 
-/// A set of state blocks of the layout (e.g. the blocks frozen by the calibration manager):
-/// bit `k` for `StateBlock::ALL[k]`, bit `8 + k` for `OptionalBlock::ALL[k]`.
+/// A set of state blocks (e.g. the blocks frozen by the calibration manager), one bit per
+/// block of [`StateBlock::ALL`] in their order.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BlockMask {
-    bits: u16,
+    bits: u8,
 }
-
-/// The bit of the first optional block in a [`BlockMask`].
-const FIRST_OPTIONAL_BIT: usize = 8;
-const _: () = assert!(StateBlock::ALL.len() <= FIRST_OPTIONAL_BIT);
-const _: () = assert!(FIRST_OPTIONAL_BIT + OptionalBlock::ALL.len() <= 16);
 
 impl BlockMask {
     /// The empty set.
     pub const NONE: BlockMask = BlockMask { bits: 0 };
 
-    /// Bit `position` of the mask (0 past the sixteenth).
+    /// The bit of `block` (its position in [`StateBlock::ALL`]; eight blocks, eight bits).
     #[inline]
-    fn bit_at(position: usize) -> u16 {
-        u32::try_from(position)
+    fn bit(block: StateBlock) -> u8 {
+        u32::try_from(block.position())
             .ok()
-            .and_then(|position| 1u16.checked_shl(position))
+            .and_then(|position| 1u8.checked_shl(position))
             .unwrap_or(0)
     }
 
-    /// The bit of `block` (its position in [`StateBlock::ALL`]).
-    #[inline]
-    fn bit(block: StateBlock) -> u16 {
-        Self::bit_at(block.position())
-    }
-
-    /// The bit of an optional `block` (after the core blocks' eight).
-    #[inline]
-    fn optional_bit(block: OptionalBlock) -> u16 {
-        Self::bit_at(FIRST_OPTIONAL_BIT.saturating_add(block.position()))
-    }
-
-    /// Whether the core state with index `state_index` (0..24) belongs to a block in the set.
+    /// Whether the state with index `state_index` (0..24) belongs to a block in the set.
     #[inline]
     pub fn contains_state(&self, state_index: usize) -> bool {
-        let position = state_index / BLOCK_DIMENSION;
-        position < StateBlock::ALL.len() && self.bits & Self::bit_at(position) != 0
+        let position = state_index / 3;
+        u32::try_from(position)
+            .ok()
+            .and_then(|p| 1u8.checked_shl(p))
+            .is_some_and(|bit| self.bits & bit != 0)
     }
 
     /// Whether `block` is in the set.
@@ -298,22 +284,10 @@ impl BlockMask {
         self.bits & Self::bit(block) != 0
     }
 
-    /// Whether the optional `block` is in the set.
-    #[inline]
-    pub fn contains_optional(&self, block: OptionalBlock) -> bool {
-        self.bits & Self::optional_bit(block) != 0
-    }
-
     /// Adds `block` to the set.
     #[inline]
     pub fn insert(&mut self, block: StateBlock) {
         self.bits |= Self::bit(block);
-    }
-
-    /// Adds the optional `block` to the set.
-    #[inline]
-    pub fn insert_optional(&mut self, block: OptionalBlock) {
-        self.bits |= Self::optional_bit(block);
     }
 
     /// Removes `block` from the set.
@@ -322,27 +296,14 @@ impl BlockMask {
         self.bits &= !Self::bit(block);
     }
 
-    /// Removes the optional `block` from the set.
-    #[inline]
-    pub fn remove_optional(&mut self, block: OptionalBlock) {
-        self.bits &= !Self::optional_bit(block);
-    }
-
     /// True for the empty set.
     pub fn is_empty(&self) -> bool {
         self.bits == 0
     }
 
-    /// The core blocks' bits (bit k = `StateBlock::ALL[k]`), for telemetry.
+    /// The raw bits (bit k = `StateBlock::ALL[k]`), for telemetry.
     pub fn bits(&self) -> u8 {
-        let [core, _] = self.bits.to_le_bytes();
-        core
-    }
-
-    /// The optional blocks' bits (bit k = `OptionalBlock::ALL[k]`), for telemetry.
-    pub fn optional_bits(&self) -> u8 {
-        let [_, optional] = self.bits.to_le_bytes();
-        optional
+        self.bits
     }
 }
 
@@ -375,13 +336,6 @@ mod tests {
         assert_eq!(mask.bits(), 0b0100_0001);
         mask.remove(ATTITUDE);
         assert_eq!(mask.bits(), 0b0100_0000);
-        mask.insert_optional(OptionalBlock::AccelMisalignment);
-        assert!(mask.contains_optional(OptionalBlock::AccelMisalignment));
-        assert!(!mask.contains_optional(OptionalBlock::GnssError));
-        assert_eq!((mask.bits(), mask.optional_bits()), (0b0100_0000, 0b0100));
-        assert!(!mask.contains_state(STATE_DIMENSION));
-        mask.remove_optional(OptionalBlock::AccelMisalignment);
-        assert_eq!(mask.optional_bits(), 0);
     }
 
     #[test]

@@ -32,6 +32,10 @@ pub(crate) struct OptionalBlocks {
     pub(super) imu: ImuErrorStates,
 }
 
+// A build without the optional blocks' features carries none of their memory.
+#[cfg(not(any(feature = "gnss-error-states", feature = "imu-error-states")))]
+const _: () = assert!(core::mem::size_of::<OptionalBlocks>() == 0);
+
 /// What an update hands to the blocks' preparation: the measurement's Jacobian and observed
 /// blocks, the core gains `K_x`, `M_x` and the frozen blocks, `S`'s factor and the innovation.
 pub(super) struct UpdateInputs<'a> {
@@ -154,9 +158,7 @@ impl OptionalBlocks {
     }
 
     /// Update, first step: every block's new values (into its spare buffers); `false` if one
-    /// is not finite (nothing committed). Not inlined: its stack space is taken only when a
-    /// block is in use.
-    #[inline(never)]
+    /// is not finite (nothing committed).
     pub(super) fn prepare_update(
         &mut self,
         border: Option<&Border>,

@@ -442,27 +442,19 @@ impl ErrorStateFilter {
         // into the result directly, where one whose address the kernels take is copied
         // there with the innovation.
         let s = covariance;
-        // The optional blocks' new values first, then the core Joseph kernel, then their
-        // commits: nothing changes on an error.
-        let blocks = self.blocks.any_enabled();
-        if blocks {
-            let inputs = UpdateInputs {
-                jacobian: (h, &observed_blocks),
-                gains: &gains,
-                products: observed.products(),
-                frozen,
-                cholesky: &cholesky,
-                innovation: block::from_vector(&innovation),
-            };
-            if !self.blocks.prepare_update(border.as_ref(), &inputs) {
-                return Err(NavError::NonFiniteState);
-            }
-        }
-        if !structured::joseph_update(&mut self.covariance, &gains, &observed, &s) {
+        if self.blocks.any_enabled() {
+            let solved = (&cholesky, &s, frozen);
+            let jacobian = (h, &observed_blocks);
+            self.update_borders_and_covariance(
+                border.as_ref(),
+                jacobian,
+                &gains,
+                &observed,
+                solved,
+                &innovation,
+            )?;
+        } else if !structured::joseph_update(&mut self.covariance, &gains, &observed, &s) {
             return Err(NavError::NonFiniteState);
-        }
-        if blocks {
-            self.blocks.commit_update(border.as_ref());
         }
         structured::add_gain_times(&mut self.state, &gains, &innovation);
         Ok(InnovationReport {
@@ -471,6 +463,44 @@ impl ErrorStateFilter {
             normalised_innovation_squared: nis,
             accepted: true,
         })
+    }
+
+    /// The covariance part of [`ErrorStateFilter::update_structured`] with optional blocks in
+    /// use: the blocks' new values first (into their spare buffers), then the core Joseph
+    /// kernel (with the measured border's `M` and `S`), then the blocks' commits; nothing
+    /// changes on an error. Not inlined: its stack space is taken only when a block is in use.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] if a result is not finite.
+    #[inline(never)]
+    fn update_borders_and_covariance(
+        &mut self,
+        border: Option<&crate::gnss_error::Border>,
+        jacobian: (
+            &crate::measurement::MeasurementJacobian,
+            &[bool; STATE_DIMENSION / 3],
+        ),
+        gains: &structured::StateRows,
+        observed: &structured::ObservedCovariance,
+        (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
+        innovation: &Vector3<f64>,
+    ) -> Result<(), NavError> {
+        let inputs = UpdateInputs {
+            jacobian,
+            gains,
+            products: observed.products(),
+            frozen,
+            cholesky,
+            innovation: block::from_vector(innovation),
+        };
+        if !self.blocks.prepare_update(border, &inputs) {
+            return Err(NavError::NonFiniteState);
+        }
+        if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
+            return Err(NavError::NonFiniteState);
+        }
+        self.blocks.commit_update(border);
+        Ok(())
     }
 
     /// Closed-loop reset: returns the error state to feed back (see [`apply_error_state`]),
