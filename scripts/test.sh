@@ -107,7 +107,7 @@ fi
 "$llvm_bin/llvm-size" "$checks_elf"
 
 step "panic-free flight build"
-(cd qemu && cargo build --release --bin flight --no-default-features --features panic-never)
+(cd qemu && cargo build --release --bin flight --no-default-features --features panic-never,state-blocks)
 echo "flight build links with no panic path"
 step "the flight binary holds no dense reference, ground analysis or self-test code"
 flight_elf="$(cd "$(dirname "${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/flight")" && pwd)/flight"
@@ -147,7 +147,10 @@ grep -q "HardFault" target/qemu/stack-guard.log
 grep -q "STACK depth 3072 KiB" target/qemu/stack-guard.log
 echo "as expected, the overflow faulted at the guard after using the whole stack region"
 step "flight build on QEMU"
-(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never)
+(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never,state-blocks)
+step "flight build without the optional state blocks (panic-free, on QEMU): the computer's size"
+(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never) | tee target/qemu/flight-no-blocks.log
+grep -E "^NavigationComputer: [0-9]+ bytes" target/qemu/flight-no-blocks.log
 
 step "bit-for-bit: host build vs Cortex-M7 build"
 NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \

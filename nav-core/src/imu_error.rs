@@ -58,7 +58,7 @@ use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
 
 use crate::attitude::{conjugate, product};
 use crate::error_model::LinearisationPoint;
-use crate::state::{ATTITUDE, STATE_DIMENSION, VELOCITY};
+use crate::state::{OptionalBlock, ATTITUDE, STATE_DIMENSION, VELOCITY};
 use crate::strapdown::{ImuIncrement, SensorCorrections};
 use crate::NavError;
 
@@ -83,13 +83,18 @@ impl ImuErrorBlock {
         Self::GyroGSensitivity,
     ];
 
+    /// The block in the state layout ([`crate::state`]).
+    pub const fn layout(self) -> OptionalBlock {
+        match self {
+            Self::GyroNonOrthogonality => OptionalBlock::GyroNonOrthogonality,
+            Self::AccelMisalignment => OptionalBlock::AccelMisalignment,
+            Self::GyroGSensitivity => OptionalBlock::GyroGSensitivity,
+        }
+    }
+
     /// Index of the block's first state in the 12 systematic-error states.
     pub const fn offset(self) -> usize {
-        match self {
-            Self::GyroNonOrthogonality => 0,
-            Self::AccelMisalignment => 3,
-            Self::GyroGSensitivity => 9,
-        }
+        self.layout().index() - OptionalBlock::GyroNonOrthogonality.index()
     }
 
     /// Index of the block's first state in the augmented vector (after the 24).
@@ -107,19 +112,12 @@ impl ImuErrorBlock {
 
     /// Number of states in the block (3, 6, 3).
     pub const fn dimension(self) -> usize {
-        match self {
-            Self::AccelMisalignment => 6,
-            Self::GyroNonOrthogonality | Self::GyroGSensitivity => 3,
-        }
+        self.layout().dimension()
     }
 
     /// Short name (tables, telemetry).
     pub const fn name(self) -> &'static str {
-        match self {
-            Self::GyroNonOrthogonality => "gyro_non_orthogonality",
-            Self::AccelMisalignment => "accel_misalignment",
-            Self::GyroGSensitivity => "gyro_g_sensitivity",
-        }
+        self.layout().name()
     }
 
     /// Name of the block's `k`-th component (`yx`, `xy`, `x`, …); `"?"` past the block.
@@ -136,8 +134,10 @@ impl ImuErrorBlock {
     }
 }
 
-/// Number of systematic IMU error states (3 + 6 + 3).
-pub const IMU_ERROR_DIMENSION: usize = 12;
+/// Number of systematic IMU error states (3 + 6 + 3): the layout's blocks summed.
+pub const IMU_ERROR_DIMENSION: usize = ImuErrorBlock::GyroNonOrthogonality.dimension()
+    + ImuErrorBlock::AccelMisalignment.dimension()
+    + ImuErrorBlock::GyroGSensitivity.dimension();
 /// The paper's 24 states and the 12 systematic IMU error states.
 pub const AUGMENTED_DIMENSION: usize = STATE_DIMENSION + IMU_ERROR_DIMENSION;
 const _: () = assert!(

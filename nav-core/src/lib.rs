@@ -32,6 +32,12 @@
 //! the square root goes through [`float::sqrt`] (correctly rounded: libm, or the FPU's
 //! instruction with the `hardware-sqrt` feature, the same bits).
 #![cfg_attr(not(test), no_std)]
+// A build without an optional state block leaves the shared kernels' inputs for it (border
+// products, bias inputs, their finiteness checks) unused; the full build checks dead code.
+#![cfg_attr(
+    not(all(feature = "gnss-error-states", feature = "imu-error-states")),
+    allow(dead_code)
+)]
 // No unsafe code but the one FPU instruction of `float::sqrt` (feature `hardware-sqrt`).
 #![deny(unsafe_code)]
 // Flight-path lint policy (the common policy is [workspace.lints] in the root Cargo.toml).

@@ -1,46 +1,188 @@
-//! The 24-state error vector of the paper's eq. (15), as named blocks.
+//! The state layout: every block of the error state, the paper's 24 states (eq. 15) and the
+//! optional blocks a mission may fly, declared once in one table (`state_layout!` below, PX4
+//! EKF2's generated `state.h` idea). Every index, name, unit, dimension, freeze permission
+//! and carrying cargo feature used elsewhere comes from it, never a magic number.
 //!
-//! One closed type ([`StateBlock`]) is the single source of truth for the layout; every index used
-//! elsewhere is derived from a [`StateBlock`] constant (PX4 EKF2's `IdxDof` idea), never a
-//! magic number.
+//! The core blocks ([`StateBlock`]) are always there, in the paper's order. The optional
+//! blocks ([`OptionalBlock`]) follow them in the layout, each carried by a cargo feature of
+//! nav-core; a build without the feature holds neither the block's memory nor its code.
 
-/// A block of the error-state vector (paper eq. 15). A closed set: only the eight blocks of
-/// the model exist, so an index or a name is never out of range.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum StateBlock {
-    /// Attitude error `ϑ`: vector part of the body-frame error quaternion (dimensionless, ≈
-    /// half the small rotation angle in rad). States 1-3 of the paper.
-    Attitude,
-    /// Position error `δp = p − p̂` in the launch-inertial frame (m). States 4-6.
-    Position,
-    /// Velocity error `δv = v − v̂` in the launch-inertial frame (m/s). States 7-9.
-    Velocity,
-    /// Gyro bias error (rad/s), body axes. States 10-12.
-    GyroBias,
-    /// Accelerometer bias error (m/s²), body axes. States 13-15.
-    AccelBias,
-    /// Star-sensor installation error: vector part of `q_ψ` (≈ half-angle, rad). States 16-18.
-    StarInstallation,
-    /// Gyro scale-factor errors (dimensionless), diagonal of `Λg`. States 19-21.
-    GyroScaleFactor,
-    /// Accelerometer scale-factor errors (dimensionless), diagonal of `Λa`. States 22-24.
-    AccelScaleFactor,
+/// Declares the state layout. Each line: the block, its short name (tables, telemetry
+/// columns), its unit, its number of states, whether the calibration manager may freeze it,
+/// and for an optional block the cargo feature that carries it. Generates [`StateBlock`],
+/// [`OptionalBlock`] and their accessors; the blocks' indices are the running sums of the
+/// dimensions in table order.
+macro_rules! state_layout {
+    (
+        core {
+            $( $(#[$core_doc:meta])* $core:ident =
+                ($core_name:literal, $core_unit:literal, $core_dimension:literal, $core_freeze:literal); )*
+        }
+        optional {
+            $( $(#[$optional_doc:meta])* $optional:ident =
+                ($optional_name:literal, $optional_unit:literal, $optional_dimension:literal,
+                 $optional_freeze:literal, $feature:literal); )*
+        }
+    ) => {
+        /// A core block of the error-state vector (paper eq. 15). A closed set: only the
+        /// eight blocks of the model exist, so an index or a name is never out of range.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub enum StateBlock {
+            $( $(#[$core_doc])* $core, )*
+        }
+
+        /// An optional block of the error state, after the core blocks in the layout; each is
+        /// carried by a cargo feature ([`OptionalBlock::feature`]).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub enum OptionalBlock {
+            $( $(#[$optional_doc])* $optional, )*
+        }
+
+        /// Number of core error states (paper eq. 15): the core blocks' dimensions summed.
+        pub const STATE_DIMENSION: usize = 0 $(+ $core_dimension)*;
+        /// Number of states of the layout with every optional block.
+        pub const LAYOUT_DIMENSION: usize = STATE_DIMENSION $(+ $optional_dimension)*;
+
+        /// The first state of each block, by the blocks' names (running sums of the table's
+        /// dimensions, evaluated at compile time).
+        #[allow(non_upper_case_globals, clippy::indexing_slicing, clippy::as_conversions)]
+        mod first_state {
+            use super::{OptionalBlock, StateBlock};
+            const CORE: [usize; StateBlock::ALL.len()] =
+                super::running_sums(0, [$($core_dimension),*]);
+            const OPTIONAL: [usize; OptionalBlock::ALL.len()] =
+                super::running_sums(super::STATE_DIMENSION, [$($optional_dimension),*]);
+            $( pub(super) const $core: usize = CORE[StateBlock::$core as usize]; )*
+            $( pub(super) const $optional: usize = OPTIONAL[OptionalBlock::$optional as usize]; )*
+        }
+
+        impl StateBlock {
+            /// All core blocks in the paper's order (eq. 15); contiguous and covering 0..24
+            /// (tested).
+            pub const ALL: [StateBlock; [$(stringify!($core)),*].len()] = [$(Self::$core),*];
+
+            /// Index of the first state of the block in the 24-vector.
+            pub const fn index(self) -> usize {
+                match self { $(Self::$core => first_state::$core,)* }
+            }
+
+            /// Number of states in the block (3 for every core block of this model).
+            pub const fn dimension(self) -> usize {
+                match self { $(Self::$core => $core_dimension,)* }
+            }
+
+            /// Short name (for tables and telemetry).
+            pub const fn name(self) -> &'static str {
+                match self { $(Self::$core => $core_name,)* }
+            }
+
+            /// Unit of the block's states.
+            pub const fn unit(self) -> &'static str {
+                match self { $(Self::$core => $core_unit,)* }
+            }
+
+            /// Whether the calibration manager may freeze the block (a calibration block).
+            pub const fn may_freeze(self) -> bool {
+                match self { $(Self::$core => $core_freeze,)* }
+            }
+        }
+
+        impl OptionalBlock {
+            /// All optional blocks in layout order, compiled in or not.
+            pub const ALL: [OptionalBlock; [$(stringify!($optional)),*].len()] =
+                [$(Self::$optional),*];
+
+            /// Index of the block's first state in the layout with every block (after the
+            /// 24 core states).
+            pub const fn index(self) -> usize {
+                match self { $(Self::$optional => first_state::$optional,)* }
+            }
+
+            /// Number of states in the block.
+            pub const fn dimension(self) -> usize {
+                match self { $(Self::$optional => $optional_dimension,)* }
+            }
+
+            /// Short name (for tables and telemetry).
+            pub const fn name(self) -> &'static str {
+                match self { $(Self::$optional => $optional_name,)* }
+            }
+
+            /// Unit of the block's states.
+            pub const fn unit(self) -> &'static str {
+                match self { $(Self::$optional => $optional_unit,)* }
+            }
+
+            /// Whether the calibration manager may freeze the block.
+            pub const fn may_freeze(self) -> bool {
+                match self { $(Self::$optional => $optional_freeze,)* }
+            }
+
+            /// The nav-core cargo feature that carries the block.
+            pub const fn feature(self) -> &'static str {
+                match self { $(Self::$optional => $feature,)* }
+            }
+
+            /// Whether this build carries the block (its feature is on).
+            pub const fn is_compiled(self) -> bool {
+                match self { $(Self::$optional => cfg!(feature = $feature),)* }
+            }
+        }
+    };
+}
+
+/// `start` plus the running sums of `dimensions`: each block's first state. Evaluated only
+/// in constants (the layout's), so its indexing is checked at compile time.
+#[allow(clippy::indexing_slicing)]
+const fn running_sums<const N: usize>(start: usize, dimensions: [usize; N]) -> [usize; N] {
+    let mut first = [0; N];
+    let mut next = start;
+    let mut k = 0;
+    while k < N {
+        first[k] = next;
+        next += dimensions[k];
+        k += 1;
+    }
+    first
+}
+
+state_layout! {
+    core {
+        /// Attitude error `ϑ`: vector part of the body-frame error quaternion (dimensionless,
+        /// ≈ half the small rotation angle in rad). States 1-3 of the paper.
+        Attitude = ("attitude", "rad/2", 3, false);
+        /// Position error `δp = p − p̂` in the launch-inertial frame (m). States 4-6.
+        Position = ("position", "m", 3, false);
+        /// Velocity error `δv = v − v̂` in the launch-inertial frame (m/s). States 7-9.
+        Velocity = ("velocity", "m/s", 3, false);
+        /// Gyro bias error (rad/s), body axes. States 10-12.
+        GyroBias = ("gyro_bias", "rad/s", 3, true);
+        /// Accelerometer bias error (m/s²), body axes. States 13-15.
+        AccelBias = ("accel_bias", "m/s^2", 3, true);
+        /// Star-sensor installation error: vector part of `q_ψ` (≈ half-angle, rad). States
+        /// 16-18.
+        StarInstallation = ("star_installation", "rad/2", 3, true);
+        /// Gyro scale-factor errors (dimensionless), diagonal of `Λg`. States 19-21.
+        GyroScaleFactor = ("gyro_scale_factor", "1", 3, true);
+        /// Accelerometer scale-factor errors (dimensionless), diagonal of `Λa`. States 22-24.
+        AccelScaleFactor = ("accel_scale_factor", "1", 3, true);
+    }
+    optional {
+        /// The receiver's correlated position error `ε` (m, launch-inertial axes):
+        /// [`crate::gnss_error`].
+        GnssError = ("gnss_error", "m", 3, true, "gnss-error-states");
+        /// Gyro non-orthogonality (rad): [`crate::imu_error_states`].
+        GyroNonOrthogonality = ("gyro_non_orthogonality", "rad", 3, true, "imu-error-states");
+        /// Accelerometer misalignment (rad): [`crate::imu_error_states`].
+        AccelMisalignment = ("accel_misalignment", "rad", 6, true, "imu-error-states");
+        /// Gyro g-sensitivity (rad/s per m/s²): [`crate::imu_error_states`].
+        GyroGSensitivity = ("gyro_g_sensitivity", "rad/s/(m/s^2)", 3, true, "imu-error-states");
+    }
 }
 
 impl StateBlock {
-    /// All blocks in the paper's order (eq. 15); contiguous and covering 0..24 (tested).
-    pub const ALL: [StateBlock; 8] = [
-        Self::Attitude,
-        Self::Position,
-        Self::Velocity,
-        Self::GyroBias,
-        Self::AccelBias,
-        Self::StarInstallation,
-        Self::GyroScaleFactor,
-        Self::AccelScaleFactor,
-    ];
-
     /// The 15 calibration states (biases, installation error, scale factors): states 10-24,
     /// five 3-state blocks.
     pub const CALIBRATION: [StateBlock; 5] = [
@@ -54,42 +196,10 @@ impl StateBlock {
     /// The navigation blocks (attitude, position, velocity).
     pub const NAVIGATION: [StateBlock; 3] = [Self::Attitude, Self::Position, Self::Velocity];
 
-    /// Position of the block in [`StateBlock::ALL`].
+    /// Position of the block in [`StateBlock::ALL`] (its declaration order).
+    #[allow(clippy::as_conversions)] // a fieldless enum's discriminant: lossless
     pub const fn position(self) -> usize {
-        match self {
-            Self::Attitude => 0,
-            Self::Position => 1,
-            Self::Velocity => 2,
-            Self::GyroBias => 3,
-            Self::AccelBias => 4,
-            Self::StarInstallation => 5,
-            Self::GyroScaleFactor => 6,
-            Self::AccelScaleFactor => 7,
-        }
-    }
-
-    /// Index of the first state of the block in the 24-vector.
-    pub const fn index(self) -> usize {
-        self.position() * BLOCK_DIMENSION
-    }
-
-    /// Number of states in the block (3 for every block of this model).
-    pub const fn dimension(self) -> usize {
-        BLOCK_DIMENSION
-    }
-
-    /// Short name (for tables and telemetry).
-    pub const fn name(self) -> &'static str {
-        match self {
-            Self::Attitude => "attitude",
-            Self::Position => "position",
-            Self::Velocity => "velocity",
-            Self::GyroBias => "gyro_bias",
-            Self::AccelBias => "accel_bias",
-            Self::StarInstallation => "star_installation",
-            Self::GyroScaleFactor => "gyro_scale_factor",
-            Self::AccelScaleFactor => "accel_scale_factor",
-        }
+        self as usize
     }
 
     /// Whether the block is one of [`StateBlock::CALIBRATION`].
@@ -101,8 +211,15 @@ impl StateBlock {
 /// Number of states in every block.
 pub const BLOCK_DIMENSION: usize = 3;
 
-/// Number of error states (paper eq. 15).
-pub const STATE_DIMENSION: usize = 24;
+// Every core block has three states (the structured kernels work on 3×3 blocks).
+#[allow(clippy::indexing_slicing)] // evaluated at compile time
+const _: () = {
+    let mut k = 0;
+    while k < StateBlock::ALL.len() {
+        assert!(StateBlock::ALL[k].dimension() == BLOCK_DIMENSION);
+        k += 1;
+    }
+};
 /// Number of dynamic states: the blocks of [`StateBlock::NAVIGATION`] (attitude, position,
 /// velocity), first in the vector; the only rows of the system matrix that are not zero.
 pub const DYNAMIC_DIMENSION: usize = StateBlock::NAVIGATION.len() * BLOCK_DIMENSION;
@@ -190,6 +307,14 @@ impl BlockMask {
     }
 }
 
+impl OptionalBlock {
+    /// Position of the block in [`OptionalBlock::ALL`] (its declaration order).
+    #[allow(clippy::as_conversions)] // a fieldless enum's discriminant: lossless
+    pub const fn position(self) -> usize {
+        self as usize
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -214,6 +339,26 @@ mod tests {
     }
 
     #[test]
+    fn the_layout_numbers_every_state_once() {
+        let mut next = STATE_DIMENSION;
+        for block in OptionalBlock::ALL {
+            assert_eq!(OptionalBlock::ALL[block.position()], block);
+            assert_eq!(block.index(), next, "{}", block.name());
+            assert!(block.may_freeze());
+            next += block.dimension();
+        }
+        assert_eq!(next, LAYOUT_DIMENSION);
+        assert_eq!(LAYOUT_DIMENSION, 39);
+        assert_eq!(OptionalBlock::AccelMisalignment.dimension(), 6);
+        assert_eq!(OptionalBlock::GnssError.feature(), "gnss-error-states");
+        assert_eq!(
+            OptionalBlock::GyroGSensitivity.is_compiled(),
+            cfg!(feature = "imu-error-states")
+        );
+        assert_eq!(GYRO_BIAS.unit(), "rad/s");
+    }
+
+    #[test]
     fn blocks_are_contiguous_and_cover_the_state() {
         let mut next = 0;
         for block in StateBlock::ALL {
@@ -224,6 +369,7 @@ mod tests {
                 block.is_calibration(),
                 StateBlock::CALIBRATION.contains(&block)
             );
+            assert_eq!(block.may_freeze(), block.is_calibration());
             next += block.dimension();
         }
         assert_eq!(next, STATE_DIMENSION);

@@ -25,7 +25,7 @@ impl ErrorStateFilter {
     /// dense reference is in `crate::imu_error_states`' tests).
     pub fn predict(&mut self, model: &DiscreteModel) -> Result<(), NavError> {
         // The 36-state reference lives in the border's tests (crate::imu_error_states).
-        if self.imu_error.is_enabled() {
+        if self.blocks.imu.is_enabled() {
             return Err(NavError::InvalidConfiguration);
         }
         let f = &model.transition;
@@ -34,7 +34,7 @@ impl ErrorStateFilter {
             FilterMode::OpenLoop => f * self.state,
             FilterMode::ClosedLoop => self.state,
         };
-        let mut gnss_error = self.gnss_error;
+        let mut gnss_error = self.blocks.gnss;
         let border_finite = gnss_error.propagate(model.interval_s, |column| f * column);
         if !(covariance.iter().all(|v| v.is_finite())
             && state.iter().all(|v| v.is_finite())
@@ -44,7 +44,7 @@ impl ErrorStateFilter {
         }
         self.covariance = covariance;
         self.state = state;
-        self.gnss_error = gnss_error;
+        self.blocks.gnss = gnss_error;
         Ok(())
     }
 
@@ -79,10 +79,10 @@ impl ErrorStateFilter {
         frozen: &BlockMask,
     ) -> Result<InnovationReport, NavError> {
         check_update_inputs(measurement, gate_nis)?;
-        if self.imu_error.is_enabled() {
+        if self.blocks.imu.is_enabled() {
             return Err(NavError::InvalidConfiguration);
         }
-        if self.gnss_error.is_enabled() {
+        if self.blocks.gnss.is_enabled() {
             return self.update_bordered_dense(measurement, gate_nis, frozen);
         }
         let mut report = self.innovation(measurement)?;
@@ -126,7 +126,7 @@ impl ErrorStateFilter {
         gate_nis: f64,
         frozen: &BlockMask,
     ) -> Result<InnovationReport, NavError> {
-        let border = &self.gnss_error;
+        let border = &self.blocks.gnss;
         let (cross, border_covariance) = (border.cross_covariance(), border.covariance());
         let estimate = border.estimate_m();
         let at = |m: &CovarianceMatrix, i: usize, j: usize| m.get((i, j)).copied();
@@ -185,7 +185,7 @@ impl ErrorStateFilter {
         let n = STATE_DIMENSION;
         self.covariance = CovarianceMatrix::from_fn(|i, j| at_augmented(&p, i, j));
         self.state = ErrorState::from_fn(|i, _| x.get(i).copied().unwrap_or(f64::NAN));
-        self.gnss_error.set(
+        self.blocks.gnss.set(
             &Vector3::from_fn(|a, _| x.get(n + a).copied().unwrap_or(f64::NAN)),
             &Matrix3::from_fn(|a, b| at_augmented(&p, n + a, n + b)),
             &SMatrix::from_fn(|i, a| at_augmented(&p, i, n + a)),
@@ -215,12 +215,12 @@ impl ErrorStateFilter {
                     .into(),
             )
         };
-        self.gnss_error.reset(
+        self.blocks.gnss.reset(
             &block_of_jacobian(ATTITUDE),
             &block_of_jacobian(STAR_INSTALLATION),
         );
-        if self.imu_error.is_enabled() {
-            self.imu_error.reset(
+        if self.blocks.imu.is_enabled() {
+            self.blocks.imu.reset(
                 &block_of_jacobian(ATTITUDE),
                 &block_of_jacobian(STAR_INSTALLATION),
             );

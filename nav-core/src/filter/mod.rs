@@ -21,9 +21,8 @@ use nalgebra::{Cholesky, Matrix3, Quaternion, SVector, Vector3};
 use crate::attitude::{self, skew};
 use crate::block;
 use crate::discretise::CovarianceMatrix;
-use crate::error_model::set_block;
-use crate::gnss_error::{GnssErrorModel, GnssErrorStates};
-use crate::imu_error_states::{ImuErrorModel, ImuErrorStates};
+use crate::gnss_error::GnssErrorStates;
+use crate::imu_error_states::ImuErrorStates;
 use crate::measurement::LinearMeasurement;
 use crate::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
@@ -31,6 +30,9 @@ use crate::state::{
 };
 use crate::structured::{self, StructuredModel};
 use crate::NavError;
+use blocks::{OptionalBlocks, UpdateInputs};
+
+pub use config::{FilterConfig, InitialUncertainty};
 
 /// The 24-element error-state vector.
 pub type ErrorState = SVector<f64, STATE_DIMENSION>;
@@ -43,128 +45,6 @@ pub enum FilterMode {
     OpenLoop,
     /// After each update the errors are fed back and `x` is zeroed (flight practice).
     ClosedLoop,
-}
-
-/// Initial 1σ per block (same value on each of the block's three axes).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct InitialUncertainty {
-    /// Attitude error, as a rotation angle (rad); the state's 1σ is half of it.
-    pub attitude_rad: f64,
-    /// Position (m).
-    pub position_m: f64,
-    /// Velocity (m/s).
-    pub velocity_mps: f64,
-    /// Gyro bias (rad/s).
-    pub gyro_bias_rad_s: f64,
-    /// Accelerometer bias (m/s²).
-    pub accel_bias_mps2: f64,
-    /// Star-sensor installation error, as a rotation angle (rad); the state's 1σ is half.
-    pub star_installation_rad: f64,
-    /// Gyro scale factor (dimensionless).
-    pub gyro_scale_factor: f64,
-    /// Accelerometer scale factor (dimensionless).
-    pub accel_scale_factor: f64,
-}
-
-/// Filter configuration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FilterConfig {
-    /// Open or closed loop.
-    pub mode: FilterMode,
-    /// Discretisation order, 1 to 4 (paper: 3).
-    pub discretisation_order: u8,
-    /// Initial 1σ per block.
-    pub initial: InitialUncertainty,
-    /// The GNSS receiver's correlated position error ([`crate::gnss_error`]);
-    /// [`GnssErrorModel::WHITE`] for the paper's 24 states.
-    pub gnss_error: GnssErrorModel,
-    /// The systematic IMU error states ([`crate::imu_error_states`]);
-    /// [`ImuErrorModel::DISABLED`] for the paper's 24 states.
-    pub imu_error: ImuErrorModel,
-}
-
-impl FilterConfig {
-    /// Checks every value is finite and in range.
-    ///
-    /// # Errors
-    /// [`NavError::InvalidDiscretisationOrder`], or [`NavError::InvalidConfiguration`] for a
-    /// non-finite or non-positive initial 1σ or a bad [`GnssErrorModel`].
-    pub fn validate(&self) -> Result<(), NavError> {
-        if !(1..=crate::discretise::MAX_ORDER).contains(&self.discretisation_order) {
-            return Err(NavError::InvalidDiscretisationOrder);
-        }
-        self.gnss_error.validate()?;
-        self.imu_error.validate()?;
-        let sigmas = self.initial_sigmas();
-        if sigmas
-            .iter()
-            .all(|(_, sigma)| sigma.is_finite() && *sigma > 0.0)
-        {
-            Ok(())
-        } else {
-            Err(NavError::InvalidConfiguration)
-        }
-    }
-
-    /// The diagonal of the initial `P` (every state's configured 1σ squared, the values
-    /// [`ErrorStateFilter::new`] puts there), without building a filter.
-    ///
-    /// # Errors
-    /// As [`FilterConfig::validate`].
-    ///
-    /// # Examples
-    /// ```
-    /// use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
-    /// use nav_core::state::{ATTITUDE, POSITION};
-    /// let initial = InitialUncertainty {
-    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
-    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
-    ///     accel_scale_factor: 1e-4,
-    /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
-    /// let variances = config.initial_variances()?;
-    /// assert_eq!(variances[POSITION.index()], 100.0);
-    /// // The attitude states are half-angles: (½ · 1 mrad)².
-    /// assert!((variances[ATTITUDE.index()] - 0.25e-6).abs() < 1e-21);
-    /// # Ok::<(), nav_core::NavError>(())
-    /// ```
-    pub fn initial_variances(&self) -> Result<ErrorState, NavError> {
-        self.validate()?;
-        let mut variances = ErrorState::zeros();
-        for (block, sigma) in self.initial_sigmas() {
-            let first = block.index();
-            let states = first..first.saturating_add(block.dimension());
-            for variance in variances
-                .as_mut_slice()
-                .get_mut(states)
-                .into_iter()
-                .flatten()
-            {
-                *variance = sigma * sigma;
-            }
-        }
-        Ok(variances)
-    }
-
-    /// 1σ of each block's state (the attitude and installation states are half-angles).
-    fn initial_sigmas(&self) -> [(StateBlock, f64); 8] {
-        let i = &self.initial;
-        [
-            (ATTITUDE, 0.5 * i.attitude_rad),
-            (POSITION, i.position_m),
-            (VELOCITY, i.velocity_mps),
-            (GYRO_BIAS, i.gyro_bias_rad_s),
-            (ACCEL_BIAS, i.accel_bias_mps2),
-            (STAR_INSTALLATION, 0.5 * i.star_installation_rad),
-            (GYRO_SCALE_FACTOR, i.gyro_scale_factor),
-            (ACCEL_SCALE_FACTOR, i.accel_scale_factor),
-        ]
-    }
 }
 
 /// What an update computed, for gating and telemetry.
@@ -214,12 +94,9 @@ pub struct ErrorStateFilter {
     state: ErrorState,
     covariance: CovarianceMatrix,
     mode: FilterMode,
-    /// The correlated GNSS error states (the border of a 27-state filter), inert under
-    /// [`GnssErrorModel::WHITE`].
-    gnss_error: GnssErrorStates,
-    /// The systematic IMU error states (the border of a 36-state filter), inert under
-    /// [`ImuErrorModel::DISABLED`].
-    imu_error: ImuErrorStates,
+    /// The optional blocks of the layout (the correlated GNSS error and systematic IMU error
+    /// states), each inert when its model is off.
+    blocks: OptionalBlocks,
 }
 
 /// The three states of `block`. Read with checked indices, so no panic path is compiled; the
@@ -308,8 +185,10 @@ impl ErrorStateFilter {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
-            gnss_error: GnssErrorStates::new(config.gnss_error)?,
-            imu_error: ImuErrorStates::new(config.imu_error)?,
+            blocks: OptionalBlocks {
+                gnss: GnssErrorStates::new(config.gnss_error)?,
+                imu: ImuErrorStates::new(config.imu_error)?,
+            },
         };
         filter.set_initial_covariance(config);
         Ok(filter)
@@ -349,10 +228,12 @@ impl ErrorStateFilter {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
-            gnss_error,
-            imu_error: ImuErrorStates::EMPTY,
+            blocks: OptionalBlocks {
+                gnss: gnss_error,
+                imu: ImuErrorStates::EMPTY,
+            },
         });
-        filter.imu_error.start(config.imu_error);
+        filter.blocks.imu.start(config.imu_error);
         filter.set_initial_covariance(config);
         Ok(filter)
     }
@@ -388,46 +269,34 @@ impl ErrorStateFilter {
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
-        self.gnss_error = gnss_error;
-        self.imu_error = ImuErrorStates::EMPTY;
-        self.imu_error.start(config.imu_error);
+        self.blocks.gnss = gnss_error;
+        self.blocks.imu = ImuErrorStates::EMPTY;
+        self.blocks.imu.start(config.imu_error);
         self.set_initial_covariance(config);
         Ok(())
     }
 
-    /// `P = diag(σ²)` of a validated configuration, on a zero `P`.
-    fn set_initial_covariance(&mut self, config: &FilterConfig) {
-        for (block, sigma) in config.initial_sigmas() {
-            set_block(
-                &mut self.covariance,
-                block,
-                block,
-                &(Matrix3::identity() * (sigma * sigma)),
-            );
-        }
-    }
-
     /// The correlated GNSS error states ([`crate::gnss_error`]).
     pub fn gnss_error(&self) -> &GnssErrorStates {
-        &self.gnss_error
+        &self.blocks.gnss
     }
 
     /// The systematic IMU error states ([`crate::imu_error_states`]): in closed loop, read
     /// `ε̂` before [`ErrorStateFilter::reset`] to feed it into the sensor corrections.
     pub fn imu_error(&self) -> &ImuErrorStates {
-        &self.imu_error
+        &self.blocks.imu
     }
 
     /// The systematic IMU error states, for the crate's tests.
     #[cfg(test)]
     pub(crate) fn imu_error_mut(&mut self) -> &mut ImuErrorStates {
-        &mut self.imu_error
+        &mut self.blocks.imu
     }
 
     /// The correlated GNSS error states, for the crate's tests.
     #[cfg(test)]
     pub(crate) fn gnss_error_mut(&mut self) -> &mut GnssErrorStates {
-        &mut self.gnss_error
+        &mut self.blocks.gnss
     }
 
     /// The error-state estimate `x`.
@@ -450,241 +319,6 @@ impl ErrorStateFilter {
         self.covariance
             .diagonal()
             .map(|variance| crate::float::sqrt(variance.max(0.0)))
-    }
-
-    /// Adds `variance · I` to the diagonal block of `block` (m², rad², … in the block's
-    /// units): process noise the discrete model does not contain, such as the error of a
-    /// held IMU sample. `P` stays symmetric positive definite. The isotropic case of
-    /// [`ErrorStateFilter::add_block_covariance`], with a loop of its own over the diagonal:
-    /// written through that function it costs more in the worst frame on the Cortex-M7
-    /// (QEMU replay).
-    ///
-    /// # Errors
-    /// [`NavError::NonFiniteInput`] for a negative or non-finite variance; nothing changes
-    /// then.
-    ///
-    /// # Examples
-    /// ```
-    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
-    /// use nav_core::state::VELOCITY;
-    /// let initial = InitialUncertainty {
-    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
-    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
-    ///     accel_scale_factor: 1e-4,
-    /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
-    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
-    /// filter.add_block_variance(VELOCITY, 0.03).unwrap();
-    /// assert!((filter.covariance()[(VELOCITY.index(), VELOCITY.index())] - 0.04).abs() < 1e-15);
-    /// ```
-    pub fn add_block_variance(&mut self, block: StateBlock, variance: f64) -> Result<(), NavError> {
-        if !(variance.is_finite() && variance >= 0.0) {
-            return Err(NavError::NonFiniteInput);
-        }
-        for index in block.index()..block.index().saturating_add(block.dimension()) {
-            if let Some(entry) = self
-                .covariance
-                .data
-                .0
-                .get_mut(index)
-                .and_then(|column| column.get_mut(index))
-            {
-                *entry += variance;
-            }
-        }
-        Ok(())
-    }
-
-    /// Adds the symmetric part of `covariance` (a 3×3 covariance in the block's units) to the
-    /// diagonal block of `block`: process noise with a direction, such as the attitude
-    /// kinematics' second-order term (nav-core [`crate::unmodelled`]).
-    ///
-    /// # Errors
-    /// [`NavError::NonFiniteInput`] for a non-finite entry or a negative diagonal entry;
-    /// nothing changes then.
-    ///
-    /// # Examples
-    /// ```
-    /// use nalgebra::Matrix3;
-    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
-    /// use nav_core::state::ATTITUDE;
-    /// let initial = InitialUncertainty {
-    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
-    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
-    ///     accel_scale_factor: 1e-4,
-    /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
-    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
-    /// let along_x_and_y = Matrix3::new(1e-8, 1e-8, 0.0, 1e-8, 1e-8, 0.0, 0.0, 0.0, 0.0);
-    /// filter.add_block_covariance(ATTITUDE, &along_x_and_y).unwrap();
-    /// assert!((filter.covariance()[(0, 1)] - 1e-8).abs() < 1e-22);
-    /// assert!(filter.add_block_covariance(ATTITUDE, &(-along_x_and_y)).is_err());
-    /// ```
-    pub fn add_block_covariance(
-        &mut self,
-        block: StateBlock,
-        covariance: &Matrix3<f64>,
-    ) -> Result<(), NavError> {
-        check_block_covariance(covariance)?;
-        self.add_symmetric_part(block, covariance);
-        Ok(())
-    }
-
-    /// Adds the symmetric part of `covariance` to the diagonal block of `block` (checked by
-    /// [`check_block_covariance`]).
-    fn add_symmetric_part(&mut self, block: StateBlock, covariance: &Matrix3<f64>) {
-        let symmetric = (covariance + covariance.transpose()) * 0.5;
-        for (row, values) in symmetric.row_iter().enumerate() {
-            for (column, value) in values.iter().enumerate() {
-                if let Some(entry) = self
-                    .covariance
-                    .data
-                    .0
-                    .get_mut(block.index().saturating_add(column))
-                    .and_then(|entries| entries.get_mut(block.index().saturating_add(row)))
-                {
-                    *entry += value;
-                }
-            }
-        }
-    }
-
-    /// Replaces `P` (for covariance protection by the caller).
-    ///
-    /// # Errors
-    /// [`NavError::NonFiniteState`] if `covariance` has NaN/Inf; nothing changes then.
-    pub fn set_covariance(&mut self, covariance: &CovarianceMatrix) -> Result<(), NavError> {
-        if !covariance.iter().all(|v| v.is_finite()) {
-            return Err(NavError::NonFiniteState);
-        }
-        self.covariance = symmetrised(covariance);
-        Ok(())
-    }
-
-    /// Covariance protection in place: each variance below its `floor` is raised to it; each
-    /// variance above its `ceiling` becomes the ceiling, with the rest of its row and column
-    /// multiplied by `s = √(ceiling/variance)`: `P' = S P S`, `S = diag(1, …, s, …, 1)`, which
-    /// keeps every correlation coefficient and positive definiteness. Returns whether anything
-    /// was changed. Only the diagonal is read unless a bound is crossed.
-    pub fn protect_variances(&mut self, floor: &ErrorState, ceiling: &ErrorState) -> bool {
-        // The diagonal is read through the column arrays with one index (nalgebra's strided
-        // iterators and checked 2-D indexing cost several times as much on the target).
-        let ([floor], [ceiling]) = (&floor.data.0, &ceiling.data.0);
-        let columns = &mut self.covariance.data.0;
-        let mut crossed = [false; STATE_DIMENSION];
-        let mut clamped = false;
-        for index in 0..STATE_DIMENSION {
-            let (Some(column), Some(floor), Some(ceiling), Some(crossing)) = (
-                columns.get_mut(index),
-                floor.get(index),
-                ceiling.get(index),
-                crossed.get_mut(index),
-            ) else {
-                continue;
-            };
-            let Some(variance) = column.get_mut(index) else {
-                continue;
-            };
-            if *variance < *floor {
-                *variance = *floor;
-                clamped = true;
-            } else if *variance > *ceiling {
-                *crossing = true;
-                clamped = true;
-            }
-        }
-        if !clamped {
-            return false;
-        }
-        // Rare: a variance above its ceiling (in state order, as the scaling of one state
-        // changes the off-diagonal entries the next one scales).
-        for (index, (crossing, ceiling)) in crossed.iter().zip(ceiling).enumerate() {
-            let (true, Some(variance)) = (
-                *crossing,
-                self.covariance.data.0.get(index).and_then(|c| c.get(index)),
-            ) else {
-                continue;
-            };
-            self.scale_state_uncertainty(index, crate::float::sqrt(ceiling / variance));
-            // The diagonal takes s² (row and column): exactly the ceiling.
-            if let Some(entry) = self
-                .covariance
-                .data
-                .0
-                .get_mut(index)
-                .and_then(|c| c.get_mut(index))
-            {
-                *entry = *ceiling;
-            }
-        }
-        clamped
-    }
-
-    /// Widens the uncertainty of `block` by `variance_factor`: `P' = S P S` with
-    /// `S = diag(1, …, √f I₃, …, 1)` on the block's rows and columns (its cross-covariance
-    /// with the receiver's correlated error included). Every correlation coefficient and
-    /// positive definiteness are kept, and the block's variances grow by `f`: the reaction to
-    /// innovations larger than the filter claims, when the error they show is the inertial
-    /// solution's (nav-fsw's fault logic).
-    ///
-    /// # Errors
-    /// [`NavError::NonFiniteInput`] for a factor below 1 or non-finite; nothing changes then.
-    ///
-    /// # Examples
-    /// ```
-    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
-    /// use nav_core::state::GYRO_BIAS;
-    /// let initial = InitialUncertainty {
-    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
-    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
-    ///     accel_scale_factor: 1e-4,
-    /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
-    /// let mut filter = ErrorStateFilter::new(&config).unwrap();
-    /// filter.widen_block_uncertainty(GYRO_BIAS, 4.0).unwrap();
-    /// let index = GYRO_BIAS.index();
-    /// assert!((filter.covariance()[(index, index)] - 4e-6).abs() < 1e-18);
-    /// assert!(filter.widen_block_uncertainty(GYRO_BIAS, 0.5).is_err());
-    /// ```
-    pub fn widen_block_uncertainty(
-        &mut self,
-        block: StateBlock,
-        variance_factor: f64,
-    ) -> Result<(), NavError> {
-        if !(variance_factor.is_finite() && variance_factor >= 1.0) {
-            return Err(NavError::NonFiniteInput);
-        }
-        let scale = crate::float::sqrt(variance_factor);
-        for index in block.index()..block.index().saturating_add(block.dimension()) {
-            self.scale_state_uncertainty(index, scale);
-        }
-        Ok(())
-    }
-
-    /// Multiplies row and column `index` of `P` (and the state's cross-covariance with the
-    /// receiver's correlated error) by `scale`: `P' = S P S` for one state, so the variance
-    /// takes `scale²`.
-    fn scale_state_uncertainty(&mut self, index: usize, scale: f64) {
-        self.gnss_error.scale_cross_row(index, scale);
-        self.imu_error.scale_cross_row(index, scale);
-        for (column_index, column) in self.covariance.data.0.iter_mut().enumerate() {
-            if column_index == index {
-                column.iter_mut().for_each(|value| *value *= scale);
-            }
-            // The row's entry: in the state's own column this is the diagonal, scaled twice.
-            if let Some(value) = column.get_mut(index) {
-                *value *= scale;
-            }
-        }
     }
 
     /// Innovation, its covariance and NIS for `measurement`, without changing the filter.
@@ -723,92 +357,22 @@ impl ErrorStateFilter {
             // Closed loop: x = 0 stays 0.
             FilterMode::ClosedLoop => None,
         };
-        if self.gnss_error.is_enabled() {
-            return self.predict_structured_bordered(model, state);
-        }
-        if self.imu_error.is_enabled() {
-            return self.predict_structured_imu_error(model, state, None);
-        }
-        if !model.propagate_covariance(&mut self.covariance, None) {
+        // The optional blocks' new values first, then the core kernel (with their inputs),
+        // then their commits: nothing changes on an error.
+        let blocks = self.blocks.any_enabled();
+        if blocks && !self.blocks.prepare_propagation(model, state.is_some()) {
             return Err(NavError::NonFiniteState);
         }
-        if let Some(state) = state {
-            self.state = state;
-        }
-        Ok(())
-    }
-
-    /// [`ErrorStateFilter::predict_structured`] with the correlated GNSS error states: the
-    /// border's new values are computed first, so nothing changes on an error. Not inlined:
-    /// their stack space is taken only when the states are in use.
-    #[inline(never)]
-    fn predict_structured_bordered(
-        &mut self,
-        model: &StructuredModel,
-        state: Option<ErrorState>,
-    ) -> Result<(), NavError> {
-        if self.imu_error.is_enabled() {
-            return self.predict_structured_both_borders(model, state);
-        }
-        if !self.gnss_error.prepare_propagation(model, None) {
-            return Err(NavError::NonFiniteState);
-        }
-        if !model.propagate_covariance(&mut self.covariance, None) {
-            return Err(NavError::NonFiniteState);
-        }
-        if let Some(state) = state {
-            self.state = state;
-        }
-        self.gnss_error.commit_propagation();
-        Ok(())
-    }
-
-    /// [`ErrorStateFilter::predict_structured`] with both borders: the GNSS border's new
-    /// values (`C_GNSS ← φ (F C_GNSS + Γ Bᵀ)`, `Γ Bᵀ = E M Bᵀ` through the bias inputs,
-    /// [`crate::imu_error_states`]) and the IMU border's new `C` first, then the kernel with
-    /// the IMU border's bias inputs, and the commits.
-    #[inline(never)]
-    fn predict_structured_both_borders(
-        &mut self,
-        model: &StructuredModel,
-        state: Option<ErrorState>,
-    ) -> Result<(), NavError> {
-        let inputs = self.imu_error.gnss_bias_inputs(model);
-        if !self.gnss_error.prepare_propagation(model, Some(&inputs)) {
-            return Err(NavError::NonFiniteState);
-        }
-        let decay = self.gnss_error.model().decay(model.interval_s());
-        self.predict_structured_imu_error(model, state, Some(decay))?;
-        self.gnss_error.commit_propagation();
-        Ok(())
-    }
-
-    /// [`ErrorStateFilter::predict_structured`] with the systematic IMU error states
-    /// ([`crate::imu_error_states`]): the border's new `C` and the kernel's bias inputs are
-    /// computed first (from the border alone), then the 24-state kernel with them, so
-    /// nothing changes if either fails.
-    #[inline(never)]
-    fn predict_structured_imu_error(
-        &mut self,
-        model: &StructuredModel,
-        state: Option<ErrorState>,
-        gnss_decay: Option<f64>,
-    ) -> Result<(), NavError> {
-        if !self.imu_error.prepare_propagation(model, state.is_some()) {
-            return Err(NavError::NonFiniteState);
-        }
-        let border = Some(self.imu_error.propagation_inputs());
-        if !model.propagate_covariance(&mut self.covariance, border) {
+        if !model.propagate_covariance(&mut self.covariance, self.blocks.kernel_inputs()) {
             return Err(NavError::NonFiniteState);
         }
         if let Some(mut state) = state {
-            // Open loop: x_d += E M ε̂.
-            for (value, delta) in state.iter_mut().zip(self.imu_error.state_increment()) {
-                *value += delta;
-            }
+            self.blocks.add_state_increment(&mut state);
             self.state = state;
         }
-        self.imu_error.commit_propagation(gnss_decay);
+        if blocks {
+            self.blocks.commit_propagation(model);
+        }
         Ok(())
     }
 
@@ -834,24 +398,21 @@ impl ErrorStateFilter {
         let coefficient = measurement.gnss_error_coefficient;
         let observed_blocks = structured::observed_blocks(h);
         let border = self
-            .gnss_error
-            .is_enabled()
-            .then(|| self.gnss_error.border(h, &observed_blocks, coefficient));
+            .blocks
+            .measured_border((h, &observed_blocks), coefficient);
         let mut products = [[0.0; 3]; STATE_DIMENSION];
         let observed = structured::ObservedCovariance::new(
             &mut products,
             (h, &observed_blocks),
             &self.covariance,
-            border
-                .as_ref()
-                .map(|border| (self.gnss_error.cross_rows(), border)),
+            self.blocks.measured_rows(border.as_ref()),
         );
         // `&self.state`: by reference, so the state is not copied first (a `memcpy` on the
         // target; clippy's `op_ref` assumes the copy is free).
         #[allow(clippy::op_ref)]
         let mut innovation = measurement.residual - h * &self.state;
-        if border.is_some() {
-            innovation -= self.gnss_error.predicted_residual(coefficient);
+        if let Some(border) = &border {
+            innovation -= self.blocks.predicted_residual(border);
         }
         let covariance = symmetrised3(&(observed.projected() + measurement.noise_covariance));
         let cholesky = structured::Cholesky3::new(&covariance)
@@ -881,7 +442,7 @@ impl ErrorStateFilter {
         // into the result directly, where one whose address the kernels take is copied
         // there with the innovation.
         let s = covariance;
-        if border.is_some() || self.imu_error.is_enabled() {
+        if self.blocks.any_enabled() {
             let solved = (&cholesky, &s, frozen);
             let jacobian = (h, &observed_blocks);
             self.update_borders_and_covariance(
@@ -904,12 +465,10 @@ impl ErrorStateFilter {
         })
     }
 
-    /// The covariance part of [`ErrorStateFilter::update_structured`] with a border: the
-    /// correlated GNSS error states (`border`, their products) and/or the systematic IMU
-    /// error states. Each border's new values first (their new cross-covariances into their
-    /// spare buffers), then the 24-state Joseph kernel (with the GNSS border's `M` and `S`;
-    /// `H_ε = 0` for the IMU border), then the borders committed; nothing changes on an
-    /// error.
+    /// The covariance part of [`ErrorStateFilter::update_structured`] with optional blocks in
+    /// use: the blocks' new values first (into their spare buffers), then the core Joseph
+    /// kernel (with the measured border's `M` and `S`), then the blocks' commits; nothing
+    /// changes on an error. Not inlined: its stack space is taken only when a block is in use.
     ///
     /// # Errors
     /// [`NavError::NonFiniteState`] if a result is not finite.
@@ -926,40 +485,21 @@ impl ErrorStateFilter {
         (cholesky, s, frozen): (&structured::Cholesky3, &Matrix3<f64>, &BlockMask),
         innovation: &Vector3<f64>,
     ) -> Result<(), NavError> {
-        let gnss = match border {
-            Some(border) => Some(
-                self.gnss_error
-                    .updated(
-                        border,
-                        (gains, observed.products(), frozen),
-                        |row| cholesky.solve(row),
-                        block::from_vector(innovation),
-                    )
-                    .ok_or(NavError::NonFiniteState)?,
-            ),
-            None => None,
+        let inputs = UpdateInputs {
+            jacobian,
+            gains,
+            products: observed.products(),
+            frozen,
+            cholesky,
+            innovation: block::from_vector(innovation),
         };
-        let imu_error = self.imu_error.is_enabled();
-        if imu_error
-            && !self.imu_error.prepare_update(
-                jacobian,
-                (gains, observed.products(), frozen),
-                |row| cholesky.solve(row),
-                block::from_vector(innovation),
-                border.map(|border| (border.coefficient, &border.products)),
-            )
-        {
+        if !self.blocks.prepare_update(border, &inputs) {
             return Err(NavError::NonFiniteState);
         }
         if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
             return Err(NavError::NonFiniteState);
         }
-        if let Some((estimate, border_covariance)) = gnss {
-            self.gnss_error.commit(estimate, &border_covariance);
-        }
-        if imu_error {
-            self.imu_error.commit_update();
-        }
+        self.blocks.commit_update(border);
         Ok(())
     }
 
@@ -979,16 +519,11 @@ impl ErrorStateFilter {
         let [attitude, installation] =
             [ATTITUDE, STAR_INSTALLATION].map(|block| reset_jacobian_block(&self.state, block));
         structured::reset_covariance(&mut self.covariance, &attitude, &installation);
-        if self.gnss_error.is_enabled() {
-            self.gnss_error.reset(
+        if self.blocks.any_enabled() {
+            self.blocks.transform_cross_rows(
                 &block::from_matrix(&attitude),
                 &block::from_matrix(&installation),
-            );
-        }
-        if self.imu_error.is_enabled() {
-            self.imu_error.reset(
-                &block::from_matrix(&attitude),
-                &block::from_matrix(&installation),
+                true,
             );
         }
         self.state = ErrorState::zeros();
@@ -1053,12 +588,9 @@ impl ErrorStateFilter {
             &Matrix3::identity(),
             rotation_new_from_old,
         );
-        if self.gnss_error.is_enabled() {
-            self.gnss_error.reset(&block::IDENTITY, &rotation);
-        }
-        if self.imu_error.is_enabled() {
-            self.imu_error
-                .transform_cross_rows(&block::IDENTITY, &rotation);
+        if self.blocks.any_enabled() {
+            self.blocks
+                .transform_cross_rows(&block::IDENTITY, &rotation, false);
         }
         let installation = rotation_new_from_old * block_of(&self.state, STAR_INSTALLATION);
         let first = STAR_INSTALLATION.index();
@@ -1171,6 +703,9 @@ fn symmetrised3(matrix: &Matrix3<f64>) -> Matrix3<f64> {
     (matrix + matrix.transpose()) * 0.5
 }
 
+mod blocks;
+mod config;
+mod covariance;
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense;
 #[cfg(test)]

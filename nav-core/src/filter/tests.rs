@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::discretise::DiscreteModel;
+use crate::error_model::set_block;
 use crate::measurement::MeasurementJacobian;
 
 fn config(mode: FilterMode) -> FilterConfig {

@@ -46,29 +46,41 @@
 //! so `M_ε` gains `h Bᵀ`, and `B ← B − K_GNSS M_εᵀ` at every update (`K_GNSS` the GNSS
 //! border's gains, any measurement); the rest is as above.
 
-use nalgebra::{SMatrix, SVector, Vector3};
+#[cfg(feature = "imu-error-states")]
+use nalgebra::Vector3;
+use nalgebra::{SMatrix, SVector};
 
+#[cfg(feature = "imu-error-states")]
 use crate::block::{self, Block, Row};
 use crate::imu_error::{ImuErrorEstimate, IMU_ERROR_DIMENSION};
-use crate::state::{ATTITUDE, STAR_INSTALLATION, STATE_DIMENSION};
+use crate::state::{OptionalBlock, STATE_DIMENSION};
+#[cfg(feature = "imu-error-states")]
+use crate::state::{ATTITUDE, STAR_INSTALLATION};
+#[cfg(feature = "imu-error-states")]
 use crate::structured::{BorderBiasInputs, StateRows};
 use crate::NavError;
 
 mod prior;
+#[cfg(feature = "imu-error-states")]
 mod propagate;
+#[cfg(feature = "imu-error-states")]
 mod update;
 
 pub use prior::PriorCovariance;
 
 /// Number of 3-column groups of the border (`C` is kept as four 24×3 matrices, the shape
 /// the structured propagation takes).
+#[cfg(feature = "imu-error-states")]
 const GROUPS: usize = IMU_ERROR_DIMENSION / 3;
+#[cfg(feature = "imu-error-states")]
 const _: () = assert!(GROUPS * 3 == IMU_ERROR_DIMENSION);
 
 /// Number of dynamic states (ϑ, δp, δv).
+#[cfg(feature = "imu-error-states")]
 const DYNAMIC: usize = 9;
 
 /// `C = P_xε` as four groups of three columns (`groups[g][j][c] = cov(x_j, ε_{3g+c})`).
+#[cfg(feature = "imu-error-states")]
 type CrossCovariance = [StateRows; GROUPS];
 /// A 12×12 matrix by rows.
 type BorderMatrix = [[f64; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
@@ -120,11 +132,15 @@ impl ImuErrorModel {
     }
 
     /// Checks the values: all zero, or all finite and above zero (a state with a zero prior
-    /// would never move and only cost time).
+    /// would never move and only cost time) with the states compiled in (feature
+    /// `imu-error-states`).
     ///
     /// # Errors
     /// [`NavError::InvalidConfiguration`] otherwise.
     pub fn validate(&self) -> Result<(), NavError> {
+        if self.is_enabled() && !OptionalBlock::GyroNonOrthogonality.is_compiled() {
+            return Err(NavError::InvalidConfiguration);
+        }
         let sigmas = self.sigmas();
         let all_zero = sigmas.iter().all(|sigma| *sigma == 0.0);
         let all_positive = sigmas.iter().all(|sigma| sigma.is_finite() && *sigma > 0.0);
@@ -150,6 +166,7 @@ impl ImuErrorModel {
     }
 }
 
+#[cfg(feature = "imu-error-states")]
 /// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order) and `P_εε`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Estimate {
@@ -160,6 +177,7 @@ struct Estimate {
     gnss_cross: [[f64; IMU_ERROR_DIMENSION]; 3],
 }
 
+#[cfg(feature = "imu-error-states")]
 /// The border of the 36-state filter (module docs): `ε̂`, `P_εε` and `C = P_xε`.
 #[derive(Debug, Clone, Copy)]
 pub struct ImuErrorStates {
@@ -179,6 +197,7 @@ pub struct ImuErrorStates {
     scratch: Scratch,
 }
 
+#[cfg(feature = "imu-error-states")]
 impl PartialEq for ImuErrorStates {
     /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
     fn eq(&self, other: &Self) -> bool {
@@ -186,6 +205,7 @@ impl PartialEq for ImuErrorStates {
     }
 }
 
+#[cfg(feature = "imu-error-states")]
 /// The border split for a kernel: `ε̂` and `P_εε` to read, the active `C` to read, the spare
 /// buffer to write and the scratch.
 struct Parts<'a> {
@@ -199,6 +219,7 @@ struct Parts<'a> {
     scratch: &'a mut Scratch,
 }
 
+#[cfg(feature = "imu-error-states")]
 /// What a propagation or an update keeps between its steps.
 #[derive(Debug, Clone, Copy)]
 struct Scratch {
@@ -211,6 +232,7 @@ struct Scratch {
     border_gains: [[Row; 3]; GROUPS],
 }
 
+#[cfg(feature = "imu-error-states")]
 impl Scratch {
     const EMPTY: Self = Self {
         kernel_inputs: BorderBiasInputs::ZERO,
@@ -220,6 +242,7 @@ impl Scratch {
     };
 }
 
+#[cfg(feature = "imu-error-states")]
 impl ImuErrorStates {
     /// The prior: `ε̂ = 0`, `P_εε` = [`ImuErrorModel::prior_covariance`], `C = 0` (all zero
     /// when disabled).
@@ -482,5 +505,66 @@ impl ImuErrorStates {
     }
 }
 
-#[cfg(test)]
+/// The states compiled out (feature `imu-error-states` off): no memory, the read accessors of
+/// the real states, inert.
+#[cfg(not(feature = "imu-error-states"))]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImuErrorStates;
+
+#[cfg(not(feature = "imu-error-states"))]
+impl ImuErrorStates {
+    /// [`ImuErrorModel::DISABLED`] only (the model's validation refuses any other).
+    ///
+    /// # Errors
+    /// As [`ImuErrorModel::validate`].
+    pub fn new(model: ImuErrorModel) -> Result<Self, NavError> {
+        model.validate().map(|()| Self)
+    }
+
+    /// The placeholder.
+    pub(crate) const EMPTY: Self = Self;
+
+    /// Nothing to start.
+    pub(crate) fn start(&mut self, _model: ImuErrorModel) {}
+
+    /// The model: [`ImuErrorModel::DISABLED`].
+    pub fn model(&self) -> &ImuErrorModel {
+        &ImuErrorModel::DISABLED
+    }
+
+    /// Never in use.
+    pub fn is_enabled(&self) -> bool {
+        false
+    }
+
+    /// Zero.
+    pub fn estimate(&self) -> SVector<f64, IMU_ERROR_DIMENSION> {
+        SVector::zeros()
+    }
+
+    /// Zero.
+    pub fn covariance(&self) -> SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION> {
+        SMatrix::zeros()
+    }
+
+    /// Zero.
+    pub fn gnss_cross_covariance(&self) -> SMatrix<f64, 3, IMU_ERROR_DIMENSION> {
+        SMatrix::zeros()
+    }
+
+    /// Zero.
+    pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION> {
+        SMatrix::zeros()
+    }
+
+    /// `corrections`: no estimate to feed back.
+    ///
+    /// # Errors
+    /// Never.
+    pub fn fed_back(&self, corrections: &ImuErrorEstimate) -> Result<ImuErrorEstimate, NavError> {
+        Ok(*corrections)
+    }
+}
+
+#[cfg(all(test, feature = "imu-error-states"))]
 mod tests;

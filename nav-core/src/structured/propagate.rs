@@ -201,6 +201,11 @@ impl StructuredModel {
     /// the host/target comparisons). The folding of the scale-factor columns, the noise of
     /// `P_dd`, the walk diagonal, the finite check of `P_dd` and its writes are shared; the
     /// new `P_dc` stays in blocks in one tail and in the rows of `U` in the other.
+    ///
+    /// Not inlined: inlined into the filter's one propagation path, its registers and stack
+    /// frame would be shared with the optional blocks' steps, which costs the frame loop
+    /// stack and instructions on the target (QEMU replay).
+    #[inline(never)]
     pub(crate) fn propagate_covariance(
         &self,
         p: &mut CovarianceMatrix,

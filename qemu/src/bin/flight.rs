@@ -1,4 +1,5 @@
-//! The panic-free flight build (`--no-default-features --features panic-never`, release
+//! The panic-free flight build (`--no-default-features --features panic-never` and the
+//! optional state blocks the mission flies, e.g. `state-blocks`; release
 //! profile): the flight scheduler only, without the reference workloads, the dense
 //! reference arithmetic or the ground analysis (none of them is compiled).
 //!
@@ -16,6 +17,11 @@ use nav_qemu::exit_success;
 
 #[entry]
 fn main() -> ! {
+    // The computer's size with this build's state blocks (scripts/test.sh checks its bound).
+    defmt::println!(
+        "NavigationComputer: {=usize} bytes",
+        core::mem::size_of::<nav_fsw::scheduler::NavigationComputer>()
+    );
     scheduler_frames();
     #[cfg(feature = "demo-panic-path")]
     demo_panic_path();
