@@ -28,7 +28,7 @@ pub use assembler::{
     MAX_GAP_FRAMES,
 };
 pub use output::{output_words, OUTPUT_FIELD_NAMES, OUTPUT_WORDS};
-pub use setup::{ReplaySetup, SETUP_MAGIC, SETUP_WORDS};
+pub use setup::{ReplaySetup, INITIAL_NAVIGATION_WORDS, SETUP_MAGIC, SETUP_WORDS};
 
 use heapless::Deque;
 
