@@ -75,7 +75,8 @@ pub const SIGMA_MIN: f64 = 1e-150;
 /// Largest 1σ or noise density accepted where the filter squares it ([`sigma_is_squarable`]).
 pub const SIGMA_MAX: f64 = 1e150;
 
-/// The one rule for every 1σ and noise density the filter squares into `P`, `Q` or `R`:
+/// The numerical bound of every 1σ and noise density the filter squares into `P`, `Q` or
+/// `R`, which every such range of the parameter table lies within (a test holds them to it):
 /// `σ` in [[`SIGMA_MIN`], [`SIGMA_MAX`]], so `σ²` lies in [1e-300, 1e300], inside the normal
 /// `f64` range [2.2e-308, 1.8e308]. The square then neither overflows to ∞ nor underflows to
 /// 0 or a subnormal (an infinite or singular covariance), with eight decades left for the
@@ -83,12 +84,6 @@ pub const SIGMA_MAX: f64 = 1e150;
 /// periods). NaN, 0 and negative values fail.
 pub fn sigma_is_squarable(sigma: f64) -> bool {
     (SIGMA_MIN..=SIGMA_MAX).contains(&sigma)
-}
-
-/// [`sigma_is_squarable`], or exactly 0 for a value whose 0 switches its term off (process
-/// noise densities, GNSS velocity noise, correlated GNSS error, held-sample uncertainty).
-pub fn sigma_is_squarable_or_off(sigma: f64) -> bool {
-    sigma == 0.0 || sigma_is_squarable(sigma)
 }
 
 /// Largest magnitude of the initial navigation time (s, since the launch epoch): about 32
@@ -401,6 +396,16 @@ pub struct FswConfig {
     pub gravity: GravityConfig,
 }
 
+/// A launch site of zeros on the ECEF `z` axis: the defaults' site where the mission's does
+/// not matter (the parts' defaults, the replay setup before its words are read).
+pub(crate) const ZERO_SITE: LaunchSite = LaunchSite {
+    latitude_rad: 0.0,
+    longitude_rad: 0.0,
+    height_m: 0.0,
+    azimuth_rad: 0.0,
+    earth_axis_ecef: nav_core::frames::ECEF_Z_AXIS,
+};
+
 impl FswConfig {
     /// The paper's values where it gives them (Section 3: 500 Hz, 10″ star sensor, 10 m
     /// GNSS, 3rd-order discretisation, its noise densities) and documented choices
@@ -417,14 +422,7 @@ impl FswConfig {
     /// The table's defaults at a launch site of zeros: the defaults of the configuration's
     /// parts (`ImuLimits::default`, ...).
     pub(crate) fn table_defaults() -> Self {
-        let site = LaunchSite {
-            latitude_rad: 0.0,
-            longitude_rad: 0.0,
-            height_m: 0.0,
-            azimuth_rad: 0.0,
-            earth_axis_ecef: nav_core::frames::ECEF_Z_AXIS,
-        };
-        Self::paper_defaults(site, SensorFrames::ALIGNED)
+        Self::paper_defaults(ZERO_SITE, SensorFrames::ALIGNED)
     }
 
     /// Every value the parameter table sets NaN, 0, `false` or a first choice (the table's

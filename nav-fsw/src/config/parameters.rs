@@ -21,10 +21,6 @@ use crate::calibration_manager::{CalibrationThresholds as Thresholds, Estimation
 use crate::consistency::{DEFAULT_MEAN_NIS_BOUND, MAX_TIME_CONSTANT_MEASUREMENTS};
 use crate::error::{ConfigField, FswError};
 
-const fn head_present(config: &FswConfig) -> bool {
-    config.star.second_head.is_some()
-}
-
 flight_parameters! {
     FilterMode: FilterMode {
         path: "filter.mode", unit: "", default: Some(FilterMode::ClosedLoop), word: Some(1),
@@ -323,7 +319,7 @@ flight_parameters! {
     OmittedFieldSigma: f64 {
         path: "gravity.omitted_field_sigma_mps2", unit: "m/s^2", default: Some(0.0), word: Some(60),
         range: Range::new(1.0e-12, 1.0e-2).or_off(),
-        why: "the field beyond J2 is below 1e-3 m/s^2 at the surface and smaller aloft",
+        why: "the field beyond J2 is a few 1e-3 m/s^2 at most at the surface, less aloft",
         get: |c| c.gravity.omitted_field_sigma_mps2,
         set: |c, v| c.gravity.omitted_field_sigma_mps2 = v,
     }
@@ -386,49 +382,49 @@ flight_parameters! {
               1e5 pairs (hours at 10 Hz) is never",
         get: |c| c.star.second_head.map_or(0, |h| h.pairs_before_hand_over),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.pairs_before_hand_over = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadMountingW: f64 {
         path: "star.second_head.mounting_wxyz[0]", unit: "", default: None, word: Some(71),
         range: UNIT, why: UNIT_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.mounting_wxyz[0]),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.mounting_wxyz[0] = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadMountingX: f64 {
         path: "star.second_head.mounting_wxyz[1]", unit: "", default: None, word: Some(72),
         range: UNIT, why: UNIT_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.mounting_wxyz[1]),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.mounting_wxyz[1] = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadMountingY: f64 {
         path: "star.second_head.mounting_wxyz[2]", unit: "", default: None, word: Some(73),
         range: UNIT, why: UNIT_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.mounting_wxyz[2]),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.mounting_wxyz[2] = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadMountingZ: f64 {
         path: "star.second_head.mounting_wxyz[3]", unit: "", default: None, word: Some(74),
         range: UNIT, why: UNIT_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.mounting_wxyz[3]),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.mounting_wxyz[3] = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadNoise: f64 {
         path: "star.second_head.noise_rad", unit: "rad", default: None, word: Some(75),
         range: STAR_NOISE, why: STAR_NOISE_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.noise_rad),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.noise_rad = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadRollNoise: f64 {
         path: "star.second_head.roll_noise_rad", unit: "rad", default: None, word: Some(76),
         range: STAR_NOISE, why: STAR_NOISE_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.roll_noise_rad),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.roll_noise_rad = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadAlignmentPrior: f64 {
         path: "star.second_head.alignment_prior_sigma_rad", unit: "rad",
@@ -436,14 +432,14 @@ flight_parameters! {
         range: ATTITUDE_SIGMA, why: ATTITUDE_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.alignment_prior_sigma_rad),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.alignment_prior_sigma_rad = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     HeadPairGate: f64 {
         path: "star.second_head.pair_gate_nis", unit: "", default: None, word: Some(78),
         range: GATE, why: GATE_WHY,
         get: |c| c.star.second_head.map_or(0.0, |h| h.pair_gate_nis),
         set: |c, v| if let Some(h) = c.star.second_head.as_mut() { h.pair_gate_nis = v },
-        when: head_present,
+        when: StarSecondHead,
     }
     ImuPeriodTolerance: f64 {
         path: "imu.period_tolerance", unit: "", default: Some(0.1), word: None,
@@ -530,8 +526,9 @@ flight_parameters! {
     RejectionsToDeclareFaulty: u32 {
         path: "timing.rejections_to_declare_faulty", unit: "rejections",
         default: Some(20), word: None,
-        range: Range::new(1.0, 1.0e6),
-        why: "at least one; 1e6 (a day of 10 Hz rejections) never declares",
+        range: Range::counts(1, u32::MAX),
+        why: "at least one; u32::MAX never declares a sensor faulty (a study of the flight without \
+              fault declaration)",
         get: |c| c.timing.rejections_to_declare_faulty,
         set: |c, v| c.timing.rejections_to_declare_faulty = v,
     }

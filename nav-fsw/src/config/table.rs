@@ -11,7 +11,7 @@
 ///     word: Some(index) | None (not in the replay setup),
 ///     range: Range::new(low, high)..., why: "the reason for the range",
 ///     get: |config| ..., set: |config, value| ...,
-///     [when: |config| ... (the parameter applies only then)]
+///     [when: Flag (the parameter applies only while the flag parameter `Flag` is on)]
 /// }
 /// ```
 macro_rules! flight_parameters {
@@ -25,7 +25,7 @@ macro_rules! flight_parameters {
             why: $why:expr,
             get: $get:expr,
             set: $set:expr
-            $(, when: $when:expr)? $(,)?
+            $(, when: $flag:ident)? $(,)?
         }
     )*) => {
         /// Every flight parameter, one variant per declaration of the parameter table
@@ -89,12 +89,33 @@ macro_rules! flight_parameters {
                 }
             }
 
-            /// Whether the parameter applies to `config` (a second head's parameters only
-            /// with a second head).
-            pub fn applies(self, config: &FswConfig) -> bool {
-                let _ = config;
+            /// The flag parameter the parameter applies under (a second head's parameters
+            /// under `star.second_head`), `None` if it always applies.
+            pub const fn condition(self) -> Option<Param> {
                 match self {
-                    $(Param::$name => flight_parameters!(@applies config $(, $when)?),)*
+                    $(Param::$name => flight_parameters!(@condition $($flag)?),)*
+                }
+            }
+
+            /// Whether the parameter applies to `config` ([`Self::condition`] on).
+            pub fn applies(self, config: &FswConfig) -> bool {
+                self.condition().is_none_or(|flag| flag.value(config) != 0.0)
+            }
+
+            /// Whether `word` is a value of the parameter's type (a replay-setup word).
+            pub fn decodes(self, word: u64) -> bool {
+                match self {
+                    $(Param::$name => <$type as ParamValue>::from_word(word).is_some(),)*
+                }
+            }
+
+            /// The value of a replay-setup word as a number ([`ParamValue::to_number`]);
+            /// `None` for a word that is no value of the parameter's type.
+            pub fn word_number(self, word: u64) -> Option<f64> {
+                match self {
+                    $(Param::$name => {
+                        <$type as ParamValue>::from_word(word).map(ParamValue::to_number)
+                    })*
                 }
             }
 
@@ -156,11 +177,8 @@ macro_rules! flight_parameters {
             }
         }
     };
-    (@applies $config:ident) => { true };
-    (@applies $config:ident, $when:expr) => {{
-        let when: fn(&FswConfig) -> bool = $when;
-        when($config)
-    }};
+    (@condition) => { None };
+    (@condition $flag:ident) => { Some(Param::$flag) };
 }
 
 pub(super) use flight_parameters;

@@ -132,8 +132,11 @@ fn validate_names_every_parameter_out_of_range() {
         let mut config = with_head();
         if param.set_word(&mut config, f64::NAN.to_bits()).is_err() {
             // A count: the NaN's bits are no count.
+            // One beyond the range; a range that is the whole type has no such count.
             let word = range.high as u64 + 1;
-            param.set_word(&mut config, word).unwrap();
+            if param.set_word(&mut config, word).is_err() {
+                continue;
+            }
         }
         assert_eq!(
             config.validate(),

@@ -18,12 +18,14 @@ pub const SETUP_MAGIC: u64 = u64::from_le_bytes(*b"NAVSETUP");
 /// parameter's ([`Param::word`], docs/reference/flight-parameters.md).
 pub const INITIAL_NAVIGATION_WORDS: core::ops::Range<usize> = 19..30;
 
-/// What a scenario decides about the flight software and its initial navigation solution.
-/// Only the parameters with a replay-setup word ([`Param::word`]) travel; every other one is
-/// its default ([`FswConfig::paper_defaults`]), so a setup is exactly what its words give.
+/// What a scenario decides about the flight software and its initial navigation solution, as
+/// its words. Only the parameters with a replay-setup word ([`Param::word`]) travel; every
+/// other one is its default ([`FswConfig::paper_defaults`]), so a setup is exactly what its
+/// words give. The setup keeps the checked words and decodes the configuration when asked
+/// ([`Self::config`]), so reading a setup on the target holds no configuration on the stack.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReplaySetup {
-    config: FswConfig,
+    words: [u64; SETUP_WORDS],
     /// Initial navigation solution.
     pub initial: NavigationState,
 }
@@ -32,43 +34,14 @@ impl ReplaySetup {
     /// The setup of `config`'s parameters that have a replay-setup word (every other one
     /// takes its default) and the initial solution `initial`.
     pub fn new(config: &FswConfig, initial: NavigationState) -> Self {
-        let mut carried = FswConfig::table_defaults();
-        for param in Param::ALL {
-            if param.word().is_some() {
-                // The value comes from a configuration of the same type: it always decodes.
-                let _ = param.set_word(&mut carried, param.to_word(config));
-            }
-        }
-        Self {
-            config: carried,
-            initial,
-        }
-    }
-
-    /// The flight software configuration.
-    pub fn config(&self) -> FswConfig {
-        self.config
-    }
-
-    /// The frames a replay with this setup runs: from the initial solution's time at the IMU
-    /// period, with the flight software's IMU period tolerance and [`DEFAULT_MAX_GAP_S`].
-    pub fn frame_grid(&self) -> FrameGrid {
-        FrameGrid {
-            start_time_s: self.initial.time_s,
-            period_s: self.config.imu.period_s,
-            tolerance: self.config.imu.period_tolerance,
-            max_gap_s: DEFAULT_MAX_GAP_S,
-        }
-    }
-
-    /// The initial solution's values in [`INITIAL_NAVIGATION_WORDS`] order.
-    fn initial_values(&self) -> [f64; 11] {
+        let mut words = [0_u64; SETUP_WORDS];
+        words[0] = SETUP_MAGIC;
         let (q, p, v) = (
-            &self.initial.attitude,
-            &self.initial.position_m,
-            &self.initial.velocity_mps,
+            &initial.attitude,
+            &initial.position_m,
+            &initial.velocity_mps,
         );
-        [
+        let values = [
             q.w,
             q.i,
             q.j,
@@ -79,26 +52,70 @@ impl ReplaySetup {
             v.x,
             v.y,
             v.z,
-            self.initial.time_s,
-        ]
-    }
-
-    /// The setup as words: [`SETUP_MAGIC`], each parameter in its word ([`Param::word`]; an
-    /// `f64` by its bits, a count or a choice by its value) and the initial solution in
-    /// [`INITIAL_NAVIGATION_WORDS`]. Without a second head its words are 0.
-    pub fn to_words(&self) -> [u64; SETUP_WORDS] {
-        let mut words = [0_u64; SETUP_WORDS];
-        words[0] = SETUP_MAGIC;
-        let initial = words.get_mut(INITIAL_NAVIGATION_WORDS).unwrap_or_default();
-        for (slot, value) in initial.iter_mut().zip(self.initial_values()) {
+            initial.time_s,
+        ];
+        let slots = words.get_mut(INITIAL_NAVIGATION_WORDS).unwrap_or_default();
+        for (slot, value) in slots.iter_mut().zip(values) {
             *slot = value.to_bits();
         }
         for param in Param::ALL {
             if let Some(slot) = param.word().and_then(|index| words.get_mut(index)) {
-                *slot = param.to_word(&self.config);
+                *slot = param.to_word(config);
             }
         }
-        words
+        Self { words, initial }
+    }
+
+    /// The flight software configuration: the defaults with every carried parameter. Not
+    /// inlined: the decoding's temporaries leave start-up's stack before the computer is
+    /// built.
+    #[inline(never)]
+    pub fn config(&self) -> FswConfig {
+        let frames = crate::sensor_frames::SensorFrames::ALIGNED;
+        let mut config = FswConfig::paper_defaults(crate::config::ZERO_SITE, frames);
+        for param in Param::ALL {
+            if let Some(word) = self.word(*param) {
+                // Every word decodes: `from_words` and `new` made it so.
+                let _ = param.set_word(&mut config, word);
+            }
+        }
+        config
+    }
+
+    /// The parameter's word, `None` for a parameter not carried.
+    fn word(&self, param: Param) -> Option<u64> {
+        param
+            .word()
+            .and_then(|index| self.words.get(index))
+            .copied()
+    }
+
+    /// The parameter's value: its word's, else its default (NaN for a value the mission
+    /// gives, which every such parameter carries).
+    fn number(&self, param: Param) -> f64 {
+        self.word(param).map_or_else(
+            || param.default_value().unwrap_or(f64::NAN),
+            |word| param.word_number(word).unwrap_or(f64::NAN),
+        )
+    }
+
+    /// The frames a replay with this setup runs: from the initial solution's time at the IMU
+    /// period, with the flight software's IMU period tolerance and [`DEFAULT_MAX_GAP_S`].
+    pub fn frame_grid(&self) -> FrameGrid {
+        FrameGrid {
+            start_time_s: self.initial.time_s,
+            period_s: self.number(Param::ImuPeriod),
+            tolerance: self.number(Param::ImuPeriodTolerance),
+            max_gap_s: DEFAULT_MAX_GAP_S,
+        }
+    }
+
+    /// The setup as words: [`SETUP_MAGIC`], each carried parameter in its word
+    /// ([`Param::word`]; an `f64` by its bits, a count or a choice by its value) and the
+    /// initial solution in [`INITIAL_NAVIGATION_WORDS`]. Without a second head its words
+    /// are 0.
+    pub fn to_words(&self) -> [u64; SETUP_WORDS] {
+        self.words
     }
 
     /// The setup from words.
@@ -114,10 +131,23 @@ impl ReplaySetup {
         if words[0] != SETUP_MAGIC {
             return Err(bad);
         }
-        let mut config = FswConfig::table_defaults();
+        let word_of = |param: Param| param.word().and_then(|index| words.get(index)).copied();
         for param in Param::ALL {
-            if let Some(word) = param.word().and_then(|index| words.get(index)) {
-                param.set_word(&mut config, *word)?;
+            let Some(word) = word_of(*param) else {
+                continue;
+            };
+            if !param.decodes(word) {
+                return Err(FswError::InvalidConfiguration(ConfigField::Parameter(
+                    *param,
+                )));
+            }
+            // One setup, one encoding: a parameter that does not apply (a second head's
+            // without a second head) has the word 0.
+            let off = param
+                .condition()
+                .is_some_and(|flag| word_of(flag) == Some(0));
+            if off && word != 0 {
+                return Err(bad);
             }
         }
         let mut initial = [0.0; 11];
@@ -126,19 +156,14 @@ impl ReplaySetup {
             *value = f64::from_bits(*word);
         }
         let [qw, qx, qy, qz, px, py, pz, vx, vy, vz, time_s] = initial;
-        let setup = Self {
-            config,
+        Ok(Self {
+            words: *words,
             initial: NavigationState {
                 attitude: Quaternion::new(qw, qx, qy, qz),
                 position_m: Vector3::new(px, py, pz),
                 velocity_mps: Vector3::new(vx, vy, vz),
                 time_s,
             },
-        };
-        // One setup, one encoding: a second head's words without a second head are refused.
-        if setup.to_words() != *words {
-            return Err(bad);
-        }
-        Ok(setup)
+        })
     }
 }
