@@ -129,11 +129,6 @@ impl CalibrationThresholds {
             self.accel_scale_factor,
         ]
     }
-
-    /// Every threshold finite and positive.
-    fn is_valid(&self) -> bool {
-        self.values().iter().all(|v| v.is_finite() && *v > 0.0)
-    }
 }
 
 /// Calibration manager settings.
@@ -164,57 +159,30 @@ pub struct CalibrationManagerConfig {
     pub motion_observability: MotionObservabilityTable,
 }
 
+/// The parameter table's defaults ([`crate::config::Param`]).
 impl Default for CalibrationManagerConfig {
     fn default() -> Self {
-        let paper = CalibrationThresholds::PAPER_ACCURACY;
-        Self {
-            convergence_sigma: CalibrationThresholds {
-                gyro_bias_rad_s: paper.gyro_bias_rad_s / 3.0,
-                accel_bias_mps2: paper.accel_bias_mps2 / 3.0,
-                star_installation_rad: paper.star_installation_rad / 3.0,
-                gyro_scale_factor: paper.gyro_scale_factor / 3.0,
-                accel_scale_factor: paper.accel_scale_factor / 3.0,
-            },
-            stability_window_s: 10.0,
-            stability_fraction: 1.0,
-            freeze_converged: false,
-            policy: EstimationPolicy::AllBlocks,
-            motion_rate_threshold_rad_s: 0.5 * core::f64::consts::PI / 180.0,
-            motion_force_threshold_mps2: 0.5,
-            motion_observability: MotionObservabilityTable::structural(),
-        }
+        crate::config::FswConfig::table_defaults().calibration
     }
 }
 
 impl CalibrationManagerConfig {
-    /// Checks the settings.
+    /// Checks the settings against their ranges in the parameter table.
     ///
     /// # Errors
     /// [`FswError::InvalidConfiguration`] naming the field.
     pub fn validate(&self) -> Result<(), FswError> {
-        if !self.convergence_sigma.is_valid() {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::CalibrationThreshold,
-            ));
-        }
-        if !(self.stability_window_s.is_finite() && self.stability_window_s >= 0.0) {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::CalibrationWindow,
-            ));
-        }
-        if !(self.stability_fraction.is_finite() && self.stability_fraction > 0.0) {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::CalibrationStability,
-            ));
-        }
-        let positive = |value: f64| value.is_finite() && value > 0.0;
-        if !(positive(self.motion_rate_threshold_rad_s)
-            && positive(self.motion_force_threshold_mps2))
-        {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::CalibrationMotionThreshold,
-            ));
-        }
+        use crate::config::Param;
+        let thresholds = &self.convergence_sigma;
+        Param::ThresholdGyroBias.check(thresholds.gyro_bias_rad_s)?;
+        Param::ThresholdAccelBias.check(thresholds.accel_bias_mps2)?;
+        Param::ThresholdStarInstallation.check(thresholds.star_installation_rad)?;
+        Param::ThresholdGyroScaleFactor.check(thresholds.gyro_scale_factor)?;
+        Param::ThresholdAccelScaleFactor.check(thresholds.accel_scale_factor)?;
+        Param::StabilityWindow.check(self.stability_window_s)?;
+        Param::StabilityFraction.check(self.stability_fraction)?;
+        Param::MotionRateThreshold.check(self.motion_rate_threshold_rad_s)?;
+        Param::MotionForceThreshold.check(self.motion_force_threshold_mps2)?;
         if !self.motion_observability.is_valid() {
             return Err(FswError::InvalidConfiguration(
                 ConfigField::CalibrationObservabilityTable,
@@ -635,22 +603,24 @@ mod tests {
 
     #[test]
     fn motion_thresholds_are_validated() {
-        for (rate, force) in [
-            (0.0, 0.5),
-            (f64::NAN, 0.5),
-            (0.01, -1.0),
-            (0.01, f64::INFINITY),
+        use crate::config::Param;
+        let (rate, force) = (Param::MotionRateThreshold, Param::MotionForceThreshold);
+        for (rate_rad_s, force_mps2, param) in [
+            (0.0, 0.5, rate),
+            (f64::NAN, 0.5, rate),
+            (0.01, -1.0, force),
+            (0.01, f64::INFINITY, force),
         ] {
             let config = CalibrationManagerConfig {
-                motion_rate_threshold_rad_s: rate,
-                motion_force_threshold_mps2: force,
+                motion_rate_threshold_rad_s: rate_rad_s,
+                motion_force_threshold_mps2: force_mps2,
                 ..CalibrationManagerConfig::default()
             };
             assert_eq!(
                 CalibrationManager::new(config),
-                Err(FswError::InvalidConfiguration(
-                    ConfigField::CalibrationMotionThreshold
-                ))
+                Err(FswError::InvalidConfiguration(ConfigField::Parameter(
+                    param
+                )))
             );
         }
     }
@@ -673,24 +643,25 @@ mod tests {
             change(&mut config);
             CalibrationManager::new(config).err()
         };
-        let threshold = Some(FswError::InvalidConfiguration(
-            ConfigField::CalibrationThreshold,
-        ));
+        use crate::config::Param;
+        let named = |param| {
+            Some(FswError::InvalidConfiguration(ConfigField::Parameter(
+                param,
+            )))
+        };
         assert_eq!(
             refused(|c| c.convergence_sigma.gyro_bias_rad_s = 0.0),
-            threshold
+            named(Param::ThresholdGyroBias)
         );
         assert_eq!(
             refused(|c| c.convergence_sigma.accel_scale_factor = f64::NAN),
-            threshold
+            named(Param::ThresholdAccelScaleFactor)
         );
         assert_eq!(
             refused(|c| c.convergence_sigma.star_installation_rad = -1.0),
-            threshold
+            named(Param::ThresholdStarInstallation)
         );
-        let stability = Some(FswError::InvalidConfiguration(
-            ConfigField::CalibrationStability,
-        ));
+        let stability = named(Param::StabilityFraction);
         assert_eq!(refused(|c| c.stability_fraction = 0.0), stability);
         assert_eq!(refused(|c| c.stability_fraction = f64::INFINITY), stability);
         for block in [ATTITUDE, POSITION, VELOCITY] {

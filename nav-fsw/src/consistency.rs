@@ -58,22 +58,23 @@ pub struct ConsistencyConfig {
     pub mean_nis_bound: f64,
 }
 
+/// The parameter table's defaults ([`crate::config::Param`]).
 impl Default for ConsistencyConfig {
     fn default() -> Self {
-        Self {
-            time_constant_measurements: DEFAULT_TIME_CONSTANT_MEASUREMENTS,
-            mean_nis_bound: DEFAULT_MEAN_NIS_BOUND,
-        }
+        crate::config::FswConfig::table_defaults().consistency
     }
 }
 
 impl ConsistencyConfig {
-    /// Whether the settings are usable: a time constant in range and a finite bound above
-    /// the consistent mean (a bound at or below 3 fails a consistent filter).
+    /// Whether the settings are within their ranges in the parameter table: a time constant
+    /// in range and a bound above the consistent mean (a bound at or below 3 fails a
+    /// consistent filter).
     pub fn is_valid(&self) -> bool {
-        (1..=MAX_TIME_CONSTANT_MEASUREMENTS).contains(&self.time_constant_measurements)
-            && self.mean_nis_bound.is_finite()
-            && self.mean_nis_bound > CONSISTENT_MEAN_NIS
+        use crate::config::Param;
+        Param::ConsistencyTimeConstant
+            .check(f64::from(self.time_constant_measurements))
+            .and(Param::ConsistencyMeanNisBound.check(self.mean_nis_bound))
+            .is_ok()
     }
 }
 

@@ -5,7 +5,7 @@
 use nalgebra::{Quaternion, Vector3};
 use nav_core::attitude;
 
-use crate::error::{ConfigField, FswError};
+use crate::error::FswError;
 use crate::ports::{self, GnssFix, ImuSample, StarMeasurement};
 
 /// Limits for IMU sample checks.
@@ -25,41 +25,24 @@ pub struct ImuLimits {
     pub max_specific_force_mps2: f64,
 }
 
+/// The parameter table's defaults ([`crate::config::Param`]).
 impl Default for ImuLimits {
     fn default() -> Self {
-        Self {
-            period_s: crate::MINOR_FRAME_PERIOD_S,
-            period_tolerance: 0.1,
-            max_rate_rad_s: 7.0,
-            max_specific_force_mps2: 200.0,
-        }
+        crate::config::FswConfig::table_defaults().imu
     }
 }
 
 impl ImuLimits {
-    /// Checks every field is finite and in range.
+    /// Checks every field against its range in the parameter table.
     ///
     /// # Errors
     /// [`FswError::InvalidConfiguration`] naming the first bad field.
     pub fn validate(&self) -> Result<(), FswError> {
-        let positive = |value: f64| value.is_finite() && value > 0.0;
-        if !positive(self.period_s) {
-            return Err(FswError::InvalidConfiguration(ConfigField::ImuPeriod));
-        }
-        if !(positive(self.period_tolerance) && self.period_tolerance < 1.0) {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::ImuPeriodTolerance,
-            ));
-        }
-        if !positive(self.max_rate_rad_s) {
-            return Err(FswError::InvalidConfiguration(ConfigField::ImuMaxRate));
-        }
-        if !positive(self.max_specific_force_mps2) {
-            return Err(FswError::InvalidConfiguration(
-                ConfigField::ImuMaxSpecificForce,
-            ));
-        }
-        Ok(())
+        use crate::config::Param;
+        Param::ImuPeriod.check(self.period_s)?;
+        Param::ImuPeriodTolerance.check(self.period_tolerance)?;
+        Param::ImuMaxRate.check(self.max_rate_rad_s)?;
+        Param::ImuMaxSpecificForce.check(self.max_specific_force_mps2)
     }
 }
 
@@ -335,7 +318,9 @@ mod tests {
         };
         assert_eq!(
             limits.validate(),
-            Err(FswError::InvalidConfiguration(ConfigField::ImuMaxRate))
+            Err(FswError::InvalidConfiguration(
+                crate::ConfigField::Parameter(crate::config::Param::ImuMaxRate)
+            ))
         );
     }
 

@@ -220,44 +220,18 @@ proptest! {
 fn both_filter_modes_round_trip_through_the_setup_words() {
     use nav_core::filter::FilterMode;
     for mode in [FilterMode::OpenLoop, FilterMode::ClosedLoop] {
-        let setup = ReplaySetup {
-            mode,
-            ..reference_setup()
-        };
-        assert_eq!(ReplaySetup::from_words(&setup.to_words()).unwrap(), setup);
+        let mut config = reference_setup().config();
+        config.filter.mode = mode;
+        let setup = ReplaySetup::new(&config, initial_state());
+        let decoded = ReplaySetup::from_words(&setup.to_words()).unwrap();
+        assert_eq!(decoded, setup);
+        assert_eq!(decoded.config().filter.mode, mode);
     }
 }
 
 fn reference_setup() -> ReplaySetup {
     let config = FswConfig::paper_defaults(site(), nav_fsw::sensor_frames::SensorFrames::ALIGNED);
-    ReplaySetup {
-        launch_site: config.launch_site,
-        sensor_frames: config.sensor_frames,
-        initial: initial_state(),
-        mode: config.filter.mode,
-        discretisation_order: config.filter.discretisation_order,
-        initial_sigma: config.filter.initial,
-        process_noise: config.process_noise,
-        imu_period_s: config.imu.period_s,
-        star_mounting_wxyz: config.star.mounting_wxyz,
-        star_noise_rad: config.star.noise_rad,
-        star_gate_nis: config.star.gate_nis,
-        gnss_noise_m: config.gnss.noise_m,
-        gnss_gate_nis: config.gnss.gate_nis,
-        max_latency_s: config.timing.max_latency_s,
-        gnss_error: config.filter.gnss_error,
-        gnss_velocity_noise_mps: config.gnss.velocity_noise_mps,
-        imu_max_rate_rad_s: config.imu.max_rate_rad_s,
-        imu_max_specific_force_mps2: config.imu.max_specific_force_mps2,
-        imu_error: config.filter.imu_error,
-        gravity: config.gravity,
-        star_roll_noise_rad: config.star.roll_noise_rad,
-        star_slow_error_sigma_rad: config.star.slow_error_sigma_rad,
-        star_slow_error_correlation_time_s: config.star.slow_error_correlation_time_s,
-        star_aberration_correction: config.star.aberration_correction,
-        star_noise_matching: config.star.noise_matching,
-        star_second_head: config.star.second_head,
-    }
+    ReplaySetup::new(&config, initial_state())
 }
 
 proptest! {

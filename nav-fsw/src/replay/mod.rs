@@ -31,7 +31,7 @@ pub use output::{
     optional_state_words, output_words, GNSS_ERROR_BLOCK_BIT, IMU_ERROR_BLOCK_BIT,
     OPTIONAL_STATE_WORDS, OUTPUT_FIELD_NAMES, OUTPUT_WORDS,
 };
-pub use setup::{ReplaySetup, SETUP_MAGIC, SETUP_WORDS};
+pub use setup::{ReplaySetup, INITIAL_NAVIGATION_WORDS, SETUP_MAGIC, SETUP_WORDS};
 
 use heapless::Deque;
 

@@ -5,7 +5,6 @@ use crate::config::FswConfig;
 use crate::log_record::test_records::{self, gnss, star};
 use crate::sensor_frames::SensorFrames;
 use nalgebra::{Quaternion, Vector3};
-use nav_core::filter::FilterMode;
 use nav_core::frames::LaunchSite;
 use nav_core::strapdown::NavigationState;
 
@@ -187,63 +186,55 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
             launch_epoch_gps_seconds_of_week: 302_418.25,
         },
     );
-    let setup = ReplaySetup {
-        star_slow_error_sigma_rad: [1.5e-5, 2.5e-5, 3.5e-5],
-        star_slow_error_correlation_time_s: 1420.0,
-        launch_site: config.launch_site,
-        sensor_frames: config.sensor_frames,
-        initial: NavigationState {
-            attitude: Quaternion::new(0.5, 0.5, -0.5, 0.5),
-            position_m: Vector3::new(1.0, -2.0, 3.0),
-            velocity_mps: Vector3::new(7.5e3, 0.1, -0.2),
-            time_s: 600.0,
-        },
-        mode: FilterMode::ClosedLoop,
-        discretisation_order: 3,
-        initial_sigma: config.filter.initial,
-        process_noise: config.process_noise,
-        imu_period_s: 0.002,
-        star_mounting_wxyz: [0.9659, 0.0, -0.2588, 0.0],
-        star_noise_rad: 4.8e-5,
-        star_gate_nis: 16.27,
-        gnss_noise_m: 10.0,
-        gnss_gate_nis: 16.27,
-        max_latency_s: 0.1,
-        gnss_error: nav_core::gnss_error::GnssErrorModel {
-            sigma_m: 8.0,
-            correlation_time_s: 300.0,
-        },
-        gnss_velocity_noise_mps: 0.05,
-        imu_max_rate_rad_s: 7.0,
-        imu_max_specific_force_mps2: 200.0,
-        // Not a configuration the flight software accepts (both borders): the words carry
-        // any values, and every field must come back.
-        imu_error: nav_core::imu_error_states::ImuErrorModel {
-            gyro_misalignment_sigma_rad: 2e-5,
-            accel_misalignment_sigma_rad: 3e-5,
-            gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
-        },
-        gravity: crate::config::GravityConfig {
-            field: nav_core::gravity::harmonics::FieldModel {
-                degree: 8,
-                order: 6,
-                terms_per_frame: 3,
-            },
-            omitted_field_sigma_mps2: 4.5e-5,
-            omitted_field_psd_m2_per_s3: 1.7e-8,
-        },
-        star_roll_noise_rad: 1.7e-4,
-        star_aberration_correction: true,
-        star_noise_matching: false,
-        star_second_head: Some(crate::config::StarHeadConfig {
-            mounting_wxyz: [0.5, 0.5, 0.5, 0.5],
-            noise_rad: 2.4e-5,
-            roll_noise_rad: 1.7e-4,
-            alignment_prior_sigma_rad: 1.4e-2,
-            pair_gate_nis: 16.27,
-            pairs_before_hand_over: 100,
-        }),
+    let mut config = config;
+    config.star.slow_error_sigma_rad = [1.5e-5, 2.5e-5, 3.5e-5];
+    config.star.slow_error_correlation_time_s = 1420.0;
+    config.star.mounting_wxyz = [0.9659, 0.0, -0.2588, 0.0];
+    config.star.noise_rad = 4.8e-5;
+    config.filter.gnss_error = nav_core::gnss_error::GnssErrorModel {
+        sigma_m: 8.0,
+        correlation_time_s: 300.0,
     };
+    // Not a configuration the flight software accepts (both borders): the words carry any
+    // values, and every field must come back.
+    config.filter.imu_error = nav_core::imu_error_states::ImuErrorModel {
+        gyro_misalignment_sigma_rad: 2e-5,
+        accel_misalignment_sigma_rad: 3e-5,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 2.5e-7,
+    };
+    config.gravity = crate::config::GravityConfig {
+        field: nav_core::gravity::harmonics::FieldModel {
+            degree: 8,
+            order: 6,
+            terms_per_frame: 3,
+        },
+        omitted_field_sigma_mps2: 4.5e-5,
+        omitted_field_psd_m2_per_s3: 1.7e-8,
+    };
+    config.star.roll_noise_rad = 1.7e-4;
+    config.star.aberration_correction = true;
+    config.star.noise_matching = false;
+    config.star.second_head = Some(crate::config::StarHeadConfig {
+        mounting_wxyz: [0.5, 0.5, 0.5, 0.5],
+        noise_rad: 2.4e-5,
+        roll_noise_rad: 1.7e-4,
+        alignment_prior_sigma_rad: 1.4e-2,
+        pair_gate_nis: 16.27,
+        pairs_before_hand_over: 100,
+    });
+    let initial = NavigationState {
+        attitude: Quaternion::new(0.5, 0.5, -0.5, 0.5),
+        position_m: Vector3::new(1.0, -2.0, 3.0),
+        velocity_mps: Vector3::new(7.5e3, 0.1, -0.2),
+        time_s: 600.0,
+    };
+    let setup = ReplaySetup::new(&config, initial);
+    // Every parameter with a word comes back; the rest are the defaults.
+    assert_eq!(setup.config(), config);
+    // A parameter without a word does not travel.
+    let mut untravelled = config;
+    untravelled.gnss.max_jump_m = 5.0;
+    assert_eq!(ReplaySetup::new(&untravelled, initial), setup);
     let words = setup.to_words();
     assert_eq!(ReplaySetup::from_words(&words), Ok(setup));
     let mut bad = words;
@@ -260,7 +251,8 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
     bad[flags] = 0;
     bad[flags + 1] = 1;
     let flipped = ReplaySetup::from_words(&bad).unwrap();
-    assert!(!flipped.star_aberration_correction && flipped.star_noise_matching);
+    let flipped = flipped.config().star;
+    assert!(!flipped.aberration_correction && flipped.noise_matching);
     for slot in flags..flags + 3 {
         bad = words;
         bad[slot] = 2;
@@ -274,7 +266,7 @@ fn the_setup_round_trips_bit_for_bit_and_rejects_a_bad_magic() {
         *word = 0;
     }
     let one_head = ReplaySetup::from_words(&bad).unwrap();
-    assert_eq!(one_head.star_second_head, None);
+    assert_eq!(one_head.config().star.second_head, None);
     assert_eq!(one_head.to_words()[flags + 2..], [0; 10]);
     bad = one_head.to_words();
     bad[SETUP_WORDS - 1] = 1;

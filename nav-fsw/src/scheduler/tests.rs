@@ -656,19 +656,32 @@ fn the_star_slow_error_walks_the_installation_states_only() {
 /// A slow error without a correlation time, or with a negative 1σ, is refused by name.
 #[test]
 fn a_star_slow_error_without_its_correlation_time_is_refused() {
+    use crate::config::Param;
     let mut config = *computer().config();
     config.star.slow_error_sigma_rad = [1.0e-5, 0.0, 0.0];
-    for tau_s in [0.0, -1.0, f64::NAN, 1e-320] {
+    config.star.slow_error_correlation_time_s = 0.0;
+    assert_eq!(
+        config.validate(),
+        Err(FswError::InvalidConfiguration(ConfigField::Companion(
+            Param::StarSlowErrorX,
+            Param::StarSlowErrorCorrelationTime
+        )))
+    );
+    for tau_s in [-1.0, f64::NAN, 1e-320] {
         config.star.slow_error_correlation_time_s = tau_s;
         assert_eq!(
             config.validate(),
-            Err(FswError::InvalidConfiguration(ConfigField::StarSlowError))
+            Err(FswError::InvalidConfiguration(ConfigField::Parameter(
+                Param::StarSlowErrorCorrelationTime
+            )))
         );
     }
     config.star.slow_error_correlation_time_s = 1000.0;
     config.star.slow_error_sigma_rad = [-1.0e-5, 0.0, 0.0];
     assert_eq!(
         config.validate(),
-        Err(FswError::InvalidConfiguration(ConfigField::StarSlowError))
+        Err(FswError::InvalidConfiguration(ConfigField::Parameter(
+            Param::StarSlowErrorX
+        )))
     );
 }

@@ -238,7 +238,7 @@ pub fn replay<R: Read, W: Write>(
     let mut reader = SensorLogReader::new(log)?;
     let mut output = std::io::BufWriter::new(output);
     writeln!(output, "{}", output_columns(&computer).join(","))?;
-    let frames_per_row = (1.0 / setup.imu_period_s).round().max(1.0) as u64;
+    let frames_per_row = (1.0 / setup.config().imu.period_s).round().max(1.0) as u64;
     let mut frames = 0_u64;
     let mut last_row: Option<String> = None;
     let mut run_ready =

@@ -145,41 +145,4 @@ impl FilterGravity {
             omitted_field_psd_m2_per_s3: self.omitted_field_psd_m2_per_s3,
         }
     }
-
-    /// The first key that breaks its rule, with the rule.
-    pub fn violation(&self) -> Option<(&'static str, String)> {
-        let max = nav_core::gravity::egm2008::FLIGHT_MAX_DEGREE;
-        let (sigma, psd) = (
-            self.omitted_field_sigma_mps2,
-            self.omitted_field_psd_m2_per_s3,
-        );
-        if !(2..=max).contains(&usize::from(self.degree)) {
-            Some((
-                "filter.gravity.degree",
-                format!(
-                    "= {} must be in 2..={max} (the flight's coefficients)",
-                    self.degree
-                ),
-            ))
-        } else if self.order > self.degree {
-            Some((
-                "filter.gravity.order",
-                format!("= {} must be in 0..=filter.gravity.degree", self.order),
-            ))
-        } else if self.terms_per_frame == 0 {
-            Some(("filter.gravity.terms_per_frame", "must be >= 1".into()))
-        } else if !(sigma == 0.0 || (1e-12..=1.0).contains(&sigma)) {
-            Some((
-                "filter.gravity.omitted_field_sigma_mps2",
-                format!("= {sigma} must be 0 (no allowance) or in [1e-12, 1] m/s^2"),
-            ))
-        } else if (sigma > 0.0) != (psd > 0.0) || !(0.0..=1.0).contains(&psd) {
-            Some((
-                "filter.gravity.omitted_field_psd_m2_per_s3",
-                format!("= {psd} must be in (0, 1] m^2/s^3 with an allowance, 0 without"),
-            ))
-        } else {
-            None
-        }
-    }
 }

@@ -422,8 +422,6 @@ const DURATION_REASON: &str = "one day of flight: an upper stage's orbital phase
 
 /// WGS-84 equatorial radius (m): the lowest acceptable perigee radius of the initial orbit.
 const EARTH_EQUATORIAL_RADIUS_M: f64 = 6_378_137.0;
-/// Largest filter discretisation order the flight code accepts.
-const MAX_DISCRETISATION_ORDER: u32 = 4;
 
 impl Scenario {
     /// Checks every value against its documented range.
@@ -694,77 +692,7 @@ impl Scenario {
             ));
         }
 
-        let filter = &self.filter;
-        if !(1..=MAX_DISCRETISATION_ORDER).contains(&filter.discretisation_order) {
-            return Err(check.fail(
-                "filter.discretisation_order",
-                &format!("must be in 1..={MAX_DISCRETISATION_ORDER}"),
-            ));
-        }
-        let sigma = &filter.initial_sigma;
-        for (name, value) in [
-            ("attitude_rad", sigma.attitude_rad),
-            ("position_m", sigma.position_m),
-            ("velocity_mps", sigma.velocity_mps),
-            ("gyro_bias_rad_per_s", sigma.gyro_bias_rad_per_s),
-            ("accel_bias_mps2", sigma.accel_bias_mps2),
-            ("star_installation_rad", sigma.star_installation_rad),
-            ("gyro_scale_factor", sigma.gyro_scale_factor),
-            ("accel_scale_factor", sigma.accel_scale_factor),
-        ] {
-            check.sigma(&format!("filter.initial_sigma.{name}"), value, false)?;
-        }
-        check.positive(
-            "filter.nis_gate.star_threshold",
-            filter.nis_gate.star_threshold,
-        )?;
-        check.positive(
-            "filter.nis_gate.gnss_threshold",
-            filter.nis_gate.gnss_threshold,
-        )?;
-        check.sigma(
-            "filter.gnss_correlated_sigma_m",
-            filter.gnss_correlated_sigma_m,
-            true,
-        )?;
-        if filter.gnss_correlated_sigma_m > 0.0 {
-            check.positive(
-                "filter.gnss_correlation_time_s",
-                filter.gnss_correlation_time_s,
-            )?;
-        }
-        if let Some(noise_m) = filter.gnss_noise_m {
-            check.sigma("filter.gnss_noise_m", noise_m, false)?;
-        }
-        let instability = &filter.bias_instability;
-        for (sensor, unit, sigma, correlation_time_s) in [
-            (
-                "gyro",
-                "rad_per_s",
-                instability.gyro_sigma_rad_per_s,
-                instability.gyro_correlation_time_s,
-            ),
-            (
-                "accel",
-                "mps2",
-                instability.accel_sigma_mps2,
-                instability.accel_correlation_time_s,
-            ),
-        ] {
-            let key = format!("filter.bias_instability.{sensor}_sigma_{unit}");
-            check.sigma(&key, sigma, true)?;
-            let key = format!("filter.bias_instability.{sensor}_correlation_time_s");
-            if sigma > 0.0 {
-                check.positive(&key, correlation_time_s)?;
-            } else {
-                check.non_negative(&key, correlation_time_s)?;
-            }
-        }
-        check.filter_imu_errors(filter)?;
-        check.filter_star(filter)?;
-        if let Some((key, rule)) = filter.gravity.violation() {
-            return Err(check.fail(key, &rule));
-        }
+        check.filter(&self.filter, fsw)?;
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }
@@ -773,7 +701,7 @@ impl Scenario {
     }
 }
 
-/// The checks of `[filter.imu_errors]`.
+/// The checks of `[filter]`: the flight software's own.
 #[path = "validate_filter.rs"]
 mod filter;
 /// The checks of the star sensor's optional truth terms.

@@ -7,7 +7,7 @@ use nav_core::attitude;
 use nav_core::error_model::ProcessNoise;
 use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
 use nav_core::strapdown::NavigationState;
-use nav_fsw::config::{FswConfig, StarHeadConfig};
+use nav_fsw::config::{FswConfig, Param, StarHeadConfig};
 use nav_fsw::replay::ReplaySetup;
 use nav_fsw::{ConfigField, FswError};
 use rand_distr::{Distribution, StandardNormal};
@@ -18,59 +18,79 @@ use crate::setup::launch::{Launch, TruthState};
 use crate::setup::streams::{self, Stream};
 use crate::setup::{dispersion, SetupError};
 
-/// The scenario key that sets a flight-software configuration field ([`replay_setup`]), or
-/// `None` for a field the scenario leaves at the flight software's default.
+/// The scenario key that sets a flight-software configuration field ([`replay_setup`]): a
+/// `[filter]` key ([`crate::scenario::FilterSettings::FLIGHT_KEYS`]) or the truth's key the
+/// flight is told of; `None` for a field the scenario leaves at the flight software's default.
 pub fn scenario_key(field: ConfigField) -> Option<&'static str> {
-    use ConfigField as F;
-    match field {
-        F::ImuPeriod | F::FutureTolerance => Some("imu.rate_hz"),
-        F::ImuMaxRate => Some("imu.max_rate_deg_per_s"),
-        F::StarSecondHead => Some("star_sensor.additional_heads"),
-        F::ImuMaxSpecificForce => Some("imu.max_specific_force_mps2"),
-        F::MaxLatency => Some("gnss.latency_s"),
-        F::LaunchSite => Some("launch_site"),
-        F::SensorFrames => Some("launch_site.epoch_utc / launch_site.earth_orientation"),
-        F::FilterInitialUncertainty => Some("filter.initial_sigma / filter.discretisation_order"),
-        F::ProcessNoise => Some(
-            "gyro.rate_noise_density_deg_per_h_per_sqrt_hz / \
-             gyro.bias_random_walk_rad_per_s_per_sqrt_s / accelerometer.noise_per_sample_mps2 \
-             / accelerometer.bias_random_walk_mps2_per_sqrt_s",
-        ),
-        F::StarMounting => Some("star_sensor.mounting_rotation_vector_deg"),
-        F::StarNoise => {
-            Some("filter.star_noise_arcsec (default star_sensor.noise_arcsec, or cross_boresight_noise_arcsec / roll_noise_arcsec)")
+    let param = match field {
+        ConfigField::Parameter(param) | ConfigField::Companion(_, param) => param,
+        ConfigField::MaxLatency => return Some("gnss.latency_s"),
+        ConfigField::FutureTolerance => return Some("imu.rate_hz"),
+        ConfigField::LaunchSite => return Some("launch_site"),
+        ConfigField::SensorFrames => {
+            return Some("launch_site.epoch_utc / launch_site.earth_orientation")
         }
-        F::StarGate => Some("filter.nis_gate.star_threshold"),
-        F::GnssNoise => Some("filter.gnss_noise_m (default gnss.noise_m)"),
-        F::GnssGate => Some("filter.nis_gate.gnss_threshold"),
-        F::GnssVelocity => Some("gnss.velocity_noise_mps"),
-        F::GnssCorrelatedError => {
-            Some("filter.gnss_correlated_sigma_m / filter.gnss_correlation_time_s")
+        ConfigField::StarMounting => return Some("star_sensor.mounting_rotation_vector_deg"),
+        ConfigField::StarSecondHead => return Some("star_sensor.additional_heads"),
+        ConfigField::Gravity => return Some("filter.gravity.order"),
+        ConfigField::InitialNavigation => return Some("initial_orbit / initial_attitude"),
+        _ => return None,
+    };
+    crate::scenario::FilterSettings::flight_key(param).or_else(|| told_key(param))
+}
+
+/// The truth's key behind a flight parameter the scenario sets outside `[filter]`.
+fn told_key(param: Param) -> Option<&'static str> {
+    use Param as P;
+    Some(match param {
+        P::ImuPeriod => "imu.rate_hz",
+        P::ImuMaxRate => "imu.max_rate_deg_per_s",
+        P::ImuMaxSpecificForce => "imu.max_specific_force_mps2",
+        P::MaxLatency => "gnss.latency_s",
+        P::LaunchLatitude
+        | P::LaunchLongitude
+        | P::LaunchHeight
+        | P::LaunchAzimuth
+        | P::EarthAxisX
+        | P::EarthAxisY
+        | P::EarthAxisZ => "launch_site",
+        P::LaunchEpochGpsWeek
+        | P::LaunchEpochSecondsOfWeek
+        | P::GcrfW
+        | P::GcrfX
+        | P::GcrfY
+        | P::GcrfZ => "launch_site.epoch_utc / launch_site.earth_orientation",
+        P::GyroNoiseDensity => "gyro.rate_noise_density_deg_per_h_per_sqrt_hz",
+        P::AccelNoiseDensity => "accelerometer.noise_per_sample_mps2",
+        P::GyroBiasWalk => {
+            "gyro.bias_random_walk_rad_per_s_per_sqrt_s / filter.bias_instability.gyro_*"
         }
-        F::ImuSystematicError => Some("filter.imu_errors"),
-        F::Gravity => Some("filter.gravity"),
-        F::StarSlowError => Some("filter.star_slow_error"),
-        F::InitialNavigation => Some("initial_orbit / initial_attitude"),
-        F::ImuPeriodTolerance
-        | F::StarAcquisitionGate
-        | F::GnssAcquisitionGate
-        | F::StarNormTolerance
-        | F::GnssMaxJump
-        | F::GnssLeverArm
-        | F::GnssWhiteness
-        | F::HeldSampleUncertainty
-        | F::OutageTimeout
-        | F::RejectionsToDeclareFaulty
-        | F::Consistency
-        | F::PropagationInterval
-        | F::SigmaFloor
-        | F::SigmaCeiling
-        | F::CalibrationThreshold
-        | F::CalibrationWindow
-        | F::CalibrationStability
-        | F::CalibrationMotionThreshold
-        | F::CalibrationObservabilityTable => None,
-    }
+        P::AccelBiasWalk => {
+            "accelerometer.bias_random_walk_mps2_per_sqrt_s / filter.bias_instability.accel_*"
+        }
+        P::StarMountingW | P::StarMountingX | P::StarMountingY | P::StarMountingZ => {
+            "star_sensor.mounting_rotation_vector_deg"
+        }
+        P::StarNoise | P::StarRollNoise => {
+            "filter.star_noise_arcsec (default star_sensor.noise_arcsec, or \
+             cross_boresight_noise_arcsec / roll_noise_arcsec)"
+        }
+        P::GnssNoise => "filter.gnss_noise_m (default gnss.noise_m)",
+        P::GnssVelocityNoise => "gnss.velocity_noise_mps",
+        P::StarAberrationCorrection => "filter.star_aberration_correction",
+        P::StarNoiseMatching => "filter.star_noise_matching",
+        P::StarSecondHead => "filter.star_second_head",
+        P::HeadMountingW
+        | P::HeadMountingX
+        | P::HeadMountingY
+        | P::HeadMountingZ
+        | P::HeadNoise
+        | P::HeadRollNoise => "star_sensor.additional_heads",
+        P::HeadAlignmentPrior => "filter.initial_sigma.star_installation_rad",
+        P::HeadPairGate => "filter.nis_gate.star_threshold",
+        P::FilterMode => "filter.mode",
+        _ => return None,
+    })
 }
 
 /// The flight software's refusal of the configuration made from `scenario`, as the user
@@ -122,7 +142,6 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         y.to_radians(),
         z.to_radians(),
     ));
-    let defaults = FswConfig::paper_defaults(launch.site, launch.ground.sensor_frames);
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     // The truth's white noise per sensor axis: cross-boresight (x, y) and roll (z) with the
     // per-axis keys, else `noise_arcsec` on every axis (the same bits as before).
@@ -131,43 +150,39 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
         || scenario.star_sensor.noise_per_axis_rad(),
         |noise_arcsec| [arcsec_to_rad(noise_arcsec); 3],
     );
-    Ok(ReplaySetup {
-        launch_site: launch.site,
-        sensor_frames: launch.ground.sensor_frames,
-        initial: initial_navigation(scenario, &launch.truth_start),
-        mode: filter.mode,
-        discretisation_order: filter.discretisation_order,
-        initial_sigma: filter.initial,
-        process_noise: scenario_process_noise(scenario),
-        imu_period_s: period_s,
-        star_mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
-        // A zero-noise sensor (a test setting) still needs a positive R. The flight software
-        // is told the white noise per sensor axis; the slow errors are not modelled in its R.
-        star_noise_rad: cross_rad.max(1e-12),
-        star_gate_nis: settings.nis_gate.star_threshold,
-        gnss_noise_m: settings
-            .gnss_noise_m
-            .unwrap_or(scenario.gnss.noise_m)
-            .max(1e-6),
-        gnss_gate_nis: settings.nis_gate.gnss_threshold,
-        max_latency_s: defaults
-            .timing
-            .max_latency_s
-            .max(scenario.gnss.latency_s + period_s),
-        gnss_error: filter.gnss_error,
-        // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
-        gnss_velocity_noise_mps: scenario.gnss.velocity_noise_mps,
-        imu_max_rate_rad_s: max_rate_rad_s,
-        imu_max_specific_force_mps2: max_force_mps2,
-        imu_error: filter.imu_error,
-        gravity: settings.gravity.config(),
-        star_roll_noise_rad: roll_rad.max(1e-12),
-        star_slow_error_sigma_rad: settings.star_slow_error.sigma_rad(),
-        star_slow_error_correlation_time_s: settings.star_slow_error.correlation_time_s,
-        star_aberration_correction: settings.star_aberration_correction,
-        star_noise_matching: settings.star_noise_matching,
-        star_second_head: second_head(scenario, &filter),
-    })
+    let mut config = FswConfig::paper_defaults(launch.site, launch.ground.sensor_frames);
+    config.filter = filter;
+    config.process_noise = scenario_process_noise(scenario);
+    config.imu.period_s = period_s;
+    config.imu.max_rate_rad_s = max_rate_rad_s;
+    config.imu.max_specific_force_mps2 = max_force_mps2;
+    let star = &mut config.star;
+    star.mounting_wxyz = [mounting.w, mounting.i, mounting.j, mounting.k];
+    // A zero-noise sensor (a test setting) still needs a positive R. The flight software is
+    // told the white noise per sensor axis; the slow errors are not modelled in its R.
+    star.noise_rad = cross_rad.max(1e-12);
+    star.roll_noise_rad = roll_rad.max(1e-12);
+    star.gate_nis = settings.nis_gate.star_threshold;
+    star.slow_error_sigma_rad = settings.star_slow_error.sigma_rad();
+    star.slow_error_correlation_time_s = settings.star_slow_error.correlation_time_s;
+    star.aberration_correction = settings.star_aberration_correction;
+    star.noise_matching = settings.star_noise_matching;
+    star.second_head = second_head(scenario, &filter);
+    let gnss = &mut config.gnss;
+    gnss.noise_m = settings
+        .gnss_noise_m
+        .unwrap_or(scenario.gnss.noise_m)
+        .max(1e-6);
+    gnss.gate_nis = settings.nis_gate.gnss_threshold;
+    // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
+    gnss.velocity_noise_mps = scenario.gnss.velocity_noise_mps;
+    config.timing.max_latency_s = config
+        .timing
+        .max_latency_s
+        .max(scenario.gnss.latency_s + period_s);
+    config.gravity = settings.gravity.config();
+    let initial = initial_navigation(scenario, &launch.truth_start);
+    Ok(ReplaySetup::new(&config, initial))
 }
 
 /// The flight software's second tracker head: the scenario's first
@@ -448,7 +463,7 @@ mod tests {
         );
         let launch = crate::setup::launch::Launch::new(&scenario).unwrap();
         let setup = replay_setup_for(&scenario, &launch).unwrap();
-        assert_eq!(setup.imu_error, config.imu_error);
+        assert_eq!(setup.config().filter.imu_error, config.imu_error);
         assert_eq!(setup.config().filter.imu_error, config.imu_error);
     }
 

@@ -109,29 +109,6 @@ fn a_start_time_that_loses_the_frame_resolution_is_refused() {
 fn every_sigma_key_whose_square_overflows_or_underflows_is_refused() {
     // (text in the default file, key) for every 1σ / noise key present there.
     let keys = [
-        ("attitude_rad = 1.0e-3", "filter.initial_sigma.attitude_rad"),
-        ("position_m = 10.0", "filter.initial_sigma.position_m"),
-        ("velocity_mps = 0.1", "filter.initial_sigma.velocity_mps"),
-        (
-            "gyro_bias_rad_per_s = 1.0e-3",
-            "filter.initial_sigma.gyro_bias_rad_per_s",
-        ),
-        (
-            "accel_bias_mps2 = 1.0e-2",
-            "filter.initial_sigma.accel_bias_mps2",
-        ),
-        (
-            "star_installation_rad = 1.0e-2",
-            "filter.initial_sigma.star_installation_rad",
-        ),
-        (
-            "gyro_scale_factor = 1.0e-4",
-            "filter.initial_sigma.gyro_scale_factor",
-        ),
-        (
-            "accel_scale_factor = 2.0e-4",
-            "filter.initial_sigma.accel_scale_factor",
-        ),
         (
             "rate_noise_density_deg_per_h_per_sqrt_hz = 0.2",
             "gyro.rate_noise_density_deg_per_h_per_sqrt_hz",
@@ -152,11 +129,6 @@ fn every_sigma_key_whose_square_overflows_or_underflows_is_refused() {
         ("noise_m = 10.0", "gnss.noise_m"),
         ("# correlated_noise_m = 0.0", "gnss.correlated_noise_m"),
         ("# velocity_noise_mps = 0.0", "gnss.velocity_noise_mps"),
-        (
-            "# gnss_correlated_sigma_m = 0.0",
-            "filter.gnss_correlated_sigma_m",
-        ),
-        ("# gnss_noise_m = 10.0", "filter.gnss_noise_m"),
     ];
     for (original, key) in keys {
         let name = original
@@ -168,7 +140,6 @@ fn every_sigma_key_whose_square_overflows_or_underflows_is_refused() {
             // A correlated error needs its correlation time to reach the σ check.
             let tau = match name {
                 "correlated_noise_m" => "\ncorrelation_time_s = 300.0",
-                "gnss_correlated_sigma_m" => "\ngnss_correlation_time_s = 300.0",
                 _ => "",
             };
             assert_refused(
@@ -179,6 +150,141 @@ fn every_sigma_key_whose_square_overflows_or_underflows_is_refused() {
             );
         }
     }
+}
+
+/// Every `[filter]` key is refused by the flight software's own rule (its parameter table):
+/// the message names the scenario key, the flight key, its range and its unit.
+#[test]
+fn every_filter_key_beyond_the_flight_softwares_range_is_refused_by_its_rule() {
+    let keys = [
+        (
+            "attitude_rad = 1.0e-3",
+            "filter.initial_sigma.attitude_rad",
+            "filter.initial.attitude_rad must be in [1e-9, 3.14",
+        ),
+        (
+            "position_m = 10.0",
+            "filter.initial_sigma.position_m",
+            "filter.initial.position_m must be in [0.001, 1e7] m (",
+        ),
+        (
+            "velocity_mps = 0.1",
+            "filter.initial_sigma.velocity_mps",
+            "[1e-6, 10000] m/s",
+        ),
+        (
+            "gyro_bias_rad_per_s = 1.0e-3",
+            "filter.initial_sigma.gyro_bias_rad_per_s",
+            "[1e-12, 0.1] rad/s",
+        ),
+        (
+            "accel_bias_mps2 = 1.0e-2",
+            "filter.initial_sigma.accel_bias_mps2",
+            "[1e-9, 10] m/s^2",
+        ),
+        (
+            "star_installation_rad = 1.0e-2",
+            "filter.initial_sigma.star_installation_rad",
+            "filter.initial.star_installation_rad must be",
+        ),
+        (
+            "gyro_scale_factor = 1.0e-4",
+            "filter.initial_sigma.gyro_scale_factor",
+            "[1e-9, 0.1] (",
+        ),
+        (
+            "accel_scale_factor = 2.0e-4",
+            "filter.initial_sigma.accel_scale_factor",
+            "[1e-9, 0.1] (",
+        ),
+        (
+            "# gnss_correlated_sigma_m = 0.0",
+            "filter.gnss_correlated_sigma_m",
+            "filter.gnss_error.sigma_m must be 0 (off) or in [0.001, 1000] m",
+        ),
+        (
+            "# gnss_noise_m = 10.0",
+            "filter.gnss_noise_m",
+            "gnss.noise_m must be in [1e-6, 100000] m",
+        ),
+    ];
+    for (original, key, rule) in keys {
+        let name = original
+            .trim_start_matches("# ")
+            .split(" = ")
+            .next()
+            .unwrap();
+        for bad in ["1e300", "1e-300"] {
+            let tau = match name {
+                "gnss_correlated_sigma_m" => "\ngnss_correlation_time_s = 300.0",
+                _ => "",
+            };
+            assert_refused(
+                original,
+                &format!("{name} = {bad}{tau}"),
+                key,
+                &[&format!("= {bad} is refused by the flight software"), rule],
+            );
+        }
+    }
+}
+
+/// The inputs the flight software's ranges were made for: a correlation time of 1e-300 s,
+/// an IMU error prior of 1 rad, 255 gravity terms a frame, a hand-over after no pair.
+#[test]
+fn the_absurd_filter_inputs_are_refused_naming_key_range_and_unit() {
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.bias_instability]\ngyro_sigma_rad_per_s = 1.0e-6\n\
+         gyro_correlation_time_s = 1e-300\n\n[filter.nis_gate]",
+        "filter.bias_instability.gyro_correlation_time_s",
+        &["= 1e-300 must be 0 (off) or in [1, 1e8] s (below 1 s"],
+    );
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.bias_instability]\naccel_sigma_mps2 = 2.0e-5\n\n[filter.nis_gate]",
+        "filter.bias_instability.accel_correlation_time_s",
+        &["must not be 0 while filter.bias_instability.accel_sigma_mps2 is on"],
+    );
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.imu_errors]\ngyro_misalignment_sigma_rad = 1.0\n\
+         accel_misalignment_sigma_rad = 2.0e-5\n\
+         gyro_g_sensitivity_sigma_rad_s_per_mps2 = 2.5e-7\n\n[filter.nis_gate]",
+        "filter.imu_errors.gyro_misalignment_sigma_rad",
+        &[
+            "= 1 is refused by the flight software",
+            "filter.imu_error.gyro_misalignment_sigma_rad must be 0 (off) or in [1e-9, 0.01] rad",
+        ],
+    );
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.imu_errors]\ngyro_misalignment_sigma_rad = 2.0e-5\n\n[filter.nis_gate]",
+        "filter.imu_errors.accel_misalignment_sigma_rad",
+        &["and not 0 while filter.imu_error.gyro_misalignment_sigma_rad is on"],
+    );
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.gravity]\nterms_per_frame = 255\n\n[filter.nis_gate]",
+        "filter.gravity.terms_per_frame",
+        &["gravity.field.terms_per_frame must be in [1, 8] (the frame budget"],
+    );
+    assert_refused(
+        "[filter.nis_gate]",
+        "[filter.gravity]\ndegree = 4\norder = 5\n\n[filter.nis_gate]",
+        "filter.gravity.order",
+        &["gravity.field.order must be at most gravity.field.degree"],
+    );
+    assert_refused(
+        "discretisation_order = 3",
+        "discretisation_order = 3\nstar_pairs_before_hand_over = 0",
+        "filter.star_pairs_before_hand_over",
+        &["star.second_head.pairs_before_hand_over must be in [1, 100000] pairs"],
+    );
+    accepted(
+        "discretisation_order = 3",
+        "discretisation_order = 3\nstar_pairs_before_hand_over = 1",
+    );
 }
 
 #[test]
@@ -264,16 +370,21 @@ fn the_flight_softwares_refusals_name_the_scenario_key_and_the_limit() {
     let error = fsw_config(&scenario).unwrap().validate().unwrap_err();
     let message = configuration_error(&scenario, error).to_string();
     assert!(message.contains("filter.initial_sigma"), "{message}");
-    assert!(message.contains("[1e-150, 1e150]"), "{message}");
+    assert!(
+        message.contains("filter.initial.position_m must be in [0.001, 1e7] m"),
+        "{message}"
+    );
 
     // A field the scenario does not set is named as the flight software's own.
     let mut config = FswConfig::paper_defaults(config.launch_site, config.sensor_frames);
     config.covariance.sigma_ceiling_factor = 0.5;
     let error = config.validate().unwrap_err();
-    assert_eq!(scenario_key(ConfigField::SigmaCeiling), None);
+    let ceiling = ConfigField::Parameter(nav_fsw::config::Param::SigmaCeilingFactor);
+    assert_eq!(error, FswError::InvalidConfiguration(ceiling));
+    assert_eq!(scenario_key(ceiling), None);
     let message = configuration_error(&scenario, error).to_string();
     assert!(
-        message.contains("own setting covariance.sigma_ceiling_factor must be finite and >= 1"),
+        message.contains("own setting covariance.sigma_ceiling_factor must be in [1, 1e6] ("),
         "{message}"
     );
 }
@@ -288,7 +399,10 @@ fn every_shipped_scenario_is_within_the_limits() {
             .extension()
             .is_some_and(|extension| extension == "toml")
         {
-            Scenario::load(&path).unwrap();
+            // Loaded, and the flight software accepts the configuration made from it.
+            let scenario = Scenario::load(&path).unwrap();
+            let config = fsw_config(&scenario).unwrap();
+            assert_eq!(config.validate(), Ok(()), "{}", path.display());
             count += 1;
         }
     }
