@@ -6,7 +6,7 @@
 //! declaration here (and a replay word if a scenario sets it).
 //!
 //! Ranges are physical (what a sensor, a vehicle or an orbit can be) or follow the frame
-//! budget (30,000 instructions); every 1σ range keeps its square a normal `f64`.
+//! budget (docs/performance.md); every 1σ range keeps its square a normal `f64`.
 
 use core::f64::consts::{FRAC_PI_2, PI};
 
