@@ -163,7 +163,7 @@ flight_parameters! {
     InitialStarInstallation: f64 {
         path: "filter.initial.star_installation_rad", unit: "rad",
         default: Some(1e-2), word: Some(35),
-        range: ATTITUDE_SIGMA, why: ATTITUDE_WHY,
+        range: INSTALLATION_SIGMA, why: INSTALLATION_WHY,
         get: |c| c.filter.initial.star_installation_rad,
         set: |c, v| c.filter.initial.star_installation_rad = v,
     }

@@ -44,10 +44,17 @@ pub(super) const GYRO_BIAS_WHY: &str = "1e-12 rad/s is far below the best gyro; 
 pub(super) const ACCEL_BIAS_SIGMA: Range = Range::new(1.0e-9, 10.0);
 pub(super) const ACCEL_BIAS_WHY: &str =
     "1e-9 m/s^2 is far below the best accelerometer; 10 m/s^2 is 1 g";
-pub(super) const SCALE_SIGMA: Range = Range::new(1.0e-9, 0.1);
+pub(super) const SCALE_SIGMA: Range = Range::new(1.0e-12, 0.1);
 pub(super) const SCALE_WHY: &str =
-    "a relative error: 1e-9 is far below the best triad, 0.1 is nav-sim's \
+    "a relative error: down to 1e-12, a prior so small that no update moves the state \
+     (the calibration switched off, as nav-sim's benefit study flies it); 0.1 is nav-sim's \
      largest truth scale factor and beyond the linear model";
+/// The star-sensor installation prior: a rotation angle, or a prior so small that the
+/// calibration of the installation is switched off.
+pub(super) const INSTALLATION_SIGMA: Range = Range::new(1.0e-12, PI);
+pub(super) const INSTALLATION_WHY: &str =
+    "a rotation angle: down to 1e-12 rad, a prior so small that no update moves the state \
+     (the calibration switched off, as nav-sim's benefit study flies it); beyond pi it wraps";
 pub(super) const FLOOR_WHY: &str =
     "from a numerical guard far below every sensor's accuracy to the \
      block's largest initial 1-sigma";
