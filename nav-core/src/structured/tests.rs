@@ -536,10 +536,6 @@ fn referring_by_blocks_equals_the_dense_reference() {
     );
 }
 
-/// The Joseph update's roll-back: when its products overflow (finite gains and `P Hᵀ`
-/// whose products exceed the f64 range), it reports `false` and `P` is bit-identical to
-/// before, both triangles and the diagonal.
-
 /// The estimate of every `frozen` block of `filter` is bit for bit that of `prior`.
 pub(crate) fn assert_frozen_blocks_unmoved(
     filter: &ErrorStateFilter,

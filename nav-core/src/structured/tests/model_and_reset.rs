@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// The Joseph update's roll-back: when its products overflow (finite gains and `P Hᵀ`
+/// whose products exceed the f64 range), it reports `false` and `P` is bit-identical to
+/// before, both triangles and the diagonal.
 #[test]
 fn an_overflowing_joseph_update_leaves_p_unchanged() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
