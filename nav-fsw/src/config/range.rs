@@ -100,7 +100,7 @@ impl Range {
     }
 }
 
-/// A number as the reference and the error messages print it ([`write_number`]).
+/// A number as the reference and the error messages print it (`write_number`).
 #[derive(Debug, Clone, Copy)]
 pub struct Number(pub f64);
 
