@@ -20,13 +20,14 @@ use nav_sim::scenario::FilterMode;
 use nav_sim::setup::fsw::{fsw_config, replay_setup};
 use nav_sim::Scenario;
 
-const IMU_ERRORS_ESTIMATED_TOML: &str = include_str!("../../scenarios/imu_errors_estimated.toml");
-
 /// 44 s of `imu_errors_estimated.toml`: a 5 s coast, turns about x and y at 100 °/s, 10 s of
 /// thrust along x at 50 m/s², a 5 s coast; a receiver with an 8 m correlated error (τ 300 s)
 /// and a filter told of it.
 fn both_blocks() -> Scenario {
-    let mut scenario = Scenario::from_toml_str(IMU_ERRORS_ESTIMATED_TOML).unwrap();
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join("imu_errors_estimated.toml");
+    let mut scenario = Scenario::load(&path).unwrap();
     let quiet = [2.4e-4; 3];
     scenario.manoeuvres = vec![
         segment("coast", 5.0, 0.0, quiet, [0.0; 3]),

@@ -190,12 +190,12 @@ fn every_filter_key_beyond_the_flight_softwares_range_is_refused_by_its_rule() {
         (
             "gyro_scale_factor = 1.0e-4",
             "filter.initial_sigma.gyro_scale_factor",
-            "[1e-9, 0.1] (",
+            "[1e-12, 0.1] (",
         ),
         (
             "accel_scale_factor = 2.0e-4",
             "filter.initial_sigma.accel_scale_factor",
-            "[1e-9, 0.1] (",
+            "[1e-12, 0.1] (",
         ),
         (
             "# gnss_correlated_sigma_m = 0.0",
