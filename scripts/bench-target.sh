@@ -10,6 +10,6 @@ cd "$root"
 # The firmware as scripts/test.sh builds it (paths remapped), so its figures compare.
 source scripts/firmware-flags.sh
 seconds="${1:-60}"
-(cd qemu && cargo build --release --bin replay)
+firmware_cargo build --release --bin replay
 elf="${CARGO_TARGET_DIR:-qemu/target}/thumbv7em-none-eabihf/release/replay"
 cargo run --release -p nav-sim -- target-bench ${2:+"$2"} --elf "$elf" --seconds "$seconds"

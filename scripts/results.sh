@@ -78,10 +78,10 @@ if [ "$what" = all ] || [ "$what" = host ]; then
 fi
 
 if [ "$what" = all ] || [ "$what" = qemu ]; then
-  (cd qemu && cargo build --release --bin checks --bin replay)
+  firmware_cargo build --release --bin checks --bin replay
   elf_dir="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release"
   mkdir -p target/qemu
-  (cd qemu && cargo run --release --bin checks) > target/qemu/checks.log
+  firmware_cargo run --release --bin checks > target/qemu/checks.log
   NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" bless_tests --test target_bit_exact -- --include-ignored
   NAV_QEMU_REPLAY_ELF="$elf_dir/replay" NAV_REPLAY_SECONDS=300 \
     bless_tests --test replay_bit_exact -- --include-ignored

@@ -91,7 +91,7 @@ fi
 grep -E "^Done [0-9]+ runs" target/fuzz.log
 
 step "firmware build ($TARGET, cortex-m7)"
-(cd qemu && cargo build --release --bin checks)
+firmware_cargo build --release --bin checks
 # Honour CARGO_TARGET_DIR (absolute) for the firmware too; the logs stay under ./target.
 checks_elf="${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/checks"
 mkdir -p target
@@ -107,7 +107,7 @@ fi
 "$llvm_bin/llvm-size" "$checks_elf"
 
 step "panic-free flight build"
-(cd qemu && cargo build --release --bin flight --no-default-features --features panic-never,state-blocks)
+firmware_cargo build --release --bin flight --no-default-features --features panic-never,state-blocks
 echo "flight build links with no panic path"
 step "the flight binary holds no dense reference, ground analysis or self-test code"
 flight_elf="$(cd "$(dirname "${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/flight")" && pwd)/flight"
@@ -124,7 +124,7 @@ step "no recursion and no indirect call in the flight binary's call graph"
 NAV_FLIGHT_ELF="$flight_elf" NAV_FLIGHT_DISASSEMBLY="$root/target/flight.dis" \
   cargo test --workspace --test call_graph -- --include-ignored --nocapture
 step "panic-free build rejects a deliberately added panic path"
-if (cd qemu && cargo build --release --bin flight --no-default-features --features panic-never,demo-panic-path) > target/demo-panic.log 2>&1; then
+if firmware_cargo build --release --bin flight --no-default-features --features panic-never,demo-panic-path > target/demo-panic.log 2>&1; then
   echo "FAIL: the panic-never build accepted a slice index that can panic" >&2
   exit 1
 fi
@@ -133,9 +133,9 @@ echo "as expected, the link failed on the injected panic path"
 
 step "target checks on QEMU (mps2-an500, -icount shift=0), decoded defmt log"
 mkdir -p target/qemu
-(cd qemu && cargo run --release --bin checks) | tee target/qemu/checks.log
+firmware_cargo run --release --bin checks | tee target/qemu/checks.log
 step "stack overflow faults on the MPU guard (must fail with a HardFault)"
-(cd qemu && cargo build --release --bin stack_guard_demo)
+firmware_cargo build --release --bin stack_guard_demo
 guard_elf="${CARGO_TARGET_DIR:-qemu/target}/$TARGET/release/stack_guard_demo"
 if QEMU_TIMEOUT_S=60 qemu/run.sh "$guard_elf" > target/qemu/stack-guard.log 2>&1; then
   cat target/qemu/stack-guard.log
@@ -147,9 +147,9 @@ grep -q "HardFault" target/qemu/stack-guard.log
 grep -q "STACK depth 3072 KiB" target/qemu/stack-guard.log
 echo "as expected, the overflow faulted at the guard after using the whole stack region"
 step "flight build on QEMU"
-(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never,state-blocks)
+firmware_cargo run --release --bin flight --no-default-features --features panic-never,state-blocks
 step "flight build without the optional state blocks (panic-free, on QEMU): the computer's size"
-(cd qemu && cargo run --release --bin flight --no-default-features --features panic-never) | tee target/qemu/flight-no-blocks.log
+firmware_cargo run --release --bin flight --no-default-features --features panic-never | tee target/qemu/flight-no-blocks.log
 grep -E "^NavigationComputer: [0-9]+ bytes" target/qemu/flight-no-blocks.log
 
 step "bit-for-bit: host build vs Cortex-M7 build"
@@ -157,12 +157,12 @@ NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" \
   cargo test --workspace --test target_bit_exact -- --include-ignored --nocapture
 
 step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, bit for bit"
-(cd qemu && cargo build --release --bin replay)
+firmware_cargo build --release --bin replay
 NAV_QEMU_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/replay" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
   cargo test --workspace --test replay_bit_exact -- --include-ignored --nocapture
 
 step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and corrupted, bit for bit with the host"
-(cd qemu && cargo build --release --bin uart_replay)
+firmware_cargo build --release --bin uart_replay
 NAV_QEMU_UART_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/uart_replay" \
   cargo test --workspace --test uart_replay -- --include-ignored --nocapture --test-threads 1
 printf "\n==== done  [t=%d s]\n" "$SECONDS"
