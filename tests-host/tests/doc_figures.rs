@@ -17,7 +17,8 @@ use tests_host::project_root;
 /// The longest README (lines): what it is, the two commands, the data flow, the
 /// integrator's snippet and a map of the docs.
 const README_MAX_LINES: usize = 150;
-/// The most words of all pages under docs/ together (`cat docs/*.md docs/*/*.md | wc -w`).
+/// The most words of all pages under docs/ together, the generated reference pages
+/// (docs/reference/, one table row per parameter or key, written from the code) left out.
 const DOCS_MAX_WORDS: usize = 35_000;
 
 fn relative(path: &Path) -> String {
@@ -163,8 +164,10 @@ fn the_readme_and_the_docs_stay_short() {
         lines <= README_MAX_LINES,
         "README.md has {lines} lines, at most {README_MAX_LINES}"
     );
+    let reference = root.join("docs").join("reference");
     let words: usize = markdown_files(&root.join("docs"))
         .iter()
+        .filter(|page| !page.starts_with(&reference))
         .map(|page| {
             std::fs::read_to_string(page)
                 .unwrap()

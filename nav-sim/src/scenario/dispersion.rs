@@ -2,6 +2,7 @@
 //! truth-side quantities a Monte Carlo run draws afresh, and from which distribution. The draws
 //! themselves are the setup layer's ([`crate::setup::dispersion`]).
 
+use schemars::JsonSchema;
 use serde::Deserialize;
 
 /// The entries' keys, in stream order (entry `i` draws from stream
@@ -36,7 +37,7 @@ pub const MIN_CORRELATION_TIME_FACTOR: f64 = 1.0e-3;
 
 /// Distribution of one dispersed quantity, zero-mean, in the entry's units: TOML
 /// `{ kind = "normal", sigma = 1.0 }` or `{ kind = "uniform", half_width = 1.0 }`.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Distribution {
     /// Normal with standard deviation `sigma`, ≥ 0.
@@ -62,7 +63,7 @@ impl Distribution {
 }
 
 /// The `[dispersion]` table: every entry optional, absent = not dispersed.
-#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Dispersion {
     /// Rotation added per axis to the initial attitude error of the navigation solution

@@ -29,7 +29,7 @@ pub const EARTH_ROTATION_ANGLE_RATE_RAD_S: f64 =
     2.0 * std::f64::consts::PI * 1.002_737_811_911_354_5 / 86_400.0;
 
 /// The Earth orientation parameters of the launch day (IERS Bulletin A).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EarthOrientation {
     /// UT1 − UTC (s). Ignoring it (0) rotates ITRF by `ω_e · ΔUT1`: 0.1 s is 7.3e-6 rad,

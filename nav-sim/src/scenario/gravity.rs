@@ -3,13 +3,14 @@
 //! point mass + `J2`; `model = "egm2008"` adds the published model's terms up to `degree` and
 //! `order` (the world layer's `gravity` module). The flight software's model is unchanged.
 
+use schemars::JsonSchema;
 use serde::Deserialize;
 
 /// Largest `gravity.degree`: the degree of the model file shipped in `nav-sim/data/`.
 pub const MAX_FIELD_DEGREE: u32 = 60;
 
 /// The truth's gravity model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum GravityModelName {
     /// nav-core's point mass + `J2` (WGS-84), the flight code's own model.
@@ -19,7 +20,7 @@ pub enum GravityModelName {
 }
 
 /// The `[gravity]` table.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GravitySettings {
     /// The truth's model.
@@ -84,7 +85,7 @@ impl GravitySettings {
 /// velocity noise of a spectral density (from `nav-sim gravity-omission`), and the 1σ per
 /// axis of the omitted field it is for (checked in flight). Absent: point mass + `J2` and no
 /// allowance, the paper's model.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FilterGravity {
     /// Largest degree, 2..=12 (2 with order 0: point mass + `J2` alone).

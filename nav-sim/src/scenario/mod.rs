@@ -16,6 +16,7 @@ use std::path::Path;
 
 use nav_core::frames::LaunchSite;
 use nav_fsw::config::FswConfig;
+use schemars::JsonSchema;
 use serde::Deserialize;
 
 mod debug;
@@ -164,7 +165,7 @@ pub enum ScenarioError {
 /// Its `Debug` rendering leaves out an absent `[dispersion]` or `[gravity]` table, so a
 /// scenario without one renders (and hashes, the campaign's `scenario_hash`) as it did before
 /// the table existed.
-#[derive(Clone, PartialEq, Deserialize)]
+#[derive(Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Run control: seed, start time, truth integration.
@@ -225,7 +226,7 @@ impl std::fmt::Debug for Scenario {
 }
 
 /// Run control.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSettings {
     /// Seed of the deterministic random streams.
@@ -254,7 +255,7 @@ fn default_true() -> bool {
 }
 
 /// The launch site: origin and orientation of the launch-inertial frame.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LaunchSiteSettings {
     /// Geodetic latitude (deg, WGS-84), in [−90, 90].
@@ -299,7 +300,7 @@ impl LaunchSiteSettings {
 
 /// Keplerian elements at the scenario start, in the Earth-centred inertial frame that coincides
 /// with ECEF at the launch epoch.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OrbitElements {
     /// Semi-major axis (m); perigee must be above the Earth's equatorial radius.
@@ -317,7 +318,7 @@ pub struct OrbitElements {
 }
 
 /// The truth attitude at the scenario start.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitialAttitude {
     /// `q_ib = exp(φ)` (body to launch-inertial) as a rotation vector `φ` (deg).
@@ -325,7 +326,7 @@ pub struct InitialAttitude {
 }
 
 /// IMU sampling.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ImuSettings {
     /// Output rate of the increments (Hz), > 0.
@@ -376,7 +377,7 @@ impl ImuSettings {
 ///
 /// Its `Debug` rendering leaves out those optional terms while they are zero, so a scenario
 /// without them renders (and hashes) as it did before they existed.
-#[derive(Clone, PartialEq, Deserialize)]
+#[derive(Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GyroErrors {
     /// White rate-noise spectral density ((deg/h)/√Hz), ≥ 0. The paper's "0.2 °/h".
@@ -434,7 +435,7 @@ impl GyroErrors {
 /// Accelerometer errors, paper eq. (3): `f_meas = f + Λa f_meas + b_a + η_a`, extended by
 /// the optional misalignment and bias-instability terms (0 = off; `Debug` leaves them out
 /// while zero, as [`GyroErrors`]'s does).
-#[derive(Clone, PartialEq, Deserialize)]
+#[derive(Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AccelerometerErrors {
     /// 1σ of the specific-force noise per IMU sample (m/s²), ≥ 0. The paper's "1e-4 m/s²".
@@ -462,7 +463,7 @@ pub struct AccelerometerErrors {
 }
 
 /// GNSS receiver: ECEF position fixes.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GnssSettings {
     /// Fix rate (Hz), > 0; the IMU rate must be a whole multiple of it.
@@ -500,7 +501,7 @@ pub fn in_outage(outages: &[[f64; 2]], elapsed_s: f64) -> bool {
 /// The command is `peak · s(τ)` for `τ ∈ [0, duration_s]`, with `s` rising from 0 to 1 as
 /// `½(1 − cos(π τ / ramp_s))` over `ramp_s`, holding 1, and falling symmetrically over the last
 /// `ramp_s`; `∫ s dτ = duration_s − ramp_s`. `ramp_s = 0` is a constant command.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ManoeuvreSegment {
     /// Free-text name (for reports).
@@ -516,7 +517,7 @@ pub struct ManoeuvreSegment {
 }
 
 /// The filter's mode.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum FilterMode {
     /// The paper's filter: errors estimated, the navigation solution not corrected. Its linear
@@ -531,7 +532,7 @@ pub enum FilterMode {
 ///
 /// `Debug` is written out in `debug.rs`: `bias_instability` renders only when it is on, so a
 /// scenario without it hashes as before the table existed.
-#[derive(Clone, PartialEq, Deserialize)]
+#[derive(Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FilterSettings {
     /// Open- or closed-loop.
@@ -614,7 +615,7 @@ fn default_star_pairs_before_hand_over() -> u32 {
 /// of each triad in body axes and of the gyro g-sensitivity per axis. nav-core derives the
 /// prior of its twelve states in its gyro-defined gauge from them. All 0 (the default) =
 /// off; when on, every 1σ is > 0.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FilterImuErrors {
     /// Gyro triad misalignment and non-orthogonality, 1σ per off-diagonal term (rad).
@@ -657,7 +658,7 @@ impl FilterImuErrors {
 /// Gauss–Markov bias per axis of stationary 1σ `σ` and correlation time `τ`, whose driving
 /// noise density `√(2σ²/τ)` is added to the bias random walk (`setup::fsw`, docs/model.md,
 /// "Bias instability in the filter"). Every key defaults to 0 (off).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FilterBiasInstability {
     /// Gyro bias instability, stationary 1σ per axis (rad/s); 0 = off.
@@ -689,7 +690,7 @@ impl FilterBiasInstability {
 }
 
 /// Initial 1σ of each error-state block (paper eq. 15 order). All must be > 0.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSigma {
     /// Attitude error as a small rotation angle (rad); the vector-part state's σ is half.
@@ -711,7 +712,7 @@ pub struct InitialSigma {
 }
 
 /// Normalised-innovation-squared gates.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NisGate {
     /// Star-sensor update rejected when its NIS exceeds this (3 dof), > 0.

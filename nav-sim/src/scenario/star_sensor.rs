@@ -7,7 +7,8 @@
 //! a scenario without them renders, and hashes (the campaign's `scenario_hash`), as it did
 //! before they existed.
 
-use serde::Deserialize;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 
 /// Arc-seconds per degree.
 const ARCSEC_PER_DEG: f64 = 3600.0;
@@ -15,7 +16,7 @@ const ARCSEC_PER_DEG: f64 = 3600.0;
 /// Star sensor head: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq_noise`. The
 /// `[star_sensor]` table is head 0; each `[[star_sensor.additional_heads]]` table is one more
 /// head with the same keys (and no `additional_heads` of its own).
-#[derive(Clone, PartialEq, Deserialize)]
+#[derive(Clone, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StarSensorSettings {
     /// Output rate (Hz), > 0; the IMU rate must be a whole multiple of it. The heads sample
@@ -88,7 +89,8 @@ pub struct StarSensorSettings {
 pub const MAX_STAR_HEADS: usize = 8;
 
 /// Whether the tracker's attitude carries the velocity aberration of the vehicle's motion.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+// `Serialize` gives the key's default to the reference (docs/reference/scenario-keys.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum StarAberration {
     /// The tracker corrects it: the geometric attitude (the truth before this key existed).
@@ -247,7 +249,7 @@ impl std::fmt::Debug for StarSensorSettings {
 /// installation states with the driving noise `2σ²/τ` and `2σ²` more prior variance
 /// (nav-fsw `StarSensorConfig::installation_walk_rad2_per_s`, docs/sensor-errors.md). Every
 /// key defaults to 0 (off).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FilterStarSlowError {
     /// Stationary 1σ per sensor axis `[x, y, z]` (arcsec), each ≥ 0; all 0 = off.

@@ -25,6 +25,7 @@ mod paper_accuracy;
 mod realistic_campaign;
 mod realistic_errors;
 mod replay_logs;
+mod scenario_keys_reference;
 mod scenario_overlays;
 mod star_aberration;
 mod star_flight_noise;
