@@ -2,6 +2,48 @@
 
 use nav_core::error_model::ProcessNoise;
 
+use super::range::Range;
+
+/// What the parameter table accepts for the field and its allowance, with the reasons. With
+/// the feature `gravity-field` the flight's EGM2008 tables (nav-core `gravity::egm2008`) set
+/// the degree; without it the build flies point mass + `J2` alone and never evaluates the
+/// omitted field that scales and checks an allowance, so it accepts neither the field nor an
+/// allowance: a configuration that asks for them is refused, naming the parameter.
+#[cfg(feature = "gravity-field")]
+pub(super) mod ranges {
+    use super::Range;
+
+    pub(in crate::config) const DEGREE: Range = Range::new(2.0, 12.0);
+    pub(in crate::config) const DEGREE_WHY: &str =
+        "2 is point mass + J2 alone; the flight's EGM2008 tables end at degree 12";
+    pub(in crate::config) const ORDER: Range = Range::new(0.0, 12.0);
+    pub(in crate::config) const ORDER_WHY: &str = "at most the degree (checked with it)";
+    pub(in crate::config) const OMITTED_SIGMA: Range = Range::new(1.0e-12, 1.0e-2).or_off();
+    pub(in crate::config) const OMITTED_SIGMA_WHY: &str =
+        "the field beyond J2 is a few 1e-3 m/s^2 at most at the surface, less aloft";
+    pub(in crate::config) const OMITTED_PSD: Range = Range::new(1.0e-20, 1.0).or_off();
+    pub(in crate::config) const OMITTED_PSD_WHY: &str =
+        "a velocity noise for that field: 1 m^2/s^3 swamps every accelerometer";
+}
+
+/// See the module of the same name above: the build without the feature `gravity-field`.
+#[cfg(not(feature = "gravity-field"))]
+pub(super) mod ranges {
+    use super::Range;
+
+    pub(in crate::config) const DEGREE: Range = Range::new(2.0, 2.0);
+    pub(in crate::config) const DEGREE_WHY: &str = "point mass + J2 alone: this build has no \
+         field beyond J2 (nav-fsw feature gravity-field off)";
+    pub(in crate::config) const ORDER: Range = Range::new(0.0, 0.0);
+    pub(in crate::config) const ORDER_WHY: &str = DEGREE_WHY;
+    pub(in crate::config) const OMITTED_SIGMA: Range = Range::new(0.0, 0.0);
+    pub(in crate::config) const OMITTED_SIGMA_WHY: &str = "no allowance: this build never \
+         evaluates the omitted field that scales and checks one (nav-fsw feature \
+         gravity-field off)";
+    pub(in crate::config) const OMITTED_PSD: Range = OMITTED_SIGMA;
+    pub(in crate::config) const OMITTED_PSD_WHY: &str = OMITTED_SIGMA_WHY;
+}
+
 /// The flight's gravity beyond the strapdown's point mass + `J2` (nav-core
 /// `gravity::harmonics`), and the allowance for the field it leaves out: white velocity noise
 /// of spectral density `omitted_field_psd_m2_per_s3` (isotropic, per axis) added to the

@@ -12,6 +12,7 @@ use core::f64::consts::{FRAC_PI_2, PI};
 
 use nav_core::filter::FilterMode;
 
+use super::gravity::ranges as gravity;
 use super::range::{ParamValue, Range};
 use super::shared_ranges::*;
 use super::table::flight_parameters;
@@ -41,14 +42,12 @@ flight_parameters! {
     }
     GravityDegree: u8 {
         path: "gravity.field.degree", unit: "", default: Some(2), word: Some(4),
-        range: Range::new(2.0, 12.0),
-        why: "2 is point mass + J2 alone; the flight's EGM2008 tables end at degree 12",
+        range: gravity::DEGREE, why: gravity::DEGREE_WHY,
         get: |c| c.gravity.field.degree, set: |c, v| c.gravity.field.degree = v,
     }
     GravityOrder: u8 {
         path: "gravity.field.order", unit: "", default: Some(0), word: Some(5),
-        range: Range::new(0.0, 12.0),
-        why: "at most the degree (checked with it)",
+        range: gravity::ORDER, why: gravity::ORDER_WHY,
         get: |c| c.gravity.field.order, set: |c, v| c.gravity.field.order = v,
     }
     GravityTermsPerFrame: u8 {
@@ -318,16 +317,14 @@ flight_parameters! {
     }
     OmittedFieldSigma: f64 {
         path: "gravity.omitted_field_sigma_mps2", unit: "m/s^2", default: Some(0.0), word: Some(60),
-        range: Range::new(1.0e-12, 1.0e-2).or_off(),
-        why: "the field beyond J2 is a few 1e-3 m/s^2 at most at the surface, less aloft",
+        range: gravity::OMITTED_SIGMA, why: gravity::OMITTED_SIGMA_WHY,
         get: |c| c.gravity.omitted_field_sigma_mps2,
         set: |c, v| c.gravity.omitted_field_sigma_mps2 = v,
     }
     OmittedFieldPsd: f64 {
         path: "gravity.omitted_field_psd_m2_per_s3", unit: "m^2/s^3",
         default: Some(0.0), word: Some(61),
-        range: Range::new(1.0e-20, 1.0).or_off(),
-        why: "a velocity noise for that field: 1 m^2/s^3 swamps every accelerometer",
+        range: gravity::OMITTED_PSD, why: gravity::OMITTED_PSD_WHY,
         get: |c| c.gravity.omitted_field_psd_m2_per_s3,
         set: |c, v| c.gravity.omitted_field_psd_m2_per_s3 = v,
     }

@@ -239,12 +239,15 @@ fn parameters_that_go_together_are_refused_alone() {
         "filter.gnss_error.correlation_time_s must be 0 (off) or in [1, 1e8] s and not 0 while \
          filter.gnss_error.sigma_m is on"
     ));
+    // Without the feature `gravity-field` there is no allowance: its range refuses it first.
+    let allowance_alone = if cfg!(feature = "gravity-field") {
+        ConfigField::Companion(P::OmittedFieldPsd, P::OmittedFieldSigma)
+    } else {
+        ConfigField::Parameter(P::OmittedFieldPsd)
+    };
     assert_eq!(
         refused(|c| c.gravity.omitted_field_psd_m2_per_s3 = 1e-7),
-        Some(ConfigField::Companion(
-            P::OmittedFieldPsd,
-            P::OmittedFieldSigma
-        ))
+        Some(allowance_alone)
     );
     assert_eq!(
         refused(|c| c.star.slow_error_sigma_rad[2] = 1e-5),
@@ -288,9 +291,15 @@ fn the_rules_between_values_name_their_key() {
         refused(|c| c.timing.future_tolerance_s = 0.999 * period),
         None
     );
+    // Without the feature `gravity-field` the order's range (0 alone) refuses it first.
+    let order_above_degree = if cfg!(feature = "gravity-field") {
+        ConfigField::Gravity
+    } else {
+        ConfigField::Parameter(Param::GravityOrder)
+    };
     assert_eq!(
         refused(|c| c.gravity.field.order = 3),
-        Some(ConfigField::Gravity)
+        Some(order_above_degree)
     );
     assert_eq!(
         refused(|c| c.launch_site.earth_axis_ecef = [0.0, 0.01, 0.99995]),
@@ -338,9 +347,20 @@ fn the_count_ranges_are_nav_cores_limits() {
         order.to_bits()
     );
     let degree = u32::try_from(nav_core::gravity::egm2008::FLIGHT_MAX_DEGREE).unwrap();
-    for param in [Param::GravityDegree, Param::GravityOrder] {
-        assert_eq!(high(param).to_bits(), f64::from(degree).to_bits());
-    }
+    // Without the feature `gravity-field` the build flies point mass + `J2` alone.
+    let (degree, order) = if cfg!(feature = "gravity-field") {
+        (degree, degree)
+    } else {
+        (2, 0)
+    };
+    assert_eq!(
+        high(Param::GravityDegree).to_bits(),
+        f64::from(degree).to_bits()
+    );
+    assert_eq!(
+        high(Param::GravityOrder).to_bits(),
+        f64::from(order).to_bits()
+    );
 }
 
 /// Every 1σ and noise range keeps its square a normal `f64` ([`sigma_is_squarable`]).
@@ -368,5 +388,46 @@ fn the_unit_conversions_and_the_default_star_noise_have_their_values() {
         defaults().gnss.velocity_gate_nis,
     ] {
         assert_eq!(gate.to_bits(), GATE_NIS.to_bits());
+    }
+}
+
+/// Without the feature `gravity-field` the build flies point mass + `J2` alone: the paper's
+/// configuration validates, and one that asks for the field beyond `J2` or for an allowance
+/// for the omitted field is refused, naming the parameter and the feature.
+#[cfg(not(feature = "gravity-field"))]
+#[test]
+fn without_the_gravity_field_a_configuration_beyond_j2_is_refused() {
+    use Param as P;
+    assert_eq!(defaults().validate(), Ok(()));
+    assert_eq!(refused(|c| c.gravity.field.terms_per_frame = 8), None);
+    type Corrupt = fn(&mut FswConfig);
+    let cases: [(Corrupt, Param); 5] = [
+        (|c| c.gravity.field.degree = 3, P::GravityDegree),
+        (|c| c.gravity.field.order = 1, P::GravityOrder),
+        (
+            |c| {
+                c.gravity.field.degree = 12;
+                c.gravity.field.order = 12;
+            },
+            P::GravityDegree,
+        ),
+        (
+            |c| {
+                c.gravity.omitted_field_sigma_mps2 = 2.0e-5;
+                c.gravity.omitted_field_psd_m2_per_s3 = 1.0e-8;
+            },
+            P::OmittedFieldSigma,
+        ),
+        (
+            |c| c.gravity.omitted_field_psd_m2_per_s3 = 1.0e-8,
+            P::OmittedFieldPsd,
+        ),
+    ];
+    for (corrupt, param) in cases {
+        let field = refused(corrupt);
+        assert_eq!(field, Some(ConfigField::Parameter(param)));
+        let text = message(ConfigField::Parameter(param));
+        assert!(text.contains(param.path()), "{text}");
+        assert!(text.contains("feature gravity-field off"), "{text}");
     }
 }

@@ -115,4 +115,39 @@ mod tests {
             configured.gyro_noise_density_rad_s_per_sqrt_hz.to_bits()
         );
     }
+
+    /// Without the feature `gravity-field` the computer carries no table of the field: the
+    /// paper's configuration flies with nothing to evaluate, and a field beyond `J2` is
+    /// refused at start, naming the parameter (nav-core's stand-in refuses it too).
+    #[cfg(not(feature = "gravity-field"))]
+    #[test]
+    fn without_the_gravity_field_the_computer_flies_j2_alone() {
+        use nav_core::gravity::harmonics::{FieldModel, FieldRemainder};
+        assert!(core::mem::size_of::<FieldRemainder>() <= core::mem::size_of::<FieldModel>());
+        let mut field = FieldRemainder::EMPTY;
+        let beyond = FieldModel {
+            degree: 4,
+            order: 4,
+            terms_per_frame: 4,
+        };
+        assert_eq!(
+            field.configure(beyond),
+            Err(nav_core::NavError::InvalidConfiguration)
+        );
+        assert_eq!(field, FieldRemainder::EMPTY);
+        let computer = super::super::tests::computer();
+        let navigation = &computer.navigation;
+        assert!(!navigation.gravity_field.is_due(f64::MAX));
+        assert_eq!(navigation.gravity_field.model(), &FieldModel::J2_ONLY);
+        let mut config =
+            FswConfig::paper_defaults(super::super::tests::site(), SensorFrames::ALIGNED);
+        config.gravity.field = beyond;
+        let refused = NavigationComputer::new(config, super::super::tests::initial_state());
+        assert_eq!(
+            refused.err(),
+            Some(FswError::InvalidConfiguration(ConfigField::Parameter(
+                crate::config::Param::GravityDegree
+            )))
+        );
+    }
 }
