@@ -64,6 +64,8 @@ mod prior;
 #[cfg(feature = "imu-error-states")]
 mod propagate;
 #[cfg(feature = "imu-error-states")]
+mod protect;
+#[cfg(feature = "imu-error-states")]
 mod update;
 
 pub use prior::PriorCovariance;
@@ -151,6 +153,20 @@ impl ImuErrorModel {
         }
     }
 
+    /// The prior variance of each of the twelve states in the filter's gauge, in
+    /// [`crate::imu_error::ImuErrorBlock`] order: [`Self::prior_covariance`]'s diagonal.
+    pub fn prior_variances(&self) -> [f64; IMU_ERROR_DIMENSION] {
+        let mut prior = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+        self.write_prior(&mut prior);
+        core::array::from_fn(|k| {
+            prior
+                .get(k)
+                .and_then(|row| row.get(k))
+                .copied()
+                .unwrap_or(0.0)
+        })
+    }
+
     /// The prior 1σ of each of the twelve states in the filter's gauge, in
     /// [`crate::imu_error::ImuErrorBlock`] order: the square roots of
     /// [`Self::prior_covariance`]'s diagonal.
@@ -195,13 +211,19 @@ pub struct ImuErrorStates {
     /// What a propagation or an update keeps between its steps (kept here, so nothing large
     /// is returned or copied on the flight path; not part of the filter's state).
     scratch: Scratch,
+    /// Whether each group of three states is frozen (its gain rows zero in every update, as a
+    /// frozen core block's); a layout block freezes all of its groups.
+    frozen: [bool; GROUPS],
 }
 
 #[cfg(feature = "imu-error-states")]
 impl PartialEq for ImuErrorStates {
     /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
     fn eq(&self, other: &Self) -> bool {
-        self.model == other.model && self.half() == other.half() && self.cross() == other.cross()
+        self.model == other.model
+            && self.half() == other.half()
+            && self.cross() == other.cross()
+            && self.frozen == other.frozen
     }
 }
 
@@ -281,6 +303,7 @@ impl ImuErrorStates {
         buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
         second_active: false,
         scratch: Scratch::EMPTY,
+        frozen: [false; GROUPS],
     };
 
     /// On an [`Self::EMPTY`] border, in place: the model and its prior
@@ -534,6 +557,11 @@ impl ImuErrorStates {
 
     /// Never in use.
     pub fn is_enabled(&self) -> bool {
+        false
+    }
+
+    /// Never frozen.
+    pub fn is_frozen(&self, _block: OptionalBlock) -> bool {
         false
     }
 
