@@ -164,8 +164,6 @@ pub(crate) struct Border {
     pub(crate) projected: Block,
     /// Rows of `M_ε = Gᵀ + h_ε P_εε`.
     pub(crate) products: [Row; 3],
-    /// Whether the border's gain rows are zero (the block frozen).
-    pub(crate) frozen: bool,
 }
 
 #[cfg(feature = "gnss-error-states")]
@@ -391,7 +389,6 @@ impl GnssErrorStates {
             coefficient,
             projected,
             products,
-            frozen: self.frozen,
         }
     }
 

@@ -166,6 +166,8 @@ impl OptionalBlocks {
         inputs: &UpdateInputs<'_>,
     ) -> bool {
         let solve = |row| inputs.cholesky.solve(row);
+        #[cfg(feature = "imu-error-states")]
+        let gnss_frozen = self.gnss.is_frozen();
         #[cfg(feature = "gnss-error-states")]
         if let Some(border) = border {
             let core = (inputs.gains, inputs.products, inputs.frozen);
@@ -183,7 +185,7 @@ impl OptionalBlocks {
                 (inputs.gains, inputs.products, inputs.frozen),
                 solve,
                 inputs.innovation,
-                border.map(|border| (border.coefficient, &border.products, border.frozen)),
+                border.map(|border| (border.coefficient, &border.products, gnss_frozen)),
             )
         {
             return false;

@@ -214,6 +214,9 @@ pub struct ImuErrorStates {
     /// Whether each group of three states is frozen (its gain rows zero in every update, as a
     /// frozen core block's); a layout block freezes all of its groups.
     frozen: [bool; GROUPS],
+    /// Whether `P_εε` may have changed since the variance protection last read it: only an
+    /// update (or a new prior) changes it, its propagation keeps it (`ε̇ = 0`).
+    variances_changed: bool,
 }
 
 #[cfg(feature = "imu-error-states")]
@@ -304,6 +307,7 @@ impl ImuErrorStates {
         second_active: false,
         scratch: Scratch::EMPTY,
         frozen: [false; GROUPS],
+        variances_changed: false,
     };
 
     /// On an [`Self::EMPTY`] border, in place: the model and its prior
@@ -311,6 +315,7 @@ impl ImuErrorStates {
     /// validated `model`.
     pub(crate) fn start(&mut self, model: ImuErrorModel) {
         self.model = model;
+        self.variances_changed = true;
         for half in &mut self.halves {
             model.write_prior(&mut half.covariance);
         }
@@ -518,6 +523,7 @@ impl ImuErrorStates {
         covariance: &SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
         cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
     ) {
+        self.variances_changed = true;
         let half = self.half_mut();
         half.gnss_cross = [[0.0; IMU_ERROR_DIMENSION]; 3];
         half.estimate = core::array::from_fn(|a| estimate[a]);

@@ -2,10 +2,10 @@
 //! `protect_optional_variances` and `set_optional_block_frozen`): the variance floor and
 //! ceiling of `P_εε`'s diagonal, and the frozen groups.
 
-use super::{ImuErrorStates, GROUPS};
-use crate::block::{self, Row};
+use super::{ImuErrorStates, Parts, GROUPS};
+use crate::block::{self, FiniteCheck, Row};
 use crate::imu_error::IMU_ERROR_DIMENSION;
-use crate::state::OptionalBlock;
+use crate::state::{BlockMask, OptionalBlock};
 
 impl ImuErrorStates {
     /// The groups of three states of `block` (one of the border's layout blocks), as a range
@@ -48,24 +48,25 @@ impl ImuErrorStates {
         self.frozen != [false; GROUPS]
     }
 
-    /// The frozen flags by group.
-    #[inline]
-    pub(super) fn frozen_groups(&self) -> [bool; GROUPS] {
-        self.frozen
-    }
-
     /// The variance floor and ceiling on `P_εε`'s diagonal, as the core's
     /// (`ErrorStateFilter::protect_variances`): a variance below its `floor` is raised to
     /// it; one above its `ceiling` becomes the ceiling, with the rest of its row and column
     /// (`P_εε`, `C` and `B = cov(ε_GNSS, ε)`) multiplied by `s = √(ceiling/variance)`,
     /// `P' = S P S`, which keeps every correlation coefficient and positive definiteness.
     /// Returns whether anything changed. Only the diagonal is read unless a ceiling is
-    /// crossed (the scaling is out of line: it never runs in a nominal flight).
+    /// crossed (the scaling is out of line: it never runs in a nominal flight), and only
+    /// after `P_εε` may have changed: a new prior or an update, never a propagation
+    /// (`ε̇ = 0` and no process noise keep it), nor the core's protections and resets (they
+    /// scale or map `C` only).
     pub(crate) fn protect_variances(
         &mut self,
         floor: &[f64; IMU_ERROR_DIMENSION],
         ceiling: &[f64; IMU_ERROR_DIMENSION],
     ) -> bool {
+        if !self.variances_changed {
+            return false;
+        }
+        self.variances_changed = false;
         let mut clamped = false;
         let mut crossing = 0u16;
         let bounds = floor.iter().zip(ceiling);
@@ -146,40 +147,96 @@ impl ImuErrorStates {
     }
 }
 
-/// Row `a` of the new `P_εε` (`new`, by rows) for each state `a` of a frozen group: its
-/// gain `K_a` is zero and `N_a = K_a S − M_a = −M_a`, so the expanded Joseph form gives
-/// `P⁺_ab = P_ab + N_a·K_b − K_a·M_b = P_ab − M_a·K_b` (`P_ab` itself when `b` is frozen
-/// too, `K_b = 0`), where the update's moving rows take `P_ab − K_a·M_b`. Written on both
-/// sides of the diagonal (exactly symmetric); returns the sum of the new values (for the
-/// finite check). Out of line: it runs only while a group is frozen.
+/// The update prepared for a border that moves, corrected for the frozen groups (their `K_ε`
+/// rows zero, as a frozen core block's) and, with `frozen_gnss` (its `M_GNSS` rows), for a
+/// frozen GNSS border (`K_GNSS = 0`); returns whether every new value is finite. With
+/// `K_a = 0` and `N_a = K_a S − M_a = −M_a` for a frozen state `a`, the expanded Joseph form
+/// `P⁺_ij = P_ij + N_i·K_j − K_i·M_j` gives:
+/// * `ε̂_a` unchanged;
+/// * `C_ia − K_i·M_εa` on a moving core row `i` (`N_i = 0`: as computed), `C_ia` on a frozen
+///   one (`K_i = 0` too);
+/// * `P⁺_ab = P_ab − M_a·K_b` for `b ≥ a` (`P_ab` itself when `b` is frozen too), mirrored;
+///   the moving rows' `P_ab − K_a·M_b` (`b < a`) hold as computed;
+/// * with the GNSS border frozen, `B⁺_ma = B_ma − M_GNSS,m·K_εa`; moving, `B_ma − K_m·M_εa`
+///   as computed (it does not read `K_ε`).
 #[cold]
 #[inline(never)]
-pub(super) fn frozen_border_rows(
-    new: &mut [[f64; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION],
-    old: &[[f64; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION],
-    (gains, products): (&[Row], &[Row]),
-    frozen: [bool; GROUPS],
-) -> f64 {
-    let mut sum = 0.0;
-    for a in 0..IMU_ERROR_DIMENSION {
-        if !frozen.get(a / 3).copied().unwrap_or(false) {
-            continue;
+pub(super) fn apply_frozen(
+    states: &mut ImuErrorStates,
+    core_frozen: &BlockMask,
+    frozen_gnss: Option<&[Row; 3]>,
+) -> bool {
+    let groups = states.frozen;
+    let Parts {
+        estimate,
+        covariance,
+        gnss_cross,
+        spare_half,
+        old,
+        spare,
+        scratch,
+    } = states.parts();
+    for (gains, frozen) in scratch.border_gains.iter_mut().zip(groups) {
+        if frozen {
+            *gains = [[0.0; 3]; 3];
         }
+    }
+    for ((new_group, old_group), frozen) in spare.iter_mut().zip(old.iter()).zip(groups) {
+        let blocks = new_group.chunks_exact_mut(3).zip(old_group.chunks_exact(3));
+        for (block, (new_rows, old_rows)) in blocks.enumerate() {
+            if frozen && core_frozen.contains_state(3 * block) {
+                for (new, old) in new_rows.iter_mut().zip(old_rows) {
+                    *new = *old;
+                }
+            }
+        }
+    }
+    let (gains, products) = (
+        scratch.border_gains.as_flattened(),
+        scratch.border_products.as_flattened(),
+    );
+    let frozen_state = |a: usize| groups.get(a / 3).copied().unwrap_or(false);
+    for (a, (new, old)) in spare_half.estimate.iter_mut().zip(estimate).enumerate() {
+        if frozen_state(a) {
+            *new = *old;
+        }
+    }
+    for a in (0..IMU_ERROR_DIMENSION).filter(|a| frozen_state(*a)) {
         let m_a = products.get(a).copied().unwrap_or([f64::NAN; 3]);
-        for (b, k_b) in gains.iter().enumerate().skip(a + 1) {
-            let value = old
-                .get(a)
-                .and_then(|row| row.get(b))
-                .copied()
-                .unwrap_or(f64::NAN)
-                - block::dot(m_a, *k_b);
+        for (b, k_b) in gains.iter().enumerate().skip(a) {
+            let old = covariance.get(a).and_then(|row| row.get(b)).copied();
+            let value = old.unwrap_or(f64::NAN) - block::dot(m_a, *k_b);
             for (row, column) in [(a, b), (b, a)] {
-                if let Some(slot) = new.get_mut(row).and_then(|r| r.get_mut(column)) {
+                if let Some(slot) = spare_half
+                    .covariance
+                    .get_mut(row)
+                    .and_then(|r| r.get_mut(column))
+                {
                     *slot = value;
                 }
             }
-            sum += value;
         }
     }
-    sum
+    if let Some(gnss_products) = frozen_gnss {
+        let rows = spare_half
+            .gnss_cross
+            .iter_mut()
+            .zip(gnss_cross)
+            .zip(gnss_products);
+        for ((new_row, old_row), m_gnss) in rows {
+            for ((new, old), k_a) in new_row.iter_mut().zip(old_row).zip(gains) {
+                *new = old - block::dot(*m_gnss, *k_a);
+            }
+        }
+    }
+    let mut check = FiniteCheck::new();
+    spare.iter().flatten().for_each(|row| check.row(row));
+    let half = spare_half
+        .covariance
+        .iter()
+        .chain(spare_half.gnss_cross.iter());
+    half.flatten()
+        .chain(spare_half.estimate.iter())
+        .for_each(|value| check.value(*value));
+    check.all_finite()
 }

@@ -2,7 +2,7 @@
 //! (module docs of [`crate::imu_error_states`]): `M_ε`, `K_ε` and the new `C` (into the spare
 //! buffer) with the new `P_εε` and `ε̂` checked, then all of them committed in place.
 
-use super::protect::frozen_border_rows;
+use super::protect::apply_frozen;
 use super::{BorderMatrix, CrossCovariance, Estimate, ImuErrorStates, Parts, GROUPS};
 use crate::block::{self, dot, FiniteCheck, Row};
 use crate::imu_error::IMU_ERROR_DIMENSION;
@@ -19,19 +19,36 @@ impl ImuErrorStates {
     /// reads has changed). [`ImuErrorStates::commit_update`] writes them. `gnss`: the GNSS
     /// border's `h`, `M_GNSS` rows and whether it is frozen.
     ///
-    /// A frozen group's `K_ε` rows are zero, as a frozen core block's: with `K_a = 0` the
-    /// formulas above keep its `ε̂_a`, give `C_ia − K_i·M_εa` on a moving core row
-    /// (`N_i = 0`) and `C_ia` on a frozen one, and its `P_εε` row takes
-    /// [`frozen_border_rows`].
+    /// With a frozen group, or the GNSS border frozen, the values of the moving border are
+    /// corrected afterwards ([`apply_frozen`], out of line: a nominal flight never runs it),
+    /// so the update's own loops are those of a border that moves.
     pub(crate) fn prepare_update(
+        &mut self,
+        jacobian: (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
+        core: (&StateRows, &StateRows, &BlockMask),
+        solve: impl Fn(Row) -> Row,
+        innovation: Row,
+        gnss: Option<(f64, &[Row; 3], bool)>,
+    ) -> bool {
+        let moving = gnss.map(|(coefficient, products, _)| (coefficient, products));
+        let finite = self.prepare_moving_update(jacobian, core, solve, innovation, moving);
+        let frozen_gnss = gnss.and_then(|(_, products, frozen)| frozen.then_some(products));
+        if self.any_frozen() || frozen_gnss.is_some() {
+            return apply_frozen(self, core.2, frozen_gnss);
+        }
+        finite
+    }
+
+    /// [`Self::prepare_update`] for a border that moves: every `K_ε` row as computed.
+    #[inline(always)]
+    fn prepare_moving_update(
         &mut self,
         (jacobian, observed): (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
-        gnss: Option<(f64, &[Row; 3], bool)>,
+        gnss: Option<(f64, &[Row; 3])>,
     ) -> bool {
-        let frozen_groups = self.any_frozen().then(|| self.frozen_groups());
         let Parts {
             estimate,
             covariance,
@@ -43,7 +60,7 @@ impl ImuErrorStates {
         } = self.parts();
         border_products(&mut scratch.border_products, old, (jacobian, observed));
         // With the GNSS border: M_ε gains h Bᵀ (H_GNSS = h I).
-        if let Some((coefficient, _, _)) = gnss.filter(|(h, _, _)| *h != 0.0) {
+        if let Some((coefficient, _)) = gnss.filter(|(h, _)| *h != 0.0) {
             add_gnss_products(&mut scratch.border_products, gnss_cross, coefficient);
         }
         for (gains_group, products_group) in scratch
@@ -54,9 +71,6 @@ impl ImuErrorStates {
             for (gain, product) in gains_group.iter_mut().zip(products_group) {
                 *gain = solve(*product);
             }
-        }
-        if let Some(groups) = frozen_groups {
-            zero_frozen_gains(&mut scratch.border_gains, groups);
         }
         let border = (&scratch.border_gains, &scratch.border_products);
         let mut sum = updated_cross(spare, old, (gains, products, frozen), border);
@@ -70,27 +84,18 @@ impl ImuErrorStates {
             (gains_flat, products_flat),
             innovation,
         );
-        if let Some(groups) = frozen_groups {
-            let (new, gains) = (&mut spare_half.covariance, (gains_flat, products_flat));
-            sum += frozen_border_rows(new, covariance, gains, groups);
-        }
-        // B ← B − K_GNSS M_εᵀ into the spare half; a frozen GNSS border (`K_GNSS = 0`,
-        // `N_GNSS = −M_GNSS`) gives B − M_GNSS K_εᵀ instead.
-        if let Some((_, gnss_products, gnss_frozen)) = gnss {
+        // B ← B − K_GNSS M_εᵀ into the spare half.
+        if let Some((_, gnss_products)) = gnss {
             let rows = spare_half
                 .gnss_cross
                 .iter_mut()
                 .zip(gnss_cross)
                 .zip(gnss_products);
-            if gnss_frozen {
-                sum += frozen_gnss_cross(rows, gains_flat);
-            } else {
-                for ((new_row, old_row), gnss_product) in rows {
-                    let gain = solve(*gnss_product);
-                    for ((new, old), m_a) in new_row.iter_mut().zip(old_row).zip(products_flat) {
-                        *new = old - dot(gain, *m_a);
-                        sum += *new;
-                    }
+            for ((new_row, old_row), gnss_product) in rows {
+                let gain = solve(*gnss_product);
+                for ((new, old), m_a) in new_row.iter_mut().zip(old_row).zip(products_flat) {
+                    *new = old - dot(gain, *m_a);
+                    sum += *new;
                 }
             }
         } else {
@@ -105,45 +110,8 @@ impl ImuErrorStates {
     pub(crate) fn commit_update(&mut self) {
         self.second_active = !self.second_active;
         self.second_half = !self.second_half;
+        self.variances_changed = true;
     }
-}
-
-/// The frozen groups' `K_ε` rows zeroed. Out of line: it runs only while a group is frozen.
-#[cold]
-#[inline(never)]
-fn zero_frozen_gains(gains: &mut [[Row; 3]; GROUPS], frozen: [bool; GROUPS]) {
-    for (group, frozen) in gains.iter_mut().zip(frozen) {
-        if frozen {
-            *group = [[0.0; 3]; 3];
-        }
-    }
-}
-
-/// `B⁺ = B − M_GNSS K_εᵀ` (rows: new, old, `M_GNSS`) for a frozen GNSS border
-/// (`K_GNSS = 0`, `N_GNSS = −M_GNSS`); returns the sum of the new values. Out of line: it
-/// runs only while the GNSS border is frozen.
-#[cold]
-#[inline(never)]
-fn frozen_gnss_cross<'a>(
-    rows: impl Iterator<
-        Item = (
-            (
-                &'a mut [f64; IMU_ERROR_DIMENSION],
-                &'a [f64; IMU_ERROR_DIMENSION],
-            ),
-            &'a Row,
-        ),
-    >,
-    border_gains: &[Row],
-) -> f64 {
-    let mut sum = 0.0;
-    for ((new_row, old_row), gnss_product) in rows {
-        for ((new, old), k_a) in new_row.iter_mut().zip(old_row).zip(border_gains) {
-            *new = old - dot(*gnss_product, *k_a);
-            sum += *new;
-        }
-    }
-    sum
 }
 
 /// `M_ε` by groups, into `products`: row `c` of group `g` is `Σ_j H[:, j] C_g[j][c]` over the
