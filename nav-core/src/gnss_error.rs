@@ -138,6 +138,9 @@ pub struct GnssErrorStates {
     /// A prepared propagation's `P_εε` and `ε̂`, until it is committed (its `C` is in the
     /// inactive buffer).
     pending: (Block, Row),
+    /// Whether the block is frozen: its gain rows are zero in every update, as a frozen core
+    /// block's ([`GnssErrorStates::updated`]).
+    frozen: bool,
 }
 
 #[cfg(feature = "gnss-error-states")]
@@ -148,6 +151,7 @@ impl PartialEq for GnssErrorStates {
             && self.estimate == other.estimate
             && self.covariance == other.covariance
             && self.rows() == other.rows()
+            && self.frozen == other.frozen
     }
 }
 
@@ -178,6 +182,7 @@ impl GnssErrorStates {
             buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
             second_active: false,
             pending: (block::ZERO, [0.0; 3]),
+            frozen: false,
         })
     }
 
@@ -189,6 +194,16 @@ impl GnssErrorStates {
     /// Whether the states are in use.
     pub fn is_enabled(&self) -> bool {
         self.model.is_enabled()
+    }
+
+    /// Whether the block is frozen (its gain rows zero in every update).
+    pub fn is_frozen(&self) -> bool {
+        self.frozen
+    }
+
+    /// Freezes the block or releases it.
+    pub(crate) fn set_frozen(&mut self, frozen: bool) {
+        self.frozen = frozen;
     }
 
     /// `ε̂` (m, launch-inertial axes).
@@ -392,6 +407,11 @@ impl GnssErrorStates {
     /// docs): the new `C` (per element `C⁺_ia = C_ia + N_i·K_εa − K_i·M_εa`) into the spare
     /// buffer, which [`GnssErrorStates::commit`] makes active; the new `ε̂` and `P_εε`
     /// returned; `None` if anything is not finite (`C` unchanged).
+    ///
+    /// A frozen border has `K_ε = 0` and `N_ε = −M_ε`: `ε̂` and `P_εε` keep their values
+    /// (`P⁺_ab = P_ab + N_a·K_b − K_a·M_b` with both gains zero), a moving core row takes
+    /// `C_ia − K_i·M_εa` as before (`N_i = 0`) and a frozen one keeps `C_ia`, all of which
+    /// the formulas below give with `K_ε = 0`.
     pub(crate) fn updated(
         &mut self,
         border: &Border,
@@ -400,11 +420,15 @@ impl GnssErrorStates {
         innovation: Row,
     ) -> Option<(Row, Block)> {
         let [m0, m1, m2] = border.products;
-        let k = [solve(m0), solve(m1), solve(m2)];
+        let k = if self.frozen {
+            ZERO
+        } else {
+            [solve(m0), solve(m1), solve(m2)]
+        };
         let cross_finite = self.update_cross(border, (gains, products, frozen), &k);
         let [k0, k1, k2] = k;
         let [[p00, p01, p02], [_, p11, p12], [_, _, p22]] = self.covariance;
-        // Upper triangle, mirrored: exactly symmetric. The ε rows are never frozen.
+        // Upper triangle, mirrored: exactly symmetric (frozen: `K_ε = 0`, nothing moves).
         let (q00, q01, q02) = (p00 - dot(k0, m0), p01 - dot(k0, m1), p02 - dot(k0, m2));
         let (q11, q12, q22) = (p11 - dot(k1, m1), p12 - dot(k1, m2), p22 - dot(k2, m2));
         let covariance = [[q00, q01, q02], [q01, q11, q12], [q02, q12, q22]];
@@ -537,6 +561,71 @@ impl GnssErrorStates {
             *row = row_scale(*row, scale);
         }
     }
+
+    /// The variance floor and ceiling on `P_εε`'s diagonal, as the core's
+    /// (`ErrorStateFilter::protect_variances`): a variance below its `floor` is raised to
+    /// it; one above its `ceiling` becomes the ceiling, with the rest of its row and column
+    /// (`P_εε` and `C`) multiplied by `s = √(ceiling/variance)`, `P' = S P S`, which keeps
+    /// every correlation coefficient and positive definiteness. Returns whether anything
+    /// changed and, when a ceiling was crossed, each state's `s` (1 within its ceiling), for
+    /// the IMU border's `cov(ε_GNSS, ε)`. Only the diagonal is read unless a ceiling is
+    /// crossed (the scaling is out of line: it never runs in a nominal flight).
+    pub(crate) fn protect_variances(&mut self, floor: &Row, ceiling: &Row) -> (bool, Option<Row>) {
+        let mut clamped = false;
+        let mut crossing = 0u8;
+        let bounds = floor.iter().zip(ceiling);
+        for (a, (row, (floor, ceiling))) in self.covariance.iter_mut().zip(bounds).enumerate() {
+            let Some(variance) = row.get_mut(a) else {
+                continue;
+            };
+            if *variance < *floor {
+                *variance = *floor;
+                clamped = true;
+            } else if *variance > *ceiling {
+                crossing |= 1 << a;
+            }
+        }
+        if crossing == 0 {
+            return (clamped, None);
+        }
+        (true, Some(self.scale_to_ceilings(crossing, ceiling)))
+    }
+
+    /// `P' = S P S` for the states of `crossing` (bit `a`: state `a`), each with
+    /// `s = √(ceiling/variance)`, on `P_εε` and `C`; each crossed diagonal then exactly its
+    /// ceiling. Returns the scales.
+    #[cold]
+    #[inline(never)]
+    fn scale_to_ceilings(&mut self, crossing: u8, ceiling: &Row) -> Row {
+        let crossed = |a: usize| crossing & (1 << a) != 0;
+        let scales: Row = core::array::from_fn(|a| {
+            match (
+                crossed(a),
+                self.covariance.get(a).and_then(|row| row.get(a)),
+            ) {
+                (true, Some(variance)) => {
+                    crate::float::sqrt(ceiling.get(a).copied().unwrap_or(f64::NAN) / variance)
+                }
+                _ => 1.0,
+            }
+        });
+        for (a, (row, s_a)) in self.covariance.iter_mut().zip(scales).enumerate() {
+            for (value, s_b) in row.iter_mut().zip(scales) {
+                *value = *value * s_a * s_b;
+            }
+            if let (true, Some(variance), Some(ceiling)) =
+                (crossed(a), row.get_mut(a), ceiling.get(a))
+            {
+                *variance = *ceiling;
+            }
+        }
+        let [s0, s1, s2] = scales;
+        for row in self.rows_mut().iter_mut() {
+            let [c0, c1, c2] = *row;
+            *row = [c0 * s0, c1 * s1, c2 * s2];
+        }
+        scales
+    }
 }
 
 /// The states compiled out (feature `gnss-error-states` off): no memory, the read accessors
@@ -562,6 +651,11 @@ impl GnssErrorStates {
 
     /// Never in use.
     pub fn is_enabled(&self) -> bool {
+        false
+    }
+
+    /// Never frozen.
+    pub fn is_frozen(&self) -> bool {
         false
     }
 

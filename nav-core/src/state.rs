@@ -44,6 +44,8 @@ macro_rules! state_layout {
         pub const STATE_DIMENSION: usize = 0 $(+ $core_dimension)*;
         /// Number of states of the layout with every optional block.
         pub const LAYOUT_DIMENSION: usize = STATE_DIMENSION $(+ $optional_dimension)*;
+        /// Number of states of the optional blocks together (the layout's after the core's).
+        pub const OPTIONAL_DIMENSION: usize = LAYOUT_DIMENSION - STATE_DIMENSION;
 
         /// The first state of each block, by the blocks' names (running sums of the table's
         /// dimensions, evaluated at compile time).

@@ -14,12 +14,13 @@
 
 use nalgebra::Vector3;
 
+use super::optional::OptionalVarianceBounds;
 use super::ErrorState;
 use crate::block::{Block, Row};
 use crate::gnss_error::{Border, GnssErrorStates};
 use crate::imu_error_states::ImuErrorStates;
 use crate::measurement::MeasurementJacobian;
-use crate::state::{BlockMask, STATE_DIMENSION};
+use crate::state::{BlockMask, OptionalBlock, STATE_DIMENSION};
 use crate::structured::{self, BorderBiasInputs, StateRows, StructuredModel};
 
 /// Every optional block's states (a zero-sized placeholder for a block compiled out).
@@ -165,6 +166,8 @@ impl OptionalBlocks {
         inputs: &UpdateInputs<'_>,
     ) -> bool {
         let solve = |row| inputs.cholesky.solve(row);
+        #[cfg(feature = "imu-error-states")]
+        let gnss_frozen = self.gnss.is_frozen();
         #[cfg(feature = "gnss-error-states")]
         if let Some(border) = border {
             let core = (inputs.gains, inputs.products, inputs.frozen);
@@ -182,7 +185,7 @@ impl OptionalBlocks {
                 (inputs.gains, inputs.products, inputs.frozen),
                 solve,
                 inputs.innovation,
-                border.map(|border| (border.coefficient, &border.products)),
+                border.map(|border| (border.coefficient, &border.products, gnss_frozen)),
             )
         {
             return false;
@@ -229,6 +232,74 @@ impl OptionalBlocks {
         let _ = (attitude, installation, reset_estimate);
     }
 
+    /// Every block in use under its variance floor and ceiling
+    /// ([`super::ErrorStateFilter::protect_optional_variances`]); whether anything changed.
+    /// Not inlined: the frames of a flight without optional blocks do not carry it.
+    #[inline(never)]
+    pub(super) fn protect_variances(&mut self, bounds: &OptionalVarianceBounds) -> bool {
+        // Written only by the blocks compiled in.
+        #[cfg_attr(
+            not(any(feature = "gnss-error-states", feature = "imu-error-states")),
+            allow(unused_mut)
+        )]
+        let mut changed = false;
+        // The GNSS states first in the bounds, the IMU states after them (the layout's order).
+        const _: () = assert!(
+            OptionalBlock::GnssError.index() == STATE_DIMENSION
+                && OptionalBlock::GyroNonOrthogonality.index() == STATE_DIMENSION + 3
+        );
+        let split = split_bounds;
+        let (Some((gnss_floor, imu_floor)), Some((gnss_ceiling, imu_ceiling))) =
+            (split(&bounds.floor), split(&bounds.ceiling))
+        else {
+            return false;
+        };
+        #[cfg(feature = "gnss-error-states")]
+        if self.gnss.is_enabled() {
+            let (clamped, scales) = self.gnss.protect_variances(gnss_floor, gnss_ceiling);
+            // `cov(ε_GNSS, ε)` takes the GNSS states' scaling on its rows.
+            #[cfg(feature = "imu-error-states")]
+            if let Some(scales) = &scales {
+                self.imu.scale_gnss_rows(scales);
+            }
+            let _ = scales;
+            changed |= clamped;
+        }
+        #[cfg(feature = "imu-error-states")]
+        if self.imu.is_enabled() {
+            changed |= self.imu.protect_variances(imu_floor, imu_ceiling);
+        }
+        let _ = (gnss_floor, gnss_ceiling, imu_floor, imu_ceiling);
+        changed
+    }
+
+    /// Whether `block` is frozen (never, for a block compiled out).
+    pub(super) fn is_frozen(&self, block: OptionalBlock) -> bool {
+        match block {
+            OptionalBlock::GnssError => self.gnss.is_frozen(),
+            _ => self.imu.is_frozen(block),
+        }
+    }
+
+    /// Freezes `block` or releases it (the caller has checked that it is in use).
+    pub(super) fn set_frozen(&mut self, block: OptionalBlock, frozen: bool) {
+        #[cfg(feature = "gnss-error-states")]
+        if block == OptionalBlock::GnssError {
+            self.gnss.set_frozen(frozen);
+        }
+        #[cfg(feature = "imu-error-states")]
+        self.imu.set_frozen(block, frozen);
+        let _ = (block, frozen);
+    }
+
+    /// Whether `block` is in use.
+    pub(super) fn is_enabled(&self, block: OptionalBlock) -> bool {
+        match block {
+            OptionalBlock::GnssError => self.gnss.is_enabled(),
+            _ => self.imu.is_enabled(),
+        }
+    }
+
     /// Row `index` of every block's cross-covariance times `scale` (that core state's
     /// uncertainty was scaled).
     pub(super) fn scale_cross_row(&mut self, index: usize, scale: f64) {
@@ -238,4 +309,17 @@ impl OptionalBlocks {
         self.imu.scale_cross_row(index, scale);
         let _ = (index, scale);
     }
+}
+
+/// The GNSS border's states and the IMU border's in optional-state bounds (the layout's
+/// order, checked in `OptionalBlocks::protect_variances`).
+type SplitBounds<'a> = (
+    &'a [f64; 3],
+    &'a [f64; crate::imu_error::IMU_ERROR_DIMENSION],
+);
+
+/// `bounds` split into the GNSS border's states and the IMU border's.
+fn split_bounds(bounds: &[f64; crate::state::OPTIONAL_DIMENSION]) -> Option<SplitBounds<'_>> {
+    let (gnss, rest) = bounds.split_first_chunk::<3>()?;
+    Some((gnss, rest.first_chunk()?))
 }

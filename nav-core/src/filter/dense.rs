@@ -169,8 +169,11 @@ impl ErrorStateFilter {
         let cholesky =
             Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
         let mut gain: SMatrix<f64, AUGMENTED_DIMENSION, 3> = cholesky.solve(&(h * p)).transpose();
+        // A frozen border's gain rows are zero too (`set_optional_block_frozen`).
+        let border_frozen = self.blocks.gnss.is_frozen();
         for (state_index, mut row) in gain.row_iter_mut().enumerate() {
-            if state_index < STATE_DIMENSION && frozen.contains_state(state_index) {
+            let core = state_index < STATE_DIMENSION;
+            if (core && frozen.contains_state(state_index)) || (!core && border_frozen) {
                 row.fill(0.0);
             }
         }

@@ -33,6 +33,7 @@ use crate::NavError;
 use blocks::{OptionalBlocks, UpdateInputs};
 
 pub use config::{FilterConfig, InitialUncertainty};
+pub use optional::OptionalVarianceBounds;
 
 /// The 24-element error-state vector.
 pub type ErrorState = SVector<f64, STATE_DIMENSION>;
@@ -708,5 +709,8 @@ mod config;
 mod covariance;
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense;
+mod optional;
+#[cfg(all(test, feature = "gnss-error-states", feature = "imu-error-states"))]
+mod optional_tests;
 #[cfg(test)]
 mod tests;

@@ -5,7 +5,7 @@ use crate::discretise::DiscreteModel;
 use crate::error_model::set_block;
 use crate::measurement::MeasurementJacobian;
 
-fn config(mode: FilterMode) -> FilterConfig {
+pub(super) fn config(mode: FilterMode) -> FilterConfig {
     FilterConfig {
         mode,
         discretisation_order: 3,

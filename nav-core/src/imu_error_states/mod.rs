@@ -64,6 +64,8 @@ mod prior;
 #[cfg(feature = "imu-error-states")]
 mod propagate;
 #[cfg(feature = "imu-error-states")]
+mod protect;
+#[cfg(feature = "imu-error-states")]
 mod update;
 
 pub use prior::PriorCovariance;
@@ -151,6 +153,20 @@ impl ImuErrorModel {
         }
     }
 
+    /// The prior variance of each of the twelve states in the filter's gauge, in
+    /// [`crate::imu_error::ImuErrorBlock`] order: [`Self::prior_covariance`]'s diagonal.
+    pub fn prior_variances(&self) -> [f64; IMU_ERROR_DIMENSION] {
+        let mut prior = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
+        self.write_prior(&mut prior);
+        core::array::from_fn(|k| {
+            prior
+                .get(k)
+                .and_then(|row| row.get(k))
+                .copied()
+                .unwrap_or(0.0)
+        })
+    }
+
     /// The prior 1σ of each of the twelve states in the filter's gauge, in
     /// [`crate::imu_error::ImuErrorBlock`] order: the square roots of
     /// [`Self::prior_covariance`]'s diagonal.
@@ -195,13 +211,22 @@ pub struct ImuErrorStates {
     /// What a propagation or an update keeps between its steps (kept here, so nothing large
     /// is returned or copied on the flight path; not part of the filter's state).
     scratch: Scratch,
+    /// Whether each group of three states is frozen (its gain rows zero in every update, as a
+    /// frozen core block's); a layout block freezes all of its groups.
+    frozen: [bool; GROUPS],
+    /// Whether `P_εε` may have changed since the variance protection last read it: only an
+    /// update (or a new prior) changes it, its propagation keeps it (`ε̇ = 0`).
+    variances_changed: bool,
 }
 
 #[cfg(feature = "imu-error-states")]
 impl PartialEq for ImuErrorStates {
     /// Equal model, `ε̂`, `P_εε` and `C` (whichever buffer holds it).
     fn eq(&self, other: &Self) -> bool {
-        self.model == other.model && self.half() == other.half() && self.cross() == other.cross()
+        self.model == other.model
+            && self.half() == other.half()
+            && self.cross() == other.cross()
+            && self.frozen == other.frozen
     }
 }
 
@@ -281,6 +306,8 @@ impl ImuErrorStates {
         buffers: [[[[0.0; 3]; STATE_DIMENSION]; GROUPS]; 2],
         second_active: false,
         scratch: Scratch::EMPTY,
+        frozen: [false; GROUPS],
+        variances_changed: false,
     };
 
     /// On an [`Self::EMPTY`] border, in place: the model and its prior
@@ -288,6 +315,7 @@ impl ImuErrorStates {
     /// validated `model`.
     pub(crate) fn start(&mut self, model: ImuErrorModel) {
         self.model = model;
+        self.variances_changed = true;
         for half in &mut self.halves {
             model.write_prior(&mut half.covariance);
         }
@@ -495,6 +523,7 @@ impl ImuErrorStates {
         covariance: &SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
         cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
     ) {
+        self.variances_changed = true;
         let half = self.half_mut();
         half.gnss_cross = [[0.0; IMU_ERROR_DIMENSION]; 3];
         half.estimate = core::array::from_fn(|a| estimate[a]);
@@ -534,6 +563,11 @@ impl ImuErrorStates {
 
     /// Never in use.
     pub fn is_enabled(&self) -> bool {
+        false
+    }
+
+    /// Never frozen.
+    pub fn is_frozen(&self, _block: OptionalBlock) -> bool {
         false
     }
 

@@ -2,6 +2,7 @@
 //! (module docs of [`crate::imu_error_states`]): `M_ε`, `K_ε` and the new `C` (into the spare
 //! buffer) with the new `P_εε` and `ε̂` checked, then all of them committed in place.
 
+use super::protect::apply_frozen;
 use super::{BorderMatrix, CrossCovariance, Estimate, ImuErrorStates, Parts, GROUPS};
 use crate::block::{self, dot, FiniteCheck, Row};
 use crate::imu_error::IMU_ERROR_DIMENSION;
@@ -15,8 +16,32 @@ impl ImuErrorStates {
     /// (`solve`) and the innovation `ν` (module docs): `M_ε = (H_x C)ᵀ`, `K_ε = M_ε S⁻¹`, the
     /// new `C` into the spare buffer (`C⁺_ia = C_ia − K_i·M_εa`, `− M_i·K_εa` on a frozen
     /// row); `false` if it, the new `P_εε` or the new `ε̂` is not finite (nothing the filter
-    /// reads has changed). [`ImuErrorStates::commit_update`] writes them.
+    /// reads has changed). [`ImuErrorStates::commit_update`] writes them. `gnss`: the GNSS
+    /// border's `h`, `M_GNSS` rows and whether it is frozen.
+    ///
+    /// With a frozen group, or the GNSS border frozen, the values of the moving border are
+    /// corrected afterwards ([`apply_frozen`], out of line: a nominal flight never runs it),
+    /// so the update's own loops are those of a border that moves.
     pub(crate) fn prepare_update(
+        &mut self,
+        jacobian: (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
+        core: (&StateRows, &StateRows, &BlockMask),
+        solve: impl Fn(Row) -> Row,
+        innovation: Row,
+        gnss: Option<(f64, &[Row; 3], bool)>,
+    ) -> bool {
+        let moving = gnss.map(|(coefficient, products, _)| (coefficient, products));
+        let finite = self.prepare_moving_update(jacobian, core, solve, innovation, moving);
+        let frozen_gnss = gnss.and_then(|(_, products, frozen)| frozen.then_some(products));
+        if self.any_frozen() || frozen_gnss.is_some() {
+            return apply_frozen(self, core.2, frozen_gnss);
+        }
+        finite
+    }
+
+    /// [`Self::prepare_update`] for a border that moves: every `K_ε` row as computed.
+    #[inline(always)]
+    fn prepare_moving_update(
         &mut self,
         (jacobian, observed): (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
@@ -85,6 +110,7 @@ impl ImuErrorStates {
     pub(crate) fn commit_update(&mut self) {
         self.second_active = !self.second_active;
         self.second_half = !self.second_half;
+        self.variances_changed = true;
     }
 }
 

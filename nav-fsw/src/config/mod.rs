@@ -7,6 +7,7 @@
 use nav_core::error_model::ProcessNoise;
 use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
 use nav_core::frames::LaunchSite;
+use nav_core::state::OptionalBlock;
 use nav_core::strapdown::StrapdownConfig;
 
 use crate::calibration_manager::CalibrationManagerConfig;
@@ -291,14 +292,45 @@ pub struct CovarianceConfig {
     /// Floor of every 1σ, per block (same units as the initial uncertainty); a variance
     /// below its floor² is raised to it (counted).
     pub sigma_floor: InitialUncertainty,
-    /// Ceiling of every 1σ as a multiple of its initial 1σ; a larger variance is scaled back
-    /// with its row and column (correlations kept), counted.
+    /// Floor of the 1σ of every optional state block in use (nav-core `OptionalBlock`), per
+    /// block, as [`Self::sigma_floor`] for the core's.
+    pub optional_sigma_floor: OptionalSigmaFloor,
+    /// Ceiling of every 1σ, the optional blocks' included, as a multiple of its initial 1σ
+    /// (an optional state's: its prior's); a larger variance is scaled back with its row and
+    /// column (correlations kept), counted.
     pub sigma_ceiling_factor: f64,
     /// What a held IMU sample may be wrong by ([`HeldSampleUncertainty`]).
     pub held_sample: HeldSampleUncertainty,
     /// Whether the attitude covariance grows for the kinematics' second-order term while the
     /// star sensor is unheard ([`SecondOrderAttitude`]).
     pub second_order_attitude: SecondOrderAttitude,
+}
+
+/// Floor of the 1σ of each optional state block (units of the block), read only while the
+/// block is in use: a variance below its floor² is raised to it (counted).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct OptionalSigmaFloor {
+    /// The receiver's correlated position error (m).
+    pub gnss_error_m: f64,
+    /// Gyro non-orthogonality (rad).
+    pub gyro_non_orthogonality_rad: f64,
+    /// Accelerometer misalignment (rad).
+    pub accel_misalignment_rad: f64,
+    /// Gyro g-sensitivity (rad/s per m/s²).
+    pub gyro_g_sensitivity_rad_s_per_mps2: f64,
+}
+
+impl OptionalSigmaFloor {
+    /// The floors in [`OptionalBlock::ALL`] order.
+    pub fn by_block(&self) -> [f64; OptionalBlock::ALL.len()] {
+        OptionalBlock::ALL.map(|block| match block {
+            OptionalBlock::GnssError => self.gnss_error_m,
+            OptionalBlock::GyroNonOrthogonality => self.gyro_non_orthogonality_rad,
+            OptionalBlock::AccelMisalignment => self.accel_misalignment_rad,
+            OptionalBlock::GyroGSensitivity => self.gyro_g_sensitivity_rad_s_per_mps2,
+        })
+    }
 }
 
 /// How the covariance propagation and the fusion of a measurement share the frames: the
@@ -504,6 +536,12 @@ impl FswConfig {
                 propagation_interval_frames: 0,
                 frame_load: FrameLoad::PropagateThenFuse,
                 sigma_floor: uncertainty,
+                optional_sigma_floor: OptionalSigmaFloor {
+                    gnss_error_m: NAN,
+                    gyro_non_orthogonality_rad: NAN,
+                    accel_misalignment_rad: NAN,
+                    gyro_g_sensitivity_rad_s_per_mps2: NAN,
+                },
                 sigma_ceiling_factor: NAN,
                 held_sample: HeldSampleUncertainty {
                     rate_rad_s: NAN,

@@ -598,6 +598,34 @@ flight_parameters! {
         get: |c| c.covariance.sigma_floor.accel_scale_factor,
         set: |c, v| c.covariance.sigma_floor.accel_scale_factor = v,
     }
+    FloorGnssError: f64 {
+        path: "covariance.optional_sigma_floor.gnss_error_m", unit: "m",
+        default: Some(1e-4), word: None,
+        range: Range::new(1.0e-9, 1.0e3), why: FLOOR_WHY,
+        get: |c| c.covariance.optional_sigma_floor.gnss_error_m,
+        set: |c, v| c.covariance.optional_sigma_floor.gnss_error_m = v,
+    }
+    FloorGyroNonOrthogonality: f64 {
+        path: "covariance.optional_sigma_floor.gyro_non_orthogonality_rad", unit: "rad",
+        default: Some(1e-12), word: None,
+        range: Range::new(1.0e-15, 1.0e-2), why: FLOOR_WHY,
+        get: |c| c.covariance.optional_sigma_floor.gyro_non_orthogonality_rad,
+        set: |c, v| c.covariance.optional_sigma_floor.gyro_non_orthogonality_rad = v,
+    }
+    FloorAccelMisalignment: f64 {
+        path: "covariance.optional_sigma_floor.accel_misalignment_rad", unit: "rad",
+        default: Some(1e-12), word: None,
+        range: Range::new(1.0e-15, 1.0e-2), why: FLOOR_WHY,
+        get: |c| c.covariance.optional_sigma_floor.accel_misalignment_rad,
+        set: |c, v| c.covariance.optional_sigma_floor.accel_misalignment_rad = v,
+    }
+    FloorGyroGSensitivity: f64 {
+        path: "covariance.optional_sigma_floor.gyro_g_sensitivity_rad_s_per_mps2",
+        unit: "rad/s per m/s^2", default: Some(1e-15), word: None,
+        range: Range::new(1.0e-18, 1.0e-3), why: FLOOR_WHY,
+        get: |c| c.covariance.optional_sigma_floor.gyro_g_sensitivity_rad_s_per_mps2,
+        set: |c, v| c.covariance.optional_sigma_floor.gyro_g_sensitivity_rad_s_per_mps2 = v,
+    }
     SigmaCeilingFactor: f64 {
         path: "covariance.sigma_ceiling_factor", unit: "", default: Some(1e3), word: None,
         range: Range::new(1.0, 1.0e6),

@@ -219,13 +219,19 @@ impl NavigationComputer {
         self.star_aberration = crate::aberration_monitor::AberrationMonitor::default();
     }
 
-    /// Variance floors and ceilings (module docs), in place: only the diagonal is read unless
-    /// a bound is crossed (nav-core `protect_variances`); symmetry is kept by construction.
+    /// Variance floors and ceilings (module docs), the core's and the optional blocks' in
+    /// use, in place: only the diagonal is read unless a bound is crossed (nav-core
+    /// `protect_variances`, `protect_optional_variances`); symmetry is kept by construction.
     pub(super) fn protect_covariance(&mut self) {
-        if self.covariance.filter.protect_variances(
+        let core = self.covariance.filter.protect_variances(
             &self.covariance.variance_floor,
             &self.covariance.variance_ceiling,
-        ) {
+        );
+        let optional = self
+            .covariance
+            .filter
+            .protect_optional_variances(&self.optional_variance_bounds);
+        if core || optional {
             count(&mut self.health.counters.covariance_clamps);
             if !self
                 .covariance

@@ -50,7 +50,7 @@ use nav_core::attitude;
 use nav_core::error_model::{LinearisationPoint, ProcessNoise};
 use nav_core::filter::{
     apply_error_state, block_of, CalibrationEstimate, ErrorState, ErrorStateFilter, FilterConfig,
-    FilterMode,
+    FilterMode, OptionalVarianceBounds,
 };
 use nav_core::frames::LaunchFrame;
 use nav_core::imu_error::ImuErrorEstimate;
@@ -58,8 +58,8 @@ use nav_core::measurement::{
     gnss_position, gnss_velocity, star_sensor, BodyRate, GnssVelocityFix, LinearMeasurement,
 };
 use nav_core::state::{
-    BlockMask, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,
-    STAR_INSTALLATION, VELOCITY,
+    BlockMask, OptionalBlock, StateBlock, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
+    POSITION, STAR_INSTALLATION, VELOCITY,
 };
 use nav_core::strapdown::{
     ImuIncrement, NavigationState, SensorCorrections, StepOutput, Strapdown,
@@ -135,8 +135,13 @@ pub enum Command {
     SetPhase(ManoeuvrePhase),
     /// Forget the fault declarations: both sensors are used again.
     ClearSensorFaults,
-    /// Forget calibration convergence (unfreeze every block).
+    /// Forget calibration convergence (unfreeze every block, the optional ones included).
     RestartCalibration,
+    /// Freeze an optional state block in use (`true`) or release it (`false`): its gain
+    /// rows are zero in every update, as a frozen core block's (nav-core
+    /// `ErrorStateFilter::set_optional_block_frozen`). A filter recovery or
+    /// [`Command::RestartCalibration`] releases it.
+    SetOptionalBlockFrozen(OptionalBlock, bool),
 }
 
 /// Why a [`Command`] was refused (the computer is unchanged).
@@ -145,6 +150,8 @@ pub enum Command {
 pub enum CommandError {
     /// `SetPhase` under a policy that does not read the manoeuvre phase.
     PhaseNotUsed(EstimationPolicy),
+    /// `SetOptionalBlockFrozen` for a block the configuration does not fly.
+    BlockNotInUse(OptionalBlock),
 }
 
 impl core::fmt::Display for CommandError {
@@ -154,6 +161,11 @@ impl core::fmt::Display for CommandError {
                 f,
                 "SetPhase refused: the calibration policy {policy:?} does not use the manoeuvre \
                  phase (only PaperSchedule does)"
+            ),
+            Self::BlockNotInUse(block) => write!(
+                f,
+                "SetOptionalBlockFrozen refused: the state block {} is not in use",
+                block.name()
             ),
         }
     }
@@ -191,6 +203,10 @@ pub struct NavigationComputer {
     /// not correct (`star.aberration_correction` off). Last, with the other small members
     /// the update frames do not read, so that it moves none of theirs out of a load's reach.
     star_aberration: crate::aberration_monitor::AberrationMonitor,
+    /// The optional state blocks' variance floor and ceiling (`covariance.rs`), read by the
+    /// propagation frames only while a block is in use: after every member the other frames
+    /// read, so that it moves none of them.
+    optional_variance_bounds: OptionalVarianceBounds,
 }
 
 /// The navigation solution and what produces it: the IMU step's state and the history of the
@@ -325,7 +341,8 @@ impl NavigationComputer {
     ///
     /// # Errors
     /// [`CommandError::PhaseNotUsed`] for `SetPhase` under a policy that does not read the
-    /// phase; the computer is unchanged.
+    /// phase, [`CommandError::BlockNotInUse`] for `SetOptionalBlockFrozen` of a block not
+    /// flown; the computer is unchanged.
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
         match command {
             Command::SetPhase(phase) => {
@@ -336,7 +353,21 @@ impl NavigationComputer {
                 self.calibration.manager.set_phase(phase);
             }
             Command::ClearSensorFaults => self.aids.clear_faults(),
-            Command::RestartCalibration => self.calibration.manager.restart(),
+            Command::RestartCalibration => {
+                self.calibration.manager.restart();
+                for block in OptionalBlock::ALL {
+                    // A block not in use has nothing to release.
+                    let _ = self
+                        .covariance
+                        .filter
+                        .set_optional_block_frozen(block, false);
+                }
+            }
+            Command::SetOptionalBlockFrozen(block, frozen) => self
+                .covariance
+                .filter
+                .set_optional_block_frozen(block, frozen)
+                .map_err(|_| CommandError::BlockNotInUse(block))?,
         }
         Ok(())
     }

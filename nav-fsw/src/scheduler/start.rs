@@ -173,6 +173,11 @@ impl NavigationComputer {
             addr_of_mut!((*computer).heads).write(heads);
             addr_of_mut!((*computer).star_aberration)
                 .write(crate::aberration_monitor::AberrationMonitor::default());
+            addr_of_mut!((*computer).optional_variance_bounds).write(OptionalVarianceBounds::new(
+                &config.covariance.optional_sigma_floor.by_block(),
+                config.covariance.sigma_ceiling_factor,
+                &config.filter,
+            )?);
             Health::init_in_place(&mut *addr_of_mut!((*computer).health).cast());
             addr_of_mut!((*computer).config).write(config);
             addr_of_mut!((*computer).frame).write(0);

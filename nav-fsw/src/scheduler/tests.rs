@@ -685,3 +685,106 @@ fn a_star_slow_error_without_its_correlation_time_is_refused() {
         )))
     );
 }
+
+/// An optional block is frozen by command as a core block is: with the systematic IMU error
+/// states frozen, the flight of [`the_systematic_imu_error_states_are_fed_back_at_every_reset`]
+/// (star updates offset about z) moves none of them, so nothing is fed back; a block not
+/// flown is refused, and `RestartCalibration` releases the frozen ones.
+#[test]
+fn a_frozen_optional_block_is_not_moved_and_a_block_not_flown_is_refused() {
+    use nav_core::state::OptionalBlock;
+    let mut config = *computer().config();
+    config.filter.imu_error = nav_core::imu_error_states::ImuErrorModel {
+        gyro_misalignment_sigma_rad: 1e-3,
+        accel_misalignment_sigma_rad: 1e-3,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-5,
+    };
+    let mut computer = NavigationComputer::new(config, initial_state()).unwrap();
+    assert_eq!(
+        computer.command(Command::SetOptionalBlockFrozen(
+            OptionalBlock::GnssError,
+            true
+        )),
+        Err(CommandError::BlockNotInUse(OptionalBlock::GnssError))
+    );
+    let imu_blocks = [
+        OptionalBlock::GyroNonOrthogonality,
+        OptionalBlock::AccelMisalignment,
+        OptionalBlock::GyroGSensitivity,
+    ];
+    for block in imu_blocks {
+        computer
+            .command(Command::SetOptionalBlockFrozen(block, true))
+            .unwrap();
+        assert!(computer.filter().optional_block_frozen(block));
+    }
+    let prior = computer.filter().imu_error().covariance();
+    let attitude_prior = variance(&computer, ATTITUDE);
+    for sequence in 1..=200_u32 {
+        let mut ports = crate::replay::FramePorts::default();
+        ports.imu.0 = Some(crate::ports::ImuSample {
+            sequence,
+            time_s: 600.0 + 0.002 * f64::from(sequence),
+            delta_angle_rad: [2e-4, 1e-4, 4e-3],
+            delta_velocity_mps: [0.06, 0.002, -0.001],
+        });
+        if sequence % 10 == 0 {
+            let q = attitude::product(
+                &computer.navigation().attitude,
+                &attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 2e-4)),
+            );
+            let measurement = crate::ports::StarMeasurement {
+                time_tag_s: computer.navigation().time_s,
+                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+                head: 0,
+            };
+            ports.star.0.push_back(measurement).unwrap();
+        }
+        ports.run(&mut computer);
+    }
+    // The star updates were fused.
+    assert!(variance(&computer, ATTITUDE) < attitude_prior);
+    assert_eq!(
+        computer.imu_error_estimate().unwrap(),
+        nav_core::imu_error::ImuErrorEstimate::default()
+    );
+    // Frozen: the border's covariance is the prior's (no gain, no process noise).
+    assert_eq!(computer.filter().imu_error().covariance(), prior);
+    computer.command(Command::RestartCalibration).unwrap();
+    for block in imu_blocks {
+        assert!(!computer.filter().optional_block_frozen(block));
+    }
+}
+
+/// An optional block's variance floor: a g-sensitivity floor above the prior 1σ raises the
+/// block's variances to it at the first propagation, counted as a covariance clamp; the
+/// default floors and ceilings leave the prior alone.
+#[test]
+fn an_optional_block_s_variance_is_raised_to_its_floor() {
+    let mut config = *computer().config();
+    config.filter.imu_error = nav_core::imu_error_states::ImuErrorModel {
+        gyro_misalignment_sigma_rad: 1e-3,
+        accel_misalignment_sigma_rad: 1e-3,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-5,
+    };
+    let run = |config: FswConfig| {
+        let mut computer = NavigationComputer::new(config, initial_state()).unwrap();
+        one_frame(&mut computer, 1);
+        (
+            computer.filter().imu_error().covariance(),
+            computer.health().covariance_clamps,
+        )
+    };
+    let (nominal, nominal_clamps) = run(config);
+    assert_eq!(nominal_clamps, 0);
+    config
+        .covariance
+        .optional_sigma_floor
+        .gyro_g_sensitivity_rad_s_per_mps2 = 2e-5;
+    let (raised, clamps) = run(config);
+    assert_eq!(clamps, 1);
+    for k in 0..12 {
+        let expected = if k >= 9 { 2e-5 * 2e-5 } else { nominal[(k, k)] };
+        assert_eq!(raised[(k, k)].to_bits(), expected.to_bits(), "state {k}");
+    }
+}
