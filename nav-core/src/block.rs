@@ -443,6 +443,67 @@ pub(crate) fn mirror_lower_to_upper(matrix: &mut CovarianceMatrix, rows: usize) 
     }
 }
 
+/// The variance floor on the diagonal of a square covariance block `P` (an optional state
+/// block's `P_εε`, the rule of `ErrorStateFilter::protect_variances`): a variance below its
+/// `floor` is raised to it; one above its `ceiling` is only marked, for
+/// [`scale_to_ceilings`] (out of line: it never runs in a nominal flight). Returns whether
+/// a floor was applied and the marks (bit `a`: state `a`). Only the diagonal is read.
+#[inline(always)]
+pub(crate) fn floor_and_mark_ceilings<const N: usize>(
+    covariance: &mut [[f64; N]; N],
+    floor: &[f64; N],
+    ceiling: &[f64; N],
+) -> (bool, u16) {
+    const { assert!(N <= 16, "one bit per state in a u16") };
+    let mut clamped = false;
+    let mut crossing = 0u16;
+    let bounds = floor.iter().zip(ceiling);
+    for (a, (row, (floor, ceiling))) in covariance.iter_mut().zip(bounds).enumerate() {
+        let Some(variance) = row.get_mut(a) else {
+            continue;
+        };
+        if *variance < *floor {
+            *variance = *floor;
+            clamped = true;
+        } else if *variance > *ceiling {
+            crossing |= 1 << a;
+        }
+    }
+    (clamped, crossing)
+}
+
+/// `P' = S P S` on a square covariance block for the states marked in `crossing` (bit `a`:
+/// state `a`, from [`floor_and_mark_ceilings`]), each with `s = √(ceiling/variance)` (1
+/// for a state not marked), which keeps every correlation coefficient and positive
+/// definiteness; each marked diagonal then exactly its ceiling. Returns the scales, for
+/// the block's covariances with other states.
+#[inline(always)]
+pub(crate) fn scale_to_ceilings<const N: usize>(
+    covariance: &mut [[f64; N]; N],
+    crossing: u16,
+    ceiling: &[f64; N],
+) -> [f64; N] {
+    let crossed = |a: usize| crossing & (1 << a) != 0;
+    let scales: [f64; N] = core::array::from_fn(|a| {
+        match (crossed(a), covariance.get(a).and_then(|row| row.get(a))) {
+            (true, Some(variance)) => {
+                crate::float::sqrt(ceiling.get(a).copied().unwrap_or(f64::NAN) / variance)
+            }
+            _ => 1.0,
+        }
+    });
+    for (a, (row, s_a)) in covariance.iter_mut().zip(scales).enumerate() {
+        for (value, s_b) in row.iter_mut().zip(scales) {
+            *value = *value * s_a * s_b;
+        }
+        if let (true, Some(variance), Some(ceiling)) = (crossed(a), row.get_mut(a), ceiling.get(a))
+        {
+            *variance = *ceiling;
+        }
+    }
+    scales
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

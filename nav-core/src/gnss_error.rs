@@ -571,20 +571,8 @@ impl GnssErrorStates {
     /// the IMU border's `cov(ε_GNSS, ε)`. Only the diagonal is read unless a ceiling is
     /// crossed (the scaling is out of line: it never runs in a nominal flight).
     pub(crate) fn protect_variances(&mut self, floor: &Row, ceiling: &Row) -> (bool, Option<Row>) {
-        let mut clamped = false;
-        let mut crossing = 0u8;
-        let bounds = floor.iter().zip(ceiling);
-        for (a, (row, (floor, ceiling))) in self.covariance.iter_mut().zip(bounds).enumerate() {
-            let Some(variance) = row.get_mut(a) else {
-                continue;
-            };
-            if *variance < *floor {
-                *variance = *floor;
-                clamped = true;
-            } else if *variance > *ceiling {
-                crossing |= 1 << a;
-            }
-        }
+        let (clamped, crossing) =
+            block::floor_and_mark_ceilings(&mut self.covariance, floor, ceiling);
         if crossing == 0 {
             return (clamped, None);
         }
@@ -596,29 +584,8 @@ impl GnssErrorStates {
     /// ceiling. Returns the scales.
     #[cold]
     #[inline(never)]
-    fn scale_to_ceilings(&mut self, crossing: u8, ceiling: &Row) -> Row {
-        let crossed = |a: usize| crossing & (1 << a) != 0;
-        let scales: Row = core::array::from_fn(|a| {
-            match (
-                crossed(a),
-                self.covariance.get(a).and_then(|row| row.get(a)),
-            ) {
-                (true, Some(variance)) => {
-                    crate::float::sqrt(ceiling.get(a).copied().unwrap_or(f64::NAN) / variance)
-                }
-                _ => 1.0,
-            }
-        });
-        for (a, (row, s_a)) in self.covariance.iter_mut().zip(scales).enumerate() {
-            for (value, s_b) in row.iter_mut().zip(scales) {
-                *value = *value * s_a * s_b;
-            }
-            if let (true, Some(variance), Some(ceiling)) =
-                (crossed(a), row.get_mut(a), ceiling.get(a))
-            {
-                *variance = *ceiling;
-            }
-        }
+    fn scale_to_ceilings(&mut self, crossing: u16, ceiling: &Row) -> Row {
+        let scales = block::scale_to_ceilings(&mut self.covariance, crossing, ceiling);
         let [s0, s1, s2] = scales;
         for row in self.rows_mut().iter_mut() {
             let [c0, c1, c2] = *row;

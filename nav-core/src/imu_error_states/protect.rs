@@ -67,26 +67,8 @@ impl ImuErrorStates {
             return false;
         }
         self.variances_changed = false;
-        let mut clamped = false;
-        let mut crossing = 0u16;
-        let bounds = floor.iter().zip(ceiling);
-        for (a, (row, (floor, ceiling))) in self
-            .half_mut()
-            .covariance
-            .iter_mut()
-            .zip(bounds)
-            .enumerate()
-        {
-            let Some(variance) = row.get_mut(a) else {
-                continue;
-            };
-            if *variance < *floor {
-                *variance = *floor;
-                clamped = true;
-            } else if *variance > *ceiling {
-                crossing |= 1 << a;
-            }
-        }
+        let (clamped, crossing) =
+            block::floor_and_mark_ceilings(&mut self.half_mut().covariance, floor, ceiling);
         if crossing != 0 {
             self.scale_to_ceilings(crossing, ceiling);
         }
@@ -99,29 +81,8 @@ impl ImuErrorStates {
     #[cold]
     #[inline(never)]
     fn scale_to_ceilings(&mut self, crossing: u16, ceiling: &[f64; IMU_ERROR_DIMENSION]) {
-        let crossed = |a: usize| crossing & (1 << a) != 0;
         let half = self.half_mut();
-        let scales: [f64; IMU_ERROR_DIMENSION] = core::array::from_fn(|a| {
-            match (
-                crossed(a),
-                half.covariance.get(a).and_then(|row| row.get(a)),
-            ) {
-                (true, Some(variance)) => {
-                    crate::float::sqrt(ceiling.get(a).copied().unwrap_or(f64::NAN) / variance)
-                }
-                _ => 1.0,
-            }
-        });
-        for (a, (row, s_a)) in half.covariance.iter_mut().zip(scales).enumerate() {
-            for (value, s_b) in row.iter_mut().zip(scales) {
-                *value = *value * s_a * s_b;
-            }
-            if let (true, Some(variance), Some(ceiling)) =
-                (crossed(a), row.get_mut(a), ceiling.get(a))
-            {
-                *variance = *ceiling;
-            }
-        }
+        let scales = block::scale_to_ceilings(&mut half.covariance, crossing, ceiling);
         for row in &mut half.gnss_cross {
             for (value, s) in row.iter_mut().zip(scales) {
                 *value *= s;
