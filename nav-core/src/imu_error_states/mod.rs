@@ -171,14 +171,7 @@ impl ImuErrorModel {
     /// [`crate::imu_error::ImuErrorBlock`] order: the square roots of
     /// [`Self::prior_covariance`]'s diagonal.
     pub fn state_sigmas(&self) -> [f64; IMU_ERROR_DIMENSION] {
-        let mut prior = [[0.0; IMU_ERROR_DIMENSION]; IMU_ERROR_DIMENSION];
-        self.write_prior(&mut prior);
-        core::array::from_fn(|k| {
-            prior
-                .get(k)
-                .and_then(|row| row.get(k))
-                .map_or(0.0, |variance| crate::float::sqrt(*variance))
-        })
+        self.prior_variances().map(crate::float::sqrt)
     }
 }
 

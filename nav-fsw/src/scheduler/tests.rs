@@ -556,6 +556,31 @@ fn a_run_of_rejections_with_inconsistent_innovations_is_blamed_on_the_inertial_s
 /// the corrections at every reset (the filter's `ε̂` is zero after each), the fed-back
 /// corrections move off zero through the estimate's correlation with the attitude, and the
 /// border's variances shrink from the prior and stay positive.
+/// One frame of a constant turn, with a star measurement every tenth frame that sees the
+/// attitude turned by 200 µrad about z (an attitude error the filter must correct).
+fn run_frame_with_turned_star(computer: &mut NavigationComputer, sequence: u32) {
+    let mut ports = crate::replay::FramePorts::default();
+    ports.imu.0 = Some(crate::ports::ImuSample {
+        sequence,
+        time_s: 600.0 + 0.002 * f64::from(sequence),
+        delta_angle_rad: [2e-4, 1e-4, 4e-3],
+        delta_velocity_mps: [0.06, 0.002, -0.001],
+    });
+    if sequence % 10 == 0 {
+        let q = attitude::product(
+            &computer.navigation().attitude,
+            &attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 2e-4)),
+        );
+        let measurement = crate::ports::StarMeasurement {
+            time_tag_s: computer.navigation().time_s,
+            sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
+            head: 0,
+        };
+        ports.star.0.push_back(measurement).unwrap();
+    }
+    ports.run(computer);
+}
+
 #[test]
 fn the_systematic_imu_error_states_are_fed_back_at_every_reset() {
     let mut config = *computer().config();
@@ -567,27 +592,7 @@ fn the_systematic_imu_error_states_are_fed_back_at_every_reset() {
     let mut computer = NavigationComputer::new(config, initial_state()).unwrap();
     let prior = computer.filter().imu_error().covariance();
     for sequence in 1..=400_u32 {
-        let mut ports = crate::replay::FramePorts::default();
-        ports.imu.0 = Some(crate::ports::ImuSample {
-            sequence,
-            time_s: 600.0 + 0.002 * f64::from(sequence),
-            delta_angle_rad: [2e-4, 1e-4, 4e-3],
-            delta_velocity_mps: [0.06, 0.002, -0.001],
-        });
-        if sequence % 10 == 0 {
-            // The tracker sees the attitude turned by 200 µrad about z.
-            let q = attitude::product(
-                &computer.navigation().attitude,
-                &attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 2e-4)),
-            );
-            let measurement = crate::ports::StarMeasurement {
-                time_tag_s: computer.navigation().time_s,
-                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
-                head: 0,
-            };
-            ports.star.0.push_back(measurement).unwrap();
-        }
-        ports.run(&mut computer);
+        run_frame_with_turned_star(&mut computer, sequence);
         assert_eq!(
             computer.filter().imu_error().estimate(),
             nalgebra::SVector::<f64, 12>::zeros(),
@@ -721,26 +726,7 @@ fn a_frozen_optional_block_is_not_moved_and_a_block_not_flown_is_refused() {
     let prior = computer.filter().imu_error().covariance();
     let attitude_prior = variance(&computer, ATTITUDE);
     for sequence in 1..=200_u32 {
-        let mut ports = crate::replay::FramePorts::default();
-        ports.imu.0 = Some(crate::ports::ImuSample {
-            sequence,
-            time_s: 600.0 + 0.002 * f64::from(sequence),
-            delta_angle_rad: [2e-4, 1e-4, 4e-3],
-            delta_velocity_mps: [0.06, 0.002, -0.001],
-        });
-        if sequence % 10 == 0 {
-            let q = attitude::product(
-                &computer.navigation().attitude,
-                &attitude::exp_rotation_vector(&Vector3::new(0.0, 0.0, 2e-4)),
-            );
-            let measurement = crate::ports::StarMeasurement {
-                time_tag_s: computer.navigation().time_s,
-                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
-                head: 0,
-            };
-            ports.star.0.push_back(measurement).unwrap();
-        }
-        ports.run(&mut computer);
+        run_frame_with_turned_star(&mut computer, sequence);
     }
     // The star updates were fused.
     assert!(variance(&computer, ATTITUDE) < attitude_prior);
