@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# docs/monte-carlo.md's Slurm recipe, run for real: a single-node Slurm (munge, slurmctld and
+# docs/guide/monte-carlo.md's Slurm recipe, run for real: a single-node Slurm (munge, slurmctld and
 # slurmd from Debian's packages, started here and stopped on exit) runs the recipe's job array
 # of campaign shards and its dependent merge; the merged report must equal the report of the
 # same campaign flown in one process. The recipe is taken from the docs, with the campaign
@@ -105,7 +105,7 @@ recipe() {
   awk -v block="$1" '/^### Slurm job array/ {found = 1; next}
     found && /^```sh/ {count++; if (count == block) {inside = 1}; next}
     inside && /^```/ {exit}
-    inside {print}' "$root/docs/monte-carlo.md"
+    inside {print}' "$root/docs/guide/monte-carlo.md"
 }
 small() {
   sed -e 's/--array=0-15 /--array=0-2 /' -e 's|/16"|/3"|' -e 's/--cpus-per-task=4/--cpus-per-task=1/' \

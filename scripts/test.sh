@@ -76,7 +76,7 @@ cargo test --workspace --test fault_campaign -- --include-ignored --nocapture
 step "the host commands' measured tables written again and compared with docs/results/"
 bash scripts/results.sh check
 
-step "the Slurm recipe of docs/monte-carlo.md on a single-node Slurm: sharded campaign merged = one-process campaign"
+step "the Slurm recipe of docs/guide/monte-carlo.md on a single-node Slurm: sharded campaign merged = one-process campaign"
 bash scripts/slurm-check.sh
 
 step "fuzzing the firmware's input decoders (cargo-fuzz on stable, --sanitizer none, 30 s)"

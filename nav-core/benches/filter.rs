@@ -7,7 +7,7 @@
 //! (`BatchSize::PerIteration`), so the filter is in the cache as in the flight loop, which
 //! touches it every frame; a batch of copies (`SmallInput`) spans megabytes and times the
 //! reads from memory instead. Each figure includes one clock read, whose cost
-//! docs/performance.md gives (an empty operation measured the same way).
+//! docs/guide/performance.md gives (an empty operation measured the same way).
 
 use criterion::{criterion_main, BatchSize, Criterion};
 use nav_core::arithmetic::FilterArithmetic;

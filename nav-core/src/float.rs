@@ -2,7 +2,7 @@
 //! gives the same bits, and the cheapest one the build allows is used.
 //!
 //! `libm::sqrt` (the default) is correctly rounded in software, dozens of instructions on the
-//! Cortex-M7, and a star-update frame takes several square roots (docs/performance.md). With
+//! Cortex-M7, and a star-update frame takes several square roots (docs/guide/performance.md). With
 //! the `hardware-sqrt` feature on 32-bit ARM the FPU's `VSQRT.F64` computes it in one
 //! instruction. IEEE 754
 //! requires the square root to be correctly rounded, so both give the same bits for every

@@ -16,7 +16,7 @@
 //! angle, ITRF ← GCRF is `W R₃(E(t)) Q(t)` (IERS Conventions 2010, eq. 5.1); with the
 //! precession–nutation `Q` constant over a flight, ITRF(t₀) ← ITRF(t) is
 //! `W R₃(E(t₀) − E(t)) Wᵀ`, the active rotation by `E(t) − E(t₀) = ω_e (t − t₀)` about
-//! `k = W ẑ` (`docs/frames-and-time.md` bounds what these approximations cost).
+//! `k = W ẑ` (`docs/guide/frames-and-time.md` bounds what these approximations cost).
 //! Geodetic-to-ECEF follows NIMA TR8350.2 (WGS-84), eq. 4-14; the east/north/up basis is the
 //! standard one (e.g. Groves, *Principles of GNSS, Inertial, and Multisensor Integrated
 //! Navigation Systems*, 2nd ed., eq. 2.99).

@@ -309,7 +309,7 @@ impl GnssErrorStates {
     /// steps: the new `C = φ (F C + E X)` (`X` the optional `bias_inputs` of
     /// `StructuredModel::propagate_rows`: the IMU border's `M Bᵀ`), `P_εε` and `ε̂` into
     /// the inactive buffer and the pending values, written in place (nothing returned by
-    /// value: every copy is a `memcpy` on the target, docs/performance.md); `false` if not
+    /// value: every copy is a `memcpy` on the target, docs/guide/performance.md); `false` if not
     /// finite, nothing the filter reads changed. [`GnssErrorStates::commit_propagation`]
     /// makes them current.
     pub(crate) fn prepare_propagation(

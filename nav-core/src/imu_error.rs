@@ -11,7 +11,7 @@
 //! `f = f_m − diag(f_m) λa − A_a f_m − ba − ηa`, with
 //! * `L_g` the gyro non-orthogonality, strictly lower triangular, three terms in the order
 //!   [`GYRO_NON_ORTHOGONALITY_TERMS`] `(a_yx, a_zx, a_zy)`; `a_ij > 0`: axis `i` reads
-//!   `+a_ij` of the rate about body axis `j` (the simulator's sign, `docs/model.md`);
+//!   `+a_ij` of the rate about body axis `j` (the simulator's sign, `docs/guide/model.md`);
 //! * `A_a` the accelerometer misalignment, zero diagonal, six terms
 //!   [`ACCEL_MISALIGNMENT_TERMS`] `(a_xy, a_xz, a_yx, a_yz, a_zx, a_zy)`, same sign;
 //! * `g` the gyro g-sensitivity per axis (rad/s per m/s²).
@@ -37,7 +37,7 @@
 //! force (`λa,y`, `λa,z`, `g_y`, `g_z`, `a_xy`, `a_xz`, `a_yz`, `a_zy`), which then do not act
 //! on the navigation; the accelerometer-defined gauge (accelerometer lower triangular, six
 //! gyro terms) would leave the frame's rotations free, hiding attitude, installation and
-//! every misalignment term (`docs/observability.md`, "The gauge for the flight").
+//! every misalignment term (`docs/guide/observability.md`, "The gauge for the flight").
 //!
 //! ## Error-model columns ([`system_columns`])
 //! With `δ = truth − estimate` and the correction of [`correct_rates`],
@@ -484,7 +484,7 @@ pub fn correct_increment(
 }
 
 /// A truth description of the IMU and star sensor in the simulator's convention
-/// (`docs/model.md`): `Δθ_m = (I − Λg)⁻¹ ((I + A_g) Δθ + G Δv + bg T + …)`,
+/// (`docs/guide/model.md`): `Δθ_m = (I − Λg)⁻¹ ((I + A_g) Δθ + G Δv + bg T + …)`,
 /// `Δv_m = (I − Λa)⁻¹ ((I + A_a) Δv + ba T + …)`, `q_is = q_ib ⊗ q_bs ⊗ q_ψ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImuTruth {

@@ -3,7 +3,7 @@
 //! Allocation-free, panic-free `no_std` f64 navigation mathematics for an INS/CNS/GNSS
 //! integrated navigation computer, after Zong et al., "On-line errors calibration method for
 //! INS/CNS/GNSS integrated navigation", J. Harbin Inst. Tech. 49(4), 2017 (the "paper"; the
-//! model as implemented is described in `docs/model.md`).
+//! model as implemented is described in `docs/guide/model.md`).
 //!
 //! ## Conventions (stated once, used everywhere)
 //!

@@ -1,5 +1,5 @@
 //! Measurement residuals and their Jacobians (paper Section 1.3.2, re-derived for the
-//! body-frame attitude error; see `docs/model.md` on why the paper's `−C` block
+//! body-frame attitude error; see `docs/guide/model.md` on why the paper's `−C` block
 //! becomes a constant here). Each sensor gives a 3-row block so it can update alone.
 //!
 //! ## Star sensor
@@ -28,7 +28,7 @@
 //! `q̂_ib`, and the installation block is the constant `I` (attitude block the constant
 //! `C_sb`). Attitude and installation error are then separated by the dynamics, not by `H`:
 //! rotation makes `−[ω̂×]ϑ` act on `ϑ` only, acceleration couples `ϑ` into `δv` via
-//! `−2Ĉ[f̂×]` (see `docs/model.md`). The tests prove `H` against the nonlinear
+//! `−2Ĉ[f̂×]` (see `docs/guide/model.md`). The tests prove `H` against the nonlinear
 //! residual, which the paper's `−C` would fail.
 //!
 //! ## GNSS
@@ -43,7 +43,7 @@
 //! `p_a`. The fix's own position would carry its correlated error `ε` (8 m for a 10 m
 //! receiver) into the velocity as `Ω × ε`, 6e-4 m/s correlated over minutes, which the
 //! white Doppler noise model does not cover; over a long flight it makes the accelerometer
-//! states overconfident (`docs/upper-stage.md`). The term takes the estimated antenna
+//! states overconfident (`docs/guide/upper-stage.md`). The term takes the estimated antenna
 //! position `p̂_a = p̂ + Ĉ ℓ` instead, whose error `p_a − p̂_a = δp − 2 Ĉ [ℓ×] ϑ` is in the
 //! state. With `u = ω̂ × ℓ`, residual
 //! `z = C R_k(θ) v_e + Ω × (p̂_a − c) − v̂ − Ĉ u

@@ -10,7 +10,7 @@
 //! (Minkowski: the 1σ of a sum is at most the sum of the 1σ).
 //!
 //! **The second-order attitude term.** The exact kinematics of the body-frame attitude error
-//! (`docs/model.md`, nav-core [`crate::error_model`] with the second-order terms kept) are
+//! (`docs/guide/model.md`, nav-core [`crate::error_model`] with the second-order terms kept) are
 //! `ϑ̇ = −[ω̂×]ϑ + ½ s δω + ½ ϑ × δω`, `s = √(1 − |ϑ|²)`; the filter's linear model (paper
 //! eq. 7) keeps `−[ω̂×]ϑ + ½ δω`. In closed loop both `ϑ` and `δω` are reset to their
 //! posterior size at every star-sensor update, and `½ ϑ × δω` is negligible. While the star

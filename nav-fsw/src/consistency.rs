@@ -16,7 +16,7 @@
 //! The default `N` = 256 (25.6 s of a 10 Hz aid) and `α` = 1e-9 give `ν` = 1533 and
 //! `r` = 3.70 ([`DEFAULT_MEAN_NIS_BOUND`]; nav-sim's tests check it against statrs). A flight
 //! of 30 000 measurements per aid holds about 120 independent averages, so the chance of a
-//! false alarm in a consistent flight stays far below one in a thousand; docs/imu-errors.md
+//! false alarm in a consistent flight stays far below one in a thousand; docs/guide/imu-errors.md
 //! measures it in Monte Carlo, where the filter's NIS is slightly heavier-tailed than χ².
 //!
 //! The cost is one division and three additions per tested measurement, no window storage.

@@ -1,6 +1,6 @@
 //! Sensor frames and time scales at the ports: the star tracker's attitude relative to GCRF
 //! and the GNSS receiver's GPS-time tags, turned into the launch-inertial frame and navigation
-//! time with constants computed once on the ground (`docs/frames-and-time.md`).
+//! time with constants computed once on the ground (`docs/guide/frames-and-time.md`).
 //!
 //! * Star tracker: `q_gs`, sensor frame → GCRF. With the ground constant `q_ig` (GCRF →
 //!   launch-inertial at the launch epoch; the precession–nutation of date, the Earth rotation

@@ -2,7 +2,7 @@
 //! [`embedded_io`] reader, e.g. a HAL's UART) into the scheduler's [`ImuPort`],
 //! [`StarSensorPort`] and [`GnssPort`].
 //!
-//! The wire format is the replay log's fixed 80-byte record (`docs/replay-format.md`,
+//! The wire format is the replay log's fixed 80-byte record (`docs/guide/replay-format.md`,
 //! [`crate::log_record`]), so a sensor front-end (or a recorder) that emits those records works
 //! unchanged on hardware, in the host simulator and in the QEMU firmware. Reading is
 //! non-blocking and bounded: a poll reads only the bytes the device reports ready

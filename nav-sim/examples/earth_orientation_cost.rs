@@ -3,7 +3,7 @@
 //! configured from a scenario with UT1 − UTC or polar motion zeroed (and, to show the scale,
 //! with UT1 − UTC wrong by 0.5 s). Prints the final attitude and position errors, the NEES of
 //! the calibration states and the gate rejections; checks that the day's values fly.
-//! A measurement for docs/frames-and-time.md, about 10 s a flight in release:
+//! A measurement for docs/guide/frames-and-time.md, about 10 s a flight in release:
 //! `cargo run --release -p nav-sim --example earth_orientation_cost`.
 
 use nalgebra::Vector3;

@@ -2,7 +2,7 @@
 //! `PropagateThenFuse` (a frame propagates the covariance, then fuses) and
 //! `FuseOrPropagate` (a frame does one of the two, the default). Prints each run's
 //! calibration NEES, the mean NIS of each sensor and the final errors in units of their
-//! 1σ (docs/flight-software.md).
+//! 1σ (docs/guide/flight-software.md).
 //!
 //! `cargo run --release -p nav-sim --example frame_load -- nav-sim/scenarios/default.toml`
 

@@ -1,4 +1,4 @@
-//! Studies of the realistic sensor errors whose output docs/realistic-errors.md quotes:
+//! Studies of the realistic sensor errors whose output docs/guide/realistic-errors.md quotes:
 //!
 //! * `mis-specified`: the receiver's correlated error given to the filter three times too
 //!   small or too large, in σ or τ (`NAV_MC_RUNS=20 cargo run --release -p nav-sim --example
@@ -37,7 +37,7 @@ fn main() -> ExitCode {
 }
 
 /// The receiver's σ or τ given to the filter wrong by a factor of 3 either way (scenario (a)
-/// flown with a mis-specified filter): printed for docs/realistic-errors.md.
+/// flown with a mis-specified filter): printed for docs/guide/realistic-errors.md.
 fn a_mis_specified_correlated_error_model() {
     let truth = scenario("gnss_correlated");
     let cases: [(&str, f64, f64); 4] = [
@@ -90,7 +90,7 @@ fn second_order_campaign(
 
 /// Case (c) flown with the attitude kinematics' second-order term neglected (the paper's
 /// linear model) and bounded (`covariance.second_order_attitude`, the default): printed for
-/// docs/realistic-errors.md. Two threads, one per treatment.
+/// docs/guide/realistic-errors.md. Two threads, one per treatment.
 fn the_second_order_attitude_term_with_a_blind_star_tracker() {
     let flown = scenario("star_tracker_rate_limited");
     let seeds = seeds(&flown);

@@ -2,7 +2,7 @@
 //!
 //! Host-side truth and sensor simulation, flight harness, campaigns and studies for the
 //! INS/CNS/GNSS navigation flight software (Zong et al., J. Harbin Inst. Tech. 49(4), 2017;
-//! `docs/model.md`).
+//! `docs/guide/model.md`).
 //!
 //! ## Layers
 //!

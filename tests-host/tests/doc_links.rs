@@ -172,7 +172,7 @@ fn named_pages(text: &str) -> Vec<String> {
 }
 
 /// Code, scripts and scenarios name documentation pages in their comments and messages
-/// (`see docs/model.md`); a moved or renamed page must take them along.
+/// (`see docs/guide/model.md`); a moved or renamed page must take them along.
 #[test]
 fn every_docs_page_the_code_and_scenarios_name_exists() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -217,8 +217,10 @@ fn every_docs_page_the_code_and_scenarios_name_exists() {
 #[test]
 fn page_names_are_found_in_text() {
     assert_eq!(
-        named_pages("see docs/model.md. and (docs/results/a.md), not mydocs/x.md or docs/x.rs"),
-        ["docs/model.md", "docs/results/a.md"]
+        named_pages(
+            "see docs/guide/model.md. and (docs/results/a.md), not mydocs/x.md or docs/x.rs"
+        ),
+        ["docs/guide/model.md", "docs/results/a.md"]
     );
 }
 
@@ -394,7 +396,7 @@ fn comments(source: &str) -> Vec<(usize, String)> {
 
 /// The flight crates' comments give reasons, not measurements: a figure of the software's
 /// cost (instructions, cycles, bytes, an execution time) goes stale with the next change of
-/// the code or the compiler, so it lives in docs/performance.md or docs/reliability.md next
+/// the code or the compiler, so it lives in docs/guide/performance.md or docs/guide/reliability.md next
 /// to the command that measures it again.
 #[test]
 fn the_flight_code_comments_state_no_measured_cost() {
@@ -425,7 +427,7 @@ fn the_flight_code_comments_state_no_measured_cost() {
     }
     assert!(
         figures.is_empty(),
-        "measured figures in comments (move them to docs/performance.md with their command):\n{}",
+        "measured figures in comments (move them to docs/guide/performance.md with their command):\n{}",
         figures.join("\n")
     );
 }

@@ -269,7 +269,7 @@ fn check_replay_results(name: &str, report: &TargetReplayReport) {
 /// The scenario with every optional state block on.
 const ALL_BLOCKS_SCENARIO: &str = "nav-sim/scenarios/upper_stage_imu_errors_estimated.toml";
 /// Its worst frame may take this many instructions: the budget with every optional block on
-/// (the dearest frame is a late GNSS velocity update with both borders, docs/performance.md).
+/// (the dearest frame is a late GNSS velocity update with both borders, docs/guide/performance.md).
 const ALL_BLOCKS_WORST_FRAME_BOUND_INSTRUCTIONS: u64 = 30_000;
 
 /// The default flight with a tracker that leaves velocity aberration in, corrected by the
@@ -294,10 +294,10 @@ const REALISTIC_SCENARIO: &str = "nav-sim/scenarios/realistic_sensors.toml";
 /// Worst frame the flight path may take on the Cortex-M7 (instructions) with the
 /// correlated-GNSS-error states and the velocity update (the dearest frame is a GNSS velocity
 /// update referred by one frame, in a frame that fuses and does not propagate; measured in
-/// docs/performance.md).
+/// docs/guide/performance.md).
 const WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 23_000;
 /// Worst frame of the paper's flight (white GNSS errors, no error states) on the Cortex-M7
-/// (instructions; measured in docs/performance.md).
+/// (instructions; measured in docs/guide/performance.md).
 const PAPER_FLIGHT_WORST_FRAME_BUDGET_INSTRUCTIONS: u64 = 20_000;
 
 /// A recorded log with what real logs have: IMU samples missing (one, then five in a row), a

@@ -41,7 +41,7 @@
 //! [`FieldModel::frames_per_evaluation`] frames or that period, and held in between:
 //! the value used at `t` was evaluated where the vehicle was up to two refresh periods
 //! earlier. What that hold costs is part of the omitted field the allowance covers
-//! (docs/gravity.md).
+//! (docs/guide/gravity.md).
 //!
 //! **Omitted field.** The degree-`n` part of the potential has, over the sphere of radius
 //! `r`, the mean square gradient `(GM/r²)² (a/r)^(2n) (n + 1)(2n + 1) Σ_m (C̄² + S̄²)` (radial

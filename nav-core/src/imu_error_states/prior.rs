@@ -19,7 +19,7 @@
 //! (`2σ_g²`, `σ_a² + σ_g²`), and the three states that share a gyro term are correlated by
 //! `±σ_g²`. A diagonal prior with the same variances would miss the shared term: along
 //! `v_ij` it allows `2σ_g²` where the truth spreads `4σ_g²` (`σ_a = σ_g`), an optimistic
-//! prior that the burns never fully wash out (`docs/imu-errors.md`). The rotation `S` also
+//! prior that the burns never fully wash out (`docs/guide/imu-errors.md`). The rotation `S` also
 //! enters the star installation error, whose prior (milliradians) dwarfs it: that
 //! correlation is left out. `σ_s` is the g-sensitivity's 1σ per axis, independent.
 

@@ -1,5 +1,5 @@
 //! Observability analysis of the 24-state error model as a piece-wise constant system (PWCS),
-//! paper Section 2 (see `docs/model.md`, "Observability", and `docs/observability.md`).
+//! paper Section 2 (see `docs/guide/model.md`, "Observability", and `docs/guide/observability.md`).
 //!
 //! ## Method
 //! Each motion segment `j` is a constant system `(A_j, H)` (or `(F_j, H)` in discrete form).

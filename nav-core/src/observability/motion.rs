@@ -158,7 +158,7 @@ impl AxisObservability {
 /// manager at a phase change (estimate the blocks that are observable, freeze the others).
 ///
 /// The question is asked in the paper's PWCS setting (Section 2; see the module docs and
-/// `docs/observability.md`): the stripped observability matrix of two continuous segments,
+/// `docs/guide/observability.md`): the stripped observability matrix of two continuous segments,
 /// an ideal coast (ω = 0, f = 0) at the same attitude and then `point`, scaled with
 /// [`Scaling::typical`]. A single constant segment on its own can never separate a scale
 /// factor from the bias on the same axis (they enter as `b + diag(ω) λ` with constant `ω`), so

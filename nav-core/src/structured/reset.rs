@@ -37,7 +37,7 @@ fn reset_diagonal<const D: usize>(p: &mut CovarianceMatrix, jacobian: &Block) {
 /// `J_ψψ = I − [ψ̂×]`: only the attitude and installation block rows and columns change;
 /// each new block depends only on the same old block, so they are overwritten one by one.
 /// Inlined at its two call sites (the reset and the star heads' hand-over): out of line, its
-/// general form costs every update frame's reset (docs/performance.md).
+/// general form costs every update frame's reset (docs/guide/performance.md).
 #[inline(always)]
 pub(crate) fn reset_covariance(
     p: &mut CovarianceMatrix,

@@ -50,7 +50,7 @@ pub(super) mod ranges {
 /// filter's process noise where the omitted field is `omitted_field_sigma_mps2` per axis, and
 /// scaled with the omitted field's power at the vehicle's radius below that: the omitted
 /// field's spectral density at zero frequency, scaled to that σ and averaged over ground
-/// tracks, is what the constant calibration states see (docs/gravity.md, "The allowance with
+/// tracks, is what the constant calibration states see (docs/guide/gravity.md, "The allowance with
 /// the altitude"; `nav-sim gravity-omission`). Each evaluation compares the RMS magnitude of
 /// the omitted field at the vehicle's radius with `√3 σ`; above it (a model too coarse for
 /// its allowance, a flight lower than designed for, or no allowance at all),
@@ -89,7 +89,7 @@ impl GravityConfig {
     /// magnitude `√3 σ`), and its density scales with the field's power,
     /// `q_r = q · min(1, (rms / √3 σ)²)`: the omitted degrees' field falls with the radius as
     /// `(a/r)^(n+2)`, and a flight that climbs from its parking orbit leaves the field behind
-    /// (docs/gravity.md, "The allowance with the altitude"). Above `√3 σ` the allowance stays
+    /// (docs/guide/gravity.md, "The allowance with the altitude"). Above `√3 σ` the allowance stays
     /// `q`; an RMS that is not a number counts as above. In launch-inertial axes the
     /// accelerometer's white noise enters the velocity as `C (σ_a² I) Cᵀ = σ_a² I`, so an
     /// isotropic white velocity noise of density `q_r` is the same as an accelerometer

@@ -122,7 +122,7 @@ pub struct StarSensorConfig {
     /// The tracker's slowly varying error (thermo-elastic, focal plane): stationary 1σ per
     /// sensor axis `[x, y, z]` of a first-order Gauss–Markov rotation (rad); all 0 (the
     /// paper's model) = a constant installation error. The installation states carry it as
-    /// a random walk (`scheduler::covariance`, docs/sensor-errors.md).
+    /// a random walk (`scheduler::covariance`, docs/guide/sensor-errors.md).
     pub slow_error_sigma_rad: [f64; 3],
     /// Its correlation time `τ` (s), finite and > 0 when any `slow_error_sigma_rad` is.
     pub slow_error_correlation_time_s: f64,
@@ -138,7 +138,7 @@ pub struct StarSensorConfig {
     /// A second tracker head on the same port (`StarMeasurement::head` 1); `None` (the
     /// default) = one head. The filter fuses one head at a time and carries its installation
     /// error; the other head's measurements estimate the heads' relative alignment
-    /// (`scheduler::heads`, docs/sensor-errors.md).
+    /// (`scheduler::heads`, docs/guide/sensor-errors.md).
     pub second_head: Option<StarHeadConfig>,
 }
 
@@ -204,7 +204,7 @@ impl StarSensorConfig {
     /// density of the white noise that drives a Gauss–Markov rotation of stationary 1σ `σ`
     /// (`ε̇ = −ε/τ + w`, stationary variance `qτ/2`); the walk with it bounds the
     /// Gauss–Markov error at every set of times when the prior also holds `2σ²`
-    /// (docs/model.md, "Bias instability in the filter", the same argument). Zero when off.
+    /// (docs/guide/model.md, "Bias instability in the filter", the same argument). Zero when off.
     ///
     /// # Examples
     /// ```

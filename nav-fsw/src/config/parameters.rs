@@ -6,7 +6,7 @@
 //! declaration here (and a replay word if a scenario sets it).
 //!
 //! Ranges are physical (what a sensor, a vehicle or an orbit can be) or follow the frame
-//! budget (docs/performance.md); every 1σ range keeps its square a normal `f64`.
+//! budget (docs/guide/performance.md); every 1σ range keeps its square a normal `f64`.
 
 use core::f64::consts::{FRAC_PI_2, PI};
 
@@ -55,7 +55,7 @@ flight_parameters! {
         default: Some(nav_core::gravity::harmonics::DEFAULT_TERMS_PER_FRAME), word: Some(6),
         range: Range::new(1.0, 8.0),
         why: "the frame budget: each work item adds up to one coefficient's work to a frame \
-              that fuses nothing (docs/gravity.md, its cost table); twice the default keeps \
+              that fuses nothing (docs/guide/gravity.md, its cost table); twice the default keeps \
               that frame inside 30,000 instructions with every state block, 255 would not",
         get: |c| c.gravity.field.terms_per_frame, set: |c, v| c.gravity.field.terms_per_frame = v,
     }

@@ -1,4 +1,4 @@
-//! The binary replay log: the compact form of the sensor log (`docs/replay-format.md`) that the
+//! The binary replay log: the compact form of the sensor log (`docs/guide/replay-format.md`) that the
 //! QEMU firmware streams from the host through semihosting. Fixed-size little-endian records,
 //! so a reader needs one 80-byte buffer and no allocator; decoding checks everything and never
 //! panics, whatever the bytes.

@@ -12,7 +12,7 @@
 //! disagrees with a healthy one is not trusted to carry it). The pairs' residuals feed their own consistency test
 //! (`star_heads_inconsistent`): a relative alignment that moves shows a slowly varying error
 //! or an uncorrected aberration that a single head hides in the attitude.
-//! docs/sensor-errors.md, "Two heads".
+//! docs/guide/sensor-errors.md, "Two heads".
 
 use super::*;
 use nav_core::star_heads::RelativeAlignment;

@@ -31,7 +31,7 @@
 //! closed loop the correction, estimated at the covariance's time, is applied to the
 //! navigation solution of the frame, later by the frames not yet propagated (one in a
 //! fusion frame, by default): the error state's change over them, `A Δ x̂`, is left out
-//! (0.35 % of the correction per frame at 100 °/s; docs/flight-software.md).
+//! (0.35 % of the correction per frame at 100 °/s; docs/guide/flight-software.md).
 //!
 //! `FilterArithmetic::DenseReference` runs the same frame with nav-core's dense 24×24
 //! reference arithmetic (equal within round-off), for cost comparisons only.
@@ -183,7 +183,7 @@ impl core::error::Error for CommandError {}
 // every frame reads first, the large arrays (model, filter, history) after them, and last the
 // configuration, whose values each frame reads a few of, and the heads, so that most members
 // lie within the reach of a load's offset from the computer's address on the target (the
-// compiler's own order puts some behind the large arrays; docs/performance.md).
+// compiler's own order puts some behind the large arrays; docs/guide/performance.md).
 #[derive(Debug, Clone)]
 #[repr(C)]
 pub struct NavigationComputer {
@@ -409,7 +409,7 @@ impl NavigationComputer {
     /// due when the propagation has waited a frame waits instead), or else the propagation
     /// if it is due. Not inlined: inlined into the frame loop, its two paths' locals would
     /// both be reserved in the frame loop's stack frame on the Cortex-M7
-    /// (docs/performance.md).
+    /// (docs/guide/performance.md).
     #[inline(never)]
     fn fuse_or_propagate(&mut self) -> FrameFusion {
         let interval = self.config.covariance.propagation_interval_frames;

@@ -8,7 +8,7 @@ use crate::scenario::Scenario;
 /// The most runs one campaign may have: each run's record (final covariance, consistency over
 /// time) takes about 8 KB, so 100,000 runs hold under 1 GB in the process that reports them,
 /// and take about two weeks of one core's time (shard them across a cluster,
-/// docs/monte-carlo.md).
+/// docs/guide/monte-carlo.md).
 pub const MAX_RUNS: u64 = 100_000;
 
 /// The seed of run `run`: the scenario's seed plus the run index (wrapping).

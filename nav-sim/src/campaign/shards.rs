@@ -1,7 +1,7 @@
 //! Monte Carlo campaigns split into shards and merged again: `nav-sim monte-carlo --shard K/M`
 //! flies its share of the runs and writes one JSON line per run, `nav-sim merge` reads the
 //! shard files back and prints the report of the whole campaign, identical to the report of
-//! the same campaign flown in one process (`docs/monte-carlo.md`).
+//! the same campaign flown in one process (`docs/guide/monte-carlo.md`).
 //!
 //! Run `k` of a campaign has the seed `scenario seed + k` (wrapping), and its sensor-error
 //! truth and sensor noise come from that seed alone

@@ -1,4 +1,4 @@
-//! `nav-sim replay`: a recorded sensor log (CSV, `docs/replay-format.md`) fed through the
+//! `nav-sim replay`: a recorded sensor log (CSV, `docs/guide/replay-format.md`) fed through the
 //! flight software frame by frame by nav-fsw's `FrameAssembler` (the one the QEMU replay
 //! firmware uses), which places every record by its own time: a missing IMU sample is a frame
 //! without one, never a shift of navigation time. The output CSV has one row per second of

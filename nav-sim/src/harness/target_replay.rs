@@ -2,7 +2,7 @@
 //! the very same replay, so the two can be compared bit for bit.
 //!
 //! Input file (`replay-in.bin`): the scenario's [`ReplaySetup`] as [`SETUP_WORDS`]
-//! little-endian u64 words, then the binary sensor log (`docs/replay-format.md`).
+//! little-endian u64 words, then the binary sensor log (`docs/guide/replay-format.md`).
 //! Output file (`replay-out.bin`): per frame, nav-fsw's [`OUTPUT_WORDS`] output words and one
 //! word of frame cost (instructions on the target; 0 on the host).
 

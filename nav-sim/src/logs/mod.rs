@@ -1,5 +1,5 @@
 //! The sensor-log formats: the replay log of the sensor-event stream, as CSV and binary
-//! ([`sensor_log`], `docs/replay-format.md`), and the filter of the star-tracker heads that
+//! ([`sensor_log`], `docs/guide/replay-format.md`), and the filter of the star-tracker heads that
 //! reach the flight software and its logs ([`star_heads`]).
 
 pub mod sensor_log;

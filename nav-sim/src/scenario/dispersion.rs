@@ -1,4 +1,4 @@
-//! The scenario's optional `[dispersion]` table (`docs/monte-carlo.md`, "Dispersions"): which
+//! The scenario's optional `[dispersion]` table (`docs/guide/monte-carlo.md`, "Dispersions"): which
 //! truth-side quantities a Monte Carlo run draws afresh, and from which distribution. The draws
 //! themselves are the setup layer's ([`crate::setup::dispersion`]).
 

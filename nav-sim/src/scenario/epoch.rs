@@ -1,5 +1,5 @@
 //! The launch epoch on the ground: time scales and Earth orientation, computed once into the
-//! flight configuration (`docs/frames-and-time.md`).
+//! flight configuration (`docs/guide/frames-and-time.md`).
 //!
 //! * Time scales with leap seconds: [`hifitime`] (UTC → TAI, TT and GPS time; its leap-second
 //!   table is IERS Bulletin C's).

@@ -1,4 +1,4 @@
-//! The scenario's optional `[gravity]` table: the truth's gravity field (`docs/model.md`,
+//! The scenario's optional `[gravity]` table: the truth's gravity field (`docs/guide/model.md`,
 //! "The truth's gravity field"). Absent, or `model = "j2"`, the truth flies the flight code's
 //! point mass + `J2`; `model = "egm2008"` adds the published model's terms up to `degree` and
 //! `order` (the world layer's `gravity` module). The flight software's model is unchanged.
@@ -80,7 +80,7 @@ impl GravitySettings {
 }
 
 /// The flight software's gravity beyond point mass + `J2` (`[filter.gravity]`, nav-fsw
-/// `GravityConfig`, docs/gravity.md): EGM2008 to `degree` and `order` (at most 12), evaluated
+/// `GravityConfig`, docs/guide/gravity.md): EGM2008 to `degree` and `order` (at most 12), evaluated
 /// `terms_per_frame` work items a frame, and the allowance for the field it omits: white
 /// velocity noise of a spectral density (from `nav-sim gravity-omission`), and the 1σ per
 /// axis of the omitted field it is for (checked in flight). Absent: point mass + `J2` and no

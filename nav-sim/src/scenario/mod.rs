@@ -372,7 +372,7 @@ impl ImuSettings {
 }
 
 /// Gyro errors, paper eq. (1): `ω_meas = ω + Λg ω_meas + b_g + η_g`, extended by the
-/// misalignment, g-sensitivity and bias-instability terms of `docs/model.md` ("IMU
+/// misalignment, g-sensitivity and bias-instability terms of `docs/guide/model.md` ("IMU
 /// misalignment, g-sensitivity and bias instability"), all optional (0 = off).
 ///
 /// Its `Debug` rendering leaves out those optional terms while they are zero, so a scenario
@@ -611,7 +611,7 @@ fn default_star_pairs_before_hand_over() -> u32 {
 }
 
 /// The triads' specification behind the filter's systematic IMU error states (nav-core
-/// `imu_error_states`, docs/imu-errors.md): the 1σ of every off-diagonal misalignment term
+/// `imu_error_states`, docs/guide/imu-errors.md): the 1σ of every off-diagonal misalignment term
 /// of each triad in body axes and of the gyro g-sensitivity per axis. nav-core derives the
 /// prior of its twelve states in its gyro-defined gauge from them. All 0 (the default) =
 /// off; when on, every 1σ is > 0.
@@ -656,7 +656,7 @@ impl FilterImuErrors {
 
 /// The bias instability the filter accounts for in its process noise: a first-order
 /// Gauss–Markov bias per axis of stationary 1σ `σ` and correlation time `τ`, whose driving
-/// noise density `√(2σ²/τ)` is added to the bias random walk (`setup::fsw`, docs/model.md,
+/// noise density `√(2σ²/τ)` is added to the bias random walk (`setup::fsw`, docs/guide/model.md,
 /// "Bias instability in the filter"). Every key defaults to 0 (off).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

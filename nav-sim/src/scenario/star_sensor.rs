@@ -1,5 +1,5 @@
 //! The `[star_sensor]` table: the tracker's rate, noise, mounting, installation error, rate
-//! limit and outages, and its optional truth terms (`docs/model.md`, "Star sensor truth"):
+//! limit and outages, and its optional truth terms (`docs/guide/model.md`, "Star sensor truth"):
 //! per-axis noise (cross-boresight and roll), a slowly varying first-order Gauss–Markov error,
 //! a periodic error and velocity aberration; and the tracker's further optical heads,
 //! `[[star_sensor.additional_heads]]`, each described by the same keys (`[star_sensor]` is
@@ -71,7 +71,7 @@ pub struct StarSensorSettings {
     /// Its phase at the scenario start (deg), the same on every axis.
     #[serde(default)]
     pub periodic_error_phase_deg: f64,
-    /// Velocity aberration of the measured attitude (`docs/model.md`, "Star sensor truth");
+    /// Velocity aberration of the measured attitude (`docs/guide/model.md`, "Star sensor truth");
     /// `"none"` (the default) = a tracker that corrects it itself.
     #[serde(default)]
     pub aberration: StarAberration,
@@ -247,7 +247,7 @@ impl std::fmt::Debug for StarSensorSettings {
 /// (`[filter.star_slow_error]`): a first-order Gauss–Markov rotation per sensor axis of
 /// stationary 1σ and correlation time τ, which the filter carries as a random walk of its
 /// installation states with the driving noise `2σ²/τ` and `2σ²` more prior variance
-/// (nav-fsw `StarSensorConfig::installation_walk_rad2_per_s`, docs/sensor-errors.md). Every
+/// (nav-fsw `StarSensorConfig::installation_walk_rad2_per_s`, docs/guide/sensor-errors.md). Every
 /// key defaults to 0 (off).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

@@ -1,5 +1,5 @@
 //! The draws of a scenario's `[dispersion]` table ([`crate::scenario::dispersion`]) for one
-//! Monte Carlo run (`docs/monte-carlo.md`, "Dispersions").
+//! Monte Carlo run (`docs/guide/monte-carlo.md`, "Dispersions").
 //!
 //! Every entry changes what the simulated vehicle and sensors do, never what the flight
 //! software is configured with, so a dispersion is a model mismatch the campaign measures.

@@ -278,7 +278,7 @@ pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
 /// `√(walk² + 2σ²/τ)`, the density of the white noise that drives the Gauss–Markov bias
 /// (`ḃ = −b/τ + w`, stationary variance `qτ/2 = σ²`). With the prior of
 /// [`with_instability_prior`] the walk bounds the Gauss–Markov bias's covariance at every
-/// set of times (docs/model.md, "Bias instability in the filter"). With the instability off
+/// set of times (docs/guide/model.md, "Bias instability in the filter"). With the instability off
 /// the walk is returned unchanged (the paper's model keeps its bits).
 fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
     if sigma > 0.0 && tau_s > 0.0 {
@@ -293,7 +293,7 @@ fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
 /// and started with `2σ²` of variance is that bias plus an independent process (a copy of
 /// `b(0) + (1/τ)∫₀ᵗ b du`, whose covariance is `σ²(2 − e^(−|t−s|/τ)) + (2σ²/τ) min(s, t)`),
 /// so every combination of the bias at any times has at least its true variance; with less
-/// than `2σ²` some has not (docs/model.md, "Bias instability in the filter"). With the
+/// than `2σ²` some has not (docs/guide/model.md, "Bias instability in the filter"). With the
 /// instability off the 1σ is returned unchanged.
 fn with_instability_prior(constant_sigma: f64, sigma: f64, tau_s: f64) -> f64 {
     if sigma > 0.0 && tau_s > 0.0 {

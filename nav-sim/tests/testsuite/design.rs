@@ -2,7 +2,7 @@
 //! scenario (receiver velocity, correlated GNSS error, a rate-limited star tracker) its final
 //! 1σ agrees with the flight filter's on every calibration axis; and a schedule written by
 //! `nav-sim design` flies to the accuracy the design predicted. Results:
-//! docs/scenario-design.md, "nav-sim design".
+//! docs/guide/scenario-design.md, "nav-sim design".
 
 use nav_sim::harness::flight::{fly, FlightOptions};
 use nav_sim::studies::covariance_design::{analyse, DesignOptions, DesignReport};

@@ -1,7 +1,7 @@
 //! The covariance analysis with the twelve systematic IMU error states (`[filter.imu_errors]`)
 //! predicts what the flight software reports for them and for the 15 calibration states, on a
 //! short version of the default flight (rotations about each axis, a burn along each);
-//! `nav-sim design` reports them. Results: docs/imu-errors.md, "What `nav-sim design`
+//! `nav-sim design` reports them. Results: docs/guide/imu-errors.md, "What `nav-sim design`
 //! predicts".
 
 use crate::common::segment;
@@ -171,7 +171,7 @@ fn nav_sim_design_reports_the_imu_error_states_of_both_schedules() {
         );
     }
     // zx and zy multiply the rate about x and y but are told from the installation error
-    // only by a slew about z (docs/scenario-design.md).
+    // only by a slew about z (docs/guide/scenario-design.md).
     assert!(
         input.sigma[0] < 0.5 * input.prior[0],
         "{:e}",

@@ -1,4 +1,4 @@
-//! The truth's published gravity field (`[gravity]`, `docs/model.md`): nav-sim's EGM2008
+//! The truth's published gravity field (`[gravity]`, `docs/guide/model.md`): nav-sim's EGM2008
 //! evaluation against an independent one (pyshtools, `nav-sim/data/gravity_oracle.py`), the
 //! default flight unchanged without the table, the field's effect on the truth, and the
 //! table's validation.

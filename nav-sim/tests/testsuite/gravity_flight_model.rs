@@ -1,5 +1,5 @@
 //! The flight's gravity beyond `J2` and its allowance for the field it omits
-//! (`[filter.gravity]`, docs/gravity.md), in the truth's 20 × 20 field: a flight software
+//! (`[filter.gravity]`, docs/guide/gravity.md), in the truth's 20 × 20 field: a flight software
 //! configured as the paper's (point mass + `J2`, no allowance) is flagged by
 //! `gravity_allowance_short` and blames no sensor; configured with the 12 × 12 model and its
 //! derived allowance it is not flagged, and the default flight's calibration stays

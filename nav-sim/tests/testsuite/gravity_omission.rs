@@ -1,4 +1,4 @@
-//! The omitted-field study (`nav-sim gravity-omission`, `docs/gravity.md`, "The omitted field
+//! The omitted-field study (`nav-sim gravity-omission`, `docs/guide/gravity.md`, "The omitted field
 //! as process noise") on a short flight in the 20×20 field: a flight field equal to the
 //! truth's leaves only its hold error, bounded by the field's rate of change; the omitted field
 //! and its process noise fall as the flight's degree rises; the periodogram stays below the
@@ -144,7 +144,7 @@ fn omitted_field_and_its_process_noise_fall_as_the_flight_degree_rises() {
         // 1000 s is beyond the 300 s record: its longest lag is used.
         assert!((statistics.bounds_by_lag[2].used_lag_s - COAST_S).abs() < 1e-9);
     }
-    // In low orbit the terms of degree 3..=20 are of order 1e-4 m/s² (docs/model.md).
+    // In low orbit the terms of degree 3..=20 are of order 1e-4 m/s² (docs/guide/model.md).
     assert!((3e-5..1e-3).contains(&reports[0].statistics.rms_mps2));
     for pair in reports.windows(2) {
         let (lower, higher) = (&pair[0].statistics, &pair[1].statistics);

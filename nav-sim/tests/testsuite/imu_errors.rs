@@ -1,4 +1,4 @@
-//! Monte Carlo of the default flight with the IMU as it is (docs/imu-errors.md): a bias
+//! Monte Carlo of the default flight with the IMU as it is (docs/guide/imu-errors.md): a bias
 //! instability the flight software is told of keeps it consistent (the average NEES of the 15
 //! calibration states inside its two-sided 95 % χ² interval, no run's state beyond 4σ); the
 //! errors it does not model (misalignment, g-sensitivity) are flagged by the consistency

@@ -1,4 +1,4 @@
-//! Monte Carlo of the default flight under realistic sensor errors (docs/realistic-errors.md):
+//! Monte Carlo of the default flight under realistic sensor errors (docs/guide/realistic-errors.md):
 //! (a) GNSS 6 m white + 8 m Gauss–Markov, τ = 300 s; (b) the same with τ = 30 s; (c) a star
 //! tracker blind above 3 °/s and for 10 s after; (d) (a) with GNSS velocity at 0.05 m/s. The
 //! filter is given each receiver's specification. In each: the average NEES of the 15
@@ -215,7 +215,7 @@ fn blind_rates_and_outages_silence_the_sensors() {
 
 /// The receiver's velocity is the truth's ITRF velocity (noise off) through the full IAU
 /// 2006/2000A chain, within its round-off; nav-core's flight conversion agrees to 1e-3 m/s
-/// (its frozen precession–nutation and WGS-84 rate, docs/frames-and-time.md).
+/// (its frozen precession–nutation and WGS-84 rate, docs/guide/frames-and-time.md).
 #[test]
 fn the_gnss_velocity_is_the_true_ecef_velocity() {
     let mut scenario = scenario_prefix(&Scenario::default_scenario().unwrap(), 5.0);

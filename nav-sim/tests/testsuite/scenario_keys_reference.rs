@@ -320,7 +320,7 @@ fn reference() -> Reference {
     };
     let overlay_keys = Section {
         title: "Overlay keys (top level)".to_string(),
-        about: "Taken out before the scenario is read ([scenario-overlays.md](../scenario-overlays.md))."
+        about: "Taken out before the scenario is read ([scenario-overlays.md](../guide/scenario-overlays.md))."
             .to_string(),
         rows: [
             (overlay::EXTENDS_KEY, "string", "The base file's path, relative to this file."),

@@ -1,4 +1,4 @@
-//! The star tracker's velocity aberration (docs/sensor-errors.md, "Velocity aberration"):
+//! The star tracker's velocity aberration (docs/guide/sensor-errors.md, "Velocity aberration"):
 //! the scenario keys reach the truth and the flight software (and the replay words); a short
 //! Monte Carlo of the default flight with a tracker that leaves the aberration in shows the
 //! flight software's correction consistent, and the flight software without it biased in the
@@ -68,7 +68,7 @@ fn installation_x_sigma(outcome: &RunOutcome) -> f64 {
 /// Not corrected (the flight software as it was): the installation error about sensor x
 /// ends beyond 5σ in every run (8.98–12.18σ over the docs' 20 runs), the aberration taken for
 /// installation error; the aberration test says so (`star_aberration_suspected`), no other
-/// consistency counter moves and no sensor is declared faulty (docs/sensor-errors.md).
+/// consistency counter moves and no sensor is declared faulty (docs/guide/sensor-errors.md).
 #[test]
 fn the_corrected_aberration_keeps_the_filter_consistent_and_the_uncorrected_one_biases_it() {
     for (name, corrected) in [

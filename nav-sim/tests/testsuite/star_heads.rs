@@ -1,5 +1,5 @@
 //! Two star-tracker heads 90° apart, head 0 blind for the middle third of the flight
-//! (docs/sensor-errors.md, "Two heads"): told of the second head, the flight software aligns
+//! (docs/guide/sensor-errors.md, "Two heads"): told of the second head, the flight software aligns
 //! it from simultaneous pairs, hands its installation block to it for the outage and back,
 //! and stays consistent; configured with one head, it counts the second head's measurements
 //! as from a head it lacks and blames no sensor. `NAV_MC_RUNS` runs, default 1 each here; the

@@ -1,9 +1,9 @@
-//! The star tracker's slowly varying error (docs/sensor-errors.md, "The
+//! The star tracker's slowly varying error (docs/guide/sensor-errors.md, "The
 //! slowly varying error in the flight filter"): told of it (`[filter.star_slow_error]`), the
 //! flight software walks its installation states and stays consistent; configured as the
 //! paper's (a constant installation error), it is many σ wrong and blames no sensor. No
 //! innovation monitor of a single tracker can say so: the attitude absorbs the slow error
-//! (docs/sensor-errors.md). `NAV_MC_RUNS` runs, default 1 each here; the docs' campaigns fly
+//! (docs/guide/sensor-errors.md). `NAV_MC_RUNS` runs, default 1 each here; the docs' campaigns fly
 //! 20.
 
 use crate::common::{assert_run_within_bounds, counted, nees, one_run_unless_told as campaign};

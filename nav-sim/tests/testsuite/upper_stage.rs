@@ -1,6 +1,6 @@
 //! Flights a vehicle can fly: the upper-stage scenario keeps an upper stage's limits and
 //! calibrates what its manoeuvres can reach; the paper's strategy as printed (a short flight)
-//! leaves the accelerometer scale factors at their prior. Results: docs/upper-stage.md.
+//! leaves the accelerometer scale factors at their prior. Results: docs/guide/upper-stage.md.
 
 use nav_sim::harness::flight::{fly, FlightOptions, FlightResult};
 use nav_sim::output::report::{CalibrationResult, CalibrationRow, Parameter};
@@ -69,7 +69,7 @@ fn the_upper_stage_scenario_keeps_the_vehicles_limits() {
 /// biases, the installation error), comes near it on the x accelerometer scale factor, which
 /// 1.25 km/s of main-engine burns observe through a velocity the omitted field's allowance
 /// blurs, and honestly not on the y and z accelerometer scale factors, which 50 m/s of RCS
-/// translation cannot resolve (the measured ratios: docs/upper-stage.md).
+/// translation cannot resolve (the measured ratios: docs/guide/upper-stage.md).
 #[test]
 fn the_upper_stage_flight_calibrates_what_its_manoeuvres_reach() {
     let scenario = Scenario::from_toml_str(UPPER_STAGE_TOML).unwrap();

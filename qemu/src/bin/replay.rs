@@ -1,6 +1,6 @@
 //! Whole-scenario replay on the target: reads a sensor log written by `nav-sim`
 //! (`replay-in.bin` in QEMU's working directory: the [`ReplaySetup`] words, then the binary
-//! log of `docs/replay-format.md`) through semihosting, runs it through nav-fsw in 2 ms frames
+//! log of `docs/guide/replay-format.md`) through semihosting, runs it through nav-fsw in 2 ms frames
 //! driven by the SysTick interrupt (500 Hz in QEMU's virtual time), and streams every frame's
 //! output record plus its measured cost to `replay-out.bin`. Memory is static and the log is
 //! streamed, so a mission of any length fits.

@@ -31,12 +31,12 @@ enum Command {
     Calibrate(calibrate::Args),
     /// Monte Carlo over seeds (each run's sensor-error truth drawn from the filter's prior):
     /// RMS error, mean filter 1σ, |error| percentiles, the NEES consistency test and the runs
-    /// outside 3σ (docs/monte-carlo.md).
+    /// outside 3σ (docs/guide/monte-carlo.md).
     MonteCarlo(monte_carlo::Args),
     /// Merge the shard files of a sharded Monte Carlo campaign (`monte-carlo --shard`) and
     /// print the report of the whole campaign, as `monte-carlo` prints it.
     Merge(merge::Args),
-    /// Write a scenario's sensor log as CSV (the replay format, docs/replay-format.md).
+    /// Write a scenario's sensor log as CSV (the replay format, docs/guide/replay-format.md).
     Log(log::Args),
     /// Replay a recorded sensor log (CSV) through the flight software and write its
     /// per-second navigation and calibration output as CSV.
@@ -70,7 +70,7 @@ enum Command {
     /// The gravity a flight field of degree N and order M leaves out along the scenario's
     /// truth (its `[gravity]` field), and the white velocity process noise q that covers it:
     /// RMS, maximum and correlation time of the difference, q from a Gershgorin bound on its
-    /// second moments and from its averaged periodogram (docs/gravity.md).
+    /// second moments and from its averaged periodogram (docs/guide/gravity.md).
     GravityOmission(gravity_omission::Args),
 }
 

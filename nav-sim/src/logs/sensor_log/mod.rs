@@ -1,7 +1,7 @@
 //! The replay log: the simulator's sensor-event stream as a CSV file (and its compact binary
 //! form for the QEMU firmware), so any scenario can be replayed through the flight code
 //! elsewhere (`nav-sim replay`), and recorded data can be fed in. Full specification:
-//! `docs/replay-format.md`.
+//! `docs/guide/replay-format.md`.
 //!
 //! ## CSV layout
 //! One header line, then one row per sensor event in delivery order (non-decreasing
@@ -241,7 +241,7 @@ pub enum SensorLogError {
         "line 1: a log of the earlier {columns}-column layout (star attitude relative to the \
          launch-inertial frame, GNSS tagged in navigation time); this layout has the star \
          tracker relative to GCRF and GNSS tagged in GPS week and seconds of week \
-         (docs/replay-format.md): regenerate the log with `nav-sim log`"
+         (docs/guide/replay-format.md): regenerate the log with `nav-sim log`"
     )]
     OldLayout {
         /// The old file's column count.

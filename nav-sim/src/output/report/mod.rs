@@ -10,7 +10,7 @@
 //! filter's estimate of the navigation error and the true navigation error); they have no paper
 //! figure.
 //!
-//! The paper's reported accuracies (Section 3; `docs/model.md`) are met when
+//! The paper's reported accuracies (Section 3; `docs/guide/model.md`) are met when
 //! `|error| < accuracy` ("better than", strictly).
 //!
 //! Plots are drawn with plotters' bitmap backend and an embedded DejaVu Sans font (no system

@@ -1,7 +1,7 @@
 //! The flight software's allowance for the gravity field its model omits
 //! (`[filter.gravity]`), as the covariance analysis applies it: nav-fsw's own
 //! [`GravityConfig::process_noise_at`], the allowance scaled with the omitted field's power at
-//! the vehicle's radius (docs/gravity.md). The flight takes the omitted RMS from its own
+//! the vehicle's radius (docs/guide/gravity.md). The flight takes the omitted RMS from its own
 //! evaluation at the navigation solution every 0.1 s; the analysis takes the same evaluation
 //! at the truth's radius, once per 100 m of radius (`gravity_omission`'s radius bins, across
 //! which the RMS changes by under 0.1 %).

@@ -31,7 +31,7 @@
 //!   (`[filter.gravity]`), scaled with the omitted field's power at the truth's radius
 //!   (`allowance.rs`).
 //!
-//! Simplifications (stated in `docs/scenario-design.md`):
+//! Simplifications (stated in `docs/guide/scenario-design.md`):
 //! * the covariance is propagated over steps of [`DesignOptions::step_frames`] IMU frames
 //!   (default 5 = 10 ms at 500 Hz) instead of every 2 ms frame; a step also ends at every
 //!   measurement epoch and segment boundary, so no update is moved in time. The step's
@@ -169,7 +169,7 @@ pub struct CalibrationTarget {
 /// The paper's figures, defined once in nav-fsw.
 const PAPER: CalibrationThresholds = CalibrationThresholds::PAPER_ACCURACY;
 
-/// The paper's reported accuracies after convergence (Section 3, `docs/model.md`), one per
+/// The paper's reported accuracies after convergence (Section 3, `docs/guide/model.md`), one per
 /// calibration block in [`StateBlock::CALIBRATION`] order.
 pub const CALIBRATION_TARGETS: [CalibrationTarget; 5] = calibration_targets();
 

@@ -36,7 +36,7 @@ fn default_schedule_calibrates_every_state_to_half_the_papers_accuracy() {
     let scenario = Scenario::default_scenario().unwrap();
     let report = analyse(&scenario, &test_options()).unwrap();
     assert_meets_half_the_targets(&report);
-    // Design goal (docs/scenario-design.md): every sigma <= target/3. Measured worst
+    // Design goal (docs/guide/scenario-design.md): every sigma <= target/3. Measured worst
     // 0.293 (accelerometer scale factor y).
     assert!(
         report.worst_ratio() <= 1.0 / 3.0,

@@ -1,5 +1,5 @@
 //! The gravity the flight software leaves out, as the process noise that covers it
-//! (`nav-sim gravity-omission`, `docs/gravity.md`, "The omitted field as process noise").
+//! (`nav-sim gravity-omission`, `docs/guide/gravity.md`, "The omitted field as process noise").
 //!
 //! The truth flies a published field (EGM2008 to the scenario's `[gravity]` degree and order);
 //! a flight model keeps its terms only to a lower degree `N` and order `M`, refreshed every
@@ -186,7 +186,7 @@ pub struct OmissionReport {
     /// `λ_max(S(0))` of `d` scaled to the field at the lowest altitude, `d_k · rms(r_low) /
     /// rms(r_k)` with `rms(r)` the flight software's omitted RMS at radius `r` (m²/s³): the
     /// allowance the flight software scales down with the omitted field's power where the
-    /// vehicle is higher (docs/gravity.md, "The allowance with the altitude"). NaN where the
+    /// vehicle is higher (docs/guide/gravity.md, "The allowance with the altitude"). NaN where the
     /// check σ is.
     pub q_zero_frequency_scaled_m2_s3: f64,
 }

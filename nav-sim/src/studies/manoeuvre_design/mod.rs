@@ -177,7 +177,7 @@ pub struct Constraints {
 }
 
 impl Constraints {
-    /// The upper-stage brief (`docs/upper-stage.md`): 3 °/s, 1 m/s², 50 m/s of lateral Δv,
+    /// The upper-stage brief (`docs/guide/upper-stage.md`): 3 °/s, 1 m/s², 50 m/s of lateral Δv,
     /// main engine along +x, translations along y and z, the input's flight time.
     pub fn upper_stage() -> Self {
         Self {

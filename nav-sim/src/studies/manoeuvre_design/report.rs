@@ -78,7 +78,7 @@ impl ManoeuvreDesign {
 impl ManoeuvreDesign {
     /// The twelve systematic IMU error states of the designed and the input schedule
     /// (`[filter.imu_errors]` on; nothing otherwise): reported, not searched for
-    /// (`docs/scenario-design.md`).
+    /// (`docs/guide/scenario-design.md`).
     fn imu_error_text(&self, text: &mut String) {
         let Some(imu) = &self.report.imu_errors else {
             return;
@@ -185,7 +185,7 @@ impl ManoeuvreDesign {
     pub fn header(&self, constraints: &Constraints) -> String {
         let p = &self.parameters;
         format!(
-            "The manoeuvre schedule, written by `nav-sim design` (docs/scenario-design.md) under\n\
+            "The manoeuvre schedule, written by `nav-sim design` (docs/guide/scenario-design.md) under\n\
              max body rate {} deg/s, max lateral acceleration {} m/s^2, lateral delta-v {} m/s,\n\
              main engine along body {}: slews at {:.2} deg/s, {} turns each way per axis, {} \
              round(s);\nfirst thrust axis' share of the lateral delta-v {:.2}. Predicted worst \

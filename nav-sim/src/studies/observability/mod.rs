@@ -3,7 +3,7 @@
 //! scenario's manoeuvre schedule, as text, as JSON, and as a PNG heat map.
 //!
 //! Two analyses per case (method and scaling: `nav-core/src/observability.rs`,
-//! `docs/observability.md`):
+//! `docs/guide/observability.md`):
 //! * **ours**: continuous segments `[H; H Aτ; …]`, scaled ([`Scaling::typical`]); the degree
 //!   `σ_k/σ_max` per state (singular-value assignment) and the exact null-space test
 //!   ([`RankTolerance::DEFAULT`]: σ ≤ 1e-12 σ_max is zero, a state is observable when the
@@ -45,7 +45,7 @@ pub use render::render_text;
 /// The extraction is garbled in places:
 /// * states 1 and 2 in state II read `8.7×10^{19}` and `9.3×10¹⁹`: the exponent's sign, or a
 ///   superscript digit, may have been lost. Transcribed as printed; either way they make every
-///   other value of column II tiny relative to σ_max (docs/observability.md);
+///   other value of column II tiny relative to σ_max (docs/guide/observability.md);
 /// * superscripts are mixed (`10 ⁻¹⁶`, `10^{-16}`, `10³`); read as powers of ten;
 /// * state 23 in state I is printed `0` and state 21 in state I `1.1×10^{-37}`: as printed.
 pub const PAPER_TABLE_1: [[f64; 3]; STATE_DIMENSION] = [

@@ -1,4 +1,4 @@
-//! The optional IMU error terms of a triad (`docs/model.md`, "IMU misalignment,
+//! The optional IMU error terms of a triad (`docs/guide/model.md`, "IMU misalignment,
 //! g-sensitivity and bias instability"): misalignment and non-orthogonality `M = I + A`,
 //! gyro g-sensitivity `G = diag(g)`, and a first-order Gauss–Markov bias `b_GM`. With them the
 //! increment before the paper's bias, noise and scale factor is

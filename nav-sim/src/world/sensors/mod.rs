@@ -28,7 +28,7 @@
 //! The filter's installation state is the vector part of `q_ψ`, `sin(|ψ|/2) ψ/|ψ| ≈ ψ/2`
 //! ([`SensorErrorTruth::star_installation_vector_part`]). Output canonicalised to `w ≥ 0`.
 //! With `aberration = "uncorrected"` the velocity aberration `exp(a_s)`
-//! ([`aberration_rotation_rad`], docs/model.md) follows `q_ψ`, before the slow errors.
+//! ([`aberration_rotation_rad`], docs/guide/model.md) follows `q_ψ`, before the slow errors.
 //! The tracker may have several heads (`star_head.rs`), each this model with its own
 //! settings and random streams; head 0 is `[star_sensor]`, and its events and truth are
 //! what they are without the other heads, bit for bit.

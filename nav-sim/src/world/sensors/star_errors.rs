@@ -1,4 +1,4 @@
-//! The star tracker's slowly varying errors (`docs/model.md`, "Star sensor truth"): a
+//! The star tracker's slowly varying errors (`docs/guide/model.md`, "Star sensor truth"): a
 //! first-order Gauss–Markov rotation per sensor axis and a periodic rotation, summed into one
 //! small rotation vector `ε_slow` in sensor axes, applied between the installation error and
 //! the white noise, `q_is,m = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ exp(n)`.

@@ -161,7 +161,7 @@ impl StarHead {
 
 /// The rotation (rad, sensor axes) by which velocity aberration turns the attitude a
 /// tracker of true sensor-to-inertial attitude `q_is` reports at the inertial velocity
-/// `velocity_mps`: `a_s = β_s × z`, `β_s = C_isᵀ v / c` (docs/model.md, "Star sensor
+/// `velocity_mps`: `a_s = β_s × z`, `β_s = C_isᵀ v / c` (docs/guide/model.md, "Star sensor
 /// truth", and nav-core `aberration` for the derivation; the sign is proven against star
 /// directions displaced by the nonlinear formula in `aberration_tests.rs`). Written here
 /// apart from the flight code's correction, which it checks.

@@ -1,6 +1,6 @@
 //! `nav-sim gravity-omission`: the gravity a flight field of degree `N` and order `M` leaves
 //! out along the scenario's truth, and the white velocity process noise that covers it
-//! (`docs/gravity.md`, "The omitted field as process noise").
+//! (`docs/guide/gravity.md`, "The omitted field as process noise").
 
 use std::fmt::Write as _;
 use std::path::PathBuf;

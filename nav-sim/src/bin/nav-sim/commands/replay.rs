@@ -10,7 +10,7 @@ use super::{inputs, load, Failure};
 /// The arguments of `nav-sim replay`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// The sensor log (CSV, docs/replay-format.md).
+    /// The sensor log (CSV, docs/guide/replay-format.md).
     log: PathBuf,
     /// Scenario TOML giving the flight software's setup (launch site, mounting, noise,
     /// initial solution); default: the built-in one.

@@ -81,7 +81,7 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
                        through the +x and +y burns",
             reaction: "not seen by the innovations: the filter explains the burns' cross-axis \
                        force with its accelerometer bias and scale factors, so the monitor \
-                       stays quiet and the calibration ends off (docs/imu-errors.md); no sensor \
+                       stays quiet and the calibration ends off (docs/guide/imu-errors.md); no sensor \
                        declared faulty",
             counts: nobody_blamed(),
             injection_s: to_the_end_s,
@@ -104,7 +104,7 @@ pub(super) fn rows(_frames: FrameSchedule) -> Vec<FaultClass> {
             reaction: "mostly averaged out by the whole turns (the body-fixed rate error \
                        rotates with the body), the rest absorbed by the gyro bias and scale \
                        factors: the monitor stays quiet here (whole flights: \
-                       docs/imu-errors.md); no sensor declared faulty",
+                       docs/guide/imu-errors.md); no sensor declared faulty",
             counts: nobody_blamed(),
             injection_s: to_the_end_s,
             declared_faulty: none,
