@@ -285,6 +285,8 @@ pub struct CalibrationManager {
     motion: MotionSignature,
     /// Blocks some motion since start (or the last restart) has made observable.
     revealed: BlockMask,
+    /// Blocks frozen by command, whatever the policy says (kept by [`Self::restart`]).
+    commanded_frozen: BlockMask,
 }
 
 fn max_abs_difference(a: &[f64; 3], b: &[f64; 3]) -> f64 {
@@ -318,6 +320,7 @@ impl CalibrationManager {
             windows: [Window::default(); CALIBRATION_BLOCK_COUNT],
             motion: MotionSignature::default(),
             revealed: BlockMask::NONE,
+            commanded_frozen: BlockMask::NONE,
         })
     }
 
@@ -370,14 +373,50 @@ impl CalibrationManager {
         self.phase = phase;
     }
 
-    /// Forgets convergence (all blocks estimated again), e.g. after a filter reset.
+    /// Forgets convergence (every block estimated again but those frozen by command), e.g.
+    /// after a filter reset.
     pub fn restart(&mut self) {
-        for entry in self.table.entries_mut() {
+        let entries = self.table.entries_mut().into_iter();
+        for (entry, block) in entries.zip(StateBlock::CALIBRATION.iter()) {
             entry.converged_at_s = None;
-            entry.frozen = false;
+            entry.frozen = self.commanded_frozen.contains(*block);
         }
         self.windows = [Window::default(); CALIBRATION_BLOCK_COUNT];
         self.revealed = BlockMask::NONE;
+    }
+
+    /// Freezes `block` by command (`true`), whatever the policy says, at once and until
+    /// released; or releases a commanded freeze (`false`): the block's convergence is tested
+    /// afresh and the next evaluation decides its state as the policy says. A navigation
+    /// block is not in the table and is ignored.
+    pub fn set_commanded_frozen(&mut self, block: StateBlock, frozen: bool) {
+        let Some(position) = StateBlock::CALIBRATION.iter().position(|b| *b == block) else {
+            return;
+        };
+        if frozen {
+            self.commanded_frozen.insert(block);
+        } else {
+            self.commanded_frozen.remove(block);
+            if let Some(window) = self.windows.get_mut(position) {
+                *window = Window::default();
+            }
+        }
+        if let Some(entry) = self.table.entries_mut().into_iter().nth(position) {
+            if !frozen {
+                entry.converged_at_s = None;
+            }
+            entry.frozen = frozen;
+        }
+    }
+
+    /// Releases every commanded freeze ([`Self::set_commanded_frozen`]).
+    pub fn release_commanded_freezes(&mut self) {
+        self.commanded_frozen = BlockMask::NONE;
+    }
+
+    /// The blocks frozen by command.
+    pub fn commanded_frozen(&self) -> BlockMask {
+        self.commanded_frozen
     }
 
     /// The calibration table.
@@ -410,7 +449,8 @@ impl CalibrationManager {
         let config = self.config;
         let mut estimated = [true; CALIBRATION_BLOCK_COUNT];
         for (flag, block) in estimated.iter_mut().zip(StateBlock::CALIBRATION.iter()) {
-            *flag = self.estimates(*block);
+            // A block frozen by command is not estimated, whatever the policy says.
+            *flag = self.estimates(*block) && !self.commanded_frozen.contains(*block);
         }
         let rows = self
             .table

@@ -69,6 +69,8 @@ pub struct FrameTelemetry {
     pub frozen_blocks: u8,
     /// Fault and action counters.
     pub health: HealthCounters,
+    /// Commands executed and refused (`NavigationComputer::command`).
+    pub commands: crate::scheduler::CommandCounters,
     /// Cost of the previous frame as reported by the platform (instructions or cycles).
     pub last_frame_cost: u32,
     /// Worst reported frame cost so far.

@@ -138,7 +138,20 @@ impl FilterConfig {
 impl ErrorStateFilter {
     /// `P = diag(σ²)` of a validated configuration, on a zero `P`.
     pub(super) fn set_initial_covariance(&mut self, config: &FilterConfig) {
+        self.set_initial_blocks(config, |_| true);
+    }
+
+    /// The prior's diagonal blocks of the navigation states ([`StateBlock::NAVIGATION`]).
+    pub(super) fn set_initial_navigation_covariance(&mut self, config: &FilterConfig) {
+        self.set_initial_blocks(config, |block| !block.is_calibration());
+    }
+
+    /// The prior's diagonal blocks of the blocks `chosen` picks.
+    fn set_initial_blocks(&mut self, config: &FilterConfig, chosen: impl Fn(StateBlock) -> bool) {
         for (block, sigma) in config.initial_sigmas() {
+            if !chosen(block) {
+                continue;
+            }
             set_block(
                 &mut self.covariance,
                 block,

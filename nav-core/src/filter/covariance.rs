@@ -3,9 +3,10 @@
 
 use nalgebra::Matrix3;
 
-use super::{check_block_covariance, symmetrised, ErrorState, ErrorStateFilter};
+use super::{check_block_covariance, symmetrised, ErrorState, ErrorStateFilter, FilterConfig};
 use crate::discretise::CovarianceMatrix;
-use crate::state::{StateBlock, STATE_DIMENSION};
+use crate::gnss_error::GnssErrorStates;
+use crate::state::{StateBlock, DYNAMIC_DIMENSION, STATE_DIMENSION};
 use crate::NavError;
 
 impl ErrorStateFilter {
@@ -241,5 +242,58 @@ impl ErrorStateFilter {
                 *value *= scale;
             }
         }
+    }
+
+    /// Re-initialises the navigation states and the optional blocks to `config`'s prior and
+    /// keeps the core calibration (a commanded reset after a navigation upset, when the
+    /// sensors' calibration is still trusted): the navigation part of `x` becomes zero, `P`'s
+    /// navigation rows and columns become the prior's (no correlation with the calibration),
+    /// its calibration block and the calibration part of `x` are kept, and the optional
+    /// blocks start again from their prior, as in [`Self::restart`]. Dropping the correlation
+    /// between navigation and calibration is conservative: the navigation prior alone bounds
+    /// the error it describes. The mode stays `config`'s.
+    ///
+    /// # Errors
+    /// As [`Self::restart`]; nothing changes then.
+    ///
+    /// # Examples
+    /// ```
+    /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
+    /// use nav_core::gnss_error::GnssErrorModel;
+    /// use nav_core::imu_error_states::ImuErrorModel;
+    /// use nav_core::state::{GYRO_BIAS, VELOCITY};
+    /// let initial = InitialUncertainty {
+    ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
+    ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
+    ///     accel_scale_factor: 1e-4,
+    /// };
+    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
+    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let mut filter = ErrorStateFilter::new(&config)?;
+    /// filter.add_block_variance(VELOCITY, 0.03)?;
+    /// filter.add_block_variance(GYRO_BIAS, 4e-6)?;
+    /// filter.restart_keeping_calibration(&config)?;
+    /// let prior = ErrorStateFilter::new(&config)?;
+    /// assert_eq!(filter.covariance()[(6, 6)].to_bits(), prior.covariance()[(6, 6)].to_bits());
+    /// assert!((filter.covariance()[(9, 9)] - (1e-6 + 4e-6)).abs() < 1e-18);
+    /// # Ok::<(), nav_core::NavError>(())
+    /// ```
+    pub fn restart_keeping_calibration(&mut self, config: &FilterConfig) -> Result<(), NavError> {
+        config.validate()?;
+        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
+            for (row, entry) in entries.iter_mut().enumerate() {
+                if row < DYNAMIC_DIMENSION || column < DYNAMIC_DIMENSION {
+                    *entry = 0.0;
+                }
+            }
+        }
+        for value in self.state.iter_mut().take(DYNAMIC_DIMENSION) {
+            *value = 0.0;
+        }
+        self.mode = config.mode;
+        self.restart_optional_blocks(gnss_error, config);
+        self.set_initial_navigation_covariance(config);
+        Ok(())
     }
 }

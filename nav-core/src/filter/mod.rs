@@ -270,11 +270,17 @@ impl ErrorStateFilter {
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
+        self.restart_optional_blocks(gnss_error, config);
+        self.set_initial_covariance(config);
+        Ok(())
+    }
+
+    /// Every optional block back at `config`'s prior (`gnss_error` built from it, so nothing
+    /// here can fail).
+    fn restart_optional_blocks(&mut self, gnss_error: GnssErrorStates, config: &FilterConfig) {
         self.blocks.gnss = gnss_error;
         self.blocks.imu = ImuErrorStates::EMPTY;
         self.blocks.imu.start(config.imu_error);
-        self.set_initial_covariance(config);
-        Ok(())
     }
 
     /// The correlated GNSS error states ([`crate::gnss_error`]).
@@ -712,5 +718,7 @@ mod dense;
 mod optional;
 #[cfg(all(test, feature = "gnss-error-states", feature = "imu-error-states"))]
 mod optional_tests;
+#[cfg(test)]
+mod restart_tests;
 #[cfg(test)]
 mod tests;

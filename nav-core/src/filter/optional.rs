@@ -141,6 +141,12 @@ impl ErrorStateFilter {
         Ok(())
     }
 
+    /// Whether the optional `block` is in use (compiled in and enabled by the
+    /// configuration).
+    pub fn optional_block_in_use(&self, block: OptionalBlock) -> bool {
+        self.blocks.is_enabled(block)
+    }
+
     /// Whether the optional `block` is frozen ([`Self::set_optional_block_frozen`]).
     pub fn optional_block_frozen(&self, block: OptionalBlock) -> bool {
         self.blocks.is_frozen(block)

@@ -15,6 +15,14 @@ pub(super) enum Sensor {
 }
 
 impl Sensor {
+    /// The sensor's position in per-sensor arrays.
+    pub(super) const fn index(self) -> usize {
+        match self {
+            Sensor::Star => 0,
+            Sensor::Gnss => 1,
+        }
+    }
+
     /// The other aiding sensor: the independent witness of the inertial solution.
     pub(super) const fn other(self) -> Sensor {
         match self {
@@ -117,6 +125,18 @@ impl Aids {
         self.star = AidingSensor::default();
         self.gnss = AidingSensor::default();
         self.gnss_velocity = AidingSensor::default();
+    }
+
+    /// Whether `sensor` is disabled by command ([`Command::SetAidEnabled`]).
+    pub(super) fn disabled(&self, sensor: Sensor) -> bool {
+        self.disabled.get(sensor.index()).copied().unwrap_or(false)
+    }
+
+    /// Disables (`true`) or enables `sensor`.
+    pub(super) fn set_disabled(&mut self, sensor: Sensor, disabled: bool) {
+        if let Some(flag) = self.disabled.get_mut(sensor.index()) {
+            *flag = disabled;
+        }
     }
 }
 

@@ -206,8 +206,14 @@ impl NavigationComputer {
         count(&mut self.health.counters.filter_resets);
         // A refused configuration (checked at start-up, so never here) keeps the filter.
         let _ = self.covariance.filter.restart(&self.config.filter);
-        self.restart_second_order_attitude();
         self.calibration.manager.restart();
+        self.restart_after_filter_reset();
+    }
+
+    /// After the filter was restarted (recovery or command): everything that follows its
+    /// state starts again.
+    pub(super) fn restart_after_filter_reset(&mut self) {
+        self.restart_second_order_attitude();
         // The filter is back at its prior: each aid's first acceptance is an acquisition.
         self.reacquire(Sensor::Star);
         self.reacquire(Sensor::Gnss);

@@ -245,7 +245,8 @@ impl NavigationComputer {
         let other = heads.other();
         let wanted = self.aids.star.faulty || (heads.active == 1 && report.accepted);
         if wanted && heads.may_carry(other, second.pairs_before_hand_over) {
-            self.hand_over_to_head(other);
+            // A refused hand-over is counted in `filter_errors`; the active head stays.
+            let _ = self.hand_over_to_head(other);
         }
     }
 
@@ -359,18 +360,43 @@ impl NavigationComputer {
             && heads.may_carry(other, second.pairs_before_hand_over)
             && agreed
         {
-            self.hand_over_to_head(other);
+            // A refused hand-over is counted in `filter_errors`; the active head stays.
+            let _ = self.hand_over_to_head(other);
         }
+    }
+
+    /// [`Command::SelectStarHead`]: the checks an automatic hand-over makes
+    /// ([`Self::hand_over_from_lost_head`]), then the hand-over.
+    pub(super) fn select_star_head(&mut self, head: u8) -> Result<(), CommandError> {
+        let Some(second) = self.config.star.second_head else {
+            return Err(CommandError::StarHeadNotConfigured(head));
+        };
+        if usize::from(head) >= MAX_STAR_HEADS {
+            return Err(CommandError::StarHeadNotConfigured(head));
+        }
+        if head == self.heads.active {
+            return Ok(());
+        }
+        if !self.heads.may_carry(head, second.pairs_before_hand_over) {
+            return Err(CommandError::StarHeadNotAligned(head));
+        }
+        let now_s = self.navigation.solution.time_s;
+        let timeout_s = self.config.timing.outage_timeout_s;
+        if !self.heads.heard_since(usize::from(head), now_s, timeout_s) {
+            return Err(CommandError::StarHeadSilent(head));
+        }
+        self.hand_over_to_head(head).map_err(CommandError::Filter)
     }
 
     /// Hands the filter's installation block over to head `new` (nav-core `star_heads`): the
     /// installation estimate and its covariance become the new head's, the star queue (the
     /// old head's measurements) is emptied, the aid is acquired afresh with the star noise
     /// matching and fault state cleared (they were the old head's). Counted in
-    /// `star_head_handovers`; a refused hand-over changes nothing and counts a filter error.
-    fn hand_over_to_head(&mut self, new: u8) {
+    /// `star_head_handovers`; a refused hand-over changes nothing, counts a filter error and
+    /// returns nav-core's error ([`NavError::InvalidConfiguration`] with one head).
+    fn hand_over_to_head(&mut self, new: u8) -> Result<(), NavError> {
         let Some(alignment) = self.heads.alignment else {
-            return;
+            return Err(NavError::InvalidConfiguration);
         };
         let old = self.heads.active;
         let (old_mounting, _) = self.head_mounting_and_noise(old);
@@ -391,9 +417,12 @@ impl NavigationComputer {
                 )?;
                 Ok(hand_over.installation_estimate)
             });
-        let Ok(estimate) = handed else {
-            count(&mut self.health.counters.filter_errors);
-            return;
+        let estimate = match handed {
+            Ok(estimate) => estimate,
+            Err(error) => {
+                count(&mut self.health.counters.filter_errors);
+                return Err(error);
+            }
         };
         self.calibration.estimate.star_installation_wxyz =
             [estimate.w, estimate.i, estimate.j, estimate.k];
@@ -409,5 +438,6 @@ impl NavigationComputer {
         self.aids.star = AidingSensor::default();
         self.aids.star_noise.clear();
         count(&mut self.health.counters.star_head_handovers);
+        Ok(())
     }
 }

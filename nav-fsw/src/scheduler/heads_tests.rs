@@ -10,7 +10,7 @@ const ARCSEC_RAD: f64 = 4.848_136_811_095_36e-6;
 
 /// Head 1 with its boresight 90° from head 0's (turned about body x), 5″ across and 35″
 /// about the boresight on both heads, aligned after 20 pairs.
-fn two_head_computer() -> NavigationComputer {
+pub(super) fn two_head_computer() -> NavigationComputer {
     let mut config = FswConfig::paper_defaults(tests::site(), SensorFrames::ALIGNED);
     config.star.noise_rad = 5.0 * ARCSEC_RAD;
     config.star.roll_noise_rad = 35.0 * ARCSEC_RAD;
@@ -33,7 +33,7 @@ fn head_one_misalignment() -> Quaternion<f64> {
 
 /// Flies `frames` frames; every tenth frame each head in `heads` measures (noise-free) the
 /// constant attitude through its mounting (head 1 with [`head_one_misalignment`]).
-fn fly(computer: &mut NavigationComputer, frames: u32, heads: &[u8]) {
+pub(super) fn fly(computer: &mut NavigationComputer, frames: u32, heads: &[u8]) {
     fly_with_steps(computer, frames, heads, &[]);
 }
 

@@ -96,6 +96,10 @@ impl NavigationComputer {
                     if !active {
                         continue;
                     }
+                    if self.aids.disabled(Sensor::Star) {
+                        count(&mut self.health.commands.measurements_of_disabled_aid);
+                        continue;
+                    }
                     let pushed = self.aids.star_queue.push(
                         measurement.time_tag_s,
                         launch_inertial,
@@ -116,6 +120,9 @@ impl NavigationComputer {
             gnss_heard = true;
             match self.gnss_in_launch_frame(&fix) {
                 Err(_) => count(&mut self.health.counters.gnss_non_finite),
+                Ok(_) if self.aids.disabled(Sensor::Gnss) => {
+                    count(&mut self.health.commands.measurements_of_disabled_aid);
+                }
                 Ok((time_tag_s, queued)) => {
                     let pushed = self.aids.gnss_queue.push(
                         time_tag_s,

@@ -86,6 +86,9 @@ use crate::telemetry::{FrameCostMonitor, FrameFusion, FrameTelemetry};
 
 mod aid;
 mod calibration;
+mod commands;
+#[cfg(test)]
+mod commands_tests;
 mod covariance;
 mod fusion;
 mod gravity;
@@ -101,6 +104,7 @@ mod start;
 mod tests;
 
 use aid::{Aid, AidingSensor, Sensor};
+pub use commands::{AidingSensorId, Command, CommandCounters, CommandError};
 use covariance::PropagationSums;
 use heads::StarHeads;
 pub use heads::MAX_STAR_HEADS;
@@ -124,54 +128,6 @@ const ANGLE_VARIANCE_PER_HALF_ANGLE_VARIANCE: f64 = 4.0;
 
 /// Most measurements taken from one port in one frame (the rest wait in the port).
 pub const MAX_POLLS_PER_FRAME: usize = 4;
-
-/// Ground or flight-plan commands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Command {
-    /// The manoeuvre phase: drives the calibration manager under
-    /// [`EstimationPolicy::PaperSchedule`]; refused under a policy that does not read it
-    /// ([`EstimationPolicy::uses_phase`]).
-    SetPhase(ManoeuvrePhase),
-    /// Forget the fault declarations: both sensors are used again.
-    ClearSensorFaults,
-    /// Forget calibration convergence (unfreeze every block, the optional ones included).
-    RestartCalibration,
-    /// Freeze an optional state block in use (`true`) or release it (`false`): its gain
-    /// rows are zero in every update, as a frozen core block's (nav-core
-    /// `ErrorStateFilter::set_optional_block_frozen`). A filter recovery or
-    /// [`Command::RestartCalibration`] releases it.
-    SetOptionalBlockFrozen(OptionalBlock, bool),
-}
-
-/// Why a [`Command`] was refused (the computer is unchanged).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CommandError {
-    /// `SetPhase` under a policy that does not read the manoeuvre phase.
-    PhaseNotUsed(EstimationPolicy),
-    /// `SetOptionalBlockFrozen` for a block the configuration does not fly.
-    BlockNotInUse(OptionalBlock),
-}
-
-impl core::fmt::Display for CommandError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Self::PhaseNotUsed(policy) => write!(
-                f,
-                "SetPhase refused: the calibration policy {policy:?} does not use the manoeuvre \
-                 phase (only PaperSchedule does)"
-            ),
-            Self::BlockNotInUse(block) => write!(
-                f,
-                "SetOptionalBlockFrozen refused: the state block {} is not in use",
-                block.name()
-            ),
-        }
-    }
-}
-
-impl core::error::Error for CommandError {}
 
 /// The flight software: strapdown, filter, input checks, fault handling and calibration.
 ///
@@ -291,6 +247,8 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
+    /// Each sensor disabled by command ([`Command::SetAidEnabled`]; star, GNSS).
+    disabled: [bool; 2],
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.
@@ -298,6 +256,7 @@ struct Aids {
 struct Health {
     counters: HealthCounters,
     cost: FrameCostMonitor,
+    commands: CommandCounters,
 }
 
 /// The calibration: the sensor corrections fed back (closed loop) and the manager's table.
@@ -335,41 +294,6 @@ impl NavigationComputer {
     /// Worst frame cost reported by the platform so far.
     pub fn worst_frame_cost(&self) -> u32 {
         self.health.cost.worst
-    }
-
-    /// Executes a command.
-    ///
-    /// # Errors
-    /// [`CommandError::PhaseNotUsed`] for `SetPhase` under a policy that does not read the
-    /// phase, [`CommandError::BlockNotInUse`] for `SetOptionalBlockFrozen` of a block not
-    /// flown; the computer is unchanged.
-    pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
-        match command {
-            Command::SetPhase(phase) => {
-                let policy = self.config.calibration.policy;
-                if !policy.uses_phase() {
-                    return Err(CommandError::PhaseNotUsed(policy));
-                }
-                self.calibration.manager.set_phase(phase);
-            }
-            Command::ClearSensorFaults => self.aids.clear_faults(),
-            Command::RestartCalibration => {
-                self.calibration.manager.restart();
-                for block in OptionalBlock::ALL {
-                    // A block not in use has nothing to release.
-                    let _ = self
-                        .covariance
-                        .filter
-                        .set_optional_block_frozen(block, false);
-                }
-            }
-            Command::SetOptionalBlockFrozen(block, frozen) => self
-                .covariance
-                .filter
-                .set_optional_block_frozen(block, frozen)
-                .map_err(|_| CommandError::BlockNotInUse(block))?,
-        }
-        Ok(())
     }
 
     /// One minor frame (module docs). Never fails: every fault is handled, counted and

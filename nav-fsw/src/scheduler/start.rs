@@ -308,6 +308,7 @@ impl Aids {
             addr_of_mut!((*part).star_noise).write(NoiseMatching::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
+            addr_of_mut!((*part).disabled).write([false; 2]);
         }
     }
 }
@@ -321,6 +322,7 @@ impl Health {
         unsafe {
             addr_of_mut!((*part).counters).write(HealthCounters::default());
             addr_of_mut!((*part).cost).write(FrameCostMonitor::new(u32::MAX));
+            addr_of_mut!((*part).commands).write(CommandCounters::default());
         }
     }
 }

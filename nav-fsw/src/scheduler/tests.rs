@@ -558,7 +558,7 @@ fn a_run_of_rejections_with_inconsistent_innovations_is_blamed_on_the_inertial_s
 /// border's variances shrink from the prior and stay positive.
 /// One frame of a constant turn, with a star measurement every tenth frame that sees the
 /// attitude turned by 200 µrad about z (an attitude error the filter must correct).
-fn run_frame_with_turned_star(computer: &mut NavigationComputer, sequence: u32) {
+pub(super) fn run_frame_with_turned_star(computer: &mut NavigationComputer, sequence: u32) {
     let mut ports = crate::replay::FramePorts::default();
     ports.imu.0 = Some(crate::ports::ImuSample {
         sequence,

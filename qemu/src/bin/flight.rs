@@ -98,6 +98,11 @@ fn scheduler_frames() {
             }));
         }
         let telemetry = ports.run(computer);
+        // A ground command between frames, through `black_box`: every command's path is in
+        // the panic-free build.
+        if let Some(command) = COMMANDS.get(usize::from(frame % 8 == 3)) {
+            let _ = computer.command(black_box(*command));
+        }
         let words = black_box(output_words(
             &telemetry,
             computer,
@@ -116,6 +121,15 @@ fn scheduler_frames() {
         }
     }
 }
+
+/// The commands the flight loop passes through `black_box` (the optimiser cannot tell
+/// which, so it keeps every command's code).
+const COMMANDS: [nav_fsw::scheduler::Command; 2] = [
+    nav_fsw::scheduler::Command::ClearSensorFaults,
+    nav_fsw::scheduler::Command::ResetFilter {
+        keep_calibration: true,
+    },
+];
 
 /// A deliberately panicking slice index (enabled only by the `demo-panic-path` feature) that
 /// the panic-never build must reject.
