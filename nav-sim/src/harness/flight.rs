@@ -389,6 +389,41 @@ pub fn fly_with(
     fly_observed(scenario, config, options, progress, inject, |_, _| {})
 }
 
+/// The scenario's `[[command]]` schedule as (frame, command, index in the schedule).
+fn scheduled_commands(scenario: &Scenario) -> Result<Vec<(u64, Command, usize)>, SetupError> {
+    let period_s = scenario.imu.frame_period_s();
+    scenario
+        .commands
+        .iter()
+        .enumerate()
+        .map(|(index, scheduled)| {
+            let command = scheduled.to_command().map_err(|(key, requirement)| {
+                SetupError::Setting(format!("command[{index}].{key} {requirement}"))
+            })?;
+            Ok((
+                scenario::frames_in(scheduled.at_s, period_s),
+                command,
+                index,
+            ))
+        })
+        .collect()
+}
+
+/// Gives the flight software the commands due before frame `frame_index`, in schedule
+/// order; a refused one ends the flight with its reason.
+fn give_due_commands(
+    commands: &[(u64, Command, usize)],
+    frame_index: u64,
+    computer: &mut NavigationComputer,
+) -> Result<(), SetupError> {
+    for (_, command, index) in commands.iter().filter(|(f, ..)| *f == frame_index) {
+        computer.command(*command).map_err(|error| {
+            SetupError::Setting(format!("command[{index}] at frame {frame_index}: {error}"))
+        })?;
+    }
+    Ok(())
+}
+
 /// [`fly_with`] with an observer `observe(frame_index, computer)` called after every frame,
 /// for tests that look inside the flight software (covariance conditioning, frozen blocks).
 ///
@@ -438,7 +473,9 @@ pub fn fly_observed(
     let mut interval_nis = (NisSum::default(), NisSum::default());
     // The flight plan tells the phase only to a policy that reads it.
     let uses_phase = computer.config().calibration.policy.uses_phase();
+    let commands = scheduled_commands(scenario)?;
     while let Some(frame) = simulation.step(&mut events)? {
+        give_due_commands(&commands, frame.frame_index, &mut computer)?;
         let phase_due = segment_frames.iter().find(|(f, _)| *f == frame.frame_index);
         if let (Some((_, phase)), true) = (phase_due, uses_phase) {
             computer

@@ -231,7 +231,7 @@ pub fn replay<R: Read, W: Write>(
     scenario: &Scenario,
     output: W,
 ) -> Result<ReplaySummary, ReplayFailure> {
-    let setup = crate::setup::fsw::replay_setup(scenario)?;
+    let setup = crate::setup::fsw::replay_setup_without_commands(scenario)?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| format!("flight software configuration refused: {error}"))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())?;

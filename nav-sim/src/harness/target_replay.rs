@@ -18,7 +18,7 @@ use crate::harness::flight::FlightError;
 use crate::logs::sensor_log;
 use crate::logs::star_heads::FlightStarHeads;
 use crate::scenario::Scenario;
-use crate::setup::fsw::replay_setup;
+use crate::setup::fsw::replay_setup_without_commands;
 use crate::world::simulation::Simulation;
 
 /// Words per output frame: the record and the cost.
@@ -78,7 +78,7 @@ pub fn write_input<W: Write>(
 
 /// The start of a replay input: the setup words of `scenario`, then the binary log header.
 fn write_input_header<W: Write>(scenario: &Scenario, writer: &mut W) -> Result<(), ReplayError> {
-    for word in replay_setup(scenario)
+    for word in replay_setup_without_commands(scenario)
         .map_err(FlightError::from)?
         .to_words()
     {

@@ -20,7 +20,7 @@ use crate::harness::target_replay::{
     FirstDifference, ReplayError, FRAME_WORDS,
 };
 use crate::scenario::Scenario;
-use crate::setup::fsw::replay_setup;
+use crate::setup::fsw::replay_setup_without_commands;
 
 /// First word of the line counters after the last frame (`"NAVLINES"` little-endian).
 pub const LINES_MAGIC: u64 = u64::from_le_bytes(*b"NAVLINES");
@@ -182,7 +182,8 @@ pub fn replay_lines_on_target(
 ) -> Result<UartReplayReport, ReplayError> {
     std::fs::create_dir_all(directory)?;
     let directory = directory.canonicalize()?;
-    let setup = replay_setup(scenario).map_err(crate::harness::flight::FlightError::from)?;
+    let setup = replay_setup_without_commands(scenario)
+        .map_err(crate::harness::flight::FlightError::from)?;
     let mut ground = Vec::new();
     for word in setup.to_words() {
         ground.extend_from_slice(&word.to_le_bytes());

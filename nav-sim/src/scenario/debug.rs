@@ -1,9 +1,9 @@
-//! The `Debug` renderings of the IMU triads' settings and of the filter's: the optional
-//! misalignment, g-sensitivity and bias-instability terms are left out while zero, so a
-//! scenario without them renders, and hashes (the campaign's `scenario_hash`), as it did
-//! before they existed.
+//! The `Debug` renderings of the scenario, of the IMU triads' settings and of the filter's:
+//! the optional tables, the optional misalignment, g-sensitivity and bias-instability terms
+//! and an empty command schedule are left out, so a scenario without them renders, and
+//! hashes (the campaign's `scenario_hash`), as it did before they existed.
 
-use super::{AccelerometerErrors, FilterSettings, GyroErrors};
+use super::{AccelerometerErrors, FilterSettings, GyroErrors, Scenario};
 
 /// Adds the optional IMU error terms to a triad's `Debug` rendering, each only when
 /// non-zero (the misalignment matrix, the g-sensitivity, the bias instability's pair).
@@ -144,6 +144,34 @@ impl std::fmt::Debug for FilterSettings {
                 "star_pairs_before_hand_over",
                 &self.star_pairs_before_hand_over,
             );
+        }
+        debug.finish()
+    }
+}
+
+impl std::fmt::Debug for Scenario {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut debug = formatter.debug_struct("Scenario");
+        debug
+            .field("simulation", &self.simulation)
+            .field("launch_site", &self.launch_site)
+            .field("initial_orbit", &self.initial_orbit)
+            .field("initial_attitude", &self.initial_attitude)
+            .field("imu", &self.imu)
+            .field("gyro", &self.gyro)
+            .field("accelerometer", &self.accelerometer)
+            .field("star_sensor", &self.star_sensor)
+            .field("gnss", &self.gnss)
+            .field("manoeuvres", &self.manoeuvres)
+            .field("filter", &self.filter);
+        if let Some(dispersion) = &self.dispersion {
+            debug.field("dispersion", dispersion);
+        }
+        if let Some(gravity) = &self.gravity {
+            debug.field("gravity", gravity);
+        }
+        if !self.commands.is_empty() {
+            debug.field("commands", &self.commands);
         }
         debug.finish()
     }

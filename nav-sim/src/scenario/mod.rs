@@ -19,6 +19,7 @@ use nav_fsw::config::FswConfig;
 use schemars::JsonSchema;
 use serde::Deserialize;
 
+pub mod commands;
 mod debug;
 pub mod dispersion;
 pub mod epoch;
@@ -198,31 +199,10 @@ pub struct Scenario {
     /// The truth's gravity field; absent = the flight code's point mass + `J2` ([`gravity`]).
     #[serde(default)]
     pub gravity: Option<gravity::GravitySettings>,
-}
-
-impl std::fmt::Debug for Scenario {
-    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let mut debug = formatter.debug_struct("Scenario");
-        debug
-            .field("simulation", &self.simulation)
-            .field("launch_site", &self.launch_site)
-            .field("initial_orbit", &self.initial_orbit)
-            .field("initial_attitude", &self.initial_attitude)
-            .field("imu", &self.imu)
-            .field("gyro", &self.gyro)
-            .field("accelerometer", &self.accelerometer)
-            .field("star_sensor", &self.star_sensor)
-            .field("gnss", &self.gnss)
-            .field("manoeuvres", &self.manoeuvres)
-            .field("filter", &self.filter);
-        if let Some(dispersion) = &self.dispersion {
-            debug.field("dispersion", dispersion);
-        }
-        if let Some(gravity) = &self.gravity {
-            debug.field("gravity", gravity);
-        }
-        debug.finish()
-    }
+    /// Ground commands given to the flight software during the flight (TOML `[[command]]`;
+    /// [`commands`]); absent = none.
+    #[serde(default, rename = "command")]
+    pub commands: Vec<commands::ScheduledCommand>,
 }
 
 /// Run control.

@@ -696,6 +696,13 @@ impl Scenario {
         if let Some(dispersion) = &self.dispersion {
             check.dispersion(dispersion, self)?;
         }
+        for (index, scheduled) in self.commands.iter().enumerate() {
+            let key = |name: &str| format!("command[{index}].{name}");
+            check.within(&key("at_s"), scheduled.at_s, 0.0, self.duration_s())?;
+            scheduled
+                .to_command()
+                .map_err(|(name, requirement)| check.fail(&key(name), &requirement))?;
+        }
         let gravity = self.gravity.as_ref().and_then(GravitySettings::violation);
         gravity.map_or(Ok(()), |(key, rule)| Err(check.fail(key, &rule)))
     }

@@ -128,6 +128,23 @@ pub fn replay_setup(scenario: &Scenario) -> Result<ReplaySetup, SetupError> {
     replay_setup_for(scenario, &Launch::new(scenario)?)
 }
 
+/// [`replay_setup`] for a replay of a sensor log or on the target, which flies no ground
+/// commands.
+///
+/// # Errors
+/// [`SetupError::Setting`] naming `command` for a scenario that schedules commands (its
+/// replay would silently differ from its flight); otherwise as [`replay_setup`].
+pub fn replay_setup_without_commands(scenario: &Scenario) -> Result<ReplaySetup, SetupError> {
+    if !scenario.commands.is_empty() {
+        return Err(SetupError::Setting(format!(
+            "command: the scenario schedules {} ground command(s), which a replay does not \
+             fly; replay a scenario without [[command]]",
+            scenario.commands.len()
+        )));
+    }
+    replay_setup(scenario)
+}
+
 /// [`replay_setup`] for the scenario's `launch`, already computed.
 ///
 /// # Errors

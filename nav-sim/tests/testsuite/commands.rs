@@ -1,0 +1,86 @@
+//! Ground commands scheduled by a scenario (`[[command]]`), flown through the flight
+//! software's command interface: a campaign that resets the filter mid-flight (keeping the
+//! calibration, or dropping it), or flies without GNSS for a while, stays consistent
+//! (average NEES of the 15 calibration states inside its two-sided 95 % χ² interval over 40
+//! runs of the short scenario, truth drawn from the filter's prior, as `consistency.rs`
+//! checks the same flight without commands); a schedule that cannot fly is refused naming
+//! its key.
+
+use nav_sim::campaign::monte_carlo::{fly_campaign, summarise};
+use nav_sim::scenario::commands::{AidName, CommandKind, ScheduledCommand};
+use nav_sim::Scenario;
+
+use crate::common;
+
+fn command(at_s: f64, command: CommandKind) -> ScheduledCommand {
+    ScheduledCommand {
+        at_s,
+        command,
+        block: None,
+        aid: None,
+        head: None,
+    }
+}
+
+fn nees_over_forty_runs_is_consistent(scenario: &Scenario) {
+    scenario.validate().unwrap();
+    let seeds: Vec<u64> = (0..40).map(|run| 1000 + run).collect();
+    let outcomes = fly_campaign(scenario, &seeds, &|| {}).unwrap();
+    let summary = summarise::<15, nav_sim::harness::flight::FlightError>(&outcomes).unwrap();
+    println!("{}", summary.nees_line());
+    assert!(summary.nees.consistent(), "{}", summary.nees_line());
+}
+
+#[test]
+fn a_campaign_that_resets_keeping_the_calibration_and_loses_gnss_stays_consistent() {
+    let mut scenario = common::short_scenario();
+    scenario.commands = vec![
+        ScheduledCommand {
+            aid: Some(AidName::Gnss),
+            ..command(5.0, CommandKind::DisableAid)
+        },
+        ScheduledCommand {
+            aid: Some(AidName::Gnss),
+            ..command(15.0, CommandKind::EnableAid)
+        },
+        command(25.0, CommandKind::ResetFilterKeepingCalibration),
+    ];
+    nees_over_forty_runs_is_consistent(&scenario);
+}
+
+#[test]
+fn a_campaign_that_resets_dropping_the_calibration_stays_consistent() {
+    let mut scenario = common::short_scenario();
+    scenario.commands = vec![command(5.0, CommandKind::ResetFilterDroppingCalibration)];
+    nees_over_forty_runs_is_consistent(&scenario);
+}
+
+#[test]
+fn a_schedule_that_cannot_fly_is_refused_naming_its_key() {
+    let mut scenario = common::short_scenario();
+    scenario.commands = vec![command(100.0, CommandKind::ClearSensorFaults)];
+    let error = scenario.validate().unwrap_err().to_string();
+    assert!(
+        error.contains("command[0].at_s must be in [0, 42]"),
+        "{error}"
+    );
+    scenario.commands = vec![
+        command(1.0, CommandKind::ClearSensorFaults),
+        command(2.0, CommandKind::FreezeBlock),
+    ];
+    let error = scenario.validate().unwrap_err().to_string();
+    assert!(error.contains("command[1].block is required"), "{error}");
+    // A command the flight software refuses ends the flight with its reason.
+    scenario.commands = vec![ScheduledCommand {
+        head: Some(1),
+        ..command(2.0, CommandKind::SelectStarHead)
+    }];
+    let options = nav_sim::harness::flight::FlightOptions::default();
+    let error = nav_sim::harness::flight::fly(&scenario, options, |_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("command[0]") && error.contains("head 1"),
+        "{error}"
+    );
+}
