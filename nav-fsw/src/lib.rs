@@ -65,6 +65,7 @@ pub const MINOR_FRAME_PERIOD_S: f64 = 0.002;
 
 pub mod aberration_monitor;
 pub mod calibration_manager;
+pub mod calibration_record;
 pub mod config;
 pub mod consistency;
 pub mod error;

@@ -6,7 +6,7 @@ use nalgebra::Matrix3;
 use super::{check_block_covariance, symmetrised, ErrorState, ErrorStateFilter, FilterConfig};
 use crate::discretise::CovarianceMatrix;
 use crate::gnss_error::GnssErrorStates;
-use crate::state::{StateBlock, DYNAMIC_DIMENSION, STATE_DIMENSION};
+use crate::state::{StateBlock, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
 use crate::NavError;
 
 impl ErrorStateFilter {
@@ -248,13 +248,13 @@ impl ErrorStateFilter {
     /// keeps the core calibration (a commanded reset after a navigation upset, when the
     /// sensors' calibration is still trusted): the navigation part of `x` becomes zero, `P`'s
     /// navigation rows and columns become the prior's (no correlation with the calibration),
-    /// its calibration block and the calibration part of `x` are kept, and the optional
-    /// blocks start again from their prior, as in [`Self::restart`]. Dropping the correlation
-    /// between navigation and calibration is conservative: the navigation prior alone bounds
-    /// the error it describes. The mode stays `config`'s.
+    /// the calibration part of `x` is kept, its block of `P` becomes
+    /// [`Self::calibration_covariance_for_restart`]'s, and the optional blocks start again
+    /// from their prior, as in [`Self::restart`]. The mode stays `config`'s.
     ///
     /// # Errors
-    /// As [`Self::restart`]; nothing changes then.
+    /// As [`Self::restart`], and as [`Self::calibration_covariance_for_restart`]; nothing
+    /// changes then.
     ///
     /// # Examples
     /// ```
@@ -275,17 +275,24 @@ impl ErrorStateFilter {
     /// filter.restart_keeping_calibration(&config)?;
     /// let prior = ErrorStateFilter::new(&config)?;
     /// assert_eq!(filter.covariance()[(6, 6)].to_bits(), prior.covariance()[(6, 6)].to_bits());
+    /// // The gyro bias was not correlated with the navigation states: its variance is kept.
     /// assert!((filter.covariance()[(9, 9)] - (1e-6 + 4e-6)).abs() < 1e-18);
     /// # Ok::<(), nav_core::NavError>(())
     /// ```
     pub fn restart_keeping_calibration(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
+        let calibration = self.calibration_block_for_restart(config)?;
         for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
             for (row, entry) in entries.iter_mut().enumerate() {
-                if row < DYNAMIC_DIMENSION || column < DYNAMIC_DIMENSION {
-                    *entry = 0.0;
-                }
+                let at = (
+                    row.checked_sub(DYNAMIC_DIMENSION),
+                    column.checked_sub(DYNAMIC_DIMENSION),
+                );
+                *entry = match at {
+                    (Some(i), Some(j)) => calibration.get((i, j)).copied().unwrap_or(f64::NAN),
+                    _ => 0.0,
+                };
             }
         }
         for value in self.state.iter_mut().take(DYNAMIC_DIMENSION) {
@@ -296,4 +303,162 @@ impl ErrorStateFilter {
         self.set_initial_navigation_covariance(config);
         Ok(())
     }
+
+    /// Replaces the calibration block of `P` (states `DYNAMIC_DIMENSION..`, the
+    /// calibration blocks in layout order) by the symmetric matrix whose lower triangle
+    /// `lower` holds row by row (`(0,0), (1,0), (1,1), (2,0), …`), and zeroes its correlation
+    /// with the navigation states: a calibration loaded as the prior (nav-fsw
+    /// `calibration_record`), which says nothing about the navigation error now.
+    ///
+    /// # Errors
+    /// [`NavError::NonFiniteState`] for a non-finite entry, [`NavError::InvalidConfiguration`]
+    /// for a matrix that is not positive definite; nothing changes then.
+    pub fn set_calibration_covariance(
+        &mut self,
+        lower: &[f64; CALIBRATION_LOWER_TRIANGLE],
+    ) -> Result<(), NavError> {
+        if !lower.iter().all(|value| value.is_finite()) {
+            return Err(NavError::NonFiniteState);
+        }
+        let block = CalibrationCovariance::from_fn(|row, column| {
+            let (high, low) = if row >= column {
+                (row, column)
+            } else {
+                (column, row)
+            };
+            lower
+                .get(high * (high + 1) / 2 + low)
+                .copied()
+                .unwrap_or(f64::NAN)
+        });
+        if nalgebra::Cholesky::new(block).is_none() {
+            return Err(NavError::InvalidConfiguration);
+        }
+        for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
+            for (row, entry) in entries.iter_mut().enumerate() {
+                let calibration = (
+                    row.checked_sub(DYNAMIC_DIMENSION),
+                    column.checked_sub(DYNAMIC_DIMENSION),
+                );
+                *entry = match calibration {
+                    (Some(i), Some(j)) => block.get((i, j)).copied().unwrap_or(0.0),
+                    (None, None) => *entry,
+                    _ => 0.0,
+                };
+            }
+        }
+        Ok(())
+    }
+
+    /// The calibration block of `P` as [`Self::set_calibration_covariance`] takes it (lower
+    /// triangle, row by row).
+    pub fn calibration_covariance(&self) -> [f64; CALIBRATION_LOWER_TRIANGLE] {
+        let mut lower = [0.0; CALIBRATION_LOWER_TRIANGLE];
+        let mut slots = lower.iter_mut();
+        for row in 0..CALIBRATION_DIMENSION {
+            for column in 0..=row {
+                let at = (DYNAMIC_DIMENSION + row, DYNAMIC_DIMENSION + column);
+                if let (Some(slot), Some(value)) = (slots.next(), self.covariance.get(at)) {
+                    *slot = *value;
+                }
+            }
+        }
+        lower
+    }
 }
+
+/// The error states' dimensions as the restart's bound splits them.
+type NavigationBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, DYNAMIC_DIMENSION>;
+type CrossBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>;
+
+impl ErrorStateFilter {
+    /// The calibration block of `P` for a restart that puts the navigation states back at
+    /// `config`'s prior `P⁰_nn` and drops their correlation with the calibration:
+    /// `P'_cc = P_cc + P_cn (P⁰_nn − P_nn)⁻¹ P_nc`.
+    ///
+    /// Derivation: the restarted filter claims `Q = diag(P⁰_nn, P'_cc)` for errors whose
+    /// covariance is still `P` (the navigation solution is the one before the restart). `Q`
+    /// bounds `P` when `Q − P = [[P⁰_nn − P_nn, −P_nc], [−P_cn, P'_cc − P_cc]] ⪰ 0`; with
+    /// `D = P⁰_nn − P_nn ≻ 0`, the Schur complement of `D` is
+    /// `P'_cc − P_cc − P_cn D⁻¹ P_nc`, which the formula makes zero: the smallest `P'_cc` of
+    /// that form that keeps the restarted filter from claiming more than it knows. Keeping
+    /// `P_cc` unchanged claims more (the navigation error the calibration explained is
+    /// forgotten), and the flights that reset or reboot mid-manoeuvre end overconfident.
+    /// When `D` is not positive definite (the navigation already less certain than its prior
+    /// in some direction, as after a long flight without GNSS) no `P'_cc` bounds `P`, and
+    /// `D = P⁰_nn` stands in: the correlation is still paid for, at the prior's scale.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] for a prior that is not positive definite
+    /// (refused by the configuration's validation first); [`NavError::NonFiniteState`] for a
+    /// non-finite result.
+    pub fn calibration_covariance_for_restart(
+        &self,
+        config: &FilterConfig,
+    ) -> Result<[f64; CALIBRATION_LOWER_TRIANGLE], NavError> {
+        let block = self.calibration_block_for_restart(config)?;
+        let mut lower = [0.0; CALIBRATION_LOWER_TRIANGLE];
+        let mut slots = lower.iter_mut();
+        for row in 0..CALIBRATION_DIMENSION {
+            for column in 0..=row {
+                if let (Some(slot), Some(value)) = (slots.next(), block.get((row, column))) {
+                    *slot = *value;
+                }
+            }
+        }
+        Ok(lower)
+    }
+
+    fn calibration_block_for_restart(
+        &self,
+        config: &FilterConfig,
+    ) -> Result<CalibrationCovariance, NavError> {
+        let prior = config.initial_variances()?;
+        let p = &self.covariance;
+        let entry = |i: usize, j: usize| p.get((i, j)).copied().unwrap_or(f64::NAN);
+        let margin = NavigationBlock::from_fn(|i, j| {
+            let prior_variance = if i == j {
+                prior.get(i).copied().unwrap_or(f64::NAN)
+            } else {
+                0.0
+            };
+            prior_variance - entry(i, j)
+        });
+        let cross = CrossBlock::from_fn(|i, j| entry(i, DYNAMIC_DIMENSION + j));
+        let kept = CalibrationCovariance::from_fn(|i, j| {
+            entry(DYNAMIC_DIMENSION + i, DYNAMIC_DIMENSION + j)
+        });
+        if cross.iter().all(|value| *value == 0.0) {
+            // Nothing to forget (a calibration just loaded, or never correlated).
+            return Ok(kept);
+        }
+        // A navigation block already wider than the prior in some direction (a long flight
+        // without GNSS): no calibration block makes the restart bound it; the prior alone
+        // then stands for the navigation error the calibration explained.
+        let prior_block = NavigationBlock::from_fn(|i, j| {
+            let variance = prior.get(i).copied().unwrap_or(f64::NAN);
+            if i == j {
+                variance
+            } else {
+                0.0
+            }
+        });
+        let cholesky = nalgebra::Cholesky::new(margin)
+            .or_else(|| nalgebra::Cholesky::new(prior_block))
+            .ok_or(NavError::InvalidConfiguration)?;
+        let added = cross.transpose() * cholesky.solve(&cross);
+        let block = kept + (added + added.transpose()) * 0.5;
+        if block.iter().all(|value| value.is_finite()) {
+            Ok(block)
+        } else {
+            Err(NavError::NonFiniteState)
+        }
+    }
+}
+
+/// The calibration block of `P` (15×15).
+type CalibrationCovariance = nalgebra::SMatrix<f64, CALIBRATION_DIMENSION, CALIBRATION_DIMENSION>;
+
+/// Entries of the calibration block's lower triangle (diagonal included).
+pub const CALIBRATION_LOWER_TRIANGLE: usize =
+    CALIBRATION_DIMENSION * (CALIBRATION_DIMENSION + 1) / 2;

@@ -33,6 +33,7 @@ use crate::NavError;
 use blocks::{OptionalBlocks, UpdateInputs};
 
 pub use config::{FilterConfig, InitialUncertainty};
+pub use covariance::CALIBRATION_LOWER_TRIANGLE;
 pub use optional::OptionalVarianceBounds;
 
 /// The 24-element error-state vector.

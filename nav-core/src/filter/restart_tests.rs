@@ -3,7 +3,9 @@
 //! calibration block and the calibration part of `x` are kept bit for bit, the optional blocks
 //! are back at their prior, and `P` stays positive definite.
 
-use nalgebra::Cholesky;
+use nalgebra::{Cholesky, SMatrix};
+
+use crate::discretise::CovarianceMatrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -27,15 +29,16 @@ const IMU: ImuErrorModel = ImuErrorModel {
 };
 
 /// A configuration whose prior differs from `filter_with`'s (unit σ everywhere), so a kept
-/// entry cannot pass for a restarted one.
+/// entry cannot pass for a restarted one; its navigation prior is wider than any random
+/// covariance's navigation block.
 fn config(mode: FilterMode) -> FilterConfig {
     FilterConfig {
         mode,
         discretisation_order: 3,
         initial: InitialUncertainty {
-            attitude_rad: 1e-3,
-            position_m: 10.0,
-            velocity_mps: 0.1,
+            attitude_rad: 1e3,
+            position_m: 1e3,
+            velocity_mps: 1e3,
             gyro_bias_rad_s: 1e-5,
             accel_bias_mps2: 1e-3,
             star_installation_rad: 1e-3,
@@ -47,8 +50,18 @@ fn config(mode: FilterMode) -> FilterConfig {
     }
 }
 
+/// `P_cc + P_cn (P⁰_nn − P_nn)⁻¹ P_nc`, written densely (nav-core
+/// `calibration_covariance_for_restart`).
+fn bound(p: &CovarianceMatrix, prior: &CovarianceMatrix) -> SMatrix<f64, 15, 15> {
+    let n = DYNAMIC_DIMENSION;
+    let margin = prior.fixed_view::<9, 9>(0, 0) - p.fixed_view::<9, 9>(0, 0);
+    let cross = p.fixed_view::<9, 15>(0, n).into_owned();
+    let inverse = margin.try_inverse().unwrap();
+    p.fixed_view::<15, 15>(n, n) + cross.transpose() * inverse * cross
+}
+
 #[test]
-fn navigation_restarts_and_calibration_is_kept_bit_for_bit() {
+fn navigation_restarts_and_calibration_is_bounded_for_the_dropped_correlation() {
     for (seed, mode) in [(1, FilterMode::ClosedLoop), (2, FilterMode::OpenLoop)] {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut filter = filter_with(mode, &random_covariance(&mut rng));
@@ -58,25 +71,64 @@ fn navigation_restarts_and_calibration_is_kept_bit_for_bit() {
         let config = config(mode);
         filter.restart_keeping_calibration(&config).unwrap();
         let prior = ErrorStateFilter::new(&config).unwrap();
+        let expected_block = bound(&before_p, prior.covariance());
         let (p, x) = (filter.covariance(), filter.state());
         for i in 0..STATE_DIMENSION {
             let kept = i >= DYNAMIC_DIMENSION;
             let expected_x = if kept { before_x[i] } else { 0.0 };
             assert_eq!(x[i].to_bits(), expected_x.to_bits(), "x[{i}]");
             for j in 0..STATE_DIMENSION {
-                let expected = if kept && j >= DYNAMIC_DIMENSION {
-                    before_p[(i, j)]
+                if kept && j >= DYNAMIC_DIMENSION {
+                    let expected = expected_block[(i - 9, j - 9)];
+                    let scale = (p[(i, i)] * p[(j, j)]).sqrt();
+                    assert!((p[(i, j)] - expected).abs() <= 1e-12 * scale, "P[{i},{j}]");
+                    // Never below what was known: the bound only adds.
+                    assert!(p[(i, i)] >= before_p[(i, i)], "P[{i},{i}]");
                 } else {
-                    prior.covariance()[(i, j)]
-                };
-                assert_eq!(p[(i, j)].to_bits(), expected.to_bits(), "P[{i},{j}]");
+                    let expected = prior.covariance()[(i, j)];
+                    assert_eq!(p[(i, j)].to_bits(), expected.to_bits(), "P[{i},{j}]");
+                }
             }
         }
+        // The restarted filter claims no less than the errors' covariance: Q − P ⪰ 0.
+        let difference = p - before_p;
+        let smallest = difference.symmetric_eigenvalues().min();
+        assert!(smallest > -1e-9 * p.norm(), "{smallest}");
         assert!(Cholesky::new(*p).is_some(), "P not positive definite");
-        // The optional blocks: the prior's, with no cross-covariance to the core.
         assert_eq!(filter.gnss_error(), prior.gnss_error());
         assert_eq!(filter.imu_error(), prior.imu_error());
         assert_eq!(filter.mode(), mode);
+    }
+}
+
+/// A navigation block less certain than the prior it would restart to: the prior stands in
+/// for the margin, `P_cc + P_cn (P⁰_nn)⁻¹ P_nc`.
+#[test]
+fn a_restart_to_a_narrower_navigation_prior_pays_for_the_correlation_at_the_prior_s_scale() {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut filter = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+    let before = *filter.covariance();
+    let mut narrow = config(FilterMode::ClosedLoop);
+    narrow.initial.attitude_rad = 1e-3;
+    filter.restart_keeping_calibration(&narrow).unwrap();
+    let prior = ErrorStateFilter::new(&narrow).unwrap();
+    let n = DYNAMIC_DIMENSION;
+    let cross = before.fixed_view::<9, 15>(0, n).into_owned();
+    let inverse = prior
+        .covariance()
+        .fixed_view::<9, 9>(0, 0)
+        .try_inverse()
+        .unwrap();
+    let expected = before.fixed_view::<15, 15>(n, n) + cross.transpose() * inverse * cross;
+    for i in 0..15 {
+        for j in 0..15 {
+            let got = filter.covariance()[(n + i, n + j)];
+            let scale = (expected[(i, i)] * expected[(j, j)]).sqrt();
+            assert!(
+                (got - expected[(i, j)]).abs() <= 1e-12 * scale,
+                "P[{i},{j}]"
+            );
+        }
     }
 }
 
@@ -90,4 +142,38 @@ fn a_refused_configuration_changes_nothing() {
     config.initial.velocity_mps = -1.0;
     assert!(filter.restart_keeping_calibration(&config).is_err());
     assert_eq!(filter, before);
+}
+
+/// The calibration covariance read out and written back is the same block, bit for bit, its
+/// correlation with navigation zeroed and the navigation block kept; a matrix that is not
+/// positive definite or not finite is refused and changes nothing.
+#[test]
+fn the_calibration_covariance_round_trips_and_a_bad_one_is_refused() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let mut filter = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+    let before = *filter.covariance();
+    let lower = filter.calibration_covariance();
+    filter.set_calibration_covariance(&lower).unwrap();
+    let after = filter.covariance();
+    for i in 0..STATE_DIMENSION {
+        for j in 0..STATE_DIMENSION {
+            let navigation = (i < DYNAMIC_DIMENSION) == (j < DYNAMIC_DIMENSION);
+            let expected = if navigation { before[(i, j)] } else { 0.0 };
+            assert_eq!(after[(i, j)].to_bits(), expected.to_bits(), "P[{i},{j}]");
+        }
+    }
+    let unchanged = filter;
+    let mut indefinite = lower;
+    indefinite[0] = -1.0;
+    assert_eq!(
+        filter.set_calibration_covariance(&indefinite),
+        Err(crate::NavError::InvalidConfiguration)
+    );
+    let mut not_finite = lower;
+    not_finite[7] = f64::NAN;
+    assert_eq!(
+        filter.set_calibration_covariance(&not_finite),
+        Err(crate::NavError::NonFiniteState)
+    );
+    assert_eq!(filter, unchanged);
 }

@@ -155,6 +155,10 @@ pub struct CommandCounters {
     pub refused: u32,
     /// Measurements discarded because their sensor is disabled by command.
     pub measurements_of_disabled_aid: u32,
+    /// Calibration records loaded (`NavigationComputer::load_calibration`).
+    pub calibration_records_loaded: u32,
+    /// Calibration records refused (`crate::calibration_record::RecordError`).
+    pub calibration_records_refused: u32,
 }
 
 impl NavigationComputer {

@@ -31,11 +31,16 @@ fn refused(computer: &mut NavigationComputer, command: Command, reason: CommandE
 }
 
 #[test]
-fn a_reset_keeping_the_calibration_keeps_estimates_and_covariance_bit_for_bit() {
+fn a_reset_keeping_the_calibration_keeps_estimates_and_bounds_their_covariance() {
     let mut computer = calibrated(*super::tests::computer().config());
     let estimate = computer.calibration_estimate();
     let p = *computer.filter().covariance();
-    let prior = ErrorStateFilter::new(&computer.config().filter).unwrap();
+    let config = computer.config().filter;
+    let bound = computer
+        .filter()
+        .calibration_covariance_for_restart(&config)
+        .unwrap();
+    let prior = ErrorStateFilter::new(&config).unwrap();
     assert!(p[(9, 9)] < prior.covariance()[(9, 9)]);
     assert!((0..DYNAMIC_DIMENSION).any(|i| p[(i, 12)].abs() > 0.0));
     computer
@@ -44,17 +49,20 @@ fn a_reset_keeping_the_calibration_keeps_estimates_and_covariance_bit_for_bit() 
         })
         .unwrap();
     assert_eq!(computer.calibration_estimate(), estimate);
+    let kept = computer.filter().calibration_covariance();
+    assert_eq!(kept.map(f64::to_bits), bound.map(f64::to_bits));
     let after = computer.filter().covariance();
     for i in 0..STATE_DIMENSION {
-        for j in 0..STATE_DIMENSION {
-            let calibration = i >= DYNAMIC_DIMENSION && j >= DYNAMIC_DIMENSION;
-            let expected = if calibration {
-                p[(i, j)]
-            } else {
+        for j in 0..DYNAMIC_DIMENSION {
+            let expected = if i < DYNAMIC_DIMENSION {
                 prior.covariance()[(i, j)]
+            } else {
+                0.0
             };
             assert_eq!(after[(i, j)].to_bits(), expected.to_bits(), "P[{i},{j}]");
         }
+        // The calibration's variances only grow by the correlation forgotten.
+        assert!(after[(i, i)] >= p[(i, i)] || i < DYNAMIC_DIMENSION);
     }
     let commands = computer.health.commands;
     assert_eq!((commands.accepted, commands.refused), (1, 0));

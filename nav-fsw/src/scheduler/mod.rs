@@ -99,6 +99,9 @@ mod history;
 mod intake;
 mod navigate;
 mod outputs;
+mod record;
+#[cfg(test)]
+mod record_tests;
 mod start;
 #[cfg(test)]
 mod tests;

@@ -22,6 +22,7 @@ use crate::harness::optional_blocks::{
 use crate::logs::sensor_log;
 use crate::logs::star_heads::FlightStarHeads;
 use crate::output::report::{BlockSample, Parameter, TimeHistorySample};
+use crate::scenario::commands::Scheduled;
 use crate::scenario::{self, Scenario};
 use crate::setup::fsw::{configuration_error, fsw_config, replay_setup_for};
 use crate::setup::launch::Launch;
@@ -389,39 +390,59 @@ pub fn fly_with(
     fly_observed(scenario, config, options, progress, inject, |_, _| {})
 }
 
-/// The scenario's `[[command]]` schedule as (frame, command, index in the schedule).
-fn scheduled_commands(scenario: &Scenario) -> Result<Vec<(u64, Command, usize)>, SetupError> {
+/// The scenario's `[[command]]` schedule as (frame, what, index in the schedule).
+fn scheduled_commands(scenario: &Scenario) -> Result<Vec<(u64, Scheduled, usize)>, SetupError> {
     let period_s = scenario.imu.frame_period_s();
     scenario
         .commands
         .iter()
         .enumerate()
         .map(|(index, scheduled)| {
-            let command = scheduled.to_command().map_err(|(key, requirement)| {
+            let what = scheduled.to_command().map_err(|(key, requirement)| {
                 SetupError::Setting(format!("command[{index}].{key} {requirement}"))
             })?;
-            Ok((
-                scenario::frames_in(scheduled.at_s, period_s),
-                command,
-                index,
-            ))
+            Ok((scenario::frames_in(scheduled.at_s, period_s), what, index))
         })
         .collect()
 }
 
 /// Gives the flight software the commands due before frame `frame_index`, in schedule
-/// order; a refused one ends the flight with its reason.
+/// order (a reboot: [`reboot_keeping_calibration`]); a refused one ends the flight with its
+/// reason.
 fn give_due_commands(
-    commands: &[(u64, Command, usize)],
+    commands: &[(u64, Scheduled, usize)],
     frame_index: u64,
     computer: &mut NavigationComputer,
 ) -> Result<(), SetupError> {
-    for (_, command, index) in commands.iter().filter(|(f, ..)| *f == frame_index) {
-        computer.command(*command).map_err(|error| {
-            SetupError::Setting(format!("command[{index}] at frame {frame_index}: {error}"))
-        })?;
+    for (_, what, index) in commands.iter().filter(|(f, ..)| *f == frame_index) {
+        let refused = |reason: String| {
+            SetupError::Setting(format!("command[{index}] at frame {frame_index}: {reason}"))
+        };
+        match what {
+            Scheduled::Command(command) => computer
+                .command(*command)
+                .map_err(|e| refused(e.to_string()))?,
+            Scheduled::RebootKeepingCalibration => {
+                *computer = reboot_keeping_calibration(computer).map_err(refused)?
+            }
+        }
     }
     Ok(())
+}
+
+/// A new computer with `computer`'s configuration, started from its navigation solution at
+/// the configured prior, with its calibration carried over through the record's bytes.
+fn reboot_keeping_calibration(computer: &NavigationComputer) -> Result<NavigationComputer, String> {
+    let record = computer
+        .export_calibration()
+        .map_err(|error| error.to_string())?;
+    let bytes = record.to_bytes();
+    let mut rebooted = NavigationComputer::new(*computer.config(), computer.navigation())
+        .map_err(|error| error.to_string())?;
+    rebooted
+        .load_calibration(&bytes)
+        .map_err(|error| error.to_string())?;
+    Ok(rebooted)
 }
 
 /// [`fly_with`] with an observer `observe(frame_index, computer)` called after every frame,

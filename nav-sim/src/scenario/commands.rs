@@ -1,8 +1,12 @@
 //! Ground commands a scenario schedules (`[[command]]`): each is given to the flight software
 //! through its own command interface (nav-fsw `NavigationComputer::command`) before the
 //! frame at its time runs, so a campaign can fly filter resets, frozen blocks, disabled aids
-//! and head selections. A command the flight software refuses ends the flight with its
-//! reason: a schedule that does not fly as written is a scenario error.
+//! and head selections, and `reboot_keeping_calibration`, which the simulator flies itself:
+//! the calibration exported as a record (nav-fsw `calibration_record`), a new computer
+//! started from the navigation solution of the moment (as a restart from the last saved
+//! state) with its configured prior, and the record loaded. A command the flight software
+//! refuses ends the flight with its reason: a schedule that does not fly as written is a
+//! scenario error.
 
 use nav_core::state::StateBlock;
 use nav_fsw::scheduler::{AidingSensorId, Command};
@@ -53,6 +57,17 @@ pub enum CommandKind {
     ClearSensorFaults,
     /// Forget calibration convergence and every freeze.
     RestartCalibration,
+    /// Restart the flight software, carrying the calibration over in a calibration record.
+    RebootKeepingCalibration,
+}
+
+/// What a scheduled command does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scheduled {
+    /// A flight-software command.
+    Command(Command),
+    /// A restart of the flight software that carries the calibration over in a record.
+    RebootKeepingCalibration,
 }
 
 /// An aiding sensor, as a scheduled command names it.
@@ -71,7 +86,7 @@ impl ScheduledCommand {
     ///
     /// # Errors
     /// `(key, requirement)` naming the argument at fault.
-    pub fn to_command(&self) -> Result<Command, (&'static str, String)> {
+    pub fn to_command(&self) -> Result<Scheduled, (&'static str, String)> {
         use CommandKind::*;
         let needs = match self.command {
             FreezeBlock | ReleaseBlock => "block",
@@ -94,7 +109,10 @@ impl ScheduledCommand {
                 return Err((key, requirement));
             }
         }
-        Ok(match self.command {
+        if self.command == RebootKeepingCalibration {
+            return Ok(Scheduled::RebootKeepingCalibration);
+        }
+        Ok(Scheduled::Command(match self.command {
             ResetFilterKeepingCalibration => Command::ResetFilter {
                 keep_calibration: true,
             },
@@ -107,8 +125,8 @@ impl ScheduledCommand {
             EnableAid => Command::SetAidEnabled(self.sensor(), true),
             SelectStarHead => Command::SelectStarHead(self.head.unwrap_or(0)),
             ClearSensorFaults => Command::ClearSensorFaults,
-            RestartCalibration => Command::RestartCalibration,
-        })
+            RestartCalibration | RebootKeepingCalibration => Command::RestartCalibration,
+        }))
     }
 
     fn calibration_block(&self) -> Result<StateBlock, (&'static str, String)> {
@@ -161,7 +179,11 @@ mod tests {
             ),
         ];
         for (text, command) in cases {
-            assert_eq!(scheduled(text).to_command(), Ok(command), "{text}");
+            assert_eq!(
+                scheduled(text).to_command(),
+                Ok(Scheduled::Command(command)),
+                "{text}"
+            );
         }
     }
 

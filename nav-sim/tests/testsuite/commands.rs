@@ -1,6 +1,7 @@
 //! Ground commands scheduled by a scenario (`[[command]]`), flown through the flight
 //! software's command interface: a campaign that resets the filter mid-flight (keeping the
-//! calibration, or dropping it), or flies without GNSS for a while, stays consistent
+//! calibration, or dropping it), reboots it with its calibration carried over in a record,
+//! or flies without GNSS for a while, stays consistent
 //! (average NEES of the 15 calibration states inside its two-sided 95 % χ² interval over 40
 //! runs of the short scenario, truth drawn from the filter's prior, as `consistency.rs`
 //! checks the same flight without commands); a schedule that cannot fly is refused naming
@@ -83,4 +84,35 @@ fn a_schedule_that_cannot_fly_is_refused_naming_its_key() {
         error.contains("command[0]") && error.contains("head 1"),
         "{error}"
     );
+}
+
+/// A flight rebooted half way (mid-rotation, the hardest moment: the calibration is most
+/// correlated with the attitude), its calibration carried over in a record: consistent over
+/// 40 runs, and every calibration state ends within 1σ of the uninterrupted flight's
+/// estimate (RMS over the runs of the difference over the rebooted flight's own σ).
+#[test]
+fn a_flight_rebooted_half_way_ends_within_one_sigma_of_the_uninterrupted_flight() {
+    let uninterrupted = common::short_scenario();
+    let mut rebooted = uninterrupted.clone();
+    rebooted.commands = vec![command(21.0, CommandKind::RebootKeepingCalibration)];
+    nees_over_forty_runs_is_consistent(&rebooted);
+    let seeds: Vec<u64> = (0..40).map(|run| 1000 + run).collect();
+    let plain = fly_campaign(&uninterrupted, &seeds, &|| {}).unwrap();
+    let interrupted = fly_campaign(&rebooted, &seeds, &|| {}).unwrap();
+    for state in 0..15 {
+        let mean_square = plain
+            .iter()
+            .zip(&interrupted)
+            .map(|(a, b)| {
+                let difference = a.error[state] - b.error[state];
+                difference * difference / b.covariance[(state, state)]
+            })
+            .sum::<f64>()
+            / seeds.len() as f64;
+        println!(
+            "state {state}: RMS difference / σ = {:.3}",
+            mean_square.sqrt()
+        );
+        assert!(mean_square.sqrt() < 1.0, "state {state}");
+    }
 }
