@@ -67,6 +67,7 @@ pub mod aberration_monitor;
 pub mod calibration_manager;
 pub mod config;
 pub mod consistency;
+pub mod datasheet;
 pub mod error;
 pub mod health;
 pub mod input_check;
