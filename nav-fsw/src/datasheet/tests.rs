@@ -162,11 +162,42 @@ fn bias_instability_adds_its_driving_noise_to_the_walk() {
         let gauss_markov_change = 2.0 * sigma * sigma * (1.0 - libm::exp(-t_s / tau_s));
         assert!(density * density * t_s >= gauss_markov_change, "{t_s}");
     }
-    let prior = bias_prior_with_instability(1.0e-3, 2.0e-5, 600.0);
-    assert!((prior * prior - (1.0e-6 + 8.0e-10)).abs() < 1e-18);
+}
+
+/// The walk with the prior of [`bias_prior_with_instability`] bounds the Gauss–Markov bias:
+/// over any set of times (here 60, from 0 to 5τ, bunched near 0 where the bound is
+/// tightest) the filter's covariance of the bias minus the truth's (a constant of the
+/// prior's 1σ plus the stationary Gauss–Markov bias) is positive semi-definite. A prior
+/// holding only the stationary `σ²` is not a bound.
+#[test]
+fn the_walk_and_its_prior_bound_the_gauss_markov_bias_at_every_set_of_times() {
+    let (constant_sigma, sigma, tau_s) = (1.0e-3, 2.0e-5, 600.0);
+    let q = bias_walk_with_instability(0.0, sigma, tau_s).powi(2);
+    const TIMES: usize = 60;
+    let times: [f64; TIMES] =
+        core::array::from_fn(|k| 5.0 * tau_s * (k as f64 / (TIMES - 1) as f64).powi(3));
+    let smallest_eigenvalue = |prior_variance: f64| {
+        let difference = nalgebra::SMatrix::<f64, TIMES, TIMES>::from_fn(|i, j| {
+            let (s, t) = (times[i], times[j]);
+            let filter = prior_variance + q * s.min(t);
+            let truth =
+                constant_sigma * constant_sigma + sigma * sigma * libm::exp(-(t - s).abs() / tau_s);
+            (filter - truth) / (sigma * sigma)
+        });
+        difference.symmetric_eigenvalues().min()
+    };
+    let prior = bias_prior_with_instability(constant_sigma, sigma, tau_s).powi(2);
+    assert!((prior - (1.0e-6 + 8.0e-10)).abs() < 1e-18);
+    assert!(
+        smallest_eigenvalue(prior) > -1e-6,
+        "{}",
+        smallest_eigenvalue(prior)
+    );
+    let stationary_only = constant_sigma * constant_sigma + sigma * sigma;
+    assert!(smallest_eigenvalue(stationary_only) < -0.1);
     assert_eq!(
-        bias_prior_with_instability(1.0e-3, 0.0, 600.0).to_bits(),
-        1.0e-3f64.to_bits()
+        bias_prior_with_instability(constant_sigma, 0.0, tau_s).to_bits(),
+        constant_sigma.to_bits()
     );
 }
 
