@@ -5,7 +5,8 @@
 //! densities, turns on the optional state blocks they call for and validates the result
 //! through the parameter table ([`FswConfig::validate`]). Each conversion is one function
 //! here whose doc gives its derivation; nav-sim's scenarios use the same functions, so a
-//! scenario and a data sheet that state one value configure one flight (docs/datasheets.md).
+//! scenario and a data sheet that state one value configure one flight
+//! (docs/flight-software.md, "Configuring it from the data sheets").
 
 use crate::config::FswConfig;
 use crate::error::{ConfigField, FswError};
