@@ -35,6 +35,20 @@ impl GravityDatasheet {
         omitted_field_psd_m2_per_s3: 0.0,
     };
 
+    /// The allowance's density for a 1σ `sigma_mps2` per axis, from the density
+    /// `psd_at_check_m2_per_s3` that `nav-sim gravity-omission` prints for the omitted field
+    /// scaled to the flight software's check figure `check_sigma_mps2` (per axis): the
+    /// density of a field scales with its power, `q · (σ / σ_check)²`. The data sheet's
+    /// `omitted_field_psd_m2_per_s3` is this, rounded up.
+    pub fn omitted_field_psd_for_sigma(
+        psd_at_check_m2_per_s3: f64,
+        check_sigma_mps2: f64,
+        sigma_mps2: f64,
+    ) -> f64 {
+        let ratio = sigma_mps2 / check_sigma_mps2;
+        psd_at_check_m2_per_s3 * ratio * ratio
+    }
+
     /// The flight's gravity settings, as given.
     pub(super) fn apply(&self, config: &mut FswConfig) {
         config.gravity = GravityConfig {

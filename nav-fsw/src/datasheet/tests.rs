@@ -272,9 +272,12 @@ fn the_data_sheets_turn_on_the_blocks_they_call_for() {
     assert!(config.filter.gnss_error.is_enabled());
     assert!(config.star.has_slow_error() && config.star.second_head.is_some());
     assert_eq!(config.gravity.field.degree, 12);
-    assert!(close(config.gnss.lever_arm_body_m[0], 1.5, 0.0));
+    assert_eq!(
+        config.gnss.lever_arm_body_m.map(f64::to_bits),
+        [1.5, 0.0, -0.4].map(f64::to_bits)
+    );
     // The 50 ms latency fits the 0.1 s default window; 110 ms widens it by one frame.
-    assert!(close(config.timing.max_latency_s, 0.1, 0.0));
+    assert_eq!(config.timing.max_latency_s.to_bits(), 0.1f64.to_bits());
     assert!(close(latency_window_s(0.1, 0.11, 0.002), 0.112, 1e-15));
     let mut bare = sheets;
     bare.imu.gyro.misalignment_urad = None;
@@ -347,4 +350,14 @@ fn every_parameter_the_data_sheets_set_names_its_field() {
             assert!(tables.iter().any(|t| field.starts_with(t)), "{field}");
         }
     }
+}
+
+/// realistic_sensors.toml's allowance: the default flight's check figure 1.87e-5 m/s²
+/// rounded up to 1.9e-5, and the density 1.25e-7 m²/s³ printed for it scaled by
+/// (1.9/1.87)² to 1.29e-7, rounded up to the 1.3e-7 its data sheet gives.
+#[test]
+fn the_gravity_allowance_scales_with_the_omitted_fields_power() {
+    let psd = GravityDatasheet::omitted_field_psd_for_sigma(1.25e-7, 1.87e-5, 1.9e-5);
+    assert!(close(psd, 1.290_428e-7, 1e-6), "{psd}");
+    assert!(psd < navigation_grade().gravity.omitted_field_psd_m2_per_s3);
 }
