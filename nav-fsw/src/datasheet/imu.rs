@@ -63,8 +63,9 @@ pub fn bias_prior_with_instability(constant_sigma: f64, sigma: f64, tau_s: f64) 
 /// `σ² (τ/t)² (2t/τ − 3 + 4e^(−t/τ) − e^(−2t/τ))` at averaging time `t` (the Markov-noise
 /// term of IEEE Std 952-1997, Annex C, with the white driving density `2σ²/τ`), whose
 /// maximum is [`ALLAN_PEAK_PER_SIGMA`]` · σ` at `t` = [`ALLAN_PEAK_TAU_PER_CORRELATION_TIME`]
-/// `· τ`. A data sheet's "bias instability" is that floor (IEEE Std 952's
-/// 0.664 B for flicker noise reads the same way): the Gauss–Markov 1σ is 1.62 times it.
+/// `· τ`. A data sheet's "bias instability" is that floor (as IEEE Std 952's flicker-noise
+/// floor, a multiple of the flicker coefficient, is read): the Gauss–Markov 1σ is 1.62
+/// times it.
 pub fn gauss_markov_from_allan_floor(floor: f64, averaging_time_s: f64) -> (f64, f64) {
     (
         floor / ALLAN_PEAK_PER_SIGMA,
