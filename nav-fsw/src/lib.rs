@@ -68,6 +68,7 @@ pub mod calibration_manager;
 pub mod calibration_record;
 pub mod config;
 pub mod consistency;
+pub mod datasheet;
 pub mod error;
 pub mod health;
 pub mod input_check;

@@ -49,6 +49,7 @@ impl GnssPort for Receiver {
     }
 }
 
+pub mod datasheets;
 mod ground_constants;
 /// The README's integration snippet, compiled here so that it cannot drift
 /// (`scripts/integrator-check.sh` checks that README.md shows this file).
@@ -68,15 +69,16 @@ pub fn sensor_frames() -> SensorFrames {
     ground_constants::SENSOR_FRAMES
 }
 
-/// The computer with the paper's configuration at `launch_site`, starting from `initial`.
+/// The computer configured from the vehicle's data sheets ([`datasheets::DATASHEETS`]) for
+/// the launch ([`launch_site`], [`sensor_frames`]), starting from `initial`.
 ///
 /// # Errors
-/// The configuration's [`FswError`] when nav-fsw refuses it.
+/// The configuration's [`FswError`] when nav-fsw refuses it
+/// (`nav_fsw::datasheet::Datasheets::field_of` names the data-sheet field).
 pub fn start(initial: NavigationState) -> Result<NavigationComputer, FswError> {
-    NavigationComputer::new(
-        FswConfig::paper_defaults(launch_site(), sensor_frames()),
-        initial,
-    )
+    let config =
+        FswConfig::from_datasheets(&datasheets::DATASHEETS, launch_site(), sensor_frames())?;
+    NavigationComputer::new(config, initial)
 }
 
 /// One 2 ms frame with the IMU sample `sample` and no aiding measurement.
@@ -116,7 +118,7 @@ mod tests {
     #[test]
     fn one_frame_advances_time_by_one_period_and_counts_no_fault() {
         let start_s = 600.0;
-        let mut computer = start(orbit_state(start_s)).expect("the paper's configuration");
+        let mut computer = start(orbit_state(start_s)).expect("the data sheets' configuration");
         let telemetry = one_frame(
             &mut computer,
             ImuSample {
@@ -135,11 +137,14 @@ mod tests {
     }
 
     /// Frames of `frames` with a star measurement of the true attitude (body = launch-inertial
-    /// axes, the sensor mounted along the body) in GCRF, as the tracker reports it, at the
+    /// axes, one head mounted along the body) in GCRF, as the tracker reports it, at the
     /// first frame: the star gate rejections and whether a star update was accepted.
     fn star_frames(frames: SensorFrames) -> (u32, bool) {
         let start_s = 600.0;
-        let config = FswConfig::paper_defaults(launch_site(), frames);
+        let mut sheets = datasheets::DATASHEETS;
+        sheets.star_tracker.mounting_rotation_vector_deg = [0.0; 3];
+        sheets.star_tracker.second_head_mounting_rotation_vector_deg = None;
+        let config = FswConfig::from_datasheets(&sheets, launch_site(), frames).unwrap();
         let mut computer = NavigationComputer::new(config, orbit_state(start_s)).unwrap();
         // q_gs = q_gi ⊗ q_ib ⊗ q_bs with q_ib and q_bs the identity: the conjugate of the
         // launch's true GCRF → launch-inertial rotation.
@@ -186,7 +191,8 @@ mod tests {
     /// The README's snippet starts the computer and runs a frame (no sample: held, counted).
     #[test]
     fn the_readmes_snippet_runs_a_frame() {
-        let mut computer = readme::start(orbit_state(600.0)).expect("the paper's configuration");
+        let mut computer =
+            readme::start(orbit_state(600.0)).expect("the data sheets' configuration");
         let mut drivers = (readme::Imu {}, readme::StarTracker {}, readme::Receiver {});
         let telemetry = readme::every_frame(&mut computer, &mut drivers);
         assert_eq!(telemetry.health.imu_missing, 1);

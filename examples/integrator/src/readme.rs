@@ -9,6 +9,8 @@ use nav_fsw::{
 // launch-inertial rotation, launch epoch in GPS time), written by
 // `nav-sim ground-constants [SCENARIO] --format rust > src/ground_constants.rs`.
 use crate::ground_constants::{LAUNCH_SITE, SENSOR_FRAMES};
+// Your sensors' data sheets and gravity model, in nav-fsw's tables: src/datasheets.rs.
+use crate::datasheets::DATASHEETS;
 
 pub struct Imu {/* the driver */}
 impl ImuPort for Imu {
@@ -32,12 +34,10 @@ impl GnssPort for Receiver {
     }
 }
 
-/// Start-up: the paper's configuration for your launch, from the initial state (attitude
-/// q_ib, position and velocity in the launch-inertial frame, navigation time).
+/// Start-up: the configuration from your sensors' data sheets for your launch, from the
+/// initial state (attitude q_ib, position and velocity in the launch-inertial frame, time).
 pub fn start(initial: NavigationState) -> Result<NavigationComputer, FswError> {
-    let mut config = FswConfig::paper_defaults(LAUNCH_SITE, SENSOR_FRAMES);
-    config.filter.gnss_error.sigma_m = 8.0; // the receiver's correlated error, if any
-    config.filter.gnss_error.correlation_time_s = 300.0;
+    let config = FswConfig::from_datasheets(&DATASHEETS, LAUNCH_SITE, SENSOR_FRAMES)?;
     // In a flight image, in place in a static slot instead:
     // NavigationComputer::init_in_place(slot, config, initial)
     NavigationComputer::new(config, initial) // Err(FswError) naming the refused field

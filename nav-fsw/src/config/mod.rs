@@ -442,7 +442,10 @@ impl FswConfig {
     /// The paper's values where it gives them (Section 3: 500 Hz, 10″ star sensor, 10 m
     /// GNSS, 3rd-order discretisation, its noise densities) and documented choices
     /// elsewhere, for a launch site given by the mission: every parameter's default of the
-    /// parameter table ([`Param`]).
+    /// parameter table ([`Param`]). For the paper's experiment and as the base the other
+    /// configurations change: it is the paper's idealised filter (point mass + `J2` without
+    /// an allowance, no IMU error states, no star slow error), not a vehicle's. A flight is
+    /// configured from its sensors' data sheets ([`FswConfig::from_datasheets`]).
     pub fn paper_defaults(launch_site: LaunchSite, sensor_frames: SensorFrames) -> Self {
         let mut config = Self::blank(launch_site, sensor_frames);
         for param in Param::ALL {

@@ -38,8 +38,6 @@ pub use star_sensor::{StarAberration, StarSensorSettings};
 /// The default scenario file, verbatim (what `nav-sim scenario` prints).
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("../../scenarios/default.toml");
 
-/// Seconds per hour (for the `_deg_per_h` noise specifications).
-const SECONDS_PER_HOUR: f64 = 3600.0;
 /// Largest accepted magnitude of a scale-factor error (dimensionless). The error model divides
 /// by `1 − λ`, and any real sensor is far below this.
 pub const MAX_SCALE_FACTOR_MAGNITUDE: f64 = 0.1;
@@ -402,7 +400,7 @@ pub const MAX_G_SENSITIVITY_RAD_S_PER_MPS2: f64 = 1.0e-3;
 impl GyroErrors {
     /// Rate-noise density in SI units (rad/s/√Hz = rad/√s).
     pub fn rate_noise_density_rad_per_sqrt_s(&self) -> f64 {
-        self.rate_noise_density_deg_per_h_per_sqrt_hz.to_radians() / SECONDS_PER_HOUR
+        nav_fsw::datasheet::deg_per_h_to_rad_per_s(self.rate_noise_density_deg_per_h_per_sqrt_hz)
     }
 
     /// 1σ of the delta-angle noise per increment of length `interval_s`:
@@ -581,10 +579,9 @@ pub struct FilterSettings {
     pub star_pairs_before_hand_over: u32,
 }
 
-/// Default of `[filter] star_pairs_before_hand_over`: 100 pairs (10 s at 10 Hz) know the
-/// heads' alignment to a tenth of the noise about the axes they share (nav-core
-/// `star_heads`: `σ/√n` per axis with `n` pairs).
-pub const DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER: u32 = 100;
+/// Default of `[filter] star_pairs_before_hand_over`: the data-sheet configuration's
+/// ([`nav_fsw::datasheet::PAIRS_BEFORE_HAND_OVER`], 100 pairs, 10 s at 10 Hz).
+pub const DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER: u32 = nav_fsw::datasheet::PAIRS_BEFORE_HAND_OVER;
 
 fn default_star_pairs_before_hand_over() -> u32 {
     DEFAULT_STAR_PAIRS_BEFORE_HAND_OVER

@@ -10,9 +10,6 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-/// Arc-seconds per degree.
-const ARCSEC_PER_DEG: f64 = 3600.0;
-
 /// Star sensor head: `q_is,meas = q_ib ⊗ q_bs ⊗ q_ψ ⊗ exp(ε_slow) ⊗ δq_noise`. The
 /// `[star_sensor]` table is head 0; each `[[star_sensor.additional_heads]]` table is one more
 /// head with the same keys (and no `additional_heads` of its own).
@@ -101,10 +98,9 @@ pub enum StarAberration {
     Uncorrected,
 }
 
-/// Arc-seconds to radians.
-pub fn arcsec_to_rad(arcsec: f64) -> f64 {
-    (arcsec / ARCSEC_PER_DEG).to_radians()
-}
+/// Arc-seconds to radians: the flight software's data-sheet conversion, so a scenario and a
+/// data sheet that state one value give the same bits.
+pub use nav_fsw::datasheet::arcsec_to_rad;
 
 impl StarSensorSettings {
     /// A second head as the two-head scenario files have it (`star_tracker_two_heads.toml`):

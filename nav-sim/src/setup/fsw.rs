@@ -8,6 +8,7 @@ use nav_core::error_model::ProcessNoise;
 use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
 use nav_core::strapdown::NavigationState;
 use nav_fsw::config::{FswConfig, Param, StarHeadConfig};
+use nav_fsw::datasheet;
 use nav_fsw::replay::ReplaySetup;
 use nav_fsw::{ConfigField, FswError};
 use rand_distr::{Distribution, StandardNormal};
@@ -153,12 +154,6 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     let settings = &scenario.filter;
     let filter = filter_config(scenario)?;
     let period_s = scenario.imu.frame_period_s();
-    let [x, y, z] = scenario.star_sensor.mounting_rotation_vector_deg;
-    let mounting = attitude::exp_rotation_vector(&Vector3::new(
-        x.to_radians(),
-        y.to_radians(),
-        z.to_radians(),
-    ));
     let (max_rate_rad_s, max_force_mps2) = scenario.imu.ranges_si();
     // The truth's white noise per sensor axis: cross-boresight (x, y) and roll (z) with the
     // per-axis keys, else `noise_arcsec` on every axis (the same bits as before).
@@ -174,7 +169,9 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     config.imu.max_rate_rad_s = max_rate_rad_s;
     config.imu.max_specific_force_mps2 = max_force_mps2;
     let star = &mut config.star;
-    star.mounting_wxyz = [mounting.w, mounting.i, mounting.j, mounting.k];
+    star.mounting_wxyz = datasheet::mounting_wxyz_from_rotation_vector_deg(
+        scenario.star_sensor.mounting_rotation_vector_deg,
+    );
     // A zero-noise sensor (a test setting) still needs a positive R. The flight software is
     // told the white noise per sensor axis; the slow errors are not modelled in its R.
     star.noise_rad = cross_rad.max(1e-12);
@@ -193,10 +190,11 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     gnss.gate_nis = settings.nis_gate.gnss_threshold;
     // The receiver's specification: 0 (no velocity output) turns velocity fusion off.
     gnss.velocity_noise_mps = scenario.gnss.velocity_noise_mps;
-    config.timing.max_latency_s = config
-        .timing
-        .max_latency_s
-        .max(scenario.gnss.latency_s + period_s);
+    config.timing.max_latency_s = datasheet::latency_window_s(
+        config.timing.max_latency_s,
+        scenario.gnss.latency_s,
+        period_s,
+    );
     config.gravity = settings.gravity.config();
     let initial = initial_navigation(scenario, &launch.truth_start);
     Ok(ReplaySetup::new(&config, initial))
@@ -213,18 +211,16 @@ fn second_head(scenario: &Scenario, filter: &FilterConfig) -> Option<StarHeadCon
         .additional_heads
         .first()
         .filter(|_| scenario.filter.star_second_head)?;
-    let [x, y, z] = head.mounting_rotation_vector_deg;
-    let mounting = attitude::exp_rotation_vector(&Vector3::new(
-        x.to_radians(),
-        y.to_radians(),
-        z.to_radians(),
-    ));
     let [cross_rad, _, roll_rad] = head.noise_per_axis_rad();
     Some(StarHeadConfig {
-        mounting_wxyz: [mounting.w, mounting.i, mounting.j, mounting.k],
+        mounting_wxyz: datasheet::mounting_wxyz_from_rotation_vector_deg(
+            head.mounting_rotation_vector_deg,
+        ),
         noise_rad: cross_rad.max(1e-12),
         roll_noise_rad: roll_rad.max(1e-12),
-        alignment_prior_sigma_rad: std::f64::consts::SQRT_2 * filter.initial.star_installation_rad,
+        alignment_prior_sigma_rad: datasheet::second_head_alignment_prior_rad(
+            filter.initial.star_installation_rad,
+        ),
         pair_gate_nis: scenario.filter.nis_gate.star_threshold,
         pairs_before_hand_over: scenario.filter.star_pairs_before_hand_over,
     })
@@ -277,46 +273,16 @@ pub fn scenario_process_noise(scenario: &Scenario) -> ProcessNoise {
         accel_noise_density_mps2_per_sqrt_hz: scenario
             .accelerometer
             .noise_density_mps2_per_sqrt_hz(scenario.imu.frame_period_s()),
-        gyro_bias_walk_rad_s2_per_sqrt_hz: with_bias_instability(
+        gyro_bias_walk_rad_s2_per_sqrt_hz: datasheet::bias_walk_with_instability(
             scenario.gyro.bias_random_walk_rad_per_s_per_sqrt_s,
             instability.gyro_sigma_rad_per_s,
             instability.gyro_correlation_time_s,
         ),
-        accel_bias_walk_mps3_per_sqrt_hz: with_bias_instability(
+        accel_bias_walk_mps3_per_sqrt_hz: datasheet::bias_walk_with_instability(
             scenario.accelerometer.bias_random_walk_mps2_per_sqrt_s,
             instability.accel_sigma_mps2,
             instability.accel_correlation_time_s,
         ),
-    }
-}
-
-/// The bias random-walk density the filter uses for a walk of density `walk` plus a
-/// first-order Gauss–Markov bias of stationary 1σ `sigma` and correlation time `tau_s`:
-/// `√(walk² + 2σ²/τ)`, the density of the white noise that drives the Gauss–Markov bias
-/// (`ḃ = −b/τ + w`, stationary variance `qτ/2 = σ²`). With the prior of
-/// [`with_instability_prior`] the walk bounds the Gauss–Markov bias's covariance at every
-/// set of times (docs/guide/model.md, "Bias instability in the filter"). With the instability off
-/// the walk is returned unchanged (the paper's model keeps its bits).
-fn with_bias_instability(walk: f64, sigma: f64, tau_s: f64) -> f64 {
-    if sigma > 0.0 && tau_s > 0.0 {
-        nav_core::float::sqrt(walk * walk + 2.0 * sigma * sigma / tau_s)
-    } else {
-        walk
-    }
-}
-
-/// The bias's prior 1σ for a constant part of 1σ `constant_sigma` and a Gauss–Markov part of
-/// stationary 1σ `sigma`: `√(σ_c² + 2σ²)`. A walk driven by the Gauss–Markov bias's noise
-/// and started with `2σ²` of variance is that bias plus an independent process (a copy of
-/// `b(0) + (1/τ)∫₀ᵗ b du`, whose covariance is `σ²(2 − e^(−|t−s|/τ)) + (2σ²/τ) min(s, t)`),
-/// so every combination of the bias at any times has at least its true variance; with less
-/// than `2σ²` some has not (docs/guide/model.md, "Bias instability in the filter"). With the
-/// instability off the 1σ is returned unchanged.
-fn with_instability_prior(constant_sigma: f64, sigma: f64, tau_s: f64) -> f64 {
-    if sigma > 0.0 && tau_s > 0.0 {
-        nav_core::float::sqrt(constant_sigma * constant_sigma + 2.0 * sigma * sigma)
-    } else {
-        constant_sigma
     }
 }
 
@@ -341,17 +307,17 @@ pub fn filter_config(scenario: &Scenario) -> Result<FilterConfig, SetupError> {
             attitude_rad: sigma.attitude_rad,
             position_m: sigma.position_m,
             velocity_mps: sigma.velocity_mps,
-            gyro_bias_rad_s: with_instability_prior(
+            gyro_bias_rad_s: datasheet::bias_prior_with_instability(
                 sigma.gyro_bias_rad_per_s,
                 instability.gyro_sigma_rad_per_s,
                 instability.gyro_correlation_time_s,
             ),
-            accel_bias_mps2: with_instability_prior(
+            accel_bias_mps2: datasheet::bias_prior_with_instability(
                 sigma.accel_bias_mps2,
                 instability.accel_sigma_mps2,
                 instability.accel_correlation_time_s,
             ),
-            star_installation_rad: with_instability_prior(
+            star_installation_rad: datasheet::bias_prior_with_instability(
                 sigma.star_installation_rad,
                 settings.star_slow_error.largest_sigma_rad(),
                 settings.star_slow_error.correlation_time_s,
@@ -393,68 +359,6 @@ pub fn run_config(scenario: &Scenario, truth: &Scenario) -> Result<FswConfig, Se
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Off, the walk keeps its bits; on, the density is `√(walk² + 2σ²/τ)`, and its variance
-    /// growth bounds the Gauss–Markov bias's change over every interval.
-    #[test]
-    fn bias_instability_adds_its_driving_noise_to_the_walk() {
-        for walk in [0.0, 3.0e-9, 1.0e-7] {
-            assert_eq!(
-                with_bias_instability(walk, 0.0, 600.0).to_bits(),
-                walk.to_bits()
-            );
-            assert_eq!(
-                with_bias_instability(walk, 1.0e-6, 0.0).to_bits(),
-                walk.to_bits()
-            );
-        }
-        let (sigma, tau_s) = (1.0e-6, 600.0);
-        let density = with_bias_instability(0.0, sigma, tau_s);
-        assert!((density - (2.0 * 1.0e-12 / 600.0_f64).sqrt()).abs() < 1e-22);
-        let combined = with_bias_instability(3.0e-8, sigma, tau_s);
-        assert!((combined * combined - (9.0e-16 + 2.0e-12 / 600.0)).abs() < 1e-28);
-        for t_s in [1.0, 60.0, 600.0, 6000.0] {
-            let gauss_markov_change = 2.0 * sigma * sigma * (1.0 - (-t_s / tau_s).exp());
-            assert!(density * density * t_s >= gauss_markov_change, "{t_s}");
-        }
-    }
-
-    /// The walk with the prior of [`with_instability_prior`] bounds the Gauss–Markov bias:
-    /// over any set of times (here 60, from 0 to 5τ, bunched near 0 where the bound is
-    /// tightest) the filter's covariance of the bias minus the truth's (a constant of the
-    /// prior's 1σ plus the stationary Gauss–Markov bias) is positive semi-definite. A prior
-    /// holding only the stationary `σ²` is not a bound.
-    #[test]
-    fn the_walk_and_its_prior_bound_the_gauss_markov_bias_at_every_set_of_times() {
-        let (constant_sigma, sigma, tau_s) = (1.0e-3, 2.0e-5, 600.0);
-        let q = with_bias_instability(0.0, sigma, tau_s).powi(2);
-        const TIMES: usize = 60;
-        let times: [f64; TIMES] =
-            core::array::from_fn(|k| 5.0 * tau_s * (k as f64 / (TIMES - 1) as f64).powi(3));
-        let smallest_eigenvalue = |prior_variance: f64| {
-            let difference = nalgebra::SMatrix::<f64, TIMES, TIMES>::from_fn(|i, j| {
-                let (s, t) = (times[i], times[j]);
-                let filter = prior_variance + q * s.min(t);
-                let truth = constant_sigma * constant_sigma
-                    + sigma * sigma * (-(t - s).abs() / tau_s).exp();
-                (filter - truth) / (sigma * sigma)
-            });
-            difference.symmetric_eigenvalues().min()
-        };
-        let prior = with_instability_prior(constant_sigma, sigma, tau_s).powi(2);
-        assert!((prior - (1.0e-6 + 8.0e-10)).abs() < 1e-18);
-        assert!(
-            smallest_eigenvalue(prior) > -1e-6,
-            "{}",
-            smallest_eigenvalue(prior)
-        );
-        let stationary_only = constant_sigma * constant_sigma + sigma * sigma;
-        assert!(smallest_eigenvalue(stationary_only) < -0.1);
-        assert_eq!(
-            with_instability_prior(constant_sigma, 0.0, tau_s).to_bits(),
-            constant_sigma.to_bits()
-        );
-    }
 
     /// The scenario's `[filter.imu_errors]` reaches the filter (and the replay setup, so the
     /// target flies the same filter); absent, the filter has no systematic states.

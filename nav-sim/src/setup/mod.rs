@@ -6,6 +6,8 @@
 //! registry of streams ([`streams`]): the prior's draw of the sensor-error truth ([`prior`])
 //! and the `[dispersion]` table's draws ([`dispersion`]).
 
+#[cfg(test)]
+mod datasheet_tests;
 pub mod dispersion;
 pub mod fsw;
 pub mod ground;
