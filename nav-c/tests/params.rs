@@ -245,9 +245,17 @@ fn rustfmt(text: &str) -> String {
         .stdout(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
     let output = child.wait_with_output().unwrap();
-    assert!(output.status.success(), "rustfmt refused the generated file");
+    assert!(
+        output.status.success(),
+        "rustfmt refused the generated file"
+    );
     String::from_utf8(output.stdout).unwrap()
 }
 
