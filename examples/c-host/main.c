@@ -29,8 +29,8 @@ static int refused(const char *call, NavStatus status, const NavFault *fault) {
 /* Writes one frame's record and its cost word, little-endian (the host's byte order). */
 static int write_record(FILE *out, const NavTelemetry *telemetry) {
   static uint64_t words[NAV_OUTPUT_WORDS + 1];
-  NavOptionalStates states;
-  if (nav_optional_states(computer, &states) != NAV_STATUS_OK ||
+  NavReportedStates states;
+  if (nav_reported_states(computer, &states) != NAV_STATUS_OK ||
       nav_replay_output_record(replay, telemetry, &states, words) != NAV_STATUS_OK) {
     return 1;
   }

@@ -834,7 +834,8 @@ typedef struct {
 } NavHealth;
 
 // One frame's telemetry: the navigation solution, the measurement fusion, the sensors'
-// states, the calibration table with its 1σ and the health counters.
+// states, the calibration table with its 1σ and the health counters (`nav_reported_states`
+// adds what is read only when reported).
 typedef struct {
   // Minor-frame counter (wraps).
   uint32_t frame;
@@ -864,16 +865,12 @@ typedef struct {
   uint8_t gnss_inconsistent;
   // 1 when the GNSS velocity consistency monitor's last window failed.
   uint8_t gnss_velocity_inconsistent;
-  // The star tracker head the filter fuses (0 or 1).
-  uint8_t active_star_head;
   // Calibration blocks converged so far.
   uint32_t converged_blocks;
   // Blocks frozen now (nav-core's `BlockMask` bits).
   uint32_t frozen_blocks;
   // The calibration table: estimates and 1σ.
   NavCalibration calibration;
-  // The star noise the update uses, 1σ about sensor x, y, z (rad).
-  double star_noise_rad[3];
   // Fault and action counters.
   NavHealth health;
   // Cost of the previous frame as reported with `nav_report_frame_cost`.
@@ -882,9 +879,14 @@ typedef struct {
   uint32_t worst_frame_cost;
 } NavTelemetry;
 
-// The optional state blocks (`nav_optional_states`): each block's bit in `blocks`, and
-// NaN in the fields of a block not flown.
+// What is read when it is reported (`nav_reported_states`), not in every frame: the star
+// noise in use, the active tracker head and the optional state blocks (each block's bit in
+// `blocks`, NaN in the fields of a block not flown).
 typedef struct {
+  // The star noise the next update uses, 1σ about sensor x, y, z (rad).
+  double star_noise_rad[3];
+  // The star tracker head the filter fuses (0 or 1).
+  uint8_t active_star_head;
   // Bit 0 (1): the correlated GNSS error states; bit 1 (2): the systematic IMU errors.
   uint32_t blocks;
   // Correlated GNSS position error, launch-inertial (m).
@@ -903,7 +905,7 @@ typedef struct {
   double gyro_g_sensitivity_rad_s_per_mps2[3];
   // Its 1σ (rad/s per m/s²).
   double gyro_g_sensitivity_sigma_rad_s_per_mps2[3];
-} NavOptionalStates;
+} NavReportedStates;
 
 #ifdef __cplusplus
 extern "C" {
@@ -976,12 +978,13 @@ NavStatus nav_set_frame_budget(void *memory, uint32_t budget);
 // As `nav_run_frame`'s `memory`.
 NavStatus nav_clear_sensor_faults(void *memory);
 
-// Writes the optional state blocks' estimates and 1σ to `states`: read when reported, not
-// in every frame (their square roots and the IMU block's covariance cost a frame's share).
+// Writes the star noise in use, the active tracker head and the optional state blocks'
+// estimates and 1σ to `states`: read when reported, not in every frame (the blocks' square
+// roots and the IMU block's covariance would cost every frame its share).
 //
 // # Safety
 // As `nav_run_frame`'s `memory`; `states` is NULL or valid for a write of its type.
-NavStatus nav_optional_states(void *memory, NavOptionalStates *states);
+NavStatus nav_reported_states(void *memory, NavReportedStates *states);
 
 // The path of parameter `param` (a `NavParam`) in the flight software's configuration,
 // e.g. `"gnss.noise_m"` (docs/reference/flight-parameters.md); NULL for `NAV_PARAM_NONE` or a
@@ -1048,7 +1051,7 @@ NavStatus nav_replay_next_frame(void *memory, NavFrameInputs *inputs, uint8_t *r
 // type; `words` is NULL or valid for writes of `NAV_OUTPUT_WORDS` words.
 NavStatus nav_replay_output_record(void *memory,
                                    const NavTelemetry *telemetry,
-                                   const NavOptionalStates *states,
+                                   const NavReportedStates *states,
                                    uint64_t *words);
 
 #ifdef __cplusplus

@@ -7,7 +7,7 @@ use nav_fsw::error::ConfigField;
 use nav_fsw::nalgebra::{Quaternion, Vector3};
 use nav_fsw::nav_core::strapdown::NavigationState;
 use nav_fsw::scheduler::NavigationComputer;
-use nav_fsw::telemetry::{FrameFusion, FrameTelemetry, OptionalStateTelemetry};
+use nav_fsw::telemetry::{FrameFusion, FrameTelemetry};
 use nav_fsw::{FswError, GnssFix, GnssPort, ImuPort, ImuSample, StarMeasurement, StarSensorPort};
 
 use crate::params::{NavConfig, CONFIG_PARAMS, NAV_CONFIG_PARAMS};
@@ -317,32 +317,38 @@ pub fn write_telemetry(t: &FrameTelemetry, computer: &NavigationComputer, out: &
     out.star_inconsistent = u8::from(t.star_inconsistent);
     out.gnss_inconsistent = u8::from(t.gnss_inconsistent);
     out.gnss_velocity_inconsistent = u8::from(t.gnss_velocity_inconsistent);
-    out.active_star_head = computer.active_star_head();
     out.converged_blocks = t.converged_blocks;
     out.frozen_blocks = u32::from(t.frozen_blocks);
     let table = computer.calibration_table();
-    let entry = |entry: &nav_fsw::calibration_manager::CalibrationEntry| NavCalibrationEntry {
-        value: entry.value,
-        sigma: entry.sigma(),
-    };
-    out.calibration = NavCalibration {
-        gyro_bias_rad_s: entry(&table.gyro_bias),
-        accel_bias_mps2: entry(&table.accel_bias),
-        star_installation_rad: entry(&table.star_installation),
-        gyro_scale_factor: entry(&table.gyro_scale_factor),
-        accel_scale_factor: entry(&table.accel_scale_factor),
-    };
-    out.star_noise_rad = computer.star_noise_rad();
+    let c = &mut out.calibration;
+    write_entry(&table.gyro_bias, &mut c.gyro_bias_rad_s);
+    write_entry(&table.accel_bias, &mut c.accel_bias_mps2);
+    write_entry(&table.star_installation, &mut c.star_installation_rad);
+    write_entry(&table.gyro_scale_factor, &mut c.gyro_scale_factor);
+    write_entry(&table.accel_scale_factor, &mut c.accel_scale_factor);
     crate::health::write_health(&t.health, &mut out.health);
     out.last_frame_cost = t.last_frame_cost;
     out.worst_frame_cost = t.worst_frame_cost;
 }
 
-/// The optional state blocks of `states`: each block's bit, NaN in a block not flown.
-pub fn optional_states_of(states: &OptionalStateTelemetry) -> NavOptionalStates {
+/// Writes a calibration entry's estimate and 1σ.
+fn write_entry(
+    entry: &nav_fsw::calibration_manager::CalibrationEntry,
+    out: &mut NavCalibrationEntry,
+) {
+    out.value = entry.value;
+    out.sigma = entry.sigma();
+}
+
+/// What the computer reports when asked: the star noise in use, the active head and the
+/// optional state blocks (each block's bit, NaN in a block not flown).
+pub fn reported_states_of(computer: &NavigationComputer) -> NavReportedStates {
+    let states = computer.optional_states();
     let nan3 = [f64::NAN; 3];
     let nan6 = [f64::NAN; 6];
-    let mut out = NavOptionalStates {
+    let mut out = NavReportedStates {
+        star_noise_rad: computer.star_noise_rad(),
+        active_star_head: computer.active_star_head(),
         blocks: 0,
         gnss_error_m: nan3,
         gnss_error_sigma_m: nan3,

@@ -10,7 +10,7 @@ use core::mem::MaybeUninit;
 use nav_fsw::scheduler::NavigationComputer;
 
 use crate::convert::{
-    check_inputs, config_fault, fsw_config_of, navigation_state_of, optional_states_of,
+    check_inputs, config_fault, fsw_config_of, navigation_state_of, reported_states_of,
     write_telemetry, InputPorts,
 };
 use crate::params::{NavConfig, PARAM_PATHS};
@@ -275,15 +275,16 @@ pub unsafe extern "C" fn nav_clear_sensor_faults(memory: *mut c_void) -> NavStat
     }
 }
 
-/// Writes the optional state blocks' estimates and 1σ to `states`: read when reported, not
-/// in every frame (their square roots and the IMU block's covariance cost a frame's share).
+/// Writes the star noise in use, the active tracker head and the optional state blocks'
+/// estimates and 1σ to `states`: read when reported, not in every frame (the blocks' square
+/// roots and the IMU block's covariance would cost every frame its share).
 ///
 /// # Safety
 /// As `nav_run_frame`'s `memory`; `states` is NULL or valid for a write of its type.
 #[no_mangle]
-pub unsafe extern "C" fn nav_optional_states(
+pub unsafe extern "C" fn nav_reported_states(
     memory: *mut c_void,
-    states: *mut NavOptionalStates,
+    states: *mut NavReportedStates,
 ) -> NavStatus {
     // SAFETY: the caller's contract; NULL is checked.
     let Some(states) = (unsafe { states.as_mut() }) else {
@@ -292,7 +293,7 @@ pub unsafe extern "C" fn nav_optional_states(
     // SAFETY: the caller's contract.
     match unsafe { computer_at(memory) } {
         Ok(computer) => {
-            *states = optional_states_of(&computer.optional_states());
+            *states = reported_states_of(computer);
             NavStatus::Ok
         }
         Err(fault) => fault.status,

@@ -4,7 +4,7 @@
 
 use nav_fsw::replay::{AssemblyCounts, OUTPUT_WORDS};
 
-use crate::types::{NavFusion, NavOptionalStates, NavTelemetry};
+use crate::types::{NavFusion, NavReportedStates, NavTelemetry};
 
 /// The fusion's word (its C value).
 fn fusion_code(fusion: NavFusion) -> u64 {
@@ -23,7 +23,7 @@ fn fusion_code(fusion: NavFusion) -> u64 {
 /// read side by side).
 pub fn output_words(
     t: &NavTelemetry,
-    states: &NavOptionalStates,
+    states: &NavReportedStates,
     counts: &AssemblyCounts,
 ) -> [u64; OUTPUT_WORDS] {
     let h = &t.health;
@@ -109,14 +109,14 @@ pub fn output_words(
     put(u64::from(h.gravity_allowance_short));
     put(u64::from(h.gravity_field_errors));
     put(u64::from(h.star_noise_matched));
-    for noise in t.star_noise_rad {
+    for noise in states.star_noise_rad {
         put(noise.to_bits());
     }
     put(u64::from(h.star_pair_rejections));
     put(u64::from(h.star_heads_inconsistent));
     put(u64::from(h.star_head_handovers));
     put(u64::from(h.star_unknown_head));
-    put(u64::from(t.active_star_head));
+    put(u64::from(states.active_star_head));
     put(u64::from(h.star_aberration_suspected));
     put(u64::from(states.blocks));
     let s = states;

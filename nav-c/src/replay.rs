@@ -320,7 +320,7 @@ fn write_inputs(frame: &FramePorts, inputs: &mut NavFrameInputs) {
 pub unsafe extern "C" fn nav_replay_output_record(
     memory: *mut c_void,
     telemetry: *const NavTelemetry,
-    states: *const NavOptionalStates,
+    states: *const NavReportedStates,
     words: *mut u64,
 ) -> NavStatus {
     // SAFETY: the caller's contract; NULL is checked.

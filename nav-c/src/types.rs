@@ -299,11 +299,16 @@ pub struct NavCalibration {
     pub accel_scale_factor: NavCalibrationEntry,
 }
 
-/// The optional state blocks (`nav_optional_states`): each block's bit in `blocks`, and
-/// NaN in the fields of a block not flown.
+/// What is read when it is reported (`nav_reported_states`), not in every frame: the star
+/// noise in use, the active tracker head and the optional state blocks (each block's bit in
+/// `blocks`, NaN in the fields of a block not flown).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct NavOptionalStates {
+pub struct NavReportedStates {
+    /// The star noise the next update uses, 1σ about sensor x, y, z (rad).
+    pub star_noise_rad: [f64; 3],
+    /// The star tracker head the filter fuses (0 or 1).
+    pub active_star_head: u8,
     /// Bit 0 (1): the correlated GNSS error states; bit 1 (2): the systematic IMU errors.
     pub blocks: u32,
     /// Correlated GNSS position error, launch-inertial (m).
@@ -433,7 +438,8 @@ pub struct NavHealth {
 }
 
 /// One frame's telemetry: the navigation solution, the measurement fusion, the sensors'
-/// states, the calibration table with its 1σ and the health counters.
+/// states, the calibration table with its 1σ and the health counters (`nav_reported_states`
+/// adds what is read only when reported).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct NavTelemetry {
@@ -465,16 +471,12 @@ pub struct NavTelemetry {
     pub gnss_inconsistent: u8,
     /// 1 when the GNSS velocity consistency monitor's last window failed.
     pub gnss_velocity_inconsistent: u8,
-    /// The star tracker head the filter fuses (0 or 1).
-    pub active_star_head: u8,
     /// Calibration blocks converged so far.
     pub converged_blocks: u32,
     /// Blocks frozen now (nav-core's `BlockMask` bits).
     pub frozen_blocks: u32,
     /// The calibration table: estimates and 1σ.
     pub calibration: NavCalibration,
-    /// The star noise the update uses, 1σ about sensor x, y, z (rad).
-    pub star_noise_rad: [f64; 3],
     /// Fault and action counters.
     pub health: NavHealth,
     /// Cost of the previous frame as reported with `nav_report_frame_cost`.

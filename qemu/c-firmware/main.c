@@ -126,9 +126,9 @@ static int next_frame(int input, NavFrameInputs *inputs) {
 static int store(int output, const NavTelemetry *telemetry, uint32_t cost, int flush) {
   static int buffered;
   if (telemetry) {
-    NavOptionalStates states;
+    NavReportedStates states;
     uint64_t *slot = &out_words[buffered * FRAME_WORDS];
-    if (nav_optional_states(computer, &states) != NAV_STATUS_OK ||
+    if (nav_reported_states(computer, &states) != NAV_STATUS_OK ||
         nav_replay_output_record(replay, telemetry, &states, slot) != NAV_STATUS_OK) {
       return 1;
     }
