@@ -394,201 +394,201 @@ typedef enum {
 // number (a count its integer value, a flag 0 or 1, a choice its index), in the
 // table's order. `nav_config_defaults` fills it with the defaults.
 typedef struct {
-  // filter.mode must be one of open_loop, closed_loop (the two filter modes); as its index: 0 = open_loop, 1 = closed_loop; default 1e0
+  // `filter.mode` must be one of open_loop, closed_loop (the two filter modes); as its index: 0 = open_loop, 1 = closed_loop; default 1
   double filter_mode;
-  // filter.discretisation_order must be in [1, 4] (nav-core's truncated transition series: 1 is Euler, 4 the longest it has); default 3e0
+  // `filter.discretisation_order` must be in [1, 4] (nav-core's truncated transition series: 1 is Euler, 4 the longest it has); default 3
   double filter_discretisation_order;
-  // gravity.field.degree must be in [2, 12] (2 is point mass + J2 alone; the flight's EGM2008 tables end at degree 12); default 2e0
+  // `gravity.field.degree` must be in [2, 12] (2 is point mass + J2 alone; the flight's EGM2008 tables end at degree 12); default 2
   double gravity_field_degree;
-  // gravity.field.order must be in [0, 12] (at most the degree (checked with it)); default 0e0
+  // `gravity.field.order` must be in [0, 12] (at most the degree (checked with it)); default 0
   double gravity_field_order;
-  // gravity.field.terms_per_frame must be in [1, 8] (the frame budget: each work item adds up to one coefficient's work to a frame that fuses nothing (docs/gravity.md, its cost table); twice the default keeps that frame inside 30,000 instructions with every state block, 255 would not); default 4e0
+  // `gravity.field.terms_per_frame` must be in [1, 8] (the frame budget: each work item adds up to one coefficient's work to a frame that fuses nothing (docs/gravity.md, its cost table); twice the default keeps that frame inside 30,000 instructions with every state block, 255 would not); default 4
   double gravity_field_terms_per_frame;
-  // filter.initial.attitude_rad must be in [1e-9, 3.141592653589793] rad (a rotation angle: below 1 nrad no sensor resolves it, beyond pi it wraps); default 1e-3
+  // `filter.initial.attitude_rad` must be in [1e-9, 3.141592653589793] rad (a rotation angle: below 1 nrad no sensor resolves it, beyond pi it wraps); default 0.001
   double filter_initial_attitude_rad;
-  // filter.initial.position_m must be in [0.001, 1e7] m (a millimetre is below any position fix; 1e7 m is the size of the Earth); default 1e1
+  // `filter.initial.position_m` must be in [0.001, 1e7] m (a millimetre is below any position fix; 1e7 m is the size of the Earth); default 10
   double filter_initial_position_m;
-  // filter.initial.velocity_mps must be in [1e-6, 10000] m/s (a micrometre per second is below any velocity fix; 1e4 m/s exceeds orbital speed); default 1e-1
+  // `filter.initial.velocity_mps` must be in [1e-6, 10000] m/s (a micrometre per second is below any velocity fix; 1e4 m/s exceeds orbital speed); default 0.1
   double filter_initial_velocity_mps;
-  // filter.initial.gyro_bias_rad_s must be in [1e-12, 0.1] rad/s (1e-12 rad/s is far below the best gyro; 1e-1 rad/s (20,000 deg/h) far beyond any); default 1e-3
+  // `filter.initial.gyro_bias_rad_s` must be in [1e-12, 0.1] rad/s (1e-12 rad/s is far below the best gyro; 1e-1 rad/s (20,000 deg/h) far beyond any); default 0.001
   double filter_initial_gyro_bias_rad_s;
-  // filter.initial.accel_bias_mps2 must be in [1e-9, 10] m/s^2 (1e-9 m/s^2 is far below the best accelerometer; 10 m/s^2 is 1 g); default 1e-2
+  // `filter.initial.accel_bias_mps2` must be in [1e-9, 10] m/s^2 (1e-9 m/s^2 is far below the best accelerometer; 10 m/s^2 is 1 g); default 0.01
   double filter_initial_accel_bias_mps2;
-  // filter.initial.star_installation_rad must be in [1e-12, 3.141592653589793] rad (a rotation angle: down to 1e-12 rad, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); beyond pi it wraps); default 1e-2
+  // `filter.initial.star_installation_rad` must be in [1e-12, 3.141592653589793] rad (a rotation angle: down to 1e-12 rad, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); beyond pi it wraps); default 0.01
   double filter_initial_star_installation_rad;
-  // filter.initial.gyro_scale_factor must be in [1e-12, 0.1] (a relative error: down to 1e-12, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); 0.1 is nav-sim's largest truth scale factor and beyond the linear model); default 1e-4
+  // `filter.initial.gyro_scale_factor` must be in [1e-12, 0.1] (a relative error: down to 1e-12, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); 0.1 is nav-sim's largest truth scale factor and beyond the linear model); default 1e-4
   double filter_initial_gyro_scale_factor;
-  // filter.initial.accel_scale_factor must be in [1e-12, 0.1] (a relative error: down to 1e-12, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); 0.1 is nav-sim's largest truth scale factor and beyond the linear model); default 2e-4
+  // `filter.initial.accel_scale_factor` must be in [1e-12, 0.1] (a relative error: down to 1e-12, a prior so small that no update moves the state (the calibration switched off, as nav-sim's benefit study flies it); 0.1 is nav-sim's largest truth scale factor and beyond the linear model); default 2e-4
   double filter_initial_accel_scale_factor;
-  // process_noise.gyro_noise_density_rad_s_per_sqrt_hz must be 0 (off) or in [1e-12, 0.1] rad/s/sqrt(Hz) (1e-12 rad/s/sqrt(Hz) is far below the best gyro, 1e-1 (20,000 deg/h/sqrt(Hz)) no gyro); default 9.69627362219072e-7
+  // `process_noise.gyro_noise_density_rad_s_per_sqrt_hz` must be 0 (off) or in [1e-12, 0.1] rad/s/sqrt(Hz) (1e-12 rad/s/sqrt(Hz) is far below the best gyro, 1e-1 (20,000 deg/h/sqrt(Hz)) no gyro); default 9.69627362219072e-7
   double process_noise_gyro_noise_density_rad_s_per_sqrt_hz;
-  // process_noise.accel_noise_density_mps2_per_sqrt_hz must be 0 (off) or in [1e-12, 10] m/s^2/sqrt(Hz) (1e-12 m/s^2/sqrt(Hz) is far below the best accelerometer, 10 is no accelerometer); default 1e-4
+  // `process_noise.accel_noise_density_mps2_per_sqrt_hz` must be 0 (off) or in [1e-12, 10] m/s^2/sqrt(Hz) (1e-12 m/s^2/sqrt(Hz) is far below the best accelerometer, 10 is no accelerometer); default 1e-4
   double process_noise_accel_noise_density_mps2_per_sqrt_hz;
-  // process_noise.gyro_bias_walk_rad_s2_per_sqrt_hz must be 0 (off) or in [1e-18, 1] rad/s^2/sqrt(Hz) (a bias random walk, with nav-sim's bias instability 2 sigma^2 / tau added: the largest instability 1-sigma over the shortest correlation time stays inside); default 0e0
+  // `process_noise.gyro_bias_walk_rad_s2_per_sqrt_hz` must be 0 (off) or in [1e-18, 1] rad/s^2/sqrt(Hz) (a bias random walk, with nav-sim's bias instability 2 sigma^2 / tau added: the largest instability 1-sigma over the shortest correlation time stays inside); default 0
   double process_noise_gyro_bias_walk_rad_s2_per_sqrt_hz;
-  // process_noise.accel_bias_walk_mps3_per_sqrt_hz must be 0 (off) or in [1e-15, 100] m/s^3/sqrt(Hz) (a bias random walk, with nav-sim's bias instability 2 sigma^2 / tau added: the largest instability 1-sigma over the shortest correlation time stays inside); default 0e0
+  // `process_noise.accel_bias_walk_mps3_per_sqrt_hz` must be 0 (off) or in [1e-15, 100] m/s^3/sqrt(Hz) (a bias random walk, with nav-sim's bias instability 2 sigma^2 / tau added: the largest instability 1-sigma over the shortest correlation time stays inside); default 0
   double process_noise_accel_bias_walk_mps3_per_sqrt_hz;
-  // imu.period_s must be in [1e-4, 0.1] s (10 kHz to 10 Hz: the two-sample coning and sculling terms need many samples per manoeuvre, and a faster frame leaves no room in the budget); default 2e-3
+  // `imu.period_s` must be in [1e-4, 0.1] s (10 kHz to 10 Hz: the two-sample coning and sculling terms need many samples per manoeuvre, and a faster frame leaves no room in the budget); default 0.002
   double imu_period_s;
-  // Element 0: star.mounting_wxyz\[0\] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 1e0
-  // Element 1: star.mounting_wxyz[1] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0e0
-  // Element 2: star.mounting_wxyz[2] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0e0
-  // Element 3: star.mounting_wxyz[3] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0e0
+  // Element 0: `star.mounting_wxyz[0]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 1
+  // Element 1: `star.mounting_wxyz[1]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0
+  // Element 2: `star.mounting_wxyz[2]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0
+  // Element 3: `star.mounting_wxyz[3]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); default 0
   double star_mounting_wxyz[4];
-  // star.noise_rad must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); default 4.84813681109536e-5
+  // `star.noise_rad` must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); default 4.84813681109536e-5
   double star_noise_rad;
-  // star.gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 1.627e1
+  // `star.gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 16.27
   double star_gate_nis;
-  // gnss.noise_m must be in [1e-6, 100000] m (1e-6 m is the floor nav-sim gives a noiseless test receiver; 1e5 m is no fix); default 1e1
+  // `gnss.noise_m` must be in [1e-6, 100000] m (1e-6 m is the floor nav-sim gives a noiseless test receiver; 1e5 m is no fix); default 10
   double gnss_noise_m;
-  // gnss.gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 1.627e1
+  // `gnss.gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 16.27
   double gnss_gate_nis;
-  // timing.max_latency_s must be in [0, 1] s (at most the navigation history's span, (HISTORY_CAPACITY - 1) IMU periods (checked with imu.period_s)); default 1e-1
+  // `timing.max_latency_s` must be in [0, 1] s (at most the navigation history's span, (HISTORY_CAPACITY - 1) IMU periods (checked with imu.period_s)); default 0.1
   double timing_max_latency_s;
-  // filter.gnss_error.sigma_m must be 0 (off) or in [0.001, 1000] m (a receiver's slowly varying error: ionosphere and orbit errors are metres, 1 km is no fix); default 0e0
+  // `filter.gnss_error.sigma_m` must be 0 (off) or in [0.001, 1000] m (a receiver's slowly varying error: ionosphere and orbit errors are metres, 1 km is no fix); default 0
   double filter_gnss_error_sigma_m;
-  // filter.gnss_error.correlation_time_s must be 0 (off) or in [1, 1e8] s (below 1 s (500 frames) the error is white noise to the filter, whose walk 2 sigma^2 / tau would swamp the covariance every frame; beyond 1e8 s (three years) it is a constant over any flight: 0 (off) leaves it to the constant states); default 0e0
+  // `filter.gnss_error.correlation_time_s` must be 0 (off) or in [1, 1e8] s (below 1 s (500 frames) the error is white noise to the filter, whose walk 2 sigma^2 / tau would swamp the covariance every frame; beyond 1e8 s (three years) it is a constant over any flight: 0 (off) leaves it to the constant states); default 0
   double filter_gnss_error_correlation_time_s;
-  // gnss.velocity_noise_mps must be 0 (off) or in [1e-6, 1000] m/s (0 turns velocity fusion off; a receiver's velocity is centimetres per second, 1 km/s is none); default 5e-2
+  // `gnss.velocity_noise_mps` must be 0 (off) or in [1e-6, 1000] m/s (0 turns velocity fusion off; a receiver's velocity is centimetres per second, 1 km/s is none); default 0.05
   double gnss_velocity_noise_mps;
-  // imu.max_rate_rad_s must be in [0.01, 1000] rad/s (a gyro's measurement span: 0.6 deg/s to 57,000 deg/s); default 7e0
+  // `imu.max_rate_rad_s` must be in [0.01, 1000] rad/s (a gyro's measurement span: 0.6 deg/s to 57,000 deg/s); default 7
   double imu_max_rate_rad_s;
-  // imu.max_specific_force_mps2 must be in [1, 100000] m/s^2 (an accelerometer's measurement span: 0.1 g to 10,000 g); default 2e2
+  // `imu.max_specific_force_mps2` must be in [1, 100000] m/s^2 (an accelerometer's measurement span: 0.1 g to 10,000 g); default 200
   double imu_max_specific_force_mps2;
-  // filter.imu_error.gyro_misalignment_sigma_rad must be 0 (off) or in [1e-9, 0.01] rad (the model is the small-angle I + A: navigation-grade triads are 5-20 urad, tactical ones 100 urad and more; 1 rad is no small angle); default 0e0
+  // `filter.imu_error.gyro_misalignment_sigma_rad` must be 0 (off) or in [1e-9, 0.01] rad (the model is the small-angle I + A: navigation-grade triads are 5-20 urad, tactical ones 100 urad and more; 1 rad is no small angle); default 0
   double filter_imu_error_gyro_misalignment_sigma_rad;
-  // filter.imu_error.accel_misalignment_sigma_rad must be 0 (off) or in [1e-9, 0.01] rad (the model is the small-angle I + A: navigation-grade triads are 5-20 urad, tactical ones 100 urad and more; 1 rad is no small angle); default 0e0
+  // `filter.imu_error.accel_misalignment_sigma_rad` must be 0 (off) or in [1e-9, 0.01] rad (the model is the small-angle I + A: navigation-grade triads are 5-20 urad, tactical ones 100 urad and more; 1 rad is no small angle); default 0
   double filter_imu_error_accel_misalignment_sigma_rad;
-  // filter.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2 must be 0 (off) or in [1e-12, 0.001] rad/s per m/s^2 (navigation-grade gyros have 0.1-10 deg/h/g; 1e-3 is 2000 deg/h/g); default 0e0
+  // `filter.imu_error.gyro_g_sensitivity_sigma_rad_s_per_mps2` must be 0 (off) or in [1e-12, 0.001] rad/s per m/s^2 (navigation-grade gyros have 0.1-10 deg/h/g; 1e-3 is 2000 deg/h/g); default 0
   double filter_imu_error_gyro_g_sensitivity_sigma_rad_s_per_mps2;
-  // gravity.omitted_field_sigma_mps2 must be 0 (off) or in [1e-12, 0.01] m/s^2 (the field beyond J2 is a few 1e-3 m/s^2 at most at the surface, less aloft); default 0e0
+  // `gravity.omitted_field_sigma_mps2` must be 0 (off) or in [1e-12, 0.01] m/s^2 (the field beyond J2 is a few 1e-3 m/s^2 at most at the surface, less aloft); default 0
   double gravity_omitted_field_sigma_mps2;
-  // gravity.omitted_field_psd_m2_per_s3 must be 0 (off) or in [1e-20, 1] m^2/s^3 (a velocity noise for that field: 1 m^2/s^3 swamps every accelerometer); default 0e0
+  // `gravity.omitted_field_psd_m2_per_s3` must be 0 (off) or in [1e-20, 1] m^2/s^3 (a velocity noise for that field: 1 m^2/s^3 swamps every accelerometer); default 0
   double gravity_omitted_field_psd_m2_per_s3;
-  // star.roll_noise_rad must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); default 4.84813681109536e-5
+  // `star.roll_noise_rad` must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); default 4.84813681109536e-5
   double star_roll_noise_rad;
-  // Element 0: star.slow_error_sigma_rad\[0\] must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0e0
-  // Element 1: star.slow_error_sigma_rad[1] must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0e0
-  // Element 2: star.slow_error_sigma_rad[2] must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0e0
+  // Element 0: `star.slow_error_sigma_rad[0]` must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0
+  // Element 1: `star.slow_error_sigma_rad[1]` must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0
+  // Element 2: `star.slow_error_sigma_rad[2]` must be 0 (off) or in [1e-9, 0.01] rad (a tracker's thermo-elastic error is arcseconds: 1e-2 rad (34 arcmin) is no tracker); default 0
   double star_slow_error_sigma_rad[3];
-  // star.slow_error_correlation_time_s must be 0 (off) or in [1, 1e8] s (below 1 s (500 frames) the error is white noise to the filter, whose walk 2 sigma^2 / tau would swamp the covariance every frame; beyond 1e8 s (three years) it is a constant over any flight: 0 (off) leaves it to the constant states); default 0e0
+  // `star.slow_error_correlation_time_s` must be 0 (off) or in [1, 1e8] s (below 1 s (500 frames) the error is white noise to the filter, whose walk 2 sigma^2 / tau would swamp the covariance every frame; beyond 1e8 s (three years) it is a constant over any flight: 0 (off) leaves it to the constant states); default 0
   double star_slow_error_correlation_time_s;
-  // star.aberration_correction must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 0e0
+  // `star.aberration_correction` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 0
   double star_aberration_correction;
-  // star.noise_matching must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1e0
+  // `star.noise_matching` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1
   double star_noise_matching;
-  // star.second_head must be one of false, true (one tracker head or two; the head's values follow); as its index: 0 = false, 1 = true; default 0e0
+  // `star.second_head` must be one of false, true (one tracker head or two; the head's values follow); as its index: 0 = false, 1 = true; default 0
   double star_second_head;
-  // star.second_head.pairs_before_hand_over must be in [1, 100000] pairs (at 0 the filter hands over to a head whose alignment no pair has measured; 1e5 pairs (hours at 10 Hz) is never); no default: the mission gives it; read only while `star.second_head` is 1
+  // `star.second_head.pairs_before_hand_over` must be in [1, 100000] pairs (at 0 the filter hands over to a head whose alignment no pair has measured; 1e5 pairs (hours at 10 Hz) is never); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_pairs_before_hand_over;
-  // Element 0: star.second_head.mounting_wxyz\[0\] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
-  // Element 1: star.second_head.mounting_wxyz[1] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
-  // Element 2: star.second_head.mounting_wxyz[2] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
-  // Element 3: star.second_head.mounting_wxyz[3] must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
+  // Element 0: `star.second_head.mounting_wxyz[0]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
+  // Element 1: `star.second_head.mounting_wxyz[1]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
+  // Element 2: `star.second_head.mounting_wxyz[2]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
+  // Element 3: `star.second_head.mounting_wxyz[3]` must be in [-1, 1] (a component of a unit quaternion (norm within 1e-9 of 1, checked with the whole quaternion)); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_mounting_wxyz[4];
-  // star.second_head.noise_rad must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); no default: the mission gives it; read only while `star.second_head` is 1
+  // `star.second_head.noise_rad` must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_noise_rad;
-  // star.second_head.roll_noise_rad must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); no default: the mission gives it; read only while `star.second_head` is 1
+  // `star.second_head.roll_noise_rad` must be in [1e-12, 0.1] rad (1e-12 rad is the floor nav-sim gives a noiseless test tracker; 1e-1 rad (6 deg) is no star tracker); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_roll_noise_rad;
-  // star.second_head.alignment_prior_sigma_rad must be in [1e-9, 3.141592653589793] rad (a rotation angle: below 1 nrad no sensor resolves it, beyond pi it wraps); no default: the mission gives it; read only while `star.second_head` is 1
+  // `star.second_head.alignment_prior_sigma_rad` must be in [1e-9, 3.141592653589793] rad (a rotation angle: below 1 nrad no sensor resolves it, beyond pi it wraps); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_alignment_prior_sigma_rad;
-  // star.second_head.pair_gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); no default: the mission gives it; read only while `star.second_head` is 1
+  // `star.second_head.pair_gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); no default: the mission gives it; read only while `star.second_head` is 1
   double star_second_head_pair_gate_nis;
-  // imu.period_tolerance must be in [1e-6, 0.5] (a sample's relative step error: a clock within 1e-6 is a quartz; beyond a half two samples could share a frame); default 1e-1
+  // `imu.period_tolerance` must be in [1e-6, 0.5] (a sample's relative step error: a clock within 1e-6 is a quartz; beyond a half two samples could share a frame); default 0.1
   double imu_period_tolerance;
-  // star.acquisition_gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 3.067e1
+  // `star.acquisition_gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 30.67
   double star_acquisition_gate_nis;
-  // star.unit_norm_tolerance must be in [1e-12, 0.1] (a measured quaternion's norm error: 1e-12 is the rounding of its components; beyond 0.1 it is no attitude); default 1e-3
+  // `star.unit_norm_tolerance` must be in [1e-12, 0.1] (a measured quaternion's norm error: 1e-12 is the rounding of its components; beyond 0.1 it is no attitude); default 0.001
   double star_unit_norm_tolerance;
-  // Element 0: gnss.lever_arm_body_m\[0\] must be in [-100, 100] m (within the vehicle); default 0e0
-  // Element 1: gnss.lever_arm_body_m[1] must be in [-100, 100] m (within the vehicle); default 0e0
-  // Element 2: gnss.lever_arm_body_m[2] must be in [-100, 100] m (within the vehicle); default 0e0
+  // Element 0: `gnss.lever_arm_body_m[0]` must be in [-100, 100] m (within the vehicle); default 0
+  // Element 1: `gnss.lever_arm_body_m[1]` must be in [-100, 100] m (within the vehicle); default 0
+  // Element 2: `gnss.lever_arm_body_m[2]` must be in [-100, 100] m (within the vehicle); default 0
   double gnss_lever_arm_body_m[3];
-  // gnss.acquisition_gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 3.067e1
+  // `gnss.acquisition_gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 30.67
   double gnss_acquisition_gate_nis;
-  // gnss.max_jump_m must be in [1, 1e7] m (a jump is beyond the receiver's noise (metres) and within the Earth's size); default 1e3
+  // `gnss.max_jump_m` must be in [1, 1e7] m (a jump is beyond the receiver's noise (metres) and within the Earth's size); default 1000
   double gnss_max_jump_m;
-  // gnss.velocity_gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 1.627e1
+  // `gnss.velocity_gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 16.27
   double gnss_velocity_gate_nis;
-  // gnss.velocity_acquisition_gate_nis must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 3.067e1
+  // `gnss.velocity_acquisition_gate_nis` must be in [1, 1e6] or +inf (no gate) (a chi-square(3) point: below 1 it rejects four consistent measurements in five; above 1e6 it gates nothing a sensor can produce, say +inf); default 30.67
   double gnss_velocity_acquisition_gate_nis;
-  // gnss.whiteness_window_fixes must be in [1, 1e6] fixes (at least one fix; 1e6 fixes (days at 10 Hz) never forgets); default 6.4e1
+  // `gnss.whiteness_window_fixes` must be in [1, 1e6] fixes (at least one fix; 1e6 fixes (days at 10 Hz) never forgets); default 64
   double gnss_whiteness_window_fixes;
-  // gnss.whiteness_threshold must be in (0, 1] (a correlation coefficient); default 2.5e-1
+  // `gnss.whiteness_threshold` must be in (0, 1] (a correlation coefficient); default 0.25
   double gnss_whiteness_threshold;
-  // timing.future_tolerance_s must be in [0, 0.1] s (below one IMU period (checked with imu.period_s): a later tag is a future frame's); default 1e-3
+  // `timing.future_tolerance_s` must be in [0, 0.1] s (below one IMU period (checked with imu.period_s): a later tag is a future frame's); default 0.001
   double timing_future_tolerance_s;
-  // timing.outage_timeout_s must be in [0.001, 3600] s (longer than a sensor's message interval; beyond an hour no outage is noticed); default 2e0
+  // `timing.outage_timeout_s` must be in [0.001, 3600] s (longer than a sensor's message interval; beyond an hour no outage is noticed); default 2
   double timing_outage_timeout_s;
-  // timing.rejections_to_declare_faulty must be in [1, 4.294967295e9] rejections (at least one; u32::MAX never declares a sensor faulty (a study of the flight without fault declaration)); default 2e1
+  // `timing.rejections_to_declare_faulty` must be in [1, 4.294967295e9] rejections (at least one; u32::MAX never declares a sensor faulty (a study of the flight without fault declaration)); default 20
   double timing_rejections_to_declare_faulty;
-  // covariance.propagation_interval_frames must be in [1, 500] frames (one second at 500 Hz at most: longer, the interval's mean rates no longer describe the motion); default 1e0
+  // `covariance.propagation_interval_frames` must be in [1, 500] frames (one second at 500 Hz at most: longer, the interval's mean rates no longer describe the motion); default 1
   double covariance_propagation_interval_frames;
-  // covariance.frame_load must be one of propagate_then_fuse, fuse_or_propagate (the two schedules); as its index: 0 = propagate_then_fuse, 1 = fuse_or_propagate; default 1e0
+  // `covariance.frame_load` must be one of propagate_then_fuse, fuse_or_propagate (the two schedules); as its index: 0 = propagate_then_fuse, 1 = fuse_or_propagate; default 1
   double covariance_frame_load;
-  // covariance.sigma_floor.attitude_rad must be in [1e-15, 3.141592653589793] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-9
+  // `covariance.sigma_floor.attitude_rad` must be in [1e-15, 3.141592653589793] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-9
   double covariance_sigma_floor_attitude_rad;
-  // covariance.sigma_floor.position_m must be in [1e-9, 1e7] m (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-4
+  // `covariance.sigma_floor.position_m` must be in [1e-9, 1e7] m (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-4
   double covariance_sigma_floor_position_m;
-  // covariance.sigma_floor.velocity_mps must be in [1e-12, 10000] m/s (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-7
+  // `covariance.sigma_floor.velocity_mps` must be in [1e-12, 10000] m/s (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-7
   double covariance_sigma_floor_velocity_mps;
-  // covariance.sigma_floor.gyro_bias_rad_s must be in [1e-18, 0.1] rad/s (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
+  // `covariance.sigma_floor.gyro_bias_rad_s` must be in [1e-18, 0.1] rad/s (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
   double covariance_sigma_floor_gyro_bias_rad_s;
-  // covariance.sigma_floor.accel_bias_mps2 must be in [1e-15, 10] m/s^2 (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-8
+  // `covariance.sigma_floor.accel_bias_mps2` must be in [1e-15, 10] m/s^2 (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-8
   double covariance_sigma_floor_accel_bias_mps2;
-  // covariance.sigma_floor.star_installation_rad must be in [1e-15, 3.141592653589793] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-9
+  // `covariance.sigma_floor.star_installation_rad` must be in [1e-15, 3.141592653589793] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-9
   double covariance_sigma_floor_star_installation_rad;
-  // covariance.sigma_floor.gyro_scale_factor must be in [1e-15, 0.1] (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
+  // `covariance.sigma_floor.gyro_scale_factor` must be in [1e-15, 0.1] (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
   double covariance_sigma_floor_gyro_scale_factor;
-  // covariance.sigma_floor.accel_scale_factor must be in [1e-15, 0.1] (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
+  // `covariance.sigma_floor.accel_scale_factor` must be in [1e-15, 0.1] (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-10
   double covariance_sigma_floor_accel_scale_factor;
-  // covariance.optional_sigma_floor.gnss_error_m must be in [1e-9, 1000] m (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-4
+  // `covariance.optional_sigma_floor.gnss_error_m` must be in [1e-9, 1000] m (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-4
   double covariance_optional_sigma_floor_gnss_error_m;
-  // covariance.optional_sigma_floor.gyro_non_orthogonality_rad must be in [1e-15, 0.01] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-12
+  // `covariance.optional_sigma_floor.gyro_non_orthogonality_rad` must be in [1e-15, 0.01] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-12
   double covariance_optional_sigma_floor_gyro_non_orthogonality_rad;
-  // covariance.optional_sigma_floor.accel_misalignment_rad must be in [1e-15, 0.01] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-12
+  // `covariance.optional_sigma_floor.accel_misalignment_rad` must be in [1e-15, 0.01] rad (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-12
   double covariance_optional_sigma_floor_accel_misalignment_rad;
-  // covariance.optional_sigma_floor.gyro_g_sensitivity_rad_s_per_mps2 must be in [1e-18, 0.001] rad/s per m/s^2 (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-15
+  // `covariance.optional_sigma_floor.gyro_g_sensitivity_rad_s_per_mps2` must be in [1e-18, 0.001] rad/s per m/s^2 (from a numerical guard far below every sensor's accuracy to the block's largest initial 1-sigma); default 1e-15
   double covariance_optional_sigma_floor_gyro_g_sensitivity_rad_s_per_mps2;
-  // covariance.sigma_ceiling_factor must be in [1, 1e6] (a multiple of the initial 1-sigma: below 1 the prior itself is clamped; beyond 1e6 the square of a large prior leaves the normal f64 range); default 1e3
+  // `covariance.sigma_ceiling_factor` must be in [1, 1e6] (a multiple of the initial 1-sigma: below 1 the prior itself is clamped; beyond 1e6 the square of a large prior leaves the normal f64 range); default 1000
   double covariance_sigma_ceiling_factor;
-  // covariance.held_sample.rate_rad_s must be 0 (off) or in [1e-6, 1000] rad/s (within a gyro's measurement range); default 1e-1
+  // `covariance.held_sample.rate_rad_s` must be 0 (off) or in [1e-6, 1000] rad/s (within a gyro's measurement range); default 0.1
   double covariance_held_sample_rate_rad_s;
-  // covariance.held_sample.specific_force_mps2 must be 0 (off) or in [1e-6, 100000] m/s^2 (within an accelerometer's measurement range); default 1e0
+  // `covariance.held_sample.specific_force_mps2` must be 0 (off) or in [1e-6, 100000] m/s^2 (within an accelerometer's measurement range); default 1
   double covariance_held_sample_specific_force_mps2;
-  // covariance.second_order_attitude must be one of neglected, bounded (the two models); as its index: 0 = neglected, 1 = bounded; default 1e0
+  // `covariance.second_order_attitude` must be one of neglected, bounded (the two models); as its index: 0 = neglected, 1 = bounded; default 1
   double covariance_second_order_attitude;
-  // calibration.convergence_sigma.gyro_bias_rad_s must be in [1e-12, 0.1] rad/s (a calibration accuracy, within the block's initial 1-sigma range); default 5e-7
+  // `calibration.convergence_sigma.gyro_bias_rad_s` must be in [1e-12, 0.1] rad/s (a calibration accuracy, within the block's initial 1-sigma range); default 5e-7
   double calibration_convergence_sigma_gyro_bias_rad_s;
-  // calibration.convergence_sigma.accel_bias_mps2 must be in [1e-9, 10] m/s^2 (a calibration accuracy, within the block's initial 1-sigma range); default 9.166666666666667e-5
+  // `calibration.convergence_sigma.accel_bias_mps2` must be in [1e-9, 10] m/s^2 (a calibration accuracy, within the block's initial 1-sigma range); default 9.166666666666667e-5
   double calibration_convergence_sigma_accel_bias_mps2;
-  // calibration.convergence_sigma.star_installation_rad must be in [1e-9, 3.141592653589793] rad (a calibration accuracy, within the block's initial 1-sigma range); default 1.6666666666666669e-6
+  // `calibration.convergence_sigma.star_installation_rad` must be in [1e-9, 3.141592653589793] rad (a calibration accuracy, within the block's initial 1-sigma range); default 1.6666666666666669e-6
   double calibration_convergence_sigma_star_installation_rad;
-  // calibration.convergence_sigma.gyro_scale_factor must be in [1e-12, 0.1] (a calibration accuracy, within the block's initial 1-sigma range); default 3.333333333333333e-7
+  // `calibration.convergence_sigma.gyro_scale_factor` must be in [1e-12, 0.1] (a calibration accuracy, within the block's initial 1-sigma range); default 3.333333333333333e-7
   double calibration_convergence_sigma_gyro_scale_factor;
-  // calibration.convergence_sigma.accel_scale_factor must be in [1e-12, 0.1] (a calibration accuracy, within the block's initial 1-sigma range); default 6.666666666666666e-7
+  // `calibration.convergence_sigma.accel_scale_factor` must be in [1e-12, 0.1] (a calibration accuracy, within the block's initial 1-sigma range); default 6.666666666666666e-7
   double calibration_convergence_sigma_accel_scale_factor;
-  // calibration.stability_window_s must be in [0, 86400] s (0 (converged at once) to one day of flight); default 1e1
+  // `calibration.stability_window_s` must be in [0, 86400] s (0 (converged at once) to one day of flight); default 10
   double calibration_stability_window_s;
-  // calibration.stability_fraction must be in [0.001, 1000] (a fraction of the block's threshold); default 1e0
+  // `calibration.stability_fraction` must be in [0.001, 1000] (a fraction of the block's threshold); default 1
   double calibration_stability_fraction;
-  // calibration.freeze_converged must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 0e0
+  // `calibration.freeze_converged` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 0
   double calibration_freeze_converged;
-  // calibration.policy must be one of all_blocks, paper_schedule, motion_observability (the three policies); as its index: 0 = all_blocks, 1 = paper_schedule, 2 = motion_observability; default 0e0
+  // `calibration.policy` must be one of all_blocks, paper_schedule, motion_observability (the three policies); as its index: 0 = all_blocks, 1 = paper_schedule, 2 = motion_observability; default 0
   double calibration_policy;
-  // calibration.motion_rate_threshold_rad_s must be in [1e-6, 1] rad/s (above an orbital coast's rate and the gyro noise, below a calibration rotation); default 8.726646259971648e-3
+  // `calibration.motion_rate_threshold_rad_s` must be in [1e-6, 1] rad/s (above an orbital coast's rate and the gyro noise, below a calibration rotation); default 0.008726646259971648
   double calibration_motion_rate_threshold_rad_s;
-  // calibration.motion_force_threshold_mps2 must be in [1e-4, 100] m/s^2 (above a coast's drag and accelerometer noise, below a calibration burn); default 5e-1
+  // `calibration.motion_force_threshold_mps2` must be in [1e-4, 100] m/s^2 (above a coast's drag and accelerometer noise, below a calibration burn); default 0.5
   double calibration_motion_force_threshold_mps2;
-  // consistency.time_constant_measurements must be in [1, 65536] measurements (the fading average's memory: one measurement to the monitor's largest); default 2.56e2
+  // `consistency.time_constant_measurements` must be in [1, 65536] measurements (the fading average's memory: one measurement to the monitor's largest); default 256
   double consistency_time_constant_measurements;
-  // consistency.mean_nis_bound must be in (3, 100] (above 3, a consistent filter's mean NIS; beyond 100 nothing is flagged); default 3.7e0
+  // `consistency.mean_nis_bound` must be in (3, 100] (above 3, a consistent filter's mean NIS; beyond 100 nothing is flagged); default 3.7
   double consistency_mean_nis_bound;
-  // strapdown.coning_compensation must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1e0
+  // `strapdown.coning_compensation` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1
   double strapdown_coning_compensation;
-  // strapdown.sculling_compensation must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1e0
+  // `strapdown.sculling_compensation` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1
   double strapdown_sculling_compensation;
-  // strapdown.gravity.j2_enabled must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1e0
+  // `strapdown.gravity.j2_enabled` must be one of false, true (on or off); as its index: 0 = false, 1 = true; default 1
   double strapdown_gravity_j2_enabled;
 } NavConfig;
 
@@ -646,8 +646,8 @@ typedef struct {
   uint32_t companion;
   // The frame input malformed (`NAV_STATUS_BAD_FRAME`).
   NavFrameInput input;
-  // The index of the malformed element (a fix), or the byte offset of a refused log
-  // record's field; 0 otherwise.
+  // The index of the malformed element (`NAV_FRAME_INPUT_GNSS_VELOCITY_PRESENT`: the fix);
+  // 0 otherwise.
   uint32_t index;
 } NavFault;
 

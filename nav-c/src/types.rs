@@ -128,8 +128,8 @@ pub struct NavFault {
     pub companion: u32,
     /// The frame input malformed (`NAV_STATUS_BAD_FRAME`).
     pub input: NavFrameInput,
-    /// The index of the malformed element (a fix), or the byte offset of a refused log
-    /// record's field; 0 otherwise.
+    /// The index of the malformed element (`NAV_FRAME_INPUT_GNSS_VELOCITY_PRESENT`: the fix);
+    /// 0 otherwise.
     pub index: u32,
 }
 

@@ -36,7 +36,13 @@ fn variant_of(param: Param) -> String {
 /// The doc line of a parameter: its rule (range, unit, why), how a choice or flag is written
 /// and its default.
 fn doc_of(param: Param) -> String {
-    let mut doc = format!("{}", ConfigField::Parameter(param));
+    let rule = format!("{}", ConfigField::Parameter(param));
+    // The path in code quotes: its brackets are no links.
+    let mut doc = format!(
+        "`{}`{}",
+        param.path(),
+        rule.strip_prefix(param.path()).unwrap()
+    );
     let choices = param.range().choices;
     if !choices.is_empty() {
         let named: Vec<String> = choices
@@ -47,13 +53,16 @@ fn doc_of(param: Param) -> String {
         write!(doc, "; as its index: {}", named.join(", ")).unwrap();
     }
     match param.default_value() {
+        Some(value) if value == 0.0 || (1e-3..1e6).contains(&value.abs()) => {
+            write!(doc, "; default {value}").unwrap()
+        }
         Some(value) => write!(doc, "; default {value:e}").unwrap(),
         None => doc.push_str("; no default: the mission gives it"),
     }
     if let Some(flag) = param.condition() {
         write!(doc, "; read only while `{}` is 1", flag.path()).unwrap();
     }
-    doc.replace("[0]", "\\[0\\]")
+    doc
 }
 
 /// One C field: its name, the parameters in it (one, or an array's elements in order).
