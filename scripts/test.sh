@@ -185,6 +185,14 @@ NAV_QEMU_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/repl
 step "whole-scenario replay from C: C firmware (arm-none-eabi-gcc, nav-c's static library) on QEMU, bit for bit with the host, the interface's cost"
 mkdir -p target/qemu
 c_firmware_build "$root/target/qemu/c-replay.elf"
+# The library behind the C interface has no panic path: with fat LTO nothing reaches
+# core::panicking or the panic handler, so neither is in the library or the C firmware.
+if "$llvm_bin/llvm-nm" --demangle "${CARGO_TARGET_DIR:-$root/target}/$TARGET/release/libnav_c.a" \
+  "$root/target/qemu/c-replay.elf" 2>/dev/null | grep -E 'core::panicking|rust_begin_unwind'; then
+  echo "FAIL: nav-c's static library has a panic path (symbols above)" >&2
+  exit 1
+fi
+echo "nav-c's static library and the C firmware: no panic path"
 NAV_QEMU_C_REPLAY_ELF="$root/target/qemu/c-replay.elf" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
   cargo test --workspace --test c_replay_bit_exact -- --include-ignored --nocapture
 

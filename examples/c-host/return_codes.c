@@ -3,7 +3,7 @@
  *   CASE status=S argument=A field=F param=PATH companion=PATH input=I index=N
  *
  * nav-c/tests/c_host.rs runs it and checks every line. The ground constants are the built-in
- * scenario's launch (nav-sim ground-constants). */
+ * scenario's launch: ground_constants.h is `nav-sim ground-constants --format c`. */
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,11 +13,9 @@
 static uint64_t computer[NAV_COMPUTER_MAX_BYTES / 8];
 static uint64_t replay[NAV_REPLAY_MAX_BYTES / 8];
 
-static const NavGroundConstants GROUND = {
-    0.7148519550318375, 1.750408160117633, 1000.0, 3.3161255787892263,
-    {7.844285360352285e-8, -1.2676423319967603e-6, 0.9999999999991935},
-    {0.48490989988191335, -0.6582762769406675, 0.0137710902030395, 0.5756258240283053},
-    2303, 100818.0};
+#include "ground_constants.h"
+
+#define GROUND NAV_GROUND_CONSTANTS
 
 static const NavInitialState INITIAL = {
     {1.0, 0.0, 0.0, 0.0}, {0.0, 500e3, 0.0}, {7600.0, 0.0, 0.0}, 600.0};

@@ -118,6 +118,21 @@ replay_start_short status=7 argument=7 field=0 param=- companion=- input=0 index
 param_path none=null first=filter.mode last=strapdown.gravity.j2_enabled beyond=null
 ";
 
+/// examples/c-host/ground_constants.h is `nav-sim ground-constants --format c` of the
+/// built-in scenario, the launch `return_codes.c` configures.
+#[test]
+fn the_examples_ground_constants_are_the_commands_output() {
+    let scenario = Scenario::default_scenario().unwrap();
+    let constants = nav_sim::setup::ground::FlightGroundConstants::of(&scenario).unwrap();
+    let path = repository().join("examples/c-host/ground_constants.h");
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert_eq!(
+        committed,
+        constants.to_c(),
+        "run nav-sim ground-constants --format c > examples/c-host/ground_constants.h"
+    );
+}
+
 #[test]
 fn every_return_code_is_provoked_from_c() {
     let directory = scratch("return-codes");
