@@ -16,10 +16,10 @@
 // The largest alignment (bytes) the interface's memory needs.
 #define NAV_MAX_ALIGN 8
 
-// Parameters in [`NavConfig`], in the order of its fields.
+// Parameters in `NavConfig`, in the order of its fields.
 #define NAV_CONFIG_PARAMS 103
 
-// Parameters in the table ([`NavParam`] counts them from 1).
+// Parameters in the table (`NavParam` counts them from 1).
 #define NAV_PARAMS 116
 
 // Bytes at the start of a replay input: the setup's words, then the log's header. A number

@@ -126,9 +126,9 @@ fn render() -> (String, String) {
          mod config;\n\n\
          pub use config::NavConfig;\n\
          pub(crate) use config::CONFIG_PARAMS;\n\n\
-         /// Parameters in [`NavConfig`], in the order of its fields.\n\
+         /// Parameters in `NavConfig`, in the order of its fields.\n\
          pub const NAV_CONFIG_PARAMS: usize = {count};\n\n\
-         /// Parameters in the table ([`NavParam`] counts them from 1).\n\
+         /// Parameters in the table (`NavParam` counts them from 1).\n\
          pub const NAV_PARAMS: usize = {};\n",
         Param::ALL.len()
     )

@@ -9,10 +9,10 @@ mod config;
 pub use config::NavConfig;
 pub(crate) use config::CONFIG_PARAMS;
 
-/// Parameters in [`NavConfig`], in the order of its fields.
+/// Parameters in `NavConfig`, in the order of its fields.
 pub const NAV_CONFIG_PARAMS: usize = 103;
 
-/// Parameters in the table ([`NavParam`] counts them from 1).
+/// Parameters in the table (`NavParam` counts them from 1).
 pub const NAV_PARAMS: usize = 116;
 
 /// Every flight parameter, numbered from 1 in the table's order (0 is none);
