@@ -7,7 +7,11 @@
  *
  * REPLAY-OUT holds, per frame, NAV_OUTPUT_WORDS little-endian 64-bit words and one word of
  * frame cost (0 here: the host measures none). The last line printed is the final frame's
- * navigation and health. Exit status 0 when the whole log was replayed. */
+ * navigation and health. Exit status 0 when the whole log was replayed.
+ *
+ * Build, from the repository root after `cargo build -p nav-c --release`:
+ *   cc -std=c99 -O2 -I nav-c/include examples/c-host/main.c target/release/libnav_c.a \
+ *     -lpthread -lm -ldl -o nav-replay */
 #include <stdint.h>
 #include <stdio.h>
 
