@@ -13,7 +13,16 @@ shift || true
 # QEMU_SERIAL: the serial chardevs, UART0 first (default: none); e.g. the UART replay's
 # "-serial pipe:DIR/ground -serial pipe:DIR/imu ...".
 read -r -a serial_args <<< "${QEMU_SERIAL:--serial none}"
-timeout "$QEMU_TIMEOUT_S" qemu-system-arm \
-  -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none "${serial_args[@]}" \
-  -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
-  -kernel "$elf" "$@" | defmt-print -e "$elf"
+qemu() {
+  timeout "$QEMU_TIMEOUT_S" qemu-system-arm \
+    -cpu cortex-m7 -machine mps2-an500 -nographic -monitor none "${serial_args[@]}" \
+    -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
+    -kernel "$elf" "$@"
+}
+# QEMU_PLAIN_OUTPUT=1: a firmware that prints plain text (the C firmware,
+# qemu/c-firmware/run.sh), not defmt frames.
+if [ "${QEMU_PLAIN_OUTPUT:-0}" = 1 ]; then
+  qemu "$@"
+else
+  qemu "$@" | defmt-print -e "$elf"
+fi

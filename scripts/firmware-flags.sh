@@ -25,3 +25,17 @@ firmware_cargo() {
   shift
   (cd "$firmware_root/qemu" && cargo "$subcommand" --manifest-path "$firmware_checkout/qemu/Cargo.toml" "$@")
 }
+
+# Builds the C firmware (qemu/c-firmware) into ELF: nav-c's static library for the Cortex-M7
+# (fat LTO and abort on panic, as the Rust firmware's release profile; the FPU's square root;
+# the static library alone, since cargo applies no LTO to a build that also makes the rlib),
+# built through the same fixed link, then the C code with arm-none-eabi-gcc linked against it.
+c_firmware_build() {
+  local elf="$1"
+  ln -sfn "$firmware_root" "$firmware_checkout"
+  (cd "$firmware_checkout" && CARGO_PROFILE_RELEASE_LTO=fat CARGO_PROFILE_RELEASE_PANIC=abort \
+    cargo rustc --manifest-path "$firmware_checkout/Cargo.toml" -p nav-c --release \
+    --target thumbv7em-none-eabihf --features hardware-sqrt --crate-type staticlib)
+  bash "$firmware_root/qemu/c-firmware/build.sh" \
+    "${CARGO_TARGET_DIR:-$firmware_root/target}/thumbv7em-none-eabihf/release/libnav_c.a" "$elf"
+}

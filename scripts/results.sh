@@ -85,6 +85,9 @@ if [ "$what" = all ] || [ "$what" = qemu ]; then
   NAV_QEMU_CHECKS_LOG="$root/target/qemu/checks.log" bless_tests --test target_bit_exact -- --include-ignored
   NAV_QEMU_REPLAY_ELF="$elf_dir/replay" NAV_REPLAY_SECONDS=300 \
     bless_tests --test replay_bit_exact -- --include-ignored
+  c_firmware_build "$root/target/qemu/c-replay.elf"
+  NAV_QEMU_C_REPLAY_ELF="$root/target/qemu/c-replay.elf" NAV_REPLAY_SECONDS=300 \
+    bless_tests --test c_replay_bit_exact -- --include-ignored
 fi
 
 NAV_RESULTS_BLESS=1 cargo test --workspace --test doc_figures

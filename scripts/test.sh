@@ -14,7 +14,9 @@
 # 5. the panic-free flight build, and proof that it rejects a deliberately added panic path;
 # 6. the target checks on QEMU (decoded defmt log shown), then the host tests that compare
 #    the target's results with the host's bit for bit, and its measured cost, stack, flash and
-#    RAM with docs/results/ (a difference fails: regenerate with scripts/results.sh qemu).
+#    RAM with docs/results/ (a difference fails: regenerate with scripts/results.sh qemu);
+#    the C firmware (qemu/c-firmware, arm-none-eabi-gcc against nav-c) replays the same
+#    scenarios bit for bit, its interface's cost compared with the Rust firmware's.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -37,9 +39,20 @@ if ! command -v qemu-system-arm >/dev/null; then
     exit 1
   fi
 fi
+# The C firmware's toolchain (qemu/c-firmware): Debian's arm-none-eabi-gcc and newlib.
+if ! command -v arm-none-eabi-gcc >/dev/null; then
+  if [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+      gcc-arm-none-eabi libnewlib-arm-none-eabi >/dev/null
+  else
+    echo "arm-none-eabi-gcc is missing: install it (Debian/Ubuntu: sudo apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi)" >&2
+    exit 1
+  fi
+fi
 if ! command -v defmt-print >/dev/null; then cargo install --locked defmt-print; fi
 if ! command -v cargo-fuzz >/dev/null; then cargo install --locked cargo-fuzz; fi
 qemu-system-arm --version | head -1
+arm-none-eabi-gcc --version | head -1
 defmt-print --version
 llvm_bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin"
 
@@ -168,6 +181,20 @@ step "whole-scenario replay: host vs Cortex-M7 on QEMU, 500 Hz SysTick frames, b
 firmware_cargo build --release --bin replay
 NAV_QEMU_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/replay" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
   cargo test --workspace --test replay_bit_exact -- --include-ignored --nocapture
+
+step "whole-scenario replay from C: C firmware (arm-none-eabi-gcc, nav-c's static library) on QEMU, bit for bit with the host, the interface's cost"
+mkdir -p target/qemu
+c_firmware_build "$root/target/qemu/c-replay.elf"
+# The library behind the C interface has no panic path: with fat LTO nothing reaches
+# core::panicking or the panic handler, so neither is in the library or the C firmware.
+if "$llvm_bin/llvm-nm" --demangle "${CARGO_TARGET_DIR:-$root/target}/$TARGET/release/libnav_c.a" \
+  "$root/target/qemu/c-replay.elf" 2>/dev/null | grep -E 'core::panicking|rust_begin_unwind'; then
+  echo "FAIL: nav-c's static library has a panic path (symbols above)" >&2
+  exit 1
+fi
+echo "nav-c's static library and the C firmware: no panic path"
+NAV_QEMU_C_REPLAY_ELF="$root/target/qemu/c-replay.elf" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
+  cargo test --workspace --test c_replay_bit_exact -- --include-ignored --nocapture
 
 step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and corrupted, bit for bit with the host"
 firmware_cargo build --release --bin uart_replay

@@ -1,7 +1,7 @@
 //! The flight configuration's ground constants for a launch: the launch site (with the day's
 //! Earth axis) and the sensor frames (GCRF → launch-inertial rotation, the launch epoch in GPS
-//! time), as an integrator pastes them into a flight image: TOML, JSON or a Rust literal
-//! (`nav-sim ground-constants`). Every float is written in its shortest form that reads back
+//! time), as an integrator pastes them into a flight image: TOML, JSON, a Rust literal or a C
+//! initializer (`nav-sim ground-constants`). Every float is written in its shortest form that reads back
 //! to the same bits.
 
 use nav_core::frames::LaunchSite;
@@ -110,6 +110,21 @@ impl FlightGroundConstants {
             tables.push(format!("  \"{table}\": {{\n{}\n  }}", members.join(",\n")));
         }
         format!("{{\n{}\n}}\n", tables.join(",\n"))
+    }
+
+    /// A C99 initializer of the C interface's `NavGroundConstants` (nav-c's `nav.h`), whose
+    /// fields are named as the Rust ones, in the same order.
+    pub fn to_c(&self) -> String {
+        let mut text = String::from(
+            "/* The launch's ground constants for nav.h (`nav-sim ground-constants --format c`). */\n\
+             static const NavGroundConstants NAV_GROUND_CONSTANTS = {\n",
+        );
+        for (_, name, value) in self.fields() {
+            let value = value.replace('[', "{").replace(']', "}");
+            text += &format!("    .{name} = {value},\n");
+        }
+        text += "};\n";
+        text
     }
 
     /// A Rust literal: `LAUNCH_SITE: LaunchSite` and `SENSOR_FRAMES: SensorFrames` constants

@@ -377,6 +377,7 @@ fn no_rust_file_of_the_repository_is_longer_than_the_limit() {
     for crate_dir in [
         "nav-core",
         "nav-fsw",
+        "nav-c",
         "nav-sim",
         "tests-host",
         "qemu",

@@ -1,6 +1,6 @@
 //! `nav-sim ground-constants`: the flight configuration's ground constants (launch site with
 //! the day's Earth axis, sensor frames of the launch epoch) for a scenario's launch, or for
-//! the epoch, Earth orientation and site given on the command line, as TOML, JSON or Rust.
+//! the epoch, Earth orientation and site given on the command line, as TOML, JSON, Rust or C.
 
 use std::path::PathBuf;
 
@@ -17,6 +17,8 @@ enum Format {
     Json,
     /// `LAUNCH_SITE` and `SENSOR_FRAMES` constants for a flight image.
     Rust,
+    /// A `NavGroundConstants` initializer for a C flight image (nav-c's `nav.h`).
+    C,
 }
 
 /// The arguments of `nav-sim ground-constants`.
@@ -90,6 +92,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         Format::Toml => constants.to_toml(),
         Format::Json => constants.to_json(),
         Format::Rust => constants.to_rust(),
+        Format::C => constants.to_c(),
     };
     print!("{text}");
     Ok(())
