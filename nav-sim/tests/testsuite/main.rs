@@ -5,6 +5,7 @@
 mod benefit;
 mod campaign;
 mod cli;
+mod cli_inputs;
 mod common;
 mod conditioning;
 mod consistency;
