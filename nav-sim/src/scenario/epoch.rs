@@ -240,9 +240,11 @@ impl LaunchEpoch {
         self.earth
     }
 
-    /// The UTC epoch as text (hifitime's ISO form; second 60 inside a leap second).
+    /// The UTC epoch as ISO 8601 text without a zone (hifitime's form, fractional seconds only
+    /// when there are any; second 60 inside a leap second), e.g. `2024-02-26T04:00:00`.
     pub fn utc_text(&self) -> String {
-        let text = self.utc.to_isoformat();
+        let shown = self.utc.to_string();
+        let text = shown.strip_suffix(" UTC").unwrap_or(&shown).to_string();
         match text.get(17..19) {
             Some("59") if self.in_leap_second => format!("{}60{}", &text[..17], &text[19..]),
             _ => text,

@@ -135,6 +135,21 @@ impl FlightGroundConstants {
         )
     }
 
+    /// The provenance as two doc-comment lines: the tool and the epoch, then the Earth
+    /// orientation values.
+    fn provenance_doc(&self) -> String {
+        let earth = self.epoch.earth_orientation();
+        format!(
+            "/// Computed by nav-sim {} ground-constants for the launch epoch {}Z UTC,\n\
+             /// with UT1 − UTC = {:?} s and polar motion x_p = {:?}″, y_p = {:?}″.\n",
+            env!("CARGO_PKG_VERSION"),
+            self.epoch.utc_text(),
+            earth.ut1_minus_utc_s,
+            earth.polar_motion_x_arcsec,
+            earth.polar_motion_y_arcsec,
+        )
+    }
+
     /// A Rust literal: `LAUNCH_SITE: LaunchSite` and `SENSOR_FRAMES: SensorFrames` constants
     /// (`nav_fsw::nav_core::frames::LaunchSite`, `nav_fsw::sensor_frames::SensorFrames`),
     /// each documented with its provenance, and the provenance as `GROUND_CONSTANTS_PROVENANCE`
@@ -164,8 +179,8 @@ impl FlightGroundConstants {
             ),
         ] {
             text += &format!(
-                "\n/// {doc}\n///\n/// Computed for: {provenance}.\n\
-                 pub const {constant}: {type_name} = {type_name} {{\n"
+                "\n/// {doc}\n///\n{}pub const {constant}: {type_name} = {type_name} {{\n",
+                self.provenance_doc()
             );
             for (_, name, value) in self
                 .fields()

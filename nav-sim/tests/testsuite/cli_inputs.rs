@@ -150,12 +150,13 @@ fn rust_ground_constants_carry_their_provenance() {
         )),
         "{rust}"
     );
-    assert_eq!(
-        rust.matches(&format!("/// Computed for: {provenance}.\n"))
-            .count(),
-        2,
-        "{rust}"
+    let doc = format!(
+        "/// Computed by nav-sim {} ground-constants for the launch epoch 2024-03-01T12:30:00Z \
+         UTC,\n/// with UT1 − UTC = -0.0123 s and polar motion x_p = 0.0456″, y_p = 0.3789″.\n\
+         pub const ",
+        env!("CARGO_PKG_VERSION")
     );
+    assert_eq!(rust.matches(&doc).count(), 2, "{rust}");
 }
 
 /// `--run K` flies run K of a campaign of `--runs N` runs, 0 to N − 1: a K outside is
@@ -182,8 +183,9 @@ fn monte_carlo_refuses_a_run_outside_its_runs() {
 fn calibrate_and_monte_carlo_refuse_more_heads_than_the_flight_takes() {
     let directory = tempfile::tempdir().unwrap();
     let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/star_tracker_two_heads.toml");
-    let head = "[[star_sensor.additional_heads]]\nrate_hz = 10.0\nnoise_arcsec = 35.0\n\
-                mounting_rotation_vector_deg = [-90.0, 0.0, 0.0]\n";
+    // The shipped file's second head (its last table), five times.
+    let shipped = std::fs::read_to_string(&base).unwrap();
+    let head = &shipped[shipped.find("\n[[star_sensor.additional_heads]]").unwrap()..];
     let text = format!("extends = '{}'\n{}", base.display(), head.repeat(5));
     let path = directory.path().join("six_heads.toml");
     std::fs::write(&path, text).unwrap();
