@@ -251,11 +251,13 @@ struct ImuInput<'a>(Option<&'a NavImuSample>);
 
 impl ImuPort for ImuInput<'_> {
     fn read(&mut self) -> Option<ImuSample> {
-        self.0.take().map(|s| ImuSample {
-            sequence: s.sequence,
-            time_s: s.time_s,
-            delta_angle_rad: s.delta_angle_body_rad,
-            delta_velocity_mps: s.delta_velocity_body_mps,
+        self.0.take().map(|s| {
+            ImuSample::new(
+                s.sequence,
+                s.time_s,
+                s.delta_angle_body_rad,
+                s.delta_velocity_body_mps,
+            )
         })
     }
 }
@@ -265,11 +267,9 @@ struct StarInput<'a, 'b>(&'b mut core::slice::Iter<'a, NavStarMeasurement>);
 
 impl StarSensorPort for StarInput<'_, '_> {
     fn poll(&mut self) -> Option<StarMeasurement> {
-        self.0.next().map(|s| StarMeasurement {
-            time_tag_s: s.time_tag_s,
-            sensor_to_gcrf_wxyz: s.sensor_to_gcrf_wxyz,
-            head: s.head,
-        })
+        self.0
+            .next()
+            .map(|s| StarMeasurement::new(s.time_tag_s, s.sensor_to_gcrf_wxyz, s.head))
     }
 }
 
@@ -278,11 +278,9 @@ struct GnssInput<'a, 'b>(&'b mut core::slice::Iter<'a, NavGnssFix>);
 
 impl GnssPort for GnssInput<'_, '_> {
     fn poll(&mut self) -> Option<GnssFix> {
-        self.0.next().map(|f| GnssFix {
-            gps_week: f.gps_week,
-            gps_seconds_of_week: f.gps_seconds_of_week,
-            position_ecef_m: f.position_ecef_m,
-            velocity_ecef_mps: (f.velocity_present == 1).then_some(f.velocity_ecef_mps),
+        self.0.next().map(|f| {
+            GnssFix::new(f.gps_week, f.gps_seconds_of_week, f.position_ecef_m)
+                .with_velocity_ecef_mps((f.velocity_present == 1).then_some(f.velocity_ecef_mps))
         })
     }
 }

@@ -32,12 +32,7 @@
 //! };
 //! // PLACEHOLDER ground constants: a flight image uses its launch's, from `nav-sim ground-constants`.
 //! let mut computer = NavigationComputer::new(FswConfig::paper_defaults(site, nav_fsw::sensor_frames::SensorFrames::ALIGNED), initial)?;
-//! let mut imu = FrameImu(Some(ImuSample {
-//!     sequence: 1,
-//!     time_s: 600.002,
-//!     delta_angle_rad: [0.0; 3],
-//!     delta_velocity_mps: [0.0; 3],
-//! }));
+//! let mut imu = FrameImu(Some(ImuSample::new(1, 600.002, [0.0; 3], [0.0; 3])));
 //! let telemetry =
 //!     computer.run_frame(&mut imu, &mut FrameStar::default(), &mut FrameGnss::default());
 //! assert!((telemetry.time_s - 600.002).abs() < 1e-9);

@@ -4,12 +4,17 @@
 //! UART) carrying the documented 80-byte records; a device with its own protocol needs its own
 //! small decoder behind these traits. Navigation time is the frame count times the period:
 //! the scheduler needs no clock port.
+//!
+//! The port structs are `#[non_exhaustive]` and built with their constructors
+//! ([`ImuSample::new`], [`StarMeasurement::new`], [`GnssFix::new`]), so a field added later
+//! (with a default) does not break an integrator's code.
 
 use nalgebra::{Quaternion, Vector3};
 
 /// One IMU output: the increments over one sampling period, as navigation IMUs deliver them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct ImuSample {
     /// The IMU's own sample counter (wraps at `u32::MAX`); detects missing and repeated samples.
     pub sequence: u32,
@@ -31,16 +36,19 @@ pub struct ImuSample {
 /// ```compile_fail
 /// let _ = nav_fsw::ports::StarMeasurement { time_tag_s: 600.0, attitude_wxyz: [1.0, 0.0, 0.0, 0.0], head: 0 };
 /// ```
-/// ```
-/// let measurement = nav_fsw::ports::StarMeasurement {
+///
+/// Outside nav-fsw it is built with [`StarMeasurement::new`], as a struct literal no longer
+/// compiles (`#[non_exhaustive]`: a field added later does not break an integrator's code):
+/// ```compile_fail
+/// let _ = nav_fsw::ports::StarMeasurement {
 ///     time_tag_s: 600.0,
 ///     sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
 ///     head: 0,
 /// };
-/// assert!((measurement.sensor_to_gcrf_wxyz[0] - 1.0).abs() < 1e-15);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct StarMeasurement {
     /// Time of validity (s, navigation time: the tracker is synchronised by the flight
     /// computer, as its exposures are commanded on the flight computer's clock).
@@ -58,6 +66,7 @@ pub struct StarMeasurement {
 /// ECEF (ITRF / WGS-84) axes, tagged in GPS time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct GnssFix {
     /// Time of validity: GPS week (full count since 1980-01-06, not modulo 1024).
     pub gps_week: u32,
@@ -68,6 +77,80 @@ pub struct GnssFix {
     /// Antenna velocity relative to the rotating Earth, ECEF axes (m/s); `None` when the
     /// receiver outputs position only.
     pub velocity_ecef_mps: Option<[f64; 3]>,
+}
+
+impl ImuSample {
+    /// A sample: the IMU's sequence counter, the end of its interval (s, navigation time) and
+    /// the interval's angle (rad) and velocity (m/s) increments in body axes.
+    ///
+    /// ```
+    /// let sample = nav_fsw::ports::ImuSample::new(5, 0.002, [1e-6, 0.0, 0.0], [0.0, 0.0, 0.02]);
+    /// assert_eq!(sample.sequence, 5);
+    /// assert_eq!(sample.delta_velocity_mps, [0.0, 0.0, 0.02]);
+    /// ```
+    #[must_use]
+    pub const fn new(
+        sequence: u32,
+        time_s: f64,
+        delta_angle_rad: [f64; 3],
+        delta_velocity_mps: [f64; 3],
+    ) -> Self {
+        Self {
+            sequence,
+            time_s,
+            delta_angle_rad,
+            delta_velocity_mps,
+        }
+    }
+}
+
+impl StarMeasurement {
+    /// A measurement: its time of validity (s, navigation time), the attitude `q_gs`
+    /// `[w, x, y, z]` (sensor frame → GCRF) and the head that took it (0 or 1).
+    ///
+    /// ```
+    /// let measurement = nav_fsw::ports::StarMeasurement::new(600.0, [1.0, 0.0, 0.0, 0.0], 1);
+    /// assert_eq!(measurement.head, 1);
+    /// assert_eq!(measurement.sensor_to_gcrf_wxyz, [1.0, 0.0, 0.0, 0.0]);
+    /// ```
+    #[must_use]
+    pub const fn new(time_tag_s: f64, sensor_to_gcrf_wxyz: [f64; 4], head: u8) -> Self {
+        Self {
+            time_tag_s,
+            sensor_to_gcrf_wxyz,
+            head,
+        }
+    }
+}
+
+impl GnssFix {
+    /// A position fix at GPS week and seconds of week, antenna position in ECEF (m), without
+    /// a velocity ([`GnssFix::with_velocity_ecef_mps`] adds one).
+    ///
+    /// ```
+    /// use nav_fsw::ports::GnssFix;
+    /// let fix = GnssFix::new(2303, 100_818.5, [-1.0e6, 5.0e6, 3.0e6]);
+    /// assert_eq!(fix.velocity_ecef_mps, None);
+    /// let fix = fix.with_velocity_ecef_mps(Some([10.0, 0.0, -2.0]));
+    /// assert_eq!(fix.velocity_ecef_mps, Some([10.0, 0.0, -2.0]));
+    /// ```
+    #[must_use]
+    pub const fn new(gps_week: u32, gps_seconds_of_week: f64, position_ecef_m: [f64; 3]) -> Self {
+        Self {
+            gps_week,
+            gps_seconds_of_week,
+            position_ecef_m,
+            velocity_ecef_mps: None,
+        }
+    }
+
+    /// The fix with the antenna velocity relative to the rotating Earth, ECEF axes (m/s), or
+    /// without one (`None`: a receiver that outputs position only).
+    #[must_use]
+    pub const fn with_velocity_ecef_mps(mut self, velocity_ecef_mps: Option<[f64; 3]>) -> Self {
+        self.velocity_ecef_mps = velocity_ecef_mps;
+        self
+    }
 }
 
 /// Source of IMU samples (one per minor frame).

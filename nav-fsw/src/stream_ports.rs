@@ -146,7 +146,23 @@ fn next_matching<R: Read + ReadReady, T>(
 
 /// An IMU on a byte stream ([`ImuPort`]): the next IMU record is the frame's sample.
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct StreamImu<R>(pub RecordReader<R>);
+
+impl<R: Read + ReadReady> StreamImu<R> {
+    /// The port over `device`'s byte stream.
+    ///
+    /// ```
+    /// use nav_fsw::ports::ImuPort;
+    /// use nav_fsw::stream_merge::RecordedLine;
+    /// let mut port = nav_fsw::stream_ports::StreamImu::new(RecordedLine(&[]));
+    /// assert!(port.read().is_none());
+    /// assert_eq!(port.0.counters().records, 0);
+    /// ```
+    pub fn new(device: R) -> Self {
+        Self(RecordReader::new(device))
+    }
+}
 
 impl<R: Read + ReadReady> ImuPort for StreamImu<R> {
     fn read(&mut self) -> Option<ImuSample> {
@@ -159,7 +175,23 @@ impl<R: Read + ReadReady> ImuPort for StreamImu<R> {
 
 /// A star sensor on a byte stream ([`StarSensorPort`]).
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct StreamStarSensor<R>(pub RecordReader<R>);
+
+impl<R: Read + ReadReady> StreamStarSensor<R> {
+    /// The port over `device`'s byte stream.
+    ///
+    /// ```
+    /// use nav_fsw::ports::StarSensorPort;
+    /// use nav_fsw::stream_merge::RecordedLine;
+    /// let mut port = nav_fsw::stream_ports::StreamStarSensor::new(RecordedLine(&[]));
+    /// assert!(port.poll().is_none());
+    /// assert_eq!(port.0.counters().records, 0);
+    /// ```
+    pub fn new(device: R) -> Self {
+        Self(RecordReader::new(device))
+    }
+}
 
 impl<R: Read + ReadReady> StarSensorPort for StreamStarSensor<R> {
     fn poll(&mut self) -> Option<StarMeasurement> {
@@ -172,7 +204,23 @@ impl<R: Read + ReadReady> StarSensorPort for StreamStarSensor<R> {
 
 /// A GNSS receiver on a byte stream ([`GnssPort`]).
 #[derive(Debug)]
+#[non_exhaustive]
 pub struct StreamGnss<R>(pub RecordReader<R>);
+
+impl<R: Read + ReadReady> StreamGnss<R> {
+    /// The port over `device`'s byte stream.
+    ///
+    /// ```
+    /// use nav_fsw::ports::GnssPort;
+    /// use nav_fsw::stream_merge::RecordedLine;
+    /// let mut port = nav_fsw::stream_ports::StreamGnss::new(RecordedLine(&[]));
+    /// assert!(port.poll().is_none());
+    /// assert_eq!(port.0.counters().records, 0);
+    /// ```
+    pub fn new(device: R) -> Self {
+        Self(RecordReader::new(device))
+    }
+}
 
 impl<R: Read + ReadReady> GnssPort for StreamGnss<R> {
     fn poll(&mut self) -> Option<GnssFix> {

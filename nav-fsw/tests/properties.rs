@@ -103,7 +103,7 @@ proptest! {
         let limits = ImuLimits::default();
         let mut checker = ImuChecker::new(limits).unwrap();
         for (delta_angle_rad, delta_velocity_mps, time_s, sequence) in samples {
-            let sample = ImuSample { sequence, time_s, delta_angle_rad, delta_velocity_mps };
+            let sample = ImuSample::new(sequence, time_s, delta_angle_rad, delta_velocity_mps);
             if checker.check(&sample).is_ok() {
                 let rate_limit = limits.max_rate_rad_s * limits.period_s * (1.0 + limits.period_tolerance);
                 prop_assert!(delta_angle_rad.iter().all(|v| v.is_finite() && v.abs() <= rate_limit));
@@ -122,7 +122,7 @@ proptest! {
         previous in proptest::option::of(proptest::array::uniform4(-1.0..1.0_f64)),
     ) {
         let previous = previous.map(|[w, x, y, z]| Quaternion::new(w, x, y, z));
-        let measurement = StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz, head: 0 };
+        let measurement = StarMeasurement::new(time_tag_s, attitude_wxyz, 0);
         if let Ok((q, flipped)) = check_star(&measurement, previous.as_ref(), 1e-3) {
             prop_assert!(is_finite_quaternion(&q));
             prop_assert!((q.norm() - 1.0).abs() < 1e-12);
@@ -143,7 +143,7 @@ proptest! {
         time_tag_s in any_sensor_value(100.0),
         predicted in proptest::array::uniform3(-7e6..7e6_f64),
     ) {
-        let fix = GnssFix { gps_week: 2_000, gps_seconds_of_week: time_tag_s, position_ecef_m: position, velocity_ecef_mps: None };
+        let fix = GnssFix::new(2_000, time_tag_s, position);
         let position = Vector3::from(position);
         let predicted = Vector3::from(predicted);
         if check_gnss(&fix, &position, &predicted, 1000.0).is_ok() {
@@ -253,16 +253,16 @@ proptest! {
             if let Some((delta_angle_rad, delta_velocity_mps, time_jitter_s, skip)) = input.imu {
                 sequence = sequence.wrapping_add(1 + skip % 2);
                 let time_s = if time_jitter_s.is_finite() { now_s + time_jitter_s } else { time_jitter_s };
-                ports.imu.0 = Some(ImuSample { sequence, time_s, delta_angle_rad, delta_velocity_mps });
+                ports.imu.0 = Some(ImuSample::new(sequence, time_s, delta_angle_rad, delta_velocity_mps));
             }
             if let Some((offset_s, attitude_wxyz)) = input.star {
                 let time_tag_s = now_s + offset_s;
-                let _ = ports.star.0.push_back(StarMeasurement { time_tag_s, sensor_to_gcrf_wxyz: attitude_wxyz, head: 0 });
+                let _ = ports.star.0.push_back(StarMeasurement::new(time_tag_s, attitude_wxyz, 0));
             }
             if let Some((offset_s, position_ecef_m)) = input.gnss {
                 // Navigation time is GPS seconds of week 1000 (the aligned frames' epoch).
                 let gps_seconds_of_week = now_s + offset_s;
-                let _ = ports.gnss.0.push_back(GnssFix { gps_week: 1_000, gps_seconds_of_week, position_ecef_m, velocity_ecef_mps: None });
+                let _ = ports.gnss.0.push_back(GnssFix::new(1_000, gps_seconds_of_week, position_ecef_m));
             }
             ports.run(&mut computer);
             let navigation = computer.navigation();

@@ -115,12 +115,7 @@ fn star_in_gcrf(q_is: &Quaternion<f64>) -> [f64; 4] {
 /// A GNSS fix at navigation time `time_s`, tagged in GPS time.
 fn gnss_fix(time_s: f64, ecef: &Vector3<f64>) -> GnssFix {
     let (gps_week, gps_seconds_of_week) = SENSOR_FRAMES.gps_time(time_s).unwrap();
-    GnssFix {
-        gps_week,
-        gps_seconds_of_week,
-        position_ecef_m: [ecef.x, ecef.y, ecef.z],
-        velocity_ecef_mps: None,
-    }
+    GnssFix::new(gps_week, gps_seconds_of_week, [ecef.x, ecef.y, ecef.z])
 }
 
 fn fly(arithmetic: FilterArithmetic, propagation_interval_frames: u32) -> Flight {
@@ -183,12 +178,12 @@ fn fly_with_load(
             if frame != 801 {
                 sequence += 1;
             }
-            ports.imu.0 = Some(ImuSample {
+            ports.imu.0 = Some(ImuSample::new(
                 sequence,
                 time_s,
-                delta_angle_rad: rate.map(|w| w * PERIOD_S),
-                delta_velocity_mps: force.map(|f| f * PERIOD_S),
-            });
+                rate.map(|w| w * PERIOD_S),
+                force.map(|f| f * PERIOD_S),
+            ));
         }
         let navigation = computer.navigation();
         if frame % 50 == 0 {
@@ -211,11 +206,7 @@ fn fly_with_load(
             ports
                 .star
                 .0
-                .push_back(StarMeasurement {
-                    time_tag_s: tag,
-                    sensor_to_gcrf_wxyz: star_in_gcrf(&q),
-                    head: 0,
-                })
+                .push_back(StarMeasurement::new(tag, star_in_gcrf(&q), 0))
                 .unwrap();
         }
         // A fix older than the largest latency (refused as stale) and one far in the future.
@@ -223,22 +214,18 @@ fn fly_with_load(
             ports
                 .star
                 .0
-                .push_back(StarMeasurement {
-                    time_tag_s: 600.0 - 0.05,
-                    sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
-                    head: 0,
-                })
+                .push_back(StarMeasurement::new(600.0 - 0.05, [1.0, 0.0, 0.0, 0.0], 0))
                 .unwrap();
         }
         if frame == STALE_FIX {
             ports
                 .star
                 .0
-                .push_back(StarMeasurement {
-                    time_tag_s: navigation.time_s - 0.5,
-                    sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
-                    head: 0,
-                })
+                .push_back(StarMeasurement::new(
+                    navigation.time_s - 0.5,
+                    [1.0, 0.0, 0.0, 0.0],
+                    0,
+                ))
                 .unwrap();
         }
         if frame == FUTURE_FIX {

@@ -71,20 +71,20 @@ impl SchedulerScenario {
         let frame = self.frame;
         let time_s = 600.0 + 0.002 * f64::from(frame);
         let mut ports = FramePorts::default();
-        ports.imu.0 = Some(ImuSample {
-            sequence: frame,
+        ports.imu.0 = Some(ImuSample::new(
+            frame,
             time_s,
-            delta_angle_rad: [1e-4, -2e-4, 3e-3],
-            delta_velocity_mps: [0.01, 0.04, -0.02],
-        });
+            [1e-4, -2e-4, 3e-3],
+            [0.01, 0.04, -0.02],
+        ));
         let navigation = self.computer.navigation();
         if frame == STAR_FRAME {
             let q = navigation.attitude;
-            let _ = ports.star.0.push_back(StarMeasurement {
-                time_tag_s: navigation.time_s,
-                sensor_to_gcrf_wxyz: [q.w, q.i, q.j, q.k],
-                head: 0,
-            });
+            let _ = ports.star.0.push_back(StarMeasurement::new(
+                navigation.time_s,
+                [q.w, q.i, q.j, q.k],
+                0,
+            ));
         }
         if frame == GNSS_FRAME {
             // The antenna position of frame 25 (10 ms late), 12 m off.
@@ -97,12 +97,11 @@ impl SchedulerScenario {
                 )
                 .ok()?;
             // The aligned sensor frames: navigation time is GPS seconds of week 1000.
-            let _ = ports.gnss.0.push_back(GnssFix {
-                gps_week: 1_000,
-                gps_seconds_of_week: self.gnss_time_s,
-                position_ecef_m: [ecef.x, ecef.y, ecef.z],
-                velocity_ecef_mps: None,
-            });
+            let _ = ports.gnss.0.push_back(GnssFix::new(
+                1_000,
+                self.gnss_time_s,
+                [ecef.x, ecef.y, ecef.z],
+            ));
         }
         if frame == GNSS_EPOCH_FRAME {
             self.gnss_time_s = navigation.time_s;

@@ -121,12 +121,7 @@ mod tests {
         let mut computer = start(orbit_state(start_s)).expect("the data sheets' configuration");
         let telemetry = one_frame(
             &mut computer,
-            ImuSample {
-                sequence: 1,
-                time_s: start_s + FRAME_PERIOD_S,
-                delta_angle_rad: [0.0; 3],
-                delta_velocity_mps: [0.0; 3],
-            },
+            ImuSample::new(1, start_s + FRAME_PERIOD_S, [0.0; 3], [0.0; 3]),
         );
         assert!((telemetry.time_s - (start_s + FRAME_PERIOD_S)).abs() < 1e-9);
         assert_eq!(telemetry.health.imu_missing, 0);
@@ -150,22 +145,22 @@ mod tests {
         // launch's true GCRF → launch-inertial rotation.
         let [w, x, y, z] = SENSOR_FRAMES_OF_THE_LAUNCH.gcrf_to_launch_inertial_wxyz;
         let mut tracker = HeldStarTracker {
-            held: Some(StarMeasurement {
-                time_tag_s: start_s + FRAME_PERIOD_S,
-                sensor_to_gcrf_wxyz: [w, -x, -y, -z],
-                head: 0,
-            }),
+            held: Some(StarMeasurement::new(
+                start_s + FRAME_PERIOD_S,
+                [w, -x, -y, -z],
+                0,
+            )),
         };
         let mut accepted = false;
         let mut last = None;
         for frame in 1..=50_u32 {
             let mut imu = Imu {
-                latched: Some(ImuSample {
-                    sequence: frame,
-                    time_s: start_s + f64::from(frame) * FRAME_PERIOD_S,
-                    delta_angle_rad: [0.0; 3],
-                    delta_velocity_mps: [0.0; 3],
-                }),
+                latched: Some(ImuSample::new(
+                    frame,
+                    start_s + f64::from(frame) * FRAME_PERIOD_S,
+                    [0.0; 3],
+                    [0.0; 3],
+                )),
             };
             let telemetry = computer.run_frame(&mut imu, &mut tracker, &mut Receiver);
             accepted |= telemetry.fusion == nav_fsw::telemetry::FrameFusion::StarAccepted;

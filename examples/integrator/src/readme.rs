@@ -14,21 +14,21 @@ use crate::datasheets::DATASHEETS;
 
 pub struct Imu {/* the driver */}
 impl ImuPort for Imu {
-    // This frame's sample: sequence number, time, Δθ (rad), Δv (m/s); None if none came.
+    // This frame's ImuSample::new(sequence, time, Δθ (rad), Δv (m/s)); None if none came.
     fn read(&mut self) -> Option<ImuSample> {
         None // the sample the driver latched for this frame
     }
 }
 pub struct StarTracker {/* the driver */}
 impl StarSensorPort for StarTracker {
-    // A measurement since the last poll: navigation time tag, q sensor → GCRF [w, x, y, z].
+    // Since the last poll: StarMeasurement::new(time tag, q sensor → GCRF [w, x, y, z], head).
     fn poll(&mut self) -> Option<StarMeasurement> {
         None // the attitude the tracker reported since the last poll
     }
 }
 pub struct Receiver {/* the driver */}
 impl GnssPort for Receiver {
-    // A fix since the last poll: GPS week + seconds of week, ITRF position, optional velocity.
+    // Since the last poll: GnssFix::new(GPS week, seconds of week, ITRF position) (+ velocity).
     fn poll(&mut self) -> Option<GnssFix> {
         None // the fix the receiver reported since the last poll
     }

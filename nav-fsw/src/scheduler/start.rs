@@ -120,12 +120,7 @@ impl NavigationComputer {
     /// // PLACEHOLDER ground constants: a flight image uses its launch's (`nav-sim ground-constants`).
     /// let computer =
     ///     NavigationComputer::init_in_place(&mut slot, FswConfig::paper_defaults(site, SensorFrames::ALIGNED), initial)?;
-    /// let mut imu = FrameImu(Some(ImuSample {
-    ///     sequence: 1,
-    ///     time_s: 600.002,
-    ///     delta_angle_rad: [0.0; 3],
-    ///     delta_velocity_mps: [0.0; 3],
-    /// }));
+    /// let mut imu = FrameImu(Some(ImuSample::new(1, 600.002, [0.0; 3], [0.0; 3])));
     /// let telemetry =
     ///     computer.run_frame(&mut imu, &mut FrameStar::default(), &mut FrameGnss::default());
     /// assert_eq!(telemetry.frame, 1);

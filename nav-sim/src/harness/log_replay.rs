@@ -218,6 +218,63 @@ impl EpochCheck {
     }
 }
 
+/// Whether the log carries the star heads the scenario's flight software takes: with a
+/// second head configured (`[[star_sensor.additional_heads]]`, `[filter] star_second_head`),
+/// a log without the `star_head` column (every star row read as head 0's) and a log with
+/// star rows of head 0 only are refused, rather than replayed with the second head's
+/// measurements missing or taken for the first's.
+struct HeadCheck {
+    /// The flight software takes a second head.
+    two_heads: bool,
+    /// Star rows per head (0, 1 and any other).
+    star_rows: [u64; 3],
+}
+
+impl HeadCheck {
+    fn new<R: Read>(
+        config: &nav_fsw::config::FswConfig,
+        reader: &SensorLogReader<R>,
+    ) -> Result<Self, ReplayFailure> {
+        let two_heads = config.star.second_head.is_some();
+        if two_heads && !reader.has_head_column() {
+            return Err(
+                "line 1: the log has no `star_head` column, so every star row would be \
+                 read as head 0's, but the scenario flies two star heads \
+                 ([[star_sensor.additional_heads]] with [filter] star_second_head = true): \
+                 add the `star_head` column (docs/replay-format.md) or replay with a one-head \
+                 scenario"
+                    .into(),
+            );
+        }
+        Ok(Self {
+            two_heads,
+            star_rows: [0; 3],
+        })
+    }
+
+    fn observe(&mut self, record: &nav_fsw::log_record::LogRecord) {
+        if let nav_fsw::log_record::LogRecord::Star(star) = record {
+            let slot = usize::from(star.head).min(2);
+            self.star_rows[slot] += 1;
+        }
+    }
+
+    /// The refusal of a one-head log on a two-head scenario.
+    fn verdict(&self) -> Result<(), ReplayFailure> {
+        let [head_0, head_1, _] = self.star_rows;
+        if self.two_heads && head_0 > 0 && head_1 == 0 {
+            return Err(format!(
+                "the log has {head_0} star rows, all of head 0 (`star_head` = 0), but the \
+                 scenario flies two star heads ([[star_sensor.additional_heads]] with [filter] \
+                 star_second_head = true): replay a one-head log with a one-head scenario \
+                 (or [filter] star_second_head = false)"
+            )
+            .into());
+        }
+        Ok(())
+    }
+}
+
 /// Replays `log` through the flight software set up by `scenario` and writes the output CSV
 /// (module docs) to `output`.
 ///
@@ -225,7 +282,8 @@ impl EpochCheck {
 /// A log error naming its line (including a log at another IMU rate, on another time base or
 /// with a jump the replay does not bridge, `nav_fsw::replay::FrameAssemblyError`, and a log
 /// whose GNSS time tags disagree with the scenario's launch epoch: none of its first 10 fixes
-/// within the latency window), a refused configuration, or an I/O error of `output`.
+/// within the latency window, and a log without the star heads the scenario flies, `HeadCheck`),
+/// a refused configuration, or an I/O error of `output`.
 pub fn replay<R: Read, W: Write>(
     log: R,
     scenario: &Scenario,
@@ -236,6 +294,7 @@ pub fn replay<R: Read, W: Write>(
         .map_err(|error| format!("flight software configuration refused: {error}"))?;
     let mut assembler = FrameAssembler::new(setup.frame_grid())?;
     let mut reader = SensorLogReader::new(log)?;
+    let mut heads = HeadCheck::new(&setup.config(), &reader)?;
     let mut output = std::io::BufWriter::new(output);
     writeln!(output, "{}", output_columns(&computer).join(","))?;
     let frames_per_row = (1.0 / setup.config().imu.period_s).round().max(1.0) as u64;
@@ -261,12 +320,14 @@ pub fn replay<R: Read, W: Write>(
         let line = reader.line();
         let record = record?;
         epoch.observe(&record, line)?;
+        heads.observe(&record);
         assembler
             .push(&record)
             .map_err(|error| format!("line {line}: {error}"))?;
         run_ready(&mut assembler, &mut output)?;
     }
     epoch.verdict()?;
+    heads.verdict()?;
     assembler.finish();
     run_ready(&mut assembler, &mut output)?;
     if let Some(row) = last_row {

@@ -2,7 +2,9 @@
 //! flight configuration (`docs/guide/frames-and-time.md`).
 //!
 //! * Time scales with leap seconds: [`hifitime`] (UTC → TAI, TT and GPS time; its leap-second
-//!   table is IERS Bulletin C's).
+//!   table is IERS Bulletin C's). hifitime accepts second 60 only on a leap second's day but
+//!   reads `23:59:60` as `23:59:59` (one UTC count for both); the epoch keeps that second
+//!   as a flag and moves TAI, TT, GPS time and UT1 one SI second on.
 //! * GCRF → ITRF: [`sofars`], a Rust port of IAU SOFA, `c2t06a` (IAU 2006/2000A
 //!   precession–nutation, Earth rotation angle, polar motion; IERS Conventions 2010, ch. 5,
 //!   eq. 5.1: `[ITRS] = W(t) R₃(ERA) Q(t) [GCRS]`). The celestial-pole offsets dX, dY (below
@@ -53,11 +55,19 @@ pub enum EpochError {
         reason: String,
     },
     /// An Earth orientation parameter is out of range.
-    #[error(
-        "Earth orientation out of range: |UT1 - UTC| must be <= 0.9 s and |x_p|, |y_p| <= 2 \
-         arcsec (got {0:?})"
-    )]
-    EarthOrientation(EarthOrientation),
+    #[error("{key} = {value} {unit} is outside [-{limit}, {limit}] {unit} ({reason})")]
+    EarthOrientation {
+        /// The parameter's key in `[launch_site.earth_orientation]`, e.g. `ut1_minus_utc_s`.
+        key: &'static str,
+        /// The value given.
+        value: f64,
+        /// The largest magnitude accepted.
+        limit: f64,
+        /// The unit of the value and the limit.
+        unit: &'static str,
+        /// Why the limit.
+        reason: &'static str,
+    },
     /// The epoch is outside GPS time's week range.
     #[error("launch epoch {0} is outside GPS weeks 0..=9999")]
     GpsWeek(String),
@@ -66,7 +76,10 @@ pub enum EpochError {
 /// A launch epoch (UTC) with its Earth orientation parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LaunchEpoch {
+    /// hifitime's UTC count (`23:59:59` for `23:59:60`).
     utc: Epoch,
+    /// The epoch lies in an inserted leap second (`23:59:60` UTC): one SI second after `utc`.
+    in_leap_second: bool,
     earth: EarthOrientation,
 }
 
@@ -90,24 +103,40 @@ impl LaunchEpoch {
             text: utc.to_string(),
             reason: error.to_string(),
         })?;
-        let ok = earth.ut1_minus_utc_s.abs() <= 0.9
-            && earth.polar_motion_x_arcsec.abs() <= 2.0
-            && earth.polar_motion_y_arcsec.abs() <= 2.0;
-        if !ok {
-            return Err(EpochError::EarthOrientation(earth));
-        }
+        earth.check()?;
         Ok(Self {
             utc: epoch.to_time_scale(TimeScale::UTC),
+            in_leap_second: second_field_is_60(utc),
             earth,
         })
     }
 
-    /// The epoch `elapsed_s` seconds (SI, continuous: GPS, TAI and TT seconds) after this one.
+    /// The epoch `elapsed_s` seconds (SI, continuous: GPS, TAI and TT seconds) after this one:
+    /// formed in TAI, so a leap second on the way counts as the second it is.
     pub fn after(&self, elapsed_s: f64) -> Self {
+        let tai = self.tai() + Duration::from_seconds(elapsed_s);
+        let utc = tai.to_time_scale(TimeScale::UTC);
+        // hifitime's UTC reads the leap second as the second before it: TAI and back differ.
+        let in_leap_second = utc.to_time_scale(TimeScale::TAI) != tai;
         Self {
-            utc: self.utc + Duration::from_seconds(elapsed_s),
+            utc,
+            in_leap_second,
             earth: self.earth,
         }
+    }
+
+    /// The SI seconds hifitime's UTC count is behind the instant: 1 inside a leap second.
+    fn leap_second_s(&self) -> f64 {
+        if self.in_leap_second {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// The epoch as a TAI instant.
+    fn tai(&self) -> Epoch {
+        self.utc.to_time_scale(TimeScale::TAI) + Duration::from_seconds(self.leap_second_s())
     }
 
     /// TAI − UTC at the epoch (s): the leap seconds (IERS Bulletin C). Formed from the
@@ -127,7 +156,8 @@ impl LaunchEpoch {
     /// # Errors
     /// [`EpochError::GpsWeek`] outside weeks 0..=9999.
     pub fn gps_week_and_seconds(&self) -> Result<(u32, f64), EpochError> {
-        let gps = self.utc.to_time_scale(TimeScale::GPST);
+        let gps =
+            self.utc.to_time_scale(TimeScale::GPST) + Duration::from_seconds(self.leap_second_s());
         let outside = || EpochError::GpsWeek(self.utc.to_string());
         if gps.to_gpst_seconds() < 0.0 {
             return Err(outside());
@@ -141,9 +171,12 @@ impl LaunchEpoch {
     }
 
     /// TT and UT1 as Modified Julian Dates (days): the SOFA 2-part dates are `2400000.5 + mjd`.
+    /// Inside a leap second UT1 runs on from `23:59:59` by the second's elapsed part, with
+    /// the UT1 − UTC of before the leap (Bulletin A's value of that day).
     fn tt_and_ut1_mjd(&self) -> (f64, f64) {
-        let tt = self.utc.to_mjd_tt_days();
-        let ut1 = self.utc.to_mjd_utc_days() + self.earth.ut1_minus_utc_s / 86_400.0;
+        let tt = self.tai().to_mjd_tt_days();
+        let ut1_offset_s = self.earth.ut1_minus_utc_s + self.leap_second_s();
+        let ut1 = self.utc.to_mjd_utc_days() + ut1_offset_s / 86_400.0;
         (tt, ut1)
     }
 
@@ -202,10 +235,73 @@ impl LaunchEpoch {
         })
     }
 
-    /// The UTC epoch as text (hifitime's ISO form).
-    pub fn utc_text(&self) -> String {
-        self.utc.to_isoformat()
+    /// The Earth orientation parameters of the launch day.
+    pub fn earth_orientation(&self) -> EarthOrientation {
+        self.earth
     }
+
+    /// The UTC epoch as ISO 8601 text without a zone (hifitime's form, fractional seconds only
+    /// when there are any; second 60 inside a leap second), e.g. `2024-02-26T04:00:00`.
+    pub fn utc_text(&self) -> String {
+        let shown = self.utc.to_string();
+        let text = shown.strip_suffix(" UTC").unwrap_or(&shown).to_string();
+        match text.get(17..19) {
+            Some("59") if self.in_leap_second => format!("{}60{}", &text[..17], &text[19..]),
+            _ => text,
+        }
+    }
+}
+
+impl EarthOrientation {
+    /// Checks each parameter against its range (Bulletin A's values never leave it).
+    ///
+    /// # Errors
+    /// [`EpochError::EarthOrientation`] naming the first parameter out of range.
+    pub fn check(&self) -> Result<(), EpochError> {
+        let pole = "the pole wanders within about 0.6 arcsec of its mean";
+        for (key, value, limit, unit, reason) in [
+            (
+                "ut1_minus_utc_s",
+                self.ut1_minus_utc_s,
+                0.9,
+                "s",
+                "leap seconds keep |UT1 - UTC| <= 0.9 s",
+            ),
+            (
+                "polar_motion_x_arcsec",
+                self.polar_motion_x_arcsec,
+                2.0,
+                "arcsec",
+                pole,
+            ),
+            (
+                "polar_motion_y_arcsec",
+                self.polar_motion_y_arcsec,
+                2.0,
+                "arcsec",
+                pole,
+            ),
+        ] {
+            if value.is_nan() || value.abs() > limit {
+                return Err(EpochError::EarthOrientation {
+                    key,
+                    value,
+                    limit,
+                    unit,
+                    reason,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether an ISO 8601 date-time's seconds field is 60 (a leap second, which hifitime accepts
+/// only on a leap second's day and folds into second 59).
+fn second_field_is_60(utc: &str) -> bool {
+    utc.split_once(['T', ' '])
+        .and_then(|(_, time)| time.split(':').nth(2))
+        .is_some_and(|second| second.starts_with("60"))
 }
 
 /// ITRF ← GCRF for TT and UT1 given as Modified Julian Dates (days) and the polar motion

@@ -79,6 +79,52 @@ impl GravitySettings {
     }
 }
 
+/// The truth's field as `(degree, order)`: a published model's `degree` and `order`; point
+/// mass + `J2` (no `[gravity]` table, or `model = "j2"`) is `(2, 0)`.
+pub fn truth_degree_order(truth: Option<&GravitySettings>) -> (u32, u32) {
+    match truth {
+        Some(settings) if settings.model == GravityModelName::Egm2008 => {
+            (settings.degree.unwrap_or(2), settings.order.unwrap_or(0))
+        }
+        _ => (2, 0),
+    }
+}
+
+/// The first `[filter.gravity]` key above the truth's field, with the rule: a flight model
+/// with terms the simulated truth does not have models a field the vehicle does not fly in,
+/// and its filter is inconsistent with it.
+pub fn flight_above_truth(
+    flight: &FilterGravity,
+    truth: Option<&GravitySettings>,
+) -> Option<(&'static str, String)> {
+    let (truth_degree, truth_order) = truth_degree_order(truth);
+    let truth_keys = match truth {
+        Some(settings) if settings.model == GravityModelName::Egm2008 => {
+            ("gravity.degree", "gravity.order")
+        }
+        _ => (
+            "gravity.degree (point mass + J2: no [gravity] table or model = \"j2\")",
+            "gravity.order (point mass + J2: no [gravity] table or model = \"j2\")",
+        ),
+    };
+    let rule = |key: &str, value: u8, truth_key: &str, truth_value: u32| {
+        format!(
+            "= {value} is above the simulated truth's {truth_key} = {truth_value}: the flight \
+             model must not have terms the truth lacks (lower {key} to at most {truth_value} \
+             or raise {truth_key})"
+        )
+    };
+    if u32::from(flight.degree) > truth_degree {
+        let key = "filter.gravity.degree";
+        return Some((key, rule(key, flight.degree, truth_keys.0, truth_degree)));
+    }
+    if u32::from(flight.order) > truth_order {
+        let key = "filter.gravity.order";
+        return Some((key, rule(key, flight.order, truth_keys.1, truth_order)));
+    }
+    None
+}
+
 /// The flight software's gravity beyond point mass + `J2` (`[filter.gravity]`, nav-fsw
 /// `GravityConfig`, docs/guide/gravity.md): EGM2008 to `degree` and `order` (at most 12), evaluated
 /// `terms_per_frame` work items a frame, and the allowance for the field it omits: white

@@ -3,8 +3,10 @@
 
 use nav_fsw::config::FswConfig;
 
+use crate::scenario::epoch::EpochError;
+
 use super::{
-    dispersion, gnss_latency_violation, gravity::GravitySettings, max_imu_rate_hz, number,
+    dispersion, gnss_latency_violation, gravity, gravity::GravitySettings, max_imu_rate_hz, number,
     Scenario, ScenarioError, MAX_DURATION_S, MAX_G_SENSITIVITY_RAD_S_PER_MPS2,
     MAX_MISALIGNMENT_RAD, MAX_SCALE_FACTOR_MAGNITUDE, MAX_START_TIME_S, MAX_TRUTH_STEPS,
     MAX_TRUTH_SUBSTEPS_PER_FRAME, SIGMA_RANGE, SIGMA_UNIT_MARGIN, WHOLE_FRAME_TOLERANCE,
@@ -157,11 +159,22 @@ impl Checker<'_> {
         }
     }
 
-    fn within(&self, key: &str, value: f64, low: f64, high: f64) -> Result<(), ScenarioError> {
+    /// `Ok` if `value` is in `[low, high]`, else "`key` must be in [low, high] unit (got …)".
+    fn within(
+        &self,
+        key: &str,
+        value: f64,
+        (low, high): (f64, f64),
+        unit: &str,
+    ) -> Result<(), ScenarioError> {
         if value.is_finite() && (low..=high).contains(&value) {
             Ok(())
         } else {
-            Err(self.fail(key, &format!("must be in [{low}, {high}]")))
+            let value = number(value);
+            Err(self.fail(
+                key,
+                &format!("must be in [{low}, {high}]{unit} (got {value}{unit})"),
+            ))
         }
     }
 
@@ -458,15 +471,43 @@ impl Scenario {
         )?;
 
         let site = &self.launch_site;
-        check.within("launch_site.latitude_deg", site.latitude_deg, -90.0, 90.0)?;
+        check.within(
+            "launch_site.latitude_deg",
+            site.latitude_deg,
+            (-90.0, 90.0),
+            " deg",
+        )?;
+        let longitude = site.longitude_deg;
         check.within(
             "launch_site.longitude_deg",
-            site.longitude_deg,
-            -180.0,
-            360.0,
+            longitude,
+            (-180.0, 360.0),
+            " deg",
         )?;
-        check.within("launch_site.height_m", site.height_m, -500.0, 10_000.0)?;
-        check.within("launch_site.azimuth_deg", site.azimuth_deg, -360.0, 360.0)?;
+        check.within(
+            "launch_site.height_m",
+            site.height_m,
+            (-500.0, 10_000.0),
+            " m",
+        )?;
+        check.within(
+            "launch_site.azimuth_deg",
+            site.azimuth_deg,
+            (-360.0, 360.0),
+            " deg",
+        )?;
+        if let Err(EpochError::EarthOrientation {
+            key,
+            value,
+            limit,
+            unit,
+            reason,
+        }) = site.earth_orientation.check()
+        {
+            let key = format!("launch_site.earth_orientation.{key}");
+            let relation = ("has a magnitude above", limit);
+            check.limit(false, &key, value, relation, &format!(" {unit}"), reason)?;
+        }
         self.launch_site
             .epoch()
             .and_then(|epoch| epoch.gps_week_and_seconds())
@@ -483,11 +524,12 @@ impl Scenario {
                 "must put the perigee (a (1 - e)) above the Earth's equatorial radius 6378137 m",
             ));
         }
+        let inclination = orbit.inclination_deg;
         check.within(
             "initial_orbit.inclination_deg",
-            orbit.inclination_deg,
-            0.0,
-            180.0,
+            inclination,
+            (0.0, 180.0),
+            " deg",
         )?;
         check.finite(
             "initial_orbit.right_ascension_of_node_deg",
@@ -698,13 +740,17 @@ impl Scenario {
         }
         for (index, scheduled) in self.commands.iter().enumerate() {
             let key = |name: &str| format!("command[{index}].{name}");
-            check.within(&key("at_s"), scheduled.at_s, 0.0, self.duration_s())?;
+            check.within(&key("at_s"), scheduled.at_s, (0.0, self.duration_s()), " s")?;
             scheduled
                 .to_command()
                 .map_err(|(name, requirement)| check.fail(&key(name), &requirement))?;
         }
-        let gravity = self.gravity.as_ref().and_then(GravitySettings::violation);
-        gravity.map_or(Ok(()), |(key, rule)| Err(check.fail(key, &rule)))
+        let truth = self.gravity.as_ref();
+        let gravity = truth.and_then(GravitySettings::violation);
+        let flight = || gravity::flight_above_truth(&self.filter.gravity, truth);
+        gravity
+            .or_else(flight)
+            .map_or(Ok(()), |(key, rule)| Err(check.fail(key, &rule)))
     }
 }
 

@@ -200,6 +200,29 @@ pub fn replay_setup_for(scenario: &Scenario, launch: &Launch) -> Result<ReplaySe
     Ok(ReplaySetup::new(&config, initial))
 }
 
+/// Checks that the flight software takes every star head of `scenario` (`[star_sensor]` and its
+/// `[[star_sensor.additional_heads]]`; nav-fsw `MAX_STAR_HEADS`): the commands that fly the
+/// flight software on a campaign (`calibrate`, `monte-carlo`) refuse a tracker with more heads
+/// rather than drop the further heads' measurements unseen. The simulator itself flies up to
+/// [`crate::scenario::star_sensor::MAX_STAR_HEADS`] heads.
+///
+/// # Errors
+/// [`SetupError::Setting`] naming `star_sensor.additional_heads`, the head count and the limit.
+pub fn check_flight_star_heads(scenario: &Scenario) -> Result<(), SetupError> {
+    let heads = 1 + scenario.star_sensor.additional_heads.len();
+    let limit = nav_fsw::scheduler::MAX_STAR_HEADS;
+    if heads > limit {
+        return Err(SetupError::Setting(format!(
+            "star_sensor.additional_heads gives {heads} star heads with [star_sensor], more \
+             than the {limit} heads the flight software takes (nav-fsw MAX_STAR_HEADS): the \
+             further heads' measurements would never reach it; give at most {} \
+             [[star_sensor.additional_heads]] tables",
+            limit - 1
+        )));
+    }
+    Ok(())
+}
+
 /// The flight software's second tracker head: the scenario's first
 /// `[[star_sensor.additional_heads]]` (its mounting and white noise per sensor axis), with
 /// the relative alignment's prior from both heads' installation 1σ (the filter's,

@@ -1,14 +1,17 @@
 //! The flight configuration's ground constants for a launch: the launch site (with the day's
 //! Earth axis) and the sensor frames (GCRF → launch-inertial rotation, the launch epoch in GPS
 //! time), as an integrator pastes them into a flight image: TOML, JSON, a Rust literal or a C
-//! initializer (`nav-sim ground-constants`). Every float is written in its shortest form that reads back
-//! to the same bits.
+//! initializer (`nav-sim ground-constants`). Every float is written in its shortest form that
+//! reads back to the same bits. The Rust form also carries its provenance (the epoch, the
+//! Earth orientation values and the tool that computed them), so a flight image says what
+//! launch its constants are for.
 
 use nav_core::frames::LaunchSite;
 use nav_fsw::sensor_frames::SensorFrames;
 
+use crate::scenario::epoch::LaunchEpoch;
 use crate::scenario::Scenario;
-use crate::setup::launch::{launch_site, scenario_ground_constants};
+use crate::setup::launch::{launch_site, scenario_epoch, scenario_ground_constants};
 use crate::setup::SetupError;
 
 /// The ground constants of one launch (module docs).
@@ -18,6 +21,8 @@ pub struct FlightGroundConstants {
     pub site: LaunchSite,
     /// nav-fsw's sensor frames of the launch epoch.
     pub sensor_frames: SensorFrames,
+    /// The launch epoch and Earth orientation they were computed for (the provenance).
+    pub epoch: LaunchEpoch,
 }
 
 impl FlightGroundConstants {
@@ -36,11 +41,13 @@ impl FlightGroundConstants {
     /// assert!(constants.to_rust().contains("launch_epoch_gps_seconds_of_week: 100818.0"));
     /// ```
     pub fn of(scenario: &Scenario) -> Result<Self, SetupError> {
-        let ground = scenario_ground_constants(scenario)
-            .map_err(|error| SetupError::LaunchSite(error.to_string()))?;
+        let refused =
+            |error: crate::scenario::epoch::EpochError| SetupError::LaunchSite(error.to_string());
+        let ground = scenario_ground_constants(scenario).map_err(refused)?;
         Ok(Self {
             site: launch_site(scenario),
             sensor_frames: ground.sensor_frames,
+            epoch: scenario_epoch(scenario).map_err(refused)?,
         })
     }
 
@@ -127,11 +134,50 @@ impl FlightGroundConstants {
         text
     }
 
+    /// The provenance line: the epoch (UTC), the Earth orientation values used and the tool,
+    /// e.g. `epoch_utc=2024-02-26T04:00:00Z ut1_minus_utc_s=… polar_motion_x_arcsec=…
+    /// polar_motion_y_arcsec=… tool=nav-sim 0.1.0 ground-constants`.
+    pub fn provenance(&self) -> String {
+        let earth = self.epoch.earth_orientation();
+        format!(
+            "epoch_utc={}Z ut1_minus_utc_s={:?} polar_motion_x_arcsec={:?} \
+             polar_motion_y_arcsec={:?} tool=nav-sim {} ground-constants",
+            self.epoch.utc_text(),
+            earth.ut1_minus_utc_s,
+            earth.polar_motion_x_arcsec,
+            earth.polar_motion_y_arcsec,
+            env!("CARGO_PKG_VERSION"),
+        )
+    }
+
+    /// The provenance as two doc-comment lines: the tool and the epoch, then the Earth
+    /// orientation values.
+    fn provenance_doc(&self) -> String {
+        let earth = self.epoch.earth_orientation();
+        format!(
+            "/// Computed by nav-sim {} ground-constants for the launch epoch {}Z UTC,\n\
+             /// with UT1 − UTC = {:?} s and polar motion x_p = {:?}″, y_p = {:?}″.\n",
+            env!("CARGO_PKG_VERSION"),
+            self.epoch.utc_text(),
+            earth.ut1_minus_utc_s,
+            earth.polar_motion_x_arcsec,
+            earth.polar_motion_y_arcsec,
+        )
+    }
+
     /// A Rust literal: `LAUNCH_SITE: LaunchSite` and `SENSOR_FRAMES: SensorFrames` constants
-    /// (`nav_fsw::nav_core::frames::LaunchSite`, `nav_fsw::sensor_frames::SensorFrames`).
+    /// (`nav_fsw::nav_core::frames::LaunchSite`, `nav_fsw::sensor_frames::SensorFrames`),
+    /// each documented with its provenance, and the provenance as `GROUND_CONSTANTS_PROVENANCE`
+    /// (a string a flight image can carry into its telemetry or logs).
     pub fn to_rust(&self) -> String {
+        let provenance = self.provenance();
         let mut text = String::from(
             "use nav_fsw::nav_core::frames::LaunchSite;\nuse nav_fsw::sensor_frames::SensorFrames;\n",
+        );
+        text += &format!(
+            "\n/// Where the constants below come from: the launch epoch (UTC), the Earth orientation\n\
+             /// values of the launch day (IERS Bulletin A) and the tool that computed them.\n\
+             pub const GROUND_CONSTANTS_PROVENANCE: &str =\n    \"{provenance}\";\n"
         );
         for (table, constant, type_name, doc) in [
             (
@@ -147,7 +193,10 @@ impl FlightGroundConstants {
                 "GCRF → launch-inertial rotation and the launch epoch in GPS time.",
             ),
         ] {
-            text += &format!("\n/// {doc}\npub const {constant}: {type_name} = {type_name} {{\n");
+            text += &format!(
+                "\n/// {doc}\n///\n{}pub const {constant}: {type_name} = {type_name} {{\n",
+                self.provenance_doc()
+            );
             for (_, name, value) in self
                 .fields()
                 .into_iter()

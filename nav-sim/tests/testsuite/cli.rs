@@ -34,7 +34,7 @@ const INCONSISTENT_SEED: &str = "seed = 20170442";
 const GYRO_SCALE_FACTOR: &str = "scale_factor = [3.0e-5, 3.0e-5, 3.0e-5]";
 const GYRO_SCALE_FACTOR_BEYOND_THE_PRIOR: &str = "scale_factor = [3.0e-3, 3.0e-3, 3.0e-3]";
 
-fn nav_sim(directory: &Path, arguments: &[&str]) -> Output {
+pub fn nav_sim(directory: &Path, arguments: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_nav-sim"))
         .args(arguments)
         .current_dir(directory)
@@ -42,17 +42,17 @@ fn nav_sim(directory: &Path, arguments: &[&str]) -> Output {
         .unwrap()
 }
 
-fn stdout(output: &Output) -> String {
+pub fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
-fn stderr(output: &Output) -> String {
+pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
 /// Writes the short scenario as `name` in `directory`, with each `(line, replacement)` of
 /// `edits` applied to the settings before the manoeuvres.
-fn short_scenario(directory: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+pub fn short_scenario(directory: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
     let default = stdout(&nav_sim(directory, &["scenario"]));
     let first = default.find("[[manoeuvre]]").unwrap();
     let filter = default.find("[filter]").unwrap();
@@ -80,7 +80,7 @@ fn names(directory: &Path) -> Vec<String> {
 }
 
 /// The command failed and its message contains `text` (e.g. the path it names).
-fn assert_failed_saying(output: &Output, text: &str) {
+pub fn assert_failed_saying(output: &Output, text: &str) {
     assert!(!output.status.success(), "{output:?}");
     assert!(stderr(output).contains(text), "{}", stderr(output));
 }
@@ -490,7 +490,7 @@ fn ground_constants_are_the_integrator_examples_and_bad_values_are_named() {
     );
     assert_eq!(output.status.code(), Some(1), "{output:?}");
     assert!(
-        stderr(&output).contains("launch_site.latitude_deg must be in [-90, 90]"),
+        stderr(&output).contains("--latitude-deg must be in [-90, 90] deg (got 95 deg)"),
         "{}",
         stderr(&output)
     );

@@ -259,3 +259,36 @@ fn a_replay_across_a_leap_second_fuses_every_fix() {
         (0, 0, 0, 0, 0)
     );
 }
+
+/// A leap second (IERS Bulletin C 52: 2016-12-31 23:59:60 UTC was inserted) is its own
+/// second: 23:59:60 is GPS week 1930, 17 s, between 23:59:59 (16 s) and 2017-01-01 00:00:00
+/// (18 s), and 23:59:60.5 is 17.5 s; TAI − UTC is still 36 s during it. The Earth rotation
+/// there equals one SI second after 23:59:59's. Second 60 on a day without a leap second
+/// (2015-12-31; the 2015 leap second was on 30 June) is refused.
+#[test]
+fn a_leap_second_epoch_is_the_second_between_its_neighbours() {
+    let at = |utc: &str| LaunchEpoch::new(utc, no_earth_orientation()).unwrap();
+    let leap = at("2016-12-31T23:59:60Z");
+    assert_eq!(leap.gps_week_and_seconds().unwrap(), (1930, 17.0));
+    assert_eq!(
+        at("2016-12-31T23:59:60.5Z").gps_week_and_seconds().unwrap(),
+        (1930, 17.5)
+    );
+    assert_eq!(leap.tai_minus_utc_s().to_bits(), 36.0_f64.to_bits());
+    assert!(leap.utc_text().contains("23:59:60"), "{}", leap.utc_text());
+    let before = at("2016-12-31T23:59:59Z");
+    assert_eq!(
+        before.after(1.0).gps_week_and_seconds().unwrap(),
+        (1930, 17.0)
+    );
+    assert!(before.after(1.0).utc_text().contains("23:59:60"));
+    assert_eq!(
+        before.after(2.0).gps_week_and_seconds().unwrap(),
+        (1930, 18.0)
+    );
+    let turned = leap.itrf_from_gcrf() - before.itrf_from_gcrf_after(1.0);
+    assert!(turned.norm() < 1e-12, "{turned}");
+    // 23:59:59's rotation is a second's turn away (7.3e-5 rad).
+    assert!((before.itrf_from_gcrf() - leap.itrf_from_gcrf()).norm() > 5e-5);
+    assert!(LaunchEpoch::new("2015-12-31T23:59:60Z", no_earth_orientation()).is_err());
+}

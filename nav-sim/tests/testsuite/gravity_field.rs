@@ -242,3 +242,54 @@ fn flight_field_is_the_truths_field() {
     println!("omitted beyond 8 x 8 at 500 km: sampled {sampled:.3e}, flight {reported:.3e} m/s²");
     assert!((sampled / reported - 1.0).abs() < 0.05);
 }
+
+/// A flight gravity model of higher degree or order than the simulated truth's is refused,
+/// naming the flight key and the truth's: its filter would model terms the vehicle never
+/// flies in. Equal to the truth's, or below it, is accepted.
+#[test]
+fn a_flight_model_beyond_the_truths_field_is_refused_naming_both_keys() {
+    let refusal = |truth: Option<&str>, degree: u8, order: u8| {
+        let mut scenario = match truth {
+            Some(table) => with_gravity(table).unwrap(),
+            None => Scenario::default_scenario().unwrap(),
+        };
+        scenario.filter.gravity.degree = degree;
+        scenario.filter.gravity.order = order;
+        scenario.validate().err().map(|error| error.to_string())
+    };
+    let egm_8_by_2 = Some("model = \"egm2008\"\ndegree = 8\norder = 2");
+    for (truth, degree, order, expected) in [
+        (
+            egm_8_by_2,
+            12,
+            2,
+            "filter.gravity.degree = 12 is above the simulated truth's gravity.degree = 8",
+        ),
+        (
+            egm_8_by_2,
+            8,
+            4,
+            "filter.gravity.order = 4 is above the simulated truth's gravity.order = 2",
+        ),
+        (
+            None,
+            4,
+            4,
+            "filter.gravity.degree = 4 is above the simulated truth's gravity.degree (point mass \
+             + J2: no [gravity] table or model = \"j2\") = 2",
+        ),
+        (
+            Some("model = \"j2\""),
+            2,
+            1,
+            "filter.gravity.order = 1 is above the simulated truth's gravity.order (point mass \
+             + J2",
+        ),
+    ] {
+        let message = refusal(truth, degree, order).expect(expected);
+        assert!(message.contains(expected), "{message}");
+    }
+    assert_eq!(refusal(egm_8_by_2, 8, 2), None);
+    assert_eq!(refusal(egm_8_by_2, 4, 0), None);
+    assert_eq!(refusal(None, 2, 0), None);
+}

@@ -5,6 +5,7 @@
 mod benefit;
 mod campaign;
 mod cli;
+mod cli_inputs;
 mod commands;
 mod common;
 mod conditioning;

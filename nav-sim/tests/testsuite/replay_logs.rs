@@ -372,3 +372,53 @@ fn a_two_head_log_replays_both_heads_and_their_hand_overs() {
     assert_eq!(health.star_outages, 1);
     assert_eq!(health.star_declared_faulty, 0);
 }
+
+/// The short test flight with a second head (the flight software takes two heads).
+fn two_head_scenario() -> Scenario {
+    let mut two_heads = scenario();
+    two_heads.star_sensor.additional_heads = vec![two_heads.star_sensor.head_across()];
+    two_heads.validate().unwrap();
+    two_heads
+}
+
+/// A one-head log (every star row head 0's) on a two-head scenario is refused, not replayed
+/// with the second head missing; on its own scenario it replays.
+#[test]
+fn a_one_head_log_on_a_two_head_scenario_is_refused() {
+    let one_head = scenario();
+    let one_head_log = records(&one_head, 2.0);
+    let star_rows = one_head_log
+        .iter()
+        .filter(|r| matches!(r, LogRecord::Star(_)))
+        .count();
+    // 10 Hz for 2 s.
+    assert!((19..=21).contains(&star_rows), "{star_rows}");
+    let error = replay(&one_head_log, &two_head_scenario()).unwrap_err();
+    let expected = format!("the log has {star_rows} star rows, all of head 0 (`star_head` = 0)");
+    assert!(error.contains(&expected), "{error}");
+    assert!(error.contains("two star heads"), "{error}");
+    replay(&one_head_log, &one_head).unwrap();
+}
+
+/// A two-head log without its `star_head` column (which would read every star row as head
+/// 0's) is refused on a two-head scenario, the message naming the column; a one-head scenario
+/// still replays it (the layout before the column).
+#[test]
+fn a_two_head_log_without_its_head_column_is_refused() {
+    let two_heads = two_head_scenario();
+    let two_head_log = csv(&records(&two_heads, 2.0));
+    let without_column: String = String::from_utf8(two_head_log)
+        .unwrap()
+        .lines()
+        .map(|line| line.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    let mut output = Vec::new();
+    let error = log_replay::replay(without_column.as_bytes(), &two_heads, &mut output)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("line 1: the log has no `star_head` column"),
+        "{error}"
+    );
+    log_replay::replay(without_column.as_bytes(), &scenario(), &mut Vec::new()).unwrap();
+}

@@ -74,28 +74,27 @@ fn scheduler_frames() {
     for frame in 1..=10_u32 {
         let time_s = 600.0 + 0.002 * f64::from(frame);
         let mut ports = FramePorts::default();
-        ports.imu.0 = Some(black_box(ImuSample {
-            sequence: frame,
+        ports.imu.0 = Some(black_box(ImuSample::new(
+            frame,
             time_s,
-            delta_angle_rad: [1e-5, -2e-5, 3e-3],
-            delta_velocity_mps: [0.0, 1e-4, -2e-5],
-        }));
+            [1e-5, -2e-5, 3e-3],
+            [0.0, 1e-4, -2e-5],
+        )));
         if frame == 5 {
-            let _ = ports.star.0.push_back(black_box(StarMeasurement {
-                time_tag_s: time_s,
-                sensor_to_gcrf_wxyz: [1.0, 1e-5, 0.0, 0.0],
-                head: 0,
-            }));
+            let _ = ports.star.0.push_back(black_box(StarMeasurement::new(
+                time_s,
+                [1.0, 1e-5, 0.0, 0.0],
+                0,
+            )));
         }
         if frame == 10 {
             // 4 ms late: the referral to the current error state runs too. The aligned sensor
             // frames: navigation time is GPS seconds of week 1000.
-            let _ = ports.gnss.0.push_back(black_box(GnssFix {
-                gps_week: 1_000,
-                gps_seconds_of_week: time_s - 0.004,
-                position_ecef_m: [-1.1e6, 5.0e6, 4.2e6],
-                velocity_ecef_mps: None,
-            }));
+            let _ = ports.gnss.0.push_back(black_box(GnssFix::new(
+                1_000,
+                time_s - 0.004,
+                [-1.1e6, 5.0e6, 4.2e6],
+            )));
         }
         let telemetry = ports.run(computer);
         // A ground command between frames, through `black_box`: every command's path is in

@@ -78,6 +78,12 @@ impl<R: Read> SensorLogReader<R> {
         })
     }
 
+    /// Whether the log has the `star_head` column (a log without it has every star row
+    /// head 0's).
+    pub fn has_head_column(&self) -> bool {
+        self.has_head_column
+    }
+
     /// Line of the last row read (1, the header, before the first).
     pub fn line(&self) -> u64 {
         self.line

@@ -24,17 +24,8 @@ fn injected_frames(class: &FaultClass, frames: FrameSchedule, seconds: f64) -> V
     (-2..frames.frames(seconds))
         .filter(|&relative| {
             let t = relative as f64 * frames.period_s();
-            let sample = ImuSample {
-                sequence: relative as u32,
-                time_s: t,
-                delta_angle_rad: [1e-6 * t, 0.0, 0.0],
-                delta_velocity_mps: [0.0; 3],
-            };
-            let measurement = StarMeasurement {
-                time_tag_s: t,
-                sensor_to_gcrf_wxyz: [1.0, 0.0, 0.0, 0.0],
-                head: 0,
-            };
+            let sample = ImuSample::new(relative as u32, t, [1e-6 * t, 0.0, 0.0], [0.0; 3]);
+            let measurement = StarMeasurement::new(t, [1.0, 0.0, 0.0, 0.0], 0);
             let mut ports = FramePorts::default();
             ports.imu.0 = Some(sample);
             ports.star.0.push_back(measurement).unwrap();

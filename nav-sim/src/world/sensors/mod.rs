@@ -129,17 +129,17 @@ impl SensorEvent {
                 delta_angle_rad,
                 delta_velocity_mps,
                 ..
-            } => Some(ImuSample {
+            } => Some(ImuSample::new(
                 // Truncation to the low 32 bits is the intended wrap-around.
-                sequence: (*frame_index & u64::from(u32::MAX)) as u32,
-                time_s: *time_s,
-                delta_angle_rad: [delta_angle_rad.x, delta_angle_rad.y, delta_angle_rad.z],
-                delta_velocity_mps: [
+                (*frame_index & u64::from(u32::MAX)) as u32,
+                *time_s,
+                [delta_angle_rad.x, delta_angle_rad.y, delta_angle_rad.z],
+                [
                     delta_velocity_mps.x,
                     delta_velocity_mps.y,
                     delta_velocity_mps.z,
                 ],
-            }),
+            )),
             _ => None,
         }
     }
@@ -152,16 +152,16 @@ impl SensorEvent {
                 time_tag_s,
                 attitude_q_gs,
                 head,
-            } => Some(StarMeasurement {
-                time_tag_s: *time_tag_s,
-                sensor_to_gcrf_wxyz: [
+            } => Some(StarMeasurement::new(
+                *time_tag_s,
+                [
                     attitude_q_gs.w,
                     attitude_q_gs.i,
                     attitude_q_gs.j,
                     attitude_q_gs.k,
                 ],
-                head: u8::try_from(*head).ok()?,
-            }),
+                u8::try_from(*head).ok()?,
+            )),
             _ => None,
         }
     }
@@ -175,12 +175,14 @@ impl SensorEvent {
                 position_ecef_m,
                 velocity_ecef_mps,
                 ..
-            } => Some(GnssFix {
-                gps_week: *gps_week,
-                gps_seconds_of_week: *gps_seconds_of_week,
-                position_ecef_m: [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
-                velocity_ecef_mps: velocity_ecef_mps.map(|v| [v.x, v.y, v.z]),
-            }),
+            } => Some(
+                GnssFix::new(
+                    *gps_week,
+                    *gps_seconds_of_week,
+                    [position_ecef_m.x, position_ecef_m.y, position_ecef_m.z],
+                )
+                .with_velocity_ecef_mps(velocity_ecef_mps.map(|v| [v.x, v.y, v.z])),
+            ),
             _ => None,
         }
     }

@@ -148,6 +148,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let out = args.out.as_deref();
     let json = args.json;
     let (scenario, label) = load_labelled(scenario_path)?;
+    nav_sim::setup::fsw::check_flight_star_heads(&scenario)?;
     if let Some(directory) = out {
         prepare_outputs(
             directory,

@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use nav_sim::scenario::ScenarioError;
 use nav_sim::setup::ground::FlightGroundConstants;
 
 use super::{load, Failure};
@@ -59,34 +60,30 @@ pub struct Args {
 /// Prints the ground constants in the chosen format.
 pub fn run(args: Args) -> Result<(), Failure> {
     let mut scenario = load(args.scenario.as_deref())?;
+    let given = args.given_keys();
     let site = &mut scenario.launch_site;
     if let Some(epoch_utc) = args.epoch_utc {
         site.epoch_utc = epoch_utc;
     }
+    let earth = &mut site.earth_orientation;
     for (value, field) in [
         (args.latitude_deg, &mut site.latitude_deg),
         (args.longitude_deg, &mut site.longitude_deg),
         (args.height_m, &mut site.height_m),
         (args.azimuth_deg, &mut site.azimuth_deg),
-        (
-            args.ut1_minus_utc_s,
-            &mut site.earth_orientation.ut1_minus_utc_s,
-        ),
-        (
-            args.polar_motion_x_arcsec,
-            &mut site.earth_orientation.polar_motion_x_arcsec,
-        ),
-        (
-            args.polar_motion_y_arcsec,
-            &mut site.earth_orientation.polar_motion_y_arcsec,
-        ),
+        (args.ut1_minus_utc_s, &mut earth.ut1_minus_utc_s),
+        (args.polar_motion_x_arcsec, &mut earth.polar_motion_x_arcsec),
+        (args.polar_motion_y_arcsec, &mut earth.polar_motion_y_arcsec),
     ] {
         if let Some(value) = value {
             *field = value;
         }
     }
-    // The scenario's own checks name the key of a bad value (`launch_site.latitude_deg`).
-    scenario.validate()?;
+    // The scenario's checks name the key of a bad value; a value given on the command line is
+    // named by the flag the user typed.
+    scenario
+        .validate()
+        .map_err(|error| named_by_flag(error, &given))?;
     let constants = FlightGroundConstants::of(&scenario)?;
     let text = match args.format {
         Format::Toml => constants.to_toml(),
@@ -96,4 +93,60 @@ pub fn run(args: Args) -> Result<(), Failure> {
     };
     print!("{text}");
     Ok(())
+}
+
+/// The scenario key each flag sets.
+const FLAG_KEYS: [(&str, &str); 8] = [
+    ("--epoch-utc", "launch_site.epoch_utc"),
+    ("--latitude-deg", "launch_site.latitude_deg"),
+    ("--longitude-deg", "launch_site.longitude_deg"),
+    ("--height-m", "launch_site.height_m"),
+    ("--azimuth-deg", "launch_site.azimuth_deg"),
+    (
+        "--ut1-minus-utc-s",
+        "launch_site.earth_orientation.ut1_minus_utc_s",
+    ),
+    (
+        "--polar-motion-x-arcsec",
+        "launch_site.earth_orientation.polar_motion_x_arcsec",
+    ),
+    (
+        "--polar-motion-y-arcsec",
+        "launch_site.earth_orientation.polar_motion_y_arcsec",
+    ),
+];
+
+impl Args {
+    /// The (flag, scenario key) pairs of the flags given.
+    fn given_keys(&self) -> Vec<(&'static str, &'static str)> {
+        let given = [
+            self.epoch_utc.is_some(),
+            self.latitude_deg.is_some(),
+            self.longitude_deg.is_some(),
+            self.height_m.is_some(),
+            self.azimuth_deg.is_some(),
+            self.ut1_minus_utc_s.is_some(),
+            self.polar_motion_x_arcsec.is_some(),
+            self.polar_motion_y_arcsec.is_some(),
+        ];
+        FLAG_KEYS
+            .into_iter()
+            .zip(given)
+            .filter_map(|(pair, given)| given.then_some(pair))
+            .collect()
+    }
+}
+
+/// A scenario error about a key a flag set, reworded to name the flag (`--latitude-deg must be
+/// in [-90, 90] deg (got 95 deg)`); any other error unchanged.
+fn named_by_flag(error: ScenarioError, given: &[(&str, &str)]) -> Failure {
+    if let ScenarioError::Invalid {
+        key, requirement, ..
+    } = &error
+    {
+        if let Some((flag, _)) = given.iter().find(|(_, flag_key)| flag_key == key) {
+            return format!("{flag} {requirement}").into();
+        }
+    }
+    error.into()
 }

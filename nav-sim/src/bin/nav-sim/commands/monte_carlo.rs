@@ -8,16 +8,20 @@ use nav_sim::campaign::{self, CampaignReport, Shard};
 
 use super::{campaign_bar, inputs, load_labelled, prepare_outputs, Failure, ResultsArg};
 
+/// Runs flown without `--runs`.
+const DEFAULT_RUNS: u64 = 50;
+
 /// The arguments of `nav-sim monte-carlo`.
 #[derive(clap::Args)]
 pub struct Args {
     /// Scenario TOML (default: the built-in one).
     scenario: Option<PathBuf>,
-    /// Number of runs, 1 to 100000 (run k has the seed: the scenario's seed + k).
+    /// Number of runs, 1 to 100000 (run k has the seed: the scenario's seed + k); default 50.
     // Negative numbers reach the parser, which names the flag and the accepted range,
-    // rather than being taken for an unknown flag.
-    #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = super::parse_runs)]
-    runs: u64,
+    // rather than being taken for an unknown flag. No clap default: `--run K` checks K
+    // against `--runs` only when the user gave it.
+    #[arg(long, allow_negative_numbers = true, value_parser = super::parse_runs)]
+    runs: Option<u64>,
     /// Fly only shard K of M (runs k with k mod M = K) and write OUT/shard-K-of-M.jsonl,
     /// one JSON line per run, for `nav-sim merge`.
     #[arg(long, value_name = "K/M", requires = "out", conflicts_with_all = ["json", "check"])]
@@ -49,7 +53,18 @@ fn runs_bar(count: usize, show: bool) -> indicatif::ProgressBar {
 /// Flies the campaign (or its shard, or one run) and prints its report or its lines.
 pub fn run(args: Args) -> Result<(), Failure> {
     let scenario_path = args.scenario.as_deref();
+    if let (Some(run), Some(runs)) = (args.run, args.runs) {
+        if run >= runs {
+            return Err(format!(
+                "--run {run} is not a run of --runs {runs}: the runs are numbered 0 to {}",
+                runs - 1
+            )
+            .into());
+        }
+    }
+    let runs_count = args.runs.unwrap_or(DEFAULT_RUNS);
     let (scenario, label) = load_labelled(scenario_path)?;
+    nav_sim::setup::fsw::check_flight_star_heads(&scenario)?;
     if let Some(run) = args.run {
         for record in campaign::fly_runs(&scenario, &[run], &|| {})? {
             println!("{}", record.json_line()?);
@@ -57,12 +72,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         return Ok(());
     }
     if let (Some(shard), Some(directory)) = (args.shard, args.out.as_deref()) {
-        let bar = runs_bar(shard.runs(args.runs).len(), true);
+        let bar = runs_bar(shard.runs(runs_count).len(), true);
         let written = campaign::write_shard(
             &scenario,
             scenario_path,
             label.sha256.as_deref().unwrap_or_default(),
-            args.runs,
+            runs_count,
             shard,
             directory,
             &|| bar.inc(1),
@@ -79,7 +94,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             &inputs(scenario_path),
         )?;
     }
-    let runs: Vec<u64> = (0..args.runs).collect();
+    let runs: Vec<u64> = (0..runs_count).collect();
     let bar = runs_bar(runs.len(), !args.json);
     let records = campaign::fly_runs(&scenario, &runs, &|| bar.inc(1));
     bar.finish();
