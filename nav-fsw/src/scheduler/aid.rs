@@ -126,18 +126,6 @@ impl Aids {
         self.gnss = AidingSensor::default();
         self.gnss_velocity = AidingSensor::default();
     }
-
-    /// Whether `sensor` is disabled by command ([`Command::SetAidEnabled`]).
-    pub(super) fn disabled(&self, sensor: Sensor) -> bool {
-        self.disabled.get(sensor.index()).copied().unwrap_or(false)
-    }
-
-    /// Disables (`true`) or enables `sensor`.
-    pub(super) fn set_disabled(&mut self, sensor: Sensor, disabled: bool) {
-        if let Some(flag) = self.disabled.get_mut(sensor.index()) {
-            *flag = disabled;
-        }
-    }
 }
 
 impl NavigationComputer {
@@ -392,5 +380,19 @@ impl NavigationComputer {
             (BufferRefusal::NonFinite, Sensor::Gnss) => &mut self.health.counters.gnss_non_finite,
         };
         count(counter);
+    }
+}
+
+impl Operations {
+    /// Whether `sensor` is disabled by command ([`Command::SetAidEnabled`]).
+    pub(super) fn disabled(&self, sensor: Sensor) -> bool {
+        self.disabled.get(sensor.index()).copied().unwrap_or(false)
+    }
+
+    /// Disables (`true`) or enables `sensor`.
+    pub(super) fn set_disabled(&mut self, sensor: Sensor, disabled: bool) {
+        if let Some(flag) = self.disabled.get_mut(sensor.index()) {
+            *flag = disabled;
+        }
     }
 }

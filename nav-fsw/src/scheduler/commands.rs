@@ -170,8 +170,8 @@ impl NavigationComputer {
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
         let executed = self.execute(command);
         let counter = match executed {
-            Ok(()) => &mut self.health.commands.accepted,
-            Err(_) => &mut self.health.commands.refused,
+            Ok(()) => &mut self.operations.commands.accepted,
+            Err(_) => &mut self.operations.commands.refused,
         };
         count(counter);
         executed
@@ -252,12 +252,12 @@ impl NavigationComputer {
         sensor: AidingSensorId,
         enabled: bool,
     ) -> Result<(), CommandError> {
-        let other_disabled = self.aids.disabled(sensor.sensor().other());
+        let other_disabled = self.operations.disabled(sensor.sensor().other());
         if !enabled && other_disabled {
             return Err(CommandError::LastAidingSensor(sensor));
         }
-        let was_disabled = self.aids.disabled(sensor.sensor());
-        self.aids.set_disabled(sensor.sensor(), !enabled);
+        let was_disabled = self.operations.disabled(sensor.sensor());
+        self.operations.set_disabled(sensor.sensor(), !enabled);
         if enabled && was_disabled {
             // Unseen while disabled, the state error has grown: acquire the aid afresh.
             self.reacquire(sensor.sensor());

@@ -18,9 +18,9 @@ fn calibrated(config: FswConfig) -> NavigationComputer {
 
 fn refused(computer: &mut NavigationComputer, command: Command, reason: CommandError) {
     let before = computer.clone();
-    let refused_before = computer.health.commands.refused;
+    let refused_before = computer.operations.commands.refused;
     assert_eq!(computer.command(command), Err(reason));
-    assert_eq!(computer.health.commands.refused, refused_before + 1);
+    assert_eq!(computer.operations.commands.refused, refused_before + 1);
     assert_eq!(computer.filter(), before.filter(), "{command:?}");
     assert_eq!(
         computer.calibration_estimate(),
@@ -64,7 +64,7 @@ fn a_reset_keeping_the_calibration_keeps_estimates_and_bounds_their_covariance()
         // The calibration's variances only grow by the correlation forgotten.
         assert!(after[(i, i)] >= p[(i, i)] || i < DYNAMIC_DIMENSION);
     }
-    let commands = computer.health.commands;
+    let commands = computer.operations.commands;
     assert_eq!((commands.accepted, commands.refused), (1, 0));
     assert_eq!(
         computer.health().filter_resets,
@@ -169,7 +169,10 @@ fn a_disabled_aid_is_read_and_discarded_and_the_last_aid_cannot_be_disabled() {
         run_frame_with_turned_star(&mut computer, sequence);
     }
     // Ten star measurements read, none fused: the attitude error stays uncorrected.
-    assert_eq!(computer.health.commands.measurements_of_disabled_aid, 10);
+    assert_eq!(
+        computer.operations.commands.measurements_of_disabled_aid,
+        10
+    );
     assert_eq!(
         computer.calibration_estimate(),
         CalibrationEstimate::default()
@@ -190,7 +193,10 @@ fn a_disabled_aid_is_read_and_discarded_and_the_last_aid_cannot_be_disabled() {
     for sequence in 101..=200_u32 {
         run_frame_with_turned_star(&mut computer, sequence);
     }
-    assert_eq!(computer.health.commands.measurements_of_disabled_aid, 10);
+    assert_eq!(
+        computer.operations.commands.measurements_of_disabled_aid,
+        10
+    );
     assert!(computer.calibration_estimate().star_installation_wxyz[3].abs() > 0.0);
 }
 

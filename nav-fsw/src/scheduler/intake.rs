@@ -96,8 +96,8 @@ impl NavigationComputer {
                     if !active {
                         continue;
                     }
-                    if self.aids.disabled(Sensor::Star) {
-                        count(&mut self.health.commands.measurements_of_disabled_aid);
+                    if self.operations.disabled(Sensor::Star) {
+                        count(&mut self.operations.commands.measurements_of_disabled_aid);
                         continue;
                     }
                     let pushed = self.aids.star_queue.push(
@@ -120,8 +120,8 @@ impl NavigationComputer {
             gnss_heard = true;
             match self.gnss_in_launch_frame(&fix) {
                 Err(_) => count(&mut self.health.counters.gnss_non_finite),
-                Ok(_) if self.aids.disabled(Sensor::Gnss) => {
-                    count(&mut self.health.commands.measurements_of_disabled_aid);
+                Ok(_) if self.operations.disabled(Sensor::Gnss) => {
+                    count(&mut self.operations.commands.measurements_of_disabled_aid);
                 }
                 Ok((time_tag_s, queued)) => {
                     let pushed = self.aids.gnss_queue.push(

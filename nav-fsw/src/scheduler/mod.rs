@@ -166,6 +166,9 @@ pub struct NavigationComputer {
     /// propagation frames only while a block is in use: after every member the other frames
     /// read, so that it moves none of them.
     optional_variance_bounds: OptionalVarianceBounds,
+    /// The aids disabled by command and the commands' counters: last, read by no frame's
+    /// arithmetic, so that they move no other member out of a load's reach.
+    operations: Operations,
 }
 
 /// The navigation solution and what produces it: the IMU step's state and the history of the
@@ -250,8 +253,6 @@ struct Aids {
     star_noise: NoiseMatching,
     gnss_consistency: ConsistencyMonitor,
     gnss_velocity_consistency: ConsistencyMonitor,
-    /// Each sensor disabled by command ([`Command::SetAidEnabled`]; star, GNSS).
-    disabled: [bool; 2],
 }
 
 /// What the computer reports about itself: the health counters and the frame cost.
@@ -259,6 +260,14 @@ struct Aids {
 struct Health {
     counters: HealthCounters,
     cost: FrameCostMonitor,
+}
+
+/// What operations set and count (`commands.rs`): the aids disabled by command and the
+/// commands' counters. Read only when a measurement arrives or the telemetry is written.
+#[derive(Debug, Clone)]
+struct Operations {
+    /// Each sensor disabled by command ([`Command::SetAidEnabled`]; star, GNSS).
+    disabled: [bool; 2],
     commands: CommandCounters,
 }
 

@@ -52,7 +52,7 @@ impl NavigationComputer {
             converged_blocks: self.calibration.manager.table().converged_count(),
             frozen_blocks: self.calibration.manager.frozen_blocks().bits(),
             health: self.health.counters,
-            commands: self.health.commands,
+            commands: self.operations.commands,
             last_frame_cost: self.health.cost.last,
             worst_frame_cost: self.health.cost.worst,
         }

@@ -47,8 +47,8 @@ impl NavigationComputer {
     ) -> Result<(), RecordError> {
         let loaded = self.load_record(bytes);
         let counter = match loaded {
-            Ok(()) => &mut self.health.commands.calibration_records_loaded,
-            Err(_) => &mut self.health.commands.calibration_records_refused,
+            Ok(()) => &mut self.operations.commands.calibration_records_loaded,
+            Err(_) => &mut self.operations.commands.calibration_records_refused,
         };
         count(counter);
         loaded

@@ -30,10 +30,10 @@ fn refused(
         computer.calibration_estimate(),
         before.calibration_estimate()
     );
-    let commands = computer.health.commands;
+    let commands = computer.operations.commands;
     assert_eq!(
         commands.calibration_records_refused,
-        before.health.commands.calibration_records_refused + 1
+        before.operations.commands.calibration_records_refused + 1
     );
     error
 }
@@ -71,7 +71,7 @@ fn a_record_carries_the_calibration_into_a_new_computer_bit_for_bit() {
             );
         }
     }
-    assert_eq!(new.health.commands.calibration_records_loaded, 1);
+    assert_eq!(new.operations.commands.calibration_records_loaded, 1);
 }
 
 #[test]
@@ -121,5 +121,5 @@ fn a_flipped_bit_another_version_or_configuration_is_refused_and_counted() {
     config.launch_site.azimuth_rad += 0.1;
     let mut relaunched = NavigationComputer::new(config, initial_state()).unwrap();
     relaunched.load_calibration(&bytes).unwrap();
-    assert_eq!(new.health.commands.calibration_records_refused, 7);
+    assert_eq!(new.operations.commands.calibration_records_refused, 7);
 }

@@ -174,6 +174,10 @@ impl NavigationComputer {
                 &config.filter,
             )?);
             Health::init_in_place(&mut *addr_of_mut!((*computer).health).cast());
+            addr_of_mut!((*computer).operations).write(Operations {
+                disabled: [false; 2],
+                commands: CommandCounters::default(),
+            });
             addr_of_mut!((*computer).config).write(config);
             addr_of_mut!((*computer).frame).write(0);
             addr_of_mut!((*computer).arithmetic).write(FilterArithmetic::Structured);
@@ -303,7 +307,6 @@ impl Aids {
             addr_of_mut!((*part).star_noise).write(NoiseMatching::default());
             addr_of_mut!((*part).gnss_consistency).write(ConsistencyMonitor::default());
             addr_of_mut!((*part).gnss_velocity_consistency).write(ConsistencyMonitor::default());
-            addr_of_mut!((*part).disabled).write([false; 2]);
         }
     }
 }
@@ -317,7 +320,6 @@ impl Health {
         unsafe {
             addr_of_mut!((*part).counters).write(HealthCounters::default());
             addr_of_mut!((*part).cost).write(FrameCostMonitor::new(u32::MAX));
-            addr_of_mut!((*part).commands).write(CommandCounters::default());
         }
     }
 }
