@@ -241,7 +241,7 @@ impl HeadCheck {
                 "line 1: the log has no `star_head` column, so every star row would be \
                  read as head 0's, but the scenario flies two star heads \
                  ([[star_sensor.additional_heads]] with [filter] star_second_head = true): \
-                 add the `star_head` column (docs/replay-format.md) or replay with a one-head \
+                 add the `star_head` column (docs/guide/replay-format.md) or replay with a one-head \
                  scenario"
                     .into(),
             );
