@@ -353,17 +353,10 @@ impl ErrorStateFilter {
     /// The calibration block of `P` as [`Self::set_calibration_covariance`] takes it (lower
     /// triangle, row by row).
     pub fn calibration_covariance(&self) -> [f64; CALIBRATION_LOWER_TRIANGLE] {
-        let mut lower = [0.0; CALIBRATION_LOWER_TRIANGLE];
-        let mut slots = lower.iter_mut();
-        for row in 0..CALIBRATION_DIMENSION {
-            for column in 0..=row {
-                let at = (DYNAMIC_DIMENSION + row, DYNAMIC_DIMENSION + column);
-                if let (Some(slot), Some(value)) = (slots.next(), self.covariance.get(at)) {
-                    *slot = *value;
-                }
-            }
-        }
-        lower
+        lower_triangle(|row, column| {
+            let at = (DYNAMIC_DIMENSION + row, DYNAMIC_DIMENSION + column);
+            self.covariance.get(at).copied()
+        })
     }
 }
 
@@ -397,16 +390,9 @@ impl ErrorStateFilter {
         config: &FilterConfig,
     ) -> Result<[f64; CALIBRATION_LOWER_TRIANGLE], NavError> {
         let block = self.calibration_block_for_restart(config)?;
-        let mut lower = [0.0; CALIBRATION_LOWER_TRIANGLE];
-        let mut slots = lower.iter_mut();
-        for row in 0..CALIBRATION_DIMENSION {
-            for column in 0..=row {
-                if let (Some(slot), Some(value)) = (slots.next(), block.get((row, column))) {
-                    *slot = *value;
-                }
-            }
-        }
-        Ok(lower)
+        Ok(lower_triangle(|row, column| {
+            block.get((row, column)).copied()
+        }))
     }
 
     fn calibration_block_for_restart(
@@ -416,13 +402,15 @@ impl ErrorStateFilter {
         let prior = config.initial_variances()?;
         let p = &self.covariance;
         let entry = |i: usize, j: usize| p.get((i, j)).copied().unwrap_or(f64::NAN);
-        let margin = NavigationBlock::from_fn(|i, j| {
-            let prior_variance = if i == j {
+        let prior_block = NavigationBlock::from_fn(|i, j| {
+            if i == j {
                 prior.get(i).copied().unwrap_or(f64::NAN)
             } else {
                 0.0
-            };
-            prior_variance - entry(i, j)
+            }
+        });
+        let margin = NavigationBlock::from_fn(|i, j| {
+            prior_block.get((i, j)).copied().unwrap_or(f64::NAN) - entry(i, j)
         });
         let cross = CrossBlock::from_fn(|i, j| entry(i, DYNAMIC_DIMENSION + j));
         let kept = CalibrationCovariance::from_fn(|i, j| {
@@ -435,14 +423,6 @@ impl ErrorStateFilter {
         // A navigation block already wider than the prior in some direction (a long flight
         // without GNSS): no calibration block makes the restart bound it; the prior alone
         // then stands for the navigation error the calibration explained.
-        let prior_block = NavigationBlock::from_fn(|i, j| {
-            let variance = prior.get(i).copied().unwrap_or(f64::NAN);
-            if i == j {
-                variance
-            } else {
-                0.0
-            }
-        });
         let cholesky = nalgebra::Cholesky::new(margin)
             .or_else(|| nalgebra::Cholesky::new(prior_block))
             .ok_or(NavError::InvalidConfiguration)?;
@@ -454,6 +434,23 @@ impl ErrorStateFilter {
             Err(NavError::NonFiniteState)
         }
     }
+}
+
+/// The lower triangle (diagonal included) of the calibration block whose entry `(row,
+/// column)` is `entry(row, column)`, row by row.
+fn lower_triangle(
+    entry: impl Fn(usize, usize) -> Option<f64>,
+) -> [f64; CALIBRATION_LOWER_TRIANGLE] {
+    let mut lower = [0.0; CALIBRATION_LOWER_TRIANGLE];
+    let mut slots = lower.iter_mut();
+    for row in 0..CALIBRATION_DIMENSION {
+        for column in 0..=row {
+            if let (Some(slot), Some(value)) = (slots.next(), entry(row, column)) {
+                *slot = value;
+            }
+        }
+    }
+    lower
 }
 
 /// The calibration block of `P` (15×15).
