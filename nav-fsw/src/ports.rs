@@ -171,6 +171,79 @@ pub trait GnssPort {
     fn poll(&mut self) -> Option<GnssFix>;
 }
 
+/// Where the calibration record lives between flights (non-volatile memory, a file, the
+/// vehicle computer): the integrator's, as the sensors are. [`crate::scheduler::Command`]'s
+/// `SaveCalibration` writes the record through it and `LoadCalibration` reads it back
+/// ([`crate::calibration_record`] holds the layout).
+pub trait CalibrationStorePort {
+    /// Fills `record` with the stored record's bytes.
+    ///
+    /// # Errors
+    /// [`CalibrationStoreFault`] when nothing is stored or the storage cannot be read.
+    fn read_record(
+        &mut self,
+        record: &mut [u8; crate::calibration_record::CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault>;
+
+    /// Stores `record`, replacing what was stored.
+    ///
+    /// # Errors
+    /// [`CalibrationStoreFault::WriteFailed`] when the storage cannot be written.
+    fn write_record(
+        &mut self,
+        record: &[u8; crate::calibration_record::CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault>;
+}
+
+/// Why a [`CalibrationStorePort`] could not read or write the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum CalibrationStoreFault {
+    /// The computer was given no store (`NavigationComputer::command` without one).
+    NoStore,
+    /// The store holds no record.
+    Empty,
+    /// The storage could not be read.
+    ReadFailed,
+    /// The storage could not be written.
+    WriteFailed,
+}
+
+impl core::fmt::Display for CalibrationStoreFault {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::NoStore => "no calibration store was given to the command",
+            Self::Empty => "the calibration store holds no record",
+            Self::ReadFailed => "the calibration store could not be read",
+            Self::WriteFailed => "the calibration store could not be written",
+        })
+    }
+}
+
+impl core::error::Error for CalibrationStoreFault {}
+
+/// The store of a computer given none: every read and write fails with
+/// [`CalibrationStoreFault::NoStore`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoCalibrationStore;
+
+impl CalibrationStorePort for NoCalibrationStore {
+    fn read_record(
+        &mut self,
+        _record: &mut [u8; crate::calibration_record::CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        Err(CalibrationStoreFault::NoStore)
+    }
+
+    fn write_record(
+        &mut self,
+        _record: &[u8; crate::calibration_record::CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        Err(CalibrationStoreFault::NoStore)
+    }
+}
+
 /// `[x, y, z]` as a vector.
 #[inline]
 pub fn vector(components: &[f64; 3]) -> Vector3<f64> {

@@ -4,6 +4,8 @@
 //! so none adds to a frame's cost.
 
 use super::*;
+use crate::calibration_record::{RecordError, CALIBRATION_RECORD_BYTES};
+use crate::ports::{CalibrationStoreFault, CalibrationStorePort, NoCalibrationStore};
 
 /// Ground or flight-plan commands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,6 +53,17 @@ pub enum Command {
     /// faulty or not yet aligned, or one not heard within the outage timeout. Selecting the
     /// head already active changes nothing.
     SelectStarHead(u8),
+    /// Write the calibration earned so far to the calibration store
+    /// ([`NavigationComputer::export_calibration`], [`CalibrationStorePort::write_record`]):
+    /// before a planned power cycle, or periodically. Refused without a store
+    /// ([`NavigationComputer::command_with_store`]) or when the export fails.
+    SaveCalibration,
+    /// Load the record in the calibration store as the prior
+    /// ([`NavigationComputer::load_calibration`]): the sensor corrections become its
+    /// estimates and the navigation restarts at its configured prior. Refused, the computer
+    /// unchanged, without a store, when the store cannot be read, or for a record
+    /// [`NavigationComputer::load_calibration`] refuses.
+    LoadCalibration,
 }
 
 /// An aiding sensor, as commands name it.
@@ -95,8 +108,13 @@ pub enum CommandError {
     StarHeadNotAligned(u8),
     /// `SelectStarHead` for a head not heard within the outage timeout.
     StarHeadSilent(u8),
-    /// The filter refused the reset or the hand-over (nav-core's error; nothing changed).
+    /// The filter refused the reset, the hand-over or the export (nav-core's error; nothing
+    /// changed).
     Filter(NavError),
+    /// `SaveCalibration` or `LoadCalibration`: the calibration store could not be used.
+    CalibrationStore(CalibrationStoreFault),
+    /// `LoadCalibration`: the stored record is refused.
+    CalibrationRecord(RecordError),
 }
 
 impl core::fmt::Display for CommandError {
@@ -138,6 +156,8 @@ impl core::fmt::Display for CommandError {
                 "SelectStarHead refused: head {head} was not heard within the outage timeout"
             ),
             Self::Filter(error) => write!(f, "command refused by the filter: {error}"),
+            Self::CalibrationStore(fault) => write!(f, "calibration command refused: {fault}"),
+            Self::CalibrationRecord(error) => write!(f, "LoadCalibration refused: {error}"),
         }
     }
 }
@@ -162,13 +182,91 @@ pub struct CommandCounters {
 }
 
 impl NavigationComputer {
-    /// Executes a command, counted in [`CommandCounters`].
+    /// Executes a command, counted in [`CommandCounters`], for a computer given no
+    /// calibration store (`SaveCalibration` and `LoadCalibration` are refused with
+    /// [`CalibrationStoreFault::NoStore`]; [`Self::command_with_store`] takes one).
     ///
     /// # Errors
     /// The [`CommandError`] that names why the command is refused; the computer is unchanged
     /// then (but for the refusal's count).
     pub fn command(&mut self, command: Command) -> Result<(), CommandError> {
-        let executed = self.execute(command);
+        self.command_with_store(command, &mut NoCalibrationStore)
+    }
+
+    /// Executes a command, counted in [`CommandCounters`], with the integrator's
+    /// calibration store for `SaveCalibration` and `LoadCalibration`.
+    ///
+    /// ```
+    /// use nav_fsw::calibration_record::CALIBRATION_RECORD_BYTES;
+    /// use nav_fsw::nalgebra::{Quaternion, Vector3};
+    /// use nav_fsw::nav_core::frames::LaunchSite;
+    /// use nav_fsw::nav_core::strapdown::NavigationState;
+    /// use nav_fsw::ports::{CalibrationStoreFault, CalibrationStorePort};
+    /// use nav_fsw::scheduler::{Command, CommandError};
+    /// use nav_fsw::sensor_frames::SensorFrames;
+    /// use nav_fsw::{FrameGnss, FrameImu, FrameStar, FswConfig, ImuSample, NavigationComputer};
+    ///
+    /// /// The vehicle's non-volatile memory (here a copy in RAM).
+    /// struct Store(Option<[u8; CALIBRATION_RECORD_BYTES]>);
+    /// impl CalibrationStorePort for Store {
+    ///     fn read_record(
+    ///         &mut self,
+    ///         record: &mut [u8; CALIBRATION_RECORD_BYTES],
+    ///     ) -> Result<(), CalibrationStoreFault> {
+    ///         *record = self.0.ok_or(CalibrationStoreFault::Empty)?;
+    ///         Ok(())
+    ///     }
+    ///     fn write_record(
+    ///         &mut self,
+    ///         record: &[u8; CALIBRATION_RECORD_BYTES],
+    ///     ) -> Result<(), CalibrationStoreFault> {
+    ///         self.0 = Some(*record);
+    ///         Ok(())
+    ///     }
+    /// }
+    ///
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// let site = LaunchSite {
+    ///     latitude_rad: 40.958_f64.to_radians(),
+    ///     longitude_rad: 100.291_f64.to_radians(),
+    ///     height_m: 1000.0,
+    ///     azimuth_rad: 190.0_f64.to_radians(),
+    ///     earth_axis_ecef: [0.0, 0.0, 1.0],
+    /// };
+    /// let initial = NavigationState {
+    ///     attitude: Quaternion::identity(),
+    ///     position_m: Vector3::new(0.0, 500e3, 0.0),
+    ///     velocity_mps: Vector3::new(7600.0, 0.0, 0.0),
+    ///     time_s: 600.0,
+    /// };
+    /// // PLACEHOLDER ground constants: a flight image uses its launch's (`nav-sim ground-constants`).
+    /// let config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
+    /// let mut computer = NavigationComputer::new(config, initial)?;
+    /// let mut store = Store(None);
+    /// assert_eq!(
+    ///     computer.command_with_store(Command::LoadCalibration, &mut store),
+    ///     Err(CommandError::CalibrationStore(CalibrationStoreFault::Empty))
+    /// );
+    /// computer.command_with_store(Command::SaveCalibration, &mut store)?;
+    /// computer.command_with_store(Command::LoadCalibration, &mut store)?;
+    /// let mut imu = FrameImu(Some(ImuSample::new(1, 600.002, [0.0; 3], [0.0; 3])));
+    /// let telemetry =
+    ///     computer.run_frame(&mut imu, &mut FrameStar::default(), &mut FrameGnss::default());
+    /// assert_eq!(telemetry.commands.calibration_records_loaded, 1);
+    /// assert_eq!((telemetry.commands.accepted, telemetry.commands.refused), (2, 1));
+    /// # Ok(())
+    /// # }
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Self::command`], and [`CommandError::CalibrationStore`] or
+    /// [`CommandError::CalibrationRecord`] for a store or record that cannot be used.
+    pub fn command_with_store<P: CalibrationStorePort>(
+        &mut self,
+        command: Command,
+        store: &mut P,
+    ) -> Result<(), CommandError> {
+        let executed = self.execute(command, store);
         let counter = match executed {
             Ok(()) => &mut self.operations.commands.accepted,
             Err(_) => &mut self.operations.commands.refused,
@@ -177,7 +275,11 @@ impl NavigationComputer {
         executed
     }
 
-    fn execute(&mut self, command: Command) -> Result<(), CommandError> {
+    fn execute<P: CalibrationStorePort>(
+        &mut self,
+        command: Command,
+        store: &mut P,
+    ) -> Result<(), CommandError> {
         match command {
             Command::SetPhase(phase) => {
                 let policy = self.config.calibration.policy;
@@ -206,8 +308,35 @@ impl NavigationComputer {
             Command::ResetFilter { keep_calibration } => self.reset_filter(keep_calibration)?,
             Command::SetAidEnabled(sensor, enabled) => self.set_aid_enabled(sensor, enabled)?,
             Command::SelectStarHead(head) => self.select_star_head(head)?,
+            Command::SaveCalibration => self.save_calibration(store)?,
+            Command::LoadCalibration => self.load_stored_calibration(store)?,
         }
         Ok(())
+    }
+
+    /// [`Command::SaveCalibration`].
+    fn save_calibration<P: CalibrationStorePort>(
+        &mut self,
+        store: &mut P,
+    ) -> Result<(), CommandError> {
+        let record = self.export_calibration().map_err(CommandError::Filter)?;
+        store
+            .write_record(&record.to_bytes())
+            .map_err(CommandError::CalibrationStore)
+    }
+
+    /// [`Command::LoadCalibration`]: the record read, then loaded as at start-up (counted as
+    /// a record loaded or refused, besides the command's count).
+    fn load_stored_calibration<P: CalibrationStorePort>(
+        &mut self,
+        store: &mut P,
+    ) -> Result<(), CommandError> {
+        let mut bytes = [0; CALIBRATION_RECORD_BYTES];
+        store
+            .read_record(&mut bytes)
+            .map_err(CommandError::CalibrationStore)?;
+        self.load_calibration(&bytes)
+            .map_err(CommandError::CalibrationRecord)
     }
 
     /// Releases every optional block in use.

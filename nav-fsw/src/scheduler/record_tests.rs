@@ -5,6 +5,7 @@
 use super::tests::{computer, initial_state, run_frame_with_turned_star};
 use super::*;
 use crate::calibration_record::{CalibrationRecord, RecordError, CALIBRATION_RECORD_BYTES};
+use crate::ports::CalibrationStoreFault;
 use nav_core::state::{DYNAMIC_DIMENSION, STATE_DIMENSION};
 
 fn calibrated() -> NavigationComputer {
@@ -122,4 +123,127 @@ fn a_flipped_bit_another_version_or_configuration_is_refused_and_counted() {
     let mut relaunched = NavigationComputer::new(config, initial_state()).unwrap();
     relaunched.load_calibration(&bytes).unwrap();
     assert_eq!(new.operations.commands.calibration_records_refused, 7);
+}
+
+/// Non-volatile memory in RAM for the store commands; `writable: false` fails every write.
+struct RamStore {
+    record: Option<[u8; CALIBRATION_RECORD_BYTES]>,
+    writable: bool,
+}
+
+impl crate::ports::CalibrationStorePort for RamStore {
+    fn read_record(
+        &mut self,
+        record: &mut [u8; CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        *record = self.record.ok_or(CalibrationStoreFault::Empty)?;
+        Ok(())
+    }
+
+    fn write_record(
+        &mut self,
+        record: &[u8; CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        if !self.writable {
+            return Err(CalibrationStoreFault::WriteFailed);
+        }
+        self.record = Some(*record);
+        Ok(())
+    }
+}
+
+/// A store command refused: the reason, the count, and nothing else changed.
+fn store_command_refused(
+    computer: &mut NavigationComputer,
+    command: Command,
+    store: &mut RamStore,
+    reason: CommandError,
+) {
+    let before = computer.clone();
+    assert_eq!(computer.command_with_store(command, store), Err(reason));
+    assert_eq!(computer.filter(), before.filter());
+    assert_eq!(
+        computer.calibration_estimate(),
+        before.calibration_estimate()
+    );
+    let commands = computer.operations.commands;
+    assert_eq!(commands.refused, before.operations.commands.refused + 1);
+    assert_eq!(commands.accepted, before.operations.commands.accepted);
+}
+
+#[test]
+fn save_and_load_commands_carry_the_calibration_through_the_store() {
+    let old = calibrated();
+    let mut store = RamStore {
+        record: None,
+        writable: true,
+    };
+    let mut old_copy = old.clone();
+    old_copy
+        .command_with_store(Command::SaveCalibration, &mut store)
+        .unwrap();
+    assert_eq!(old_copy.filter(), old.filter(), "saving changes nothing");
+    let saved = store.record.unwrap();
+    assert_eq!(saved, old.export_calibration().unwrap().to_bytes());
+
+    let mut new = computer();
+    new.command_with_store(Command::LoadCalibration, &mut store)
+        .unwrap();
+    let mut direct = computer();
+    direct.load_calibration(&saved).unwrap();
+    assert_eq!(new.filter(), direct.filter());
+    assert_eq!(new.calibration_estimate(), old.calibration_estimate());
+    let commands = new.operations.commands;
+    assert_eq!((commands.accepted, commands.refused), (1, 0));
+    assert_eq!(commands.calibration_records_loaded, 1);
+}
+
+#[test]
+fn store_commands_without_a_store_a_record_or_a_good_record_are_refused() {
+    let mut computer = calibrated();
+    let no_store = CommandError::CalibrationStore(CalibrationStoreFault::NoStore);
+    for command in [Command::SaveCalibration, Command::LoadCalibration] {
+        let refused_before = computer.operations.commands.refused;
+        assert_eq!(computer.command(command), Err(no_store));
+        assert_eq!(computer.operations.commands.refused, refused_before + 1);
+    }
+    let mut empty = RamStore {
+        record: None,
+        writable: false,
+    };
+    store_command_refused(
+        &mut computer,
+        Command::LoadCalibration,
+        &mut empty,
+        CommandError::CalibrationStore(CalibrationStoreFault::Empty),
+    );
+    store_command_refused(
+        &mut computer,
+        Command::SaveCalibration,
+        &mut empty,
+        CommandError::CalibrationStore(CalibrationStoreFault::WriteFailed),
+    );
+    let mut corrupted = computer.export_calibration().unwrap().to_bytes();
+    corrupted[100] ^= 1;
+    let mut store = RamStore {
+        record: Some(corrupted),
+        writable: true,
+    };
+    let records_refused = computer.operations.commands.calibration_records_refused;
+    let before = computer.clone();
+    let error = computer
+        .command_with_store(Command::LoadCalibration, &mut store)
+        .unwrap_err();
+    assert!(
+        matches!(
+            error,
+            CommandError::CalibrationRecord(RecordError::Crc { .. })
+        ),
+        "{error}"
+    );
+    assert_eq!(computer.filter(), before.filter());
+    assert_eq!(
+        computer.operations.commands.calibration_records_refused,
+        records_refused + 1
+    );
 }

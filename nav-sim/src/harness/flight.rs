@@ -9,8 +9,10 @@ use nav_core::filter::CalibrationEstimate;
 use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::state::StateBlock;
 use nav_fsw::calibration_manager::{CalibrationTable, ManoeuvrePhase, CALIBRATION_BLOCK_COUNT};
+use nav_fsw::calibration_record::CALIBRATION_RECORD_BYTES;
 use nav_fsw::config::FswConfig;
 use nav_fsw::health::HealthCounters;
+use nav_fsw::ports::{CalibrationStoreFault, CalibrationStorePort};
 use nav_fsw::replay::FramePorts;
 use nav_fsw::scheduler::{Command, NavigationComputer};
 use nav_fsw::telemetry::FrameFusion;
@@ -406,6 +408,28 @@ fn scheduled_commands(scenario: &Scenario) -> Result<Vec<(u64, Scheduled, usize)
         .collect()
 }
 
+/// The vehicle's non-volatile memory: the one calibration record a flight keeps.
+#[derive(Default)]
+struct VehicleMemory(Option<[u8; CALIBRATION_RECORD_BYTES]>);
+
+impl CalibrationStorePort for VehicleMemory {
+    fn read_record(
+        &mut self,
+        record: &mut [u8; CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        *record = self.0.ok_or(CalibrationStoreFault::Empty)?;
+        Ok(())
+    }
+
+    fn write_record(
+        &mut self,
+        record: &[u8; CALIBRATION_RECORD_BYTES],
+    ) -> Result<(), CalibrationStoreFault> {
+        self.0 = Some(*record);
+        Ok(())
+    }
+}
+
 /// Gives the flight software the commands due before frame `frame_index`, in schedule
 /// order (a reboot: [`reboot_keeping_calibration`]); a refused one ends the flight with its
 /// reason.
@@ -413,6 +437,7 @@ fn give_due_commands(
     commands: &[(u64, Scheduled, usize)],
     frame_index: u64,
     computer: &mut NavigationComputer,
+    memory: &mut VehicleMemory,
 ) -> Result<(), SetupError> {
     for (_, what, index) in commands.iter().filter(|(f, ..)| *f == frame_index) {
         let refused = |reason: String| {
@@ -420,10 +445,10 @@ fn give_due_commands(
         };
         match what {
             Scheduled::Command(command) => computer
-                .command(*command)
+                .command_with_store(*command, memory)
                 .map_err(|e| refused(e.to_string()))?,
             Scheduled::RebootKeepingCalibration => {
-                *computer = reboot_keeping_calibration(computer).map_err(refused)?
+                *computer = reboot_keeping_calibration(computer, memory).map_err(refused)?
             }
         }
     }
@@ -431,16 +456,19 @@ fn give_due_commands(
 }
 
 /// A new computer with `computer`'s configuration, started from its navigation solution at
-/// the configured prior, with its calibration carried over through the record's bytes.
-fn reboot_keeping_calibration(computer: &NavigationComputer) -> Result<NavigationComputer, String> {
-    let record = computer
-        .export_calibration()
+/// the configured prior, with its calibration carried over through the vehicle's memory
+/// (`SaveCalibration` before, `LoadCalibration` after).
+fn reboot_keeping_calibration(
+    computer: &mut NavigationComputer,
+    memory: &mut VehicleMemory,
+) -> Result<NavigationComputer, String> {
+    computer
+        .command_with_store(Command::SaveCalibration, memory)
         .map_err(|error| error.to_string())?;
-    let bytes = record.to_bytes();
     let mut rebooted = NavigationComputer::new(*computer.config(), computer.navigation())
         .map_err(|error| error.to_string())?;
     rebooted
-        .load_calibration(&bytes)
+        .command_with_store(Command::LoadCalibration, memory)
         .map_err(|error| error.to_string())?;
     Ok(rebooted)
 }
@@ -495,8 +523,9 @@ pub fn fly_observed(
     // The flight plan tells the phase only to a policy that reads it.
     let uses_phase = computer.config().calibration.policy.uses_phase();
     let commands = scheduled_commands(scenario)?;
+    let mut memory = VehicleMemory::default();
     while let Some(frame) = simulation.step(&mut events)? {
-        give_due_commands(&commands, frame.frame_index, &mut computer)?;
+        give_due_commands(&commands, frame.frame_index, &mut computer, &mut memory)?;
         let phase_due = segment_frames.iter().find(|(f, _)| *f == frame.frame_index);
         if let (Some((_, phase)), true) = (phase_due, uses_phase) {
             computer

@@ -1,10 +1,11 @@
 //! Ground commands a scenario schedules (`[[command]]`): each is given to the flight software
 //! through its own command interface (nav-fsw `NavigationComputer::command`) before the
 //! frame at its time runs, so a campaign can fly filter resets, frozen blocks, disabled aids
-//! and head selections, and `reboot_keeping_calibration`, which the simulator flies itself:
-//! the calibration exported as a record (nav-fsw `calibration_record`), a new computer
-//! started from the navigation solution of the moment (as a restart from the last saved
-//! state) with its configured prior, and the record loaded. A command the flight software
+//! and head selections, the calibration saved to and loaded from the vehicle's non-volatile
+//! memory (nav-fsw `CalibrationStorePort`, one record kept for the whole flight), and
+//! `reboot_keeping_calibration`, which the simulator flies itself: `save_calibration`, a
+//! new computer started from the navigation solution of the moment (as a restart from the
+//! last saved state) with its configured prior, then `load_calibration`. A command the flight software
 //! refuses ends the flight with its reason: a schedule that does not fly as written is a
 //! scenario error.
 
@@ -57,7 +58,12 @@ pub enum CommandKind {
     ClearSensorFaults,
     /// Forget calibration convergence and every freeze.
     RestartCalibration,
-    /// Restart the flight software, carrying the calibration over in a calibration record.
+    /// Write the calibration record to the vehicle's non-volatile memory.
+    SaveCalibration,
+    /// Load the record in the vehicle's non-volatile memory as the prior.
+    LoadCalibration,
+    /// Restart the flight software, carrying the calibration over in a calibration record
+    /// (saved, restarted, loaded).
     RebootKeepingCalibration,
 }
 
@@ -125,6 +131,8 @@ impl ScheduledCommand {
             EnableAid => Command::SetAidEnabled(self.sensor(), true),
             SelectStarHead => Command::SelectStarHead(self.head.unwrap_or(0)),
             ClearSensorFaults => Command::ClearSensorFaults,
+            SaveCalibration => Command::SaveCalibration,
+            LoadCalibration => Command::LoadCalibration,
             RestartCalibration | RebootKeepingCalibration => Command::RestartCalibration,
         }))
     }

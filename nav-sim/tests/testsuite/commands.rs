@@ -86,6 +86,40 @@ fn a_schedule_that_cannot_fly_is_refused_naming_its_key() {
     );
 }
 
+/// `save_calibration` and `load_calibration` go through the vehicle's memory: a load with
+/// nothing saved is refused naming the empty store; saved first, the load flies, and the
+/// flight ends with the calibration of a filter reset keeping the calibration, bit for bit
+/// (the load restarts the navigation from its prior with the reset's covariance bound; the
+/// convergence tests it also restarts have passed no block by then).
+#[test]
+fn a_scheduled_load_needs_a_saved_record_and_then_flies_as_a_reset_keeping_the_calibration() {
+    let options = nav_sim::harness::flight::FlightOptions::default;
+    let mut scenario = common::short_scenario();
+    scenario.commands = vec![command(5.0, CommandKind::LoadCalibration)];
+    let error = nav_sim::harness::flight::fly(&scenario, options(), |_, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("command[0]") && error.contains("holds no record"),
+        "{error}"
+    );
+    scenario.commands = vec![
+        command(10.0, CommandKind::SaveCalibration),
+        command(10.0, CommandKind::LoadCalibration),
+    ];
+    let loaded = nav_sim::harness::flight::fly(&scenario, options(), |_, _| {}).unwrap();
+    scenario.commands = vec![command(10.0, CommandKind::ResetFilterKeepingCalibration)];
+    let reset = nav_sim::harness::flight::fly(&scenario, options(), |_, _| {}).unwrap();
+    let bits = |result: &nav_sim::harness::flight::FlightResult| {
+        result.calibration_error.map(f64::to_bits)
+    };
+    assert_eq!(bits(&loaded), bits(&reset));
+    assert_eq!(
+        loaded.calibration_covariance.map(f64::to_bits),
+        reset.calibration_covariance.map(f64::to_bits)
+    );
+}
+
 /// A flight rebooted half way (mid-rotation, the hardest moment: the calibration is most
 /// correlated with the attitude), its calibration carried over in a record: consistent over
 /// 40 runs, and every calibration state ends within 1σ of the uninterrupted flight's
