@@ -146,7 +146,11 @@ fn render_packets() -> String {
             packet.apid,
             packet.name,
             packet.packet_bytes(),
-            packet.purpose.split_whitespace().collect::<Vec<_>>().join(" ")
+            packet
+                .purpose
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
         ));
     }
     for packet in &PACKETS {
@@ -189,6 +193,9 @@ fn the_telemetry_packet_reference_is_the_declaration() {
     );
     // Every output word is on the page.
     for name in nav_fsw::replay::OUTPUT_FIELD_NAMES {
-        assert!(page.contains(&format!("`{name}`")), "{name} is not on the page");
+        assert!(
+            page.contains(&format!("`{name}`")),
+            "{name} is not on the page"
+        );
     }
 }

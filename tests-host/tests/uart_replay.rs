@@ -2,7 +2,8 @@
 //! sensor, fed to the QEMU firmware's CMSDK UARTs (`qemu/src/bin/uart_replay.rs`) and run on
 //! the host through the same nav-fsw stream readers and merge. Every output word and every
 //! line counter must agree bit for bit, for clean lines and for a star-tracker line with
-//! corrupt bytes.
+//! corrupt bytes; and the telemetry packets the firmware sends on UART4, decoded by nav-sim's
+//! decoder (`nav-sim telemetry decode`), must give the host's output words, word for word.
 //!
 //! The QEMU cases are ignored by default: `scripts/test.sh` builds the firmware and runs them
 //! with `NAV_QEMU_UART_REPLAY_ELF` set; `NAV_UART_REPLAY_SECONDS` (default 10) sets how much
@@ -105,6 +106,10 @@ fn run_on_qemu(name: &str, corrupt: bool) {
     if let Some(difference) = &report.difference {
         panic!("host and target differ first at {difference:?}");
     }
+    if let Some(difference) = &report.packet_difference {
+        panic!("the target's telemetry packets and the host differ first at {difference:?}");
+    }
+    assert_eq!(report.packets as u64, seconds() * 500 * 5);
     assert_eq!(report.target.counters, report.host.counters);
     assert_eq!(report.frames, seconds() * 500);
     let expected_resync = if corrupt { 83 } else { 0 };

@@ -253,6 +253,19 @@ pub const PACKETS: [PacketDeclaration; PACKET_KIND_COUNT] = [
     },
 ];
 
+/// How output word `index` is read: `frame` unsigned, `time_s` a float, any other word as
+/// its packet declares it (unsigned for an index beyond the record).
+pub fn word_type(index: usize) -> WordType {
+    if index == 1 {
+        return Float;
+    }
+    PACKETS
+        .iter()
+        .flat_map(|packet| packet.words.iter())
+        .find(|span| span.indices().contains(&index))
+        .map_or(Unsigned, |span| span.word_type)
+}
+
 /// Most data words of any kind.
 pub const MAX_DATA_WORDS: usize = {
     let mut most = 0;

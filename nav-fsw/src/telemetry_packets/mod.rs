@@ -26,8 +26,8 @@ mod declaration;
 mod tests;
 
 pub use declaration::{
-    PacketDeclaration, PacketKind, WordSpan, WordType, MAX_DATA_WORDS, MAX_FRAME_PACKET_BYTES,
-    PACKETS, PACKET_KIND_COUNT,
+    word_type, PacketDeclaration, PacketKind, WordSpan, WordType, MAX_DATA_WORDS,
+    MAX_FRAME_PACKET_BYTES, PACKETS, PACKET_KIND_COUNT,
 };
 
 use crc::{Crc, CRC_16_IBM_3740};
@@ -171,10 +171,7 @@ impl PacketEncoder {
 
     /// The sequence count the next packet of `kind` carries.
     pub fn next_sequence_count(&self, kind: PacketKind) -> u16 {
-        self.sequence_counts
-            .get(kind.index())
-            .copied()
-            .unwrap_or(0)
+        self.sequence_counts.get(kind.index()).copied().unwrap_or(0)
     }
 
     /// Writes the packets due in the frame of `words` (its `frame` word), in
@@ -267,8 +264,8 @@ fn primary_header(apid: u16, sequence_count: u16, length: usize) -> [u8; PRIMARY
     let sequence = (0b11 << 14) | (sequence_count % SEQUENCE_COUNT_MODULUS);
     // Data length: octets after the primary header, minus one (CCSDS 133.0-B-2 §4.1.3.5). The longest
     // packet is far below 2¹⁶ octets.
-    let data_length = u16::try_from(length.saturating_sub(PRIMARY_HEADER_BYTES + 1))
-        .unwrap_or(u16::MAX);
+    let data_length =
+        u16::try_from(length.saturating_sub(PRIMARY_HEADER_BYTES + 1)).unwrap_or(u16::MAX);
     let [i0, i1] = identification.to_be_bytes();
     let [s0, s1] = sequence.to_be_bytes();
     let [l0, l1] = data_length.to_be_bytes();

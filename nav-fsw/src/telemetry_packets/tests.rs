@@ -136,9 +136,18 @@ fn rates_pick_the_frames_and_are_validated() {
             .map(|k| sizes[k])
             .sum()
     };
-    assert_eq!(encoder.encode_frame(&words(7), &mut buffer), Ok(all_but(&[1, 3])));
-    assert_eq!(encoder.encode_frame(&words(50), &mut buffer), Ok(all_but(&[])));
-    assert_eq!(encoder.encode_frame(&words(20), &mut buffer), Ok(all_but(&[3])));
+    assert_eq!(
+        encoder.encode_frame(&words(7), &mut buffer),
+        Ok(all_but(&[1, 3]))
+    );
+    assert_eq!(
+        encoder.encode_frame(&words(50), &mut buffer),
+        Ok(all_but(&[]))
+    );
+    assert_eq!(
+        encoder.encode_frame(&words(20), &mut buffer),
+        Ok(all_but(&[3]))
+    );
     assert_eq!(encoder.next_sequence_count(PacketKind::Navigation), 3);
     assert_eq!(encoder.next_sequence_count(PacketKind::Calibration), 2);
     assert_eq!(encoder.next_sequence_count(PacketKind::Health), 1);

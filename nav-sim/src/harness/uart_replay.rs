@@ -6,7 +6,9 @@
 //!
 //! Files in the run directory (QEMU `-serial pipe:` chardevs, `NAME.in` read by the UART,
 //! `NAME.out` written by it): `ground` (UART0: setup and line lengths in; per-frame outputs
-//! and the line counters out), `imu` (UART1), `star` (UART2), `gnss` (UART3).
+//! and the line counters out), `imu` (UART1), `star` (UART2), `gnss` (UART3), `telemetry`
+//! (UART4: the frames' telemetry packets out, decoded by [`crate::logs::telemetry_packets`]
+//! and compared with the host's output words).
 
 use std::path::Path;
 
@@ -19,6 +21,7 @@ use crate::harness::target_replay::{
     cost_statistics, first_difference, run_records_on_host, words_of, CostStatistics,
     FirstDifference, ReplayError, FRAME_WORDS,
 };
+use crate::logs::telemetry_packets::decode_stream;
 use crate::scenario::Scenario;
 use crate::setup::fsw::replay_setup_without_commands;
 
@@ -27,8 +30,8 @@ pub const LINES_MAGIC: u64 = u64::from_le_bytes(*b"NAVLINES");
 /// Counter words per line after [`LINES_MAGIC`]: records, resynchronisation bytes, wrong kind,
 /// read errors.
 pub const COUNTER_WORDS: usize = 4;
-/// The chardev names of UART0..UART3.
-pub const UART_FILES: [&str; 4] = ["ground", "imu", "star", "gnss"];
+/// The chardev names of UART0..UART4.
+pub const UART_FILES: [&str; 5] = ["ground", "imu", "star", "gnss", "telemetry"];
 
 /// A log as its sensors send it: one byte stream per sensor line.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -136,6 +139,11 @@ pub struct UartReplayReport {
     pub host: LinesOutput,
     /// The first differing output word, if any.
     pub difference: Option<FirstDifference>,
+    /// The target's telemetry packets decoded: the first word that differs from the host's
+    /// output, if any.
+    pub packet_difference: Option<FirstDifference>,
+    /// Telemetry packets the target sent.
+    pub packets: usize,
     /// QEMU's wall-clock time.
     pub qemu_wall_time: std::time::Duration,
 }
@@ -143,7 +151,9 @@ pub struct UartReplayReport {
 impl UartReplayReport {
     /// Target and host agree on every output word and every line counter.
     pub fn bit_exact(&self) -> bool {
-        self.difference.is_none() && self.target.counters == self.host.counters
+        self.difference.is_none()
+            && self.packet_difference.is_none()
+            && self.target.counters == self.host.counters
     }
 
     /// A short summary for the test log.
@@ -151,11 +161,13 @@ impl UartReplayReport {
         let [_, star, _] = self.target.counters;
         format!(
             "UART replay: {} frames, worst frame {} instructions, star line {} records / {} \
-             resynchronisation bytes, QEMU {:.1} s, host and target {}\n",
+             resynchronisation bytes, {} telemetry packets, QEMU {:.1} s, host and target \
+             (output words and decoded packets) {}\n",
             self.frames,
             self.costs[0].1.worst,
             star.records,
             star.resync_bytes,
+            self.packets,
             self.qemu_wall_time.as_secs_f64(),
             if self.bit_exact() {
                 "bit for bit equal"
@@ -191,7 +203,7 @@ pub fn replay_lines_on_target(
     for line in lines.all() {
         ground.extend_from_slice(&u64::try_from(line.len()).unwrap_or(u64::MAX).to_le_bytes());
     }
-    let contents = [ground.as_slice(), &lines.imu, &lines.star, &lines.gnss];
+    let contents = [ground.as_slice(), &lines.imu, &lines.star, &lines.gnss, &[]];
     let mut serial = Vec::new();
     for (name, bytes) in UART_FILES.iter().zip(contents) {
         std::fs::write(directory.join(format!("{name}.in")), bytes)?;
@@ -212,12 +224,37 @@ pub fn replay_lines_on_target(
     }
     let target = parse_ground_output(&std::fs::read(directory.join("ground.out"))?)?;
     let host = run_lines_on_host(&setup, lines)?;
+    let packet_stream = std::fs::read(directory.join("telemetry.out"))?;
+    let (packet_words, packets) = packet_frame_words(&packet_stream)?;
     Ok(UartReplayReport {
         frames: u64::try_from(target.frame_words.len() / FRAME_WORDS).unwrap_or(u64::MAX),
         costs: cost_statistics(&target.frame_words),
         difference: first_difference(&host.frame_words, &target.frame_words),
+        packet_difference: first_difference(&host.frame_words, &packet_words),
+        packets,
         target,
         host,
         qemu_wall_time,
     })
+}
+
+/// The frames of a telemetry packet stream in the output's layout ([`FRAME_WORDS`] per frame,
+/// cost words 0), and the number of packets; every kind must be in every frame.
+///
+/// # Errors
+/// [`ReplayError::Input`] for a stream the decoder refuses or a frame without every kind.
+fn packet_frame_words(stream: &[u8]) -> Result<(Vec<u64>, usize), ReplayError> {
+    let frames = decode_stream(stream)
+        .map_err(|error| ReplayError::Input(format!("telemetry packets: {error}")))?;
+    let mut words = Vec::with_capacity(frames.len() * FRAME_WORDS);
+    for (index, frame) in frames.iter().enumerate() {
+        for word in frame {
+            words.push(word.ok_or_else(|| {
+                ReplayError::Input(format!("telemetry packets: frame {index} incomplete"))
+            })?);
+        }
+        words.push(0);
+    }
+    let packets = frames.len() * nav_fsw::telemetry_packets::PACKET_KIND_COUNT;
+    Ok((words, packets))
 }
