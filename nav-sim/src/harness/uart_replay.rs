@@ -24,6 +24,8 @@ use crate::harness::target_replay::{
 use crate::logs::telemetry_packets::decode_stream;
 use crate::scenario::Scenario;
 use crate::setup::fsw::replay_setup_without_commands;
+use nav_fsw::replay::{OUTPUT_FIELD_NAMES, OUTPUT_WORDS};
+use nav_fsw::telemetry_packets::{PacketKind, PacketRates};
 
 /// First word of the line counters after the last frame (`"NAVLINES"` little-endian).
 pub const LINES_MAGIC: u64 = u64::from_le_bytes(*b"NAVLINES");
@@ -139,9 +141,9 @@ pub struct UartReplayReport {
     pub host: LinesOutput,
     /// The first differing output word, if any.
     pub difference: Option<FirstDifference>,
-    /// The target's telemetry packets decoded: the first word that differs from the host's
-    /// output, if any.
-    pub packet_difference: Option<FirstDifference>,
+    /// The target's telemetry packets decoded against the host's output: the first word
+    /// that differs, is missing although its kind was due, or was sent although not due.
+    pub packet_difference: Option<String>,
     /// Telemetry packets the target sent.
     pub packets: usize,
     /// QEMU's wall-clock time.
@@ -188,6 +190,7 @@ impl UartReplayReport {
 pub fn replay_lines_on_target(
     scenario: &Scenario,
     lines: &SensorLines,
+    packet_rates: PacketRates,
     elf: &Path,
     runner: &Path,
     directory: &Path,
@@ -202,6 +205,9 @@ pub fn replay_lines_on_target(
     }
     for line in lines.all() {
         ground.extend_from_slice(&u64::try_from(line.len()).unwrap_or(u64::MAX).to_le_bytes());
+    }
+    for kind in PacketKind::ALL {
+        ground.extend_from_slice(&u64::from(packet_rates.every_frames(kind)).to_le_bytes());
     }
     let contents = [ground.as_slice(), &lines.imu, &lines.star, &lines.gnss, &[]];
     let mut serial = Vec::new();
@@ -225,12 +231,13 @@ pub fn replay_lines_on_target(
     let target = parse_ground_output(&std::fs::read(directory.join("ground.out"))?)?;
     let host = run_lines_on_host(&setup, lines)?;
     let packet_stream = std::fs::read(directory.join("telemetry.out"))?;
-    let (packet_words, packets) = packet_frame_words(&packet_stream)?;
+    let (packets, packet_difference) =
+        compare_packets(&packet_stream, packet_rates, &host.frame_words)?;
     Ok(UartReplayReport {
         frames: u64::try_from(target.frame_words.len() / FRAME_WORDS).unwrap_or(u64::MAX),
         costs: cost_statistics(&target.frame_words),
         difference: first_difference(&host.frame_words, &target.frame_words),
-        packet_difference: first_difference(&host.frame_words, &packet_words),
+        packet_difference,
         packets,
         target,
         host,
@@ -238,23 +245,66 @@ pub fn replay_lines_on_target(
     })
 }
 
-/// The frames of a telemetry packet stream in the output's layout ([`FRAME_WORDS`] per frame,
-/// cost words 0), and the number of packets; every kind must be in every frame.
+/// The target's telemetry packet stream decoded and compared with the host's output words
+/// (`host_words`: [`FRAME_WORDS`] per frame) at `rates`: every frame the packets name must be
+/// the host's, each word present exactly when its kind was due, and equal to the host's.
+/// Returns the number of packets and the first disagreement.
 ///
 /// # Errors
-/// [`ReplayError::Input`] for a stream the decoder refuses or a frame without every kind.
-fn packet_frame_words(stream: &[u8]) -> Result<(Vec<u64>, usize), ReplayError> {
+/// [`ReplayError::Input`] for a stream the decoder refuses.
+pub fn compare_packets(
+    stream: &[u8],
+    rates: PacketRates,
+    host_words: &[u64],
+) -> Result<(usize, Option<String>), ReplayError> {
     let frames = decode_stream(stream)
         .map_err(|error| ReplayError::Input(format!("telemetry packets: {error}")))?;
-    let mut words = Vec::with_capacity(frames.len() * FRAME_WORDS);
-    for (index, frame) in frames.iter().enumerate() {
-        for word in frame {
-            words.push(word.ok_or_else(|| {
-                ReplayError::Input(format!("telemetry packets: frame {index} incomplete"))
-            })?);
+    let host: Vec<&[u64]> = host_words.chunks_exact(FRAME_WORDS).collect();
+    let due_frames = host.iter().filter(|frame| {
+        PacketKind::ALL
+            .iter()
+            .any(|kind| rates.due(*kind, frame[0]))
+    });
+    let mut packets = 0;
+    let mut decoded = frames.iter();
+    for host_frame in due_frames {
+        let Some(frame) = decoded.next() else {
+            return Ok((
+                packets,
+                Some(format!("no packets of frame {}", host_frame[0])),
+            ));
+        };
+        for index in 0..OUTPUT_WORDS {
+            let due = nav_fsw::telemetry_packets::PACKETS
+                .iter()
+                .find(|packet| {
+                    packet
+                        .words
+                        .iter()
+                        .any(|span| span.indices().contains(&index))
+                })
+                .is_none_or(|packet| rates.due(packet.kind, host_frame[0]));
+            let expected = due.then_some(host_frame[index]);
+            if frame[index] != expected {
+                return Ok((
+                    packets,
+                    Some(format!(
+                        "frame {}, word {}: packets {:?}, host {expected:?}",
+                        host_frame[0], OUTPUT_FIELD_NAMES[index], frame[index]
+                    )),
+                ));
+            }
         }
-        words.push(0);
+        packets += PacketKind::ALL
+            .iter()
+            .filter(|kind| rates.due(**kind, host_frame[0]))
+            .count();
     }
-    let packets = frames.len() * nav_fsw::telemetry_packets::PACKET_KIND_COUNT;
-    Ok((words, packets))
+    if decoded.next().is_some() {
+        return Ok((
+            packets,
+            Some("packets of frames the host did not run".into()),
+        ));
+    }
+    Ok((packets, None))
 }

@@ -206,3 +206,31 @@ fn a_corrupt_stream_is_refused_naming_the_packet() {
             if offset == frame_bytes && frame == host[0]
     ));
 }
+
+/// The UART replay's check of the target's packets (`compare_packets`) finds a changed word,
+/// a kind sent when not due and a frame missing.
+#[test]
+fn the_uart_replay_check_finds_packets_that_differ_from_the_host() {
+    use nav_sim::harness::uart_replay::compare_packets;
+    let host = host_frames(100);
+    let mut rates = PacketRates::EVERY_FRAME;
+    rates.set(PacketKind::Health, 25).unwrap();
+    let stream = encode_frames(&host, 1, rates).unwrap();
+    assert_eq!(
+        compare_packets(&stream, rates, &host).unwrap(),
+        (100 + 4 + 300, None)
+    );
+    let every_frame = encode_frames(&host, 1, PacketRates::EVERY_FRAME).unwrap();
+    let (_, sent_when_not_due) = compare_packets(&every_frame, rates, &host).unwrap();
+    assert!(sent_when_not_due.unwrap().contains("word imu_non_finite"));
+    let mut changed = host.clone();
+    let velocity_y = OUTPUT_FIELD_NAMES
+        .iter()
+        .position(|n| *n == "velocity_y_mps")
+        .unwrap();
+    changed[7 * FRAME_WORDS + velocity_y] ^= 1;
+    let (_, difference) = compare_packets(&stream, rates, &changed).unwrap();
+    assert!(difference.unwrap().contains("word velocity_y_mps"));
+    let (_, missing) = compare_packets(&stream, rates, &[host.clone(), host].concat()).unwrap();
+    assert!(missing.unwrap().starts_with("no packets of frame"));
+}

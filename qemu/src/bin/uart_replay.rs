@@ -8,12 +8,12 @@
 //!
 //! | UART | direction | content |
 //! |---|---|---|
-//! | 0, ground link | in | the [`ReplaySetup`] words, then the byte length of each sensor line (three u64: IMU, star, GNSS) |
+//! | 0, ground link | in | the [`ReplaySetup`] words, then the byte length of each sensor line (three u64: IMU, star, GNSS), then each telemetry packet kind's rate (`PacketKind::ALL` order, frames) |
 //! | 0, ground link | out | per frame the `nav_fsw::replay::OUTPUT_WORDS` words of the output record and its cost (instructions); then [`LINES_MAGIC`] and four counters per line (records, resynchronisation bytes, wrong kind, read errors) |
 //! | 1 | in | the IMU's records |
 //! | 2 | in | the star tracker's records |
 //! | 3 | in | the GNSS receiver's records |
-//! | 4, telemetry | out | per frame its telemetry packets (`nav_fsw::telemetry_packets`, CCSDS space packets, every kind every frame) |
+//! | 4, telemetry | out | per frame the telemetry packets due (`nav_fsw::telemetry_packets`, CCSDS space packets) |
 //!
 //! All words little-endian u64. The line lengths let the replay tell a line that has ended
 //! from one whose next byte is still on its way. Prints (defmt) `UART REPLAY frames=… worst=…`
@@ -28,7 +28,9 @@ use embedded_io::{ErrorType, Read, ReadReady, Write};
 use nav_fsw::replay::{output_words, FrameAssembler, ReplaySetup, SETUP_WORDS};
 use nav_fsw::stream_merge::{ArrivalMerge, FiniteStream, LineSource};
 use nav_fsw::stream_ports::{RecordReader, StreamCounters};
-use nav_fsw::telemetry_packets::{PacketEncoder, PacketRates, MAX_FRAME_PACKET_BYTES};
+use nav_fsw::telemetry_packets::{
+    PacketEncoder, PacketRates, MAX_FRAME_PACKET_BYTES, PACKET_KIND_COUNT,
+};
 use nav_qemu::cmsdk_uart::CmsdkUart;
 use nav_qemu::flight_start::start_flight_software;
 use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
@@ -128,6 +130,10 @@ fn main() -> ! {
     let Some([imu_bytes, star_bytes, gnss_bytes]) = read_words::<3>(&mut ground) else {
         exit_failure()
     };
+    let Some(rates) = read_words::<PACKET_KIND_COUNT>(&mut ground).and_then(packet_rates) else {
+        defmt::error!("uart replay: telemetry packet rates refused");
+        exit_failure()
+    };
     let [imu_uart, star_uart, gnss_uart] = SENSOR_UARTS;
     let (Some(imu), Some(star), Some(gnss)) = (
         sensor_line(imu_uart, imu_bytes),
@@ -145,7 +151,7 @@ fn main() -> ! {
         exit_failure()
     };
     let mut lines = ArrivalMerge::new(imu, star, gnss);
-    let mut packets = PacketEncoder::new(PacketRates::EVERY_FRAME);
+    let mut packets = PacketEncoder::new(rates);
     let mut packet_buffer = [0_u8; MAX_FRAME_PACKET_BYTES];
     let mut clock = FrameClock::start(peripherals.SYST);
     let mut frames = 0_u32;
@@ -194,6 +200,15 @@ fn main() -> ! {
     } else {
         exit_failure()
     }
+}
+
+/// The packet rates from the ground link's words (`None` for one the encoder refuses).
+fn packet_rates(words: [u64; PACKET_KIND_COUNT]) -> Option<PacketRates> {
+    let mut every_frames = [0_u32; PACKET_KIND_COUNT];
+    for (slot, word) in every_frames.iter_mut().zip(words) {
+        *slot = u32::try_from(word).ok()?;
+    }
+    PacketRates::new(every_frames).ok()
 }
 
 fn counter_words(counters: &StreamCounters) -> [u64; 4] {
