@@ -81,8 +81,8 @@ pub enum WordType {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WordSpan {
-    /// Index of the first word in the output record (`OUTPUT_FIELD_NAMES`); `OUTPUT_WORDS`
-    /// when the name given to [`WordSpan::named`] is not an output word (a test refuses it).
+    /// Index of the first word in the output record (`OUTPUT_FIELD_NAMES`), resolved from its
+    /// name at compile time (a name that is not an output word fails the build).
     pub first: usize,
     /// Number of words.
     pub count: usize,

@@ -10,7 +10,7 @@
 //! | 0..6 | primary header: version `000`, type 0 (telemetry), secondary header flag 1, the kind's 11-bit APID; sequence flags `11` (unsegmented), the kind's 14-bit sequence count (wraps); data length = bytes after the primary header − 1 |
 //! | 6..22 | secondary header: the frame counter (`u64`) and the navigation time (`f64`, s): the output words `frame` and `time_s` |
 //! | 22.. | the kind's output words ([`PacketDeclaration::words`]), 8 bytes each |
-//! | last 2 | packet error control: CRC-16/CCITT-FALSE (polynomial `0x1021`, initial `0xFFFF`) of every byte before it, the packet error control of the ECSS PUS (ECSS-E-ST-70-41C) |
+//! | last 2 | packet error control, as the ECSS PUS (ECSS-E-ST-70-41C) has it: CRC-16/CCITT-FALSE (polynomial `0x1021`, initial `0xFFFF`) of every byte before it |
 //!
 //! The packets of one frame have the same secondary header; a kind is sent in the frames
 //! whose counter is a multiple of its rate ([`PacketRates`]).
