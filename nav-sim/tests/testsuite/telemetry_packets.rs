@@ -234,3 +234,51 @@ fn the_uart_replay_check_finds_packets_that_differ_from_the_host() {
     let (_, missing) = compare_packets(&stream, rates, &[host.clone(), host].concat()).unwrap();
     assert!(missing.unwrap().starts_with("no packets of frame"));
 }
+
+#[test]
+fn packet_rates_on_the_command_line_name_the_kinds_and_the_range() {
+    use nav_sim::logs::telemetry_packets::parse_rate;
+    assert_eq!(parse_rate("health=50"), Ok((PacketKind::Health, 50)));
+    assert_eq!(
+        parse_rate("configuration-warnings=1"),
+        Ok((PacketKind::ConfigurationWarnings, 1))
+    );
+    assert!(parse_rate("health=0")
+        .unwrap_err()
+        .contains("accepted 1 to 65536"));
+    let unknown = parse_rate("status=5").unwrap_err();
+    assert!(unknown.contains("no packet kind `status`") && unknown.contains("optional-states"));
+    assert!(parse_rate("health").unwrap_err().contains("KIND=FRAMES"));
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+    /// Any bytes, and a valid stream with any bytes changed, are decoded or refused, never a
+    /// panic; a refusal names a packet that starts inside the stream.
+    #[test]
+    fn the_decoder_never_panics(
+        noise in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..600),
+        edits in proptest::collection::vec((0_usize..3_312, proptest::prelude::any::<u8>()), 1..4),
+    ) {
+        let _ = decode_stream(&noise);
+        let mut stream = encode_frames(&[7_u64; 3 * FRAME_WORDS], 1, PacketRates::EVERY_FRAME)
+            .unwrap();
+        for (at, byte) in edits {
+            let at = at % stream.len();
+            stream[at] = byte;
+        }
+        if let Err(error) = decode_stream(&stream) {
+            let offset = match error {
+                PacketStreamError::Truncated { offset, .. }
+                | PacketStreamError::Header { offset, .. }
+                | PacketStreamError::UnknownApid { offset, .. }
+                | PacketStreamError::Length { offset, .. }
+                | PacketStreamError::Crc { offset, .. }
+                | PacketStreamError::SequenceGap { offset, .. }
+                | PacketStreamError::Frame { offset, .. } => offset,
+                _ => 0,
+            };
+            proptest::prop_assert!(offset < stream.len());
+        }
+    }
+}
