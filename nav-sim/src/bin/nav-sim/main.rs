@@ -39,7 +39,8 @@ enum Command {
     /// Write a scenario's sensor log as CSV (the replay format, docs/guide/replay-format.md).
     Log(log::Args),
     /// Replay a recorded sensor log (CSV) through the flight software and write its
-    /// per-second navigation and calibration output as CSV.
+    /// per-second navigation and calibration output as CSV (`--packets`: also its telemetry
+    /// packets; `--records`: every frame's output record).
     Replay(replay::Args),
     /// Print the built-in default scenario (TOML) to standard output, or with `--resolved FILE`
     /// a scenario file resolved (its `extends` chain merged, `remove` applied).
