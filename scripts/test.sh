@@ -196,7 +196,7 @@ echo "nav-c's static library and the C firmware: no panic path"
 NAV_QEMU_C_REPLAY_ELF="$root/target/qemu/c-replay.elf" NAV_REPLAY_SECONDS="${NAV_REPLAY_SECONDS:-300}" \
   cargo test --workspace --test c_replay_bit_exact -- --include-ignored --nocapture
 
-step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and corrupted, bit for bit with the host"
+step "replay over serial lines: one CMSDK UART per sensor on QEMU, clean and corrupted, bit for bit with the host; its telemetry packets from UART4 decoded, word for word with the host"
 firmware_cargo build --release --bin uart_replay
 NAV_QEMU_UART_REPLAY_ELF="${CARGO_TARGET_DIR:-$root/qemu/target}/$TARGET/release/uart_replay" \
   cargo test --workspace --test uart_replay -- --include-ignored --nocapture --test-threads 1

@@ -79,6 +79,7 @@ pub mod spi_imu;
 pub mod stream_merge;
 pub mod stream_ports;
 pub mod telemetry;
+pub mod telemetry_packets;
 #[cfg(test)]
 mod test_random;
 

@@ -108,3 +108,94 @@ fn the_flight_parameter_reference_is_the_table() {
         }
     }
 }
+
+/// docs/reference/telemetry-packets.md, from the packet declaration.
+fn render_packets() -> String {
+    use nav_fsw::replay::OUTPUT_FIELD_NAMES;
+    use nav_fsw::telemetry_packets::{
+        WordType, CRC_BYTES, MAX_FRAME_PACKET_BYTES, PACKETS, PRIMARY_HEADER_BYTES,
+        SECONDARY_HEADER_BYTES,
+    };
+    let mut page = String::from(
+        "# Telemetry packets\n\n\
+         Generated from the packet declaration (`nav-fsw/src/telemetry_packets/declaration.rs`) \
+         by `NAV_BLESS=1 cargo test -p nav-fsw --test reference`; the test fails when this file \
+         differs from the declaration. Do not edit it by hand.\n\n\
+         Every frame's output record (the replay's, nav-fsw `replay::OUTPUT_FIELD_NAMES`) as \
+         CCSDS Space Packets (CCSDS 133.0-B-2), one APID per kind, each kind every N frames \
+         (`telemetry_packets::PacketRates`: sent in the frames whose counter is a multiple of \
+         N). Every field is big-endian; a word is 8 bytes, `f64` (IEEE-754 bits) or `u64`.\n\n\
+         | bytes | field |\n|---|---|\n",
+    );
+    let secondary_end = PRIMARY_HEADER_BYTES + SECONDARY_HEADER_BYTES;
+    page.push_str(&format!(
+        "| 0..{PRIMARY_HEADER_BYTES} | primary header: version 0, type 0 (telemetry), \
+         secondary header flag 1, APID (11 bits); sequence flags `11` (unsegmented), \
+         sequence count (14 bits, per APID, wraps); data length = packet bytes − 7 |\n\
+         | {PRIMARY_HEADER_BYTES}..{secondary_end} | secondary header: `frame` (`u64`), \
+         `time_s` (`f64`, navigation time) |\n\
+         | {secondary_end}.. | the kind's words, in the order below |\n\
+         | last {CRC_BYTES} | CRC-16/CCITT-FALSE (polynomial `0x1021`, initial `0xFFFF`) of \
+         every byte before it |\n\n\
+         One frame's packets, every kind due, take {MAX_FRAME_PACKET_BYTES} bytes.\n\n\
+         | APID | kind | bytes | content |\n|---|---|---|---|\n"
+    ));
+    for packet in &PACKETS {
+        page.push_str(&format!(
+            "| `{:#05x}` | `{}` | {} | {} |\n",
+            packet.apid,
+            packet.name,
+            packet.packet_bytes(),
+            packet
+                .purpose
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+        ));
+    }
+    for packet in &PACKETS {
+        page.push_str(&format!(
+            "\n## `{}` (APID `{:#05x}`)\n\n| byte | word | type |\n|---|---|---|\n",
+            packet.name, packet.apid
+        ));
+        let mut byte = secondary_end;
+        for span in packet.words {
+            for index in span.indices() {
+                let word_type = match span.word_type {
+                    WordType::Float => "f64",
+                    WordType::Unsigned => "u64",
+                };
+                page.push_str(&format!(
+                    "| {byte} | `{}` | {word_type} |\n",
+                    OUTPUT_FIELD_NAMES[index]
+                ));
+                byte += 8;
+            }
+        }
+    }
+    page
+}
+
+#[test]
+fn the_telemetry_packet_reference_is_the_declaration() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../docs/reference/telemetry-packets.md");
+    let page = render_packets();
+    if std::env::var_os("NAV_BLESS").is_some() {
+        std::fs::write(&path, &page).unwrap();
+    }
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == page,
+        "{} differs from the packet declaration: run NAV_BLESS=1 cargo test -p nav-fsw \
+         --test reference",
+        path.display()
+    );
+    // Every output word is on the page.
+    for name in nav_fsw::replay::OUTPUT_FIELD_NAMES {
+        assert!(
+            page.contains(&format!("`{name}`")),
+            "{name} is not on the page"
+        );
+    }
+}

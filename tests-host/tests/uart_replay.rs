@@ -2,7 +2,10 @@
 //! sensor, fed to the QEMU firmware's CMSDK UARTs (`qemu/src/bin/uart_replay.rs`) and run on
 //! the host through the same nav-fsw stream readers and merge. Every output word and every
 //! line counter must agree bit for bit, for clean lines and for a star-tracker line with
-//! corrupt bytes.
+//! corrupt bytes; and the telemetry packets the firmware sends on UART4, decoded by nav-sim's
+//! decoder (`nav-sim telemetry decode`), must give the host's output words, word for word,
+//! every kind in every frame on the clean lines and at the slower rates the ground sets on
+//! the corrupt ones.
 //!
 //! The QEMU cases are ignored by default: `scripts/test.sh` builds the firmware and runs them
 //! with `NAV_QEMU_UART_REPLAY_ELF` set; `NAV_UART_REPLAY_SECONDS` (default 10) sets how much
@@ -11,6 +14,7 @@
 use std::path::PathBuf;
 
 use nav_fsw::log_record::{LogRecord, RECORD_SIZE};
+use nav_fsw::telemetry_packets::{PacketKind, PacketRates};
 use nav_sim::harness::target_replay::{run_records_on_host, FRAME_WORDS};
 use nav_sim::harness::uart_replay::{replay_lines_on_target, run_lines_on_host, SensorLines};
 use nav_sim::setup::fsw::replay_setup;
@@ -93,9 +97,17 @@ fn run_on_qemu(name: &str, corrupt: bool) {
     if corrupt {
         corrupt_star_line(&mut lines);
     }
+    // The clean lines with every packet kind in every frame; the corrupt ones with the
+    // slower rates the ground sets (navigation every frame, the rest every 10 to 50).
+    let rates = if corrupt {
+        PacketRates::new([1, 10, 50, 25, 50]).unwrap()
+    } else {
+        PacketRates::EVERY_FRAME
+    };
     let report = replay_lines_on_target(
         &scenario,
         &lines,
+        rates,
         &elf,
         &root.join("qemu/run.sh"),
         &root.join("target/qemu").join(name),
@@ -105,6 +117,24 @@ fn run_on_qemu(name: &str, corrupt: bool) {
     if let Some(difference) = &report.difference {
         panic!("host and target differ first at {difference:?}");
     }
+    if let Some(difference) = &report.packet_difference {
+        panic!("the target's telemetry packets and the host differ first at {difference:?}");
+    }
+    let due: usize = report
+        .host
+        .frame_words
+        .chunks_exact(FRAME_WORDS)
+        .map(|frame| {
+            PacketKind::ALL
+                .iter()
+                .filter(|k| rates.due(**k, frame[0]))
+                .count()
+        })
+        .sum();
+    assert_eq!(report.packets, due);
+    // Per second (500 frames): 5 × 500, or 500 + 50 + 10 + 20 + 10.
+    let packets_per_second = if corrupt { 590 } else { 2_500 };
+    assert_eq!(due as u64, packets_per_second * seconds());
     assert_eq!(report.target.counters, report.host.counters);
     assert_eq!(report.frames, seconds() * 500);
     let expected_resync = if corrupt { 83 } else { 0 };

@@ -9,7 +9,7 @@
 use std::io::{Read, Write};
 
 use nav_core::state::{ATTITUDE, POSITION, VELOCITY};
-use nav_fsw::replay::{AssemblyCounts, FrameAssembler};
+use nav_fsw::replay::{output_words, AssemblyCounts, FrameAssembler, OUTPUT_WORDS};
 use nav_fsw::scheduler::NavigationComputer;
 use nav_fsw::telemetry::{FrameTelemetry, GNSS_ERROR_FIELD_NAMES, IMU_ERROR_FIELD_NAMES};
 
@@ -289,6 +289,23 @@ pub fn replay<R: Read, W: Write>(
     scenario: &Scenario,
     output: W,
 ) -> Result<ReplaySummary, ReplayFailure> {
+    replay_with_records(log, scenario, output, None)
+}
+
+/// What receives each frame's output record (nav-fsw `replay::output_words`).
+pub type RecordSink<'a> = &'a mut dyn FnMut(&[u64; OUTPUT_WORDS]) -> Result<(), ReplayFailure>;
+
+/// [`replay`], handing every frame's output record to `records` as well (the telemetry
+/// packets and the output-record CSV of `nav-sim replay --packets`, `--records`).
+///
+/// # Errors
+/// As [`replay`], and an error of `records`.
+pub fn replay_with_records<R: Read, W: Write>(
+    log: R,
+    scenario: &Scenario,
+    output: W,
+    mut records: Option<RecordSink<'_>>,
+) -> Result<ReplaySummary, ReplayFailure> {
     let setup = crate::setup::fsw::replay_setup_without_commands(scenario)?;
     let mut computer = NavigationComputer::new(setup.config(), setup.initial)
         .map_err(|error| format!("flight software configuration refused: {error}"))?;
@@ -305,6 +322,9 @@ pub fn replay<R: Read, W: Write>(
             while let Some(mut ports) = assembler.next_frame() {
                 let telemetry = ports.run(&mut computer);
                 frames += 1;
+                if let Some(records) = records.as_mut() {
+                    records(&output_words(&telemetry, &computer, &assembler.counts()))?;
+                }
                 let row = output_row(&telemetry, &computer, &assembler.counts());
                 if frames % frames_per_row == 0 {
                     writeln!(output, "{row}")?;

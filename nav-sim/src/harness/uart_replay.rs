@@ -6,7 +6,9 @@
 //!
 //! Files in the run directory (QEMU `-serial pipe:` chardevs, `NAME.in` read by the UART,
 //! `NAME.out` written by it): `ground` (UART0: setup and line lengths in; per-frame outputs
-//! and the line counters out), `imu` (UART1), `star` (UART2), `gnss` (UART3).
+//! and the line counters out), `imu` (UART1), `star` (UART2), `gnss` (UART3), `telemetry`
+//! (UART4: the frames' telemetry packets out, decoded by [`crate::logs::telemetry_packets`]
+//! and compared with the host's output words).
 
 use std::path::Path;
 
@@ -19,16 +21,19 @@ use crate::harness::target_replay::{
     cost_statistics, first_difference, run_records_on_host, words_of, CostStatistics,
     FirstDifference, ReplayError, FRAME_WORDS,
 };
+use crate::logs::telemetry_packets::decode_stream;
 use crate::scenario::Scenario;
 use crate::setup::fsw::replay_setup_without_commands;
+use nav_fsw::replay::{OUTPUT_FIELD_NAMES, OUTPUT_WORDS};
+use nav_fsw::telemetry_packets::{PacketKind, PacketRates};
 
 /// First word of the line counters after the last frame (`"NAVLINES"` little-endian).
 pub const LINES_MAGIC: u64 = u64::from_le_bytes(*b"NAVLINES");
 /// Counter words per line after [`LINES_MAGIC`]: records, resynchronisation bytes, wrong kind,
 /// read errors.
 pub const COUNTER_WORDS: usize = 4;
-/// The chardev names of UART0..UART3.
-pub const UART_FILES: [&str; 4] = ["ground", "imu", "star", "gnss"];
+/// The chardev names of UART0..UART4.
+pub const UART_FILES: [&str; 5] = ["ground", "imu", "star", "gnss", "telemetry"];
 
 /// A log as its sensors send it: one byte stream per sensor line.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -136,6 +141,11 @@ pub struct UartReplayReport {
     pub host: LinesOutput,
     /// The first differing output word, if any.
     pub difference: Option<FirstDifference>,
+    /// The target's telemetry packets decoded against the host's output: the first word
+    /// that differs, is missing although its kind was due, or was sent although not due.
+    pub packet_difference: Option<String>,
+    /// Telemetry packets the target sent.
+    pub packets: usize,
     /// QEMU's wall-clock time.
     pub qemu_wall_time: std::time::Duration,
 }
@@ -143,7 +153,9 @@ pub struct UartReplayReport {
 impl UartReplayReport {
     /// Target and host agree on every output word and every line counter.
     pub fn bit_exact(&self) -> bool {
-        self.difference.is_none() && self.target.counters == self.host.counters
+        self.difference.is_none()
+            && self.packet_difference.is_none()
+            && self.target.counters == self.host.counters
     }
 
     /// A short summary for the test log.
@@ -151,11 +163,13 @@ impl UartReplayReport {
         let [_, star, _] = self.target.counters;
         format!(
             "UART replay: {} frames, worst frame {} instructions, star line {} records / {} \
-             resynchronisation bytes, QEMU {:.1} s, host and target {}\n",
+             resynchronisation bytes, {} telemetry packets, QEMU {:.1} s, host and target \
+             (output words and decoded packets) {}\n",
             self.frames,
             self.costs[0].1.worst,
             star.records,
             star.resync_bytes,
+            self.packets,
             self.qemu_wall_time.as_secs_f64(),
             if self.bit_exact() {
                 "bit for bit equal"
@@ -176,6 +190,7 @@ impl UartReplayReport {
 pub fn replay_lines_on_target(
     scenario: &Scenario,
     lines: &SensorLines,
+    packet_rates: PacketRates,
     elf: &Path,
     runner: &Path,
     directory: &Path,
@@ -191,7 +206,10 @@ pub fn replay_lines_on_target(
     for line in lines.all() {
         ground.extend_from_slice(&u64::try_from(line.len()).unwrap_or(u64::MAX).to_le_bytes());
     }
-    let contents = [ground.as_slice(), &lines.imu, &lines.star, &lines.gnss];
+    for kind in PacketKind::ALL {
+        ground.extend_from_slice(&u64::from(packet_rates.every_frames(kind)).to_le_bytes());
+    }
+    let contents = [ground.as_slice(), &lines.imu, &lines.star, &lines.gnss, &[]];
     let mut serial = Vec::new();
     for (name, bytes) in UART_FILES.iter().zip(contents) {
         std::fs::write(directory.join(format!("{name}.in")), bytes)?;
@@ -212,12 +230,81 @@ pub fn replay_lines_on_target(
     }
     let target = parse_ground_output(&std::fs::read(directory.join("ground.out"))?)?;
     let host = run_lines_on_host(&setup, lines)?;
+    let packet_stream = std::fs::read(directory.join("telemetry.out"))?;
+    let (packets, packet_difference) =
+        compare_packets(&packet_stream, packet_rates, &host.frame_words)?;
     Ok(UartReplayReport {
         frames: u64::try_from(target.frame_words.len() / FRAME_WORDS).unwrap_or(u64::MAX),
         costs: cost_statistics(&target.frame_words),
         difference: first_difference(&host.frame_words, &target.frame_words),
+        packet_difference,
+        packets,
         target,
         host,
         qemu_wall_time,
     })
+}
+
+/// The target's telemetry packet stream decoded and compared with the host's output words
+/// (`host_words`: [`FRAME_WORDS`] per frame) at `rates`: every frame the packets name must be
+/// the host's, each word present exactly when its kind was due, and equal to the host's.
+/// Returns the number of packets and the first disagreement.
+///
+/// # Errors
+/// [`ReplayError::Input`] for a stream the decoder refuses.
+pub fn compare_packets(
+    stream: &[u8],
+    rates: PacketRates,
+    host_words: &[u64],
+) -> Result<(usize, Option<String>), ReplayError> {
+    let frames = decode_stream(stream)
+        .map_err(|error| ReplayError::Input(format!("telemetry packets: {error}")))?;
+    let host: Vec<&[u64]> = host_words.chunks_exact(FRAME_WORDS).collect();
+    let due_frames = host.iter().filter(|frame| {
+        PacketKind::ALL
+            .iter()
+            .any(|kind| rates.due(*kind, frame[0]))
+    });
+    let mut packets = 0;
+    let mut decoded = frames.iter();
+    for host_frame in due_frames {
+        let Some(frame) = decoded.next() else {
+            return Ok((
+                packets,
+                Some(format!("no packets of frame {}", host_frame[0])),
+            ));
+        };
+        for index in 0..OUTPUT_WORDS {
+            let due = nav_fsw::telemetry_packets::PACKETS
+                .iter()
+                .find(|packet| {
+                    packet
+                        .words
+                        .iter()
+                        .any(|span| span.indices().contains(&index))
+                })
+                .is_none_or(|packet| rates.due(packet.kind, host_frame[0]));
+            let expected = due.then_some(host_frame[index]);
+            if frame[index] != expected {
+                return Ok((
+                    packets,
+                    Some(format!(
+                        "frame {}, word {}: packets {:?}, host {expected:?}",
+                        host_frame[0], OUTPUT_FIELD_NAMES[index], frame[index]
+                    )),
+                ));
+            }
+        }
+        packets += PacketKind::ALL
+            .iter()
+            .filter(|kind| rates.due(**kind, host_frame[0]))
+            .count();
+    }
+    if decoded.next().is_some() {
+        return Ok((
+            packets,
+            Some("packets of frames the host did not run".into()),
+        ));
+    }
+    Ok((packets, None))
 }

@@ -33,5 +33,6 @@ mod star_aberration;
 mod star_flight_noise;
 mod star_heads;
 mod star_slow_error;
+mod telemetry_packets;
 mod upper_stage;
 mod validation;

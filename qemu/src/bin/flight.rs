@@ -29,7 +29,7 @@ fn main() -> ! {
 }
 
 /// The flight scheduler (input checks, strapdown, propagation, delayed fusion, calibration
-/// manager, telemetry and the replay output record) over a few frames with a star
+/// manager, telemetry, the replay output record and its telemetry packets) over a few frames with a star
 /// measurement and a GNSS fix, inputs through `black_box`: all of it must be panic-free.
 fn scheduler_frames() {
     use core::mem::MaybeUninit;
@@ -41,6 +41,7 @@ fn scheduler_frames() {
     use nav_fsw::ports::{GnssFix, ImuSample, StarMeasurement};
     use nav_fsw::replay::{output_words, AssemblyCounts, FramePorts};
     use nav_fsw::scheduler::NavigationComputer;
+    use nav_fsw::telemetry_packets::{PacketEncoder, PacketRates, MAX_FRAME_PACKET_BYTES};
 
     let site = black_box(LaunchSite {
         latitude_rad: 0.715,
@@ -71,6 +72,9 @@ fn scheduler_frames() {
         defmt::error!("flight scheduler: configuration refused");
         return;
     };
+    // Rates and buffer through `black_box`: the encoder's refusals are in the build too.
+    let mut packets = PacketEncoder::new(black_box(PacketRates::EVERY_FRAME));
+    let mut packet_buffer = [0_u8; MAX_FRAME_PACKET_BYTES];
     for frame in 1..=10_u32 {
         let time_s = 600.0 + 0.002 * f64::from(frame);
         let mut ports = FramePorts::default();
@@ -110,6 +114,11 @@ fn scheduler_frames() {
                 ..AssemblyCounts::default()
             },
         ));
+        let buffer_bytes = black_box(MAX_FRAME_PACKET_BYTES);
+        let packet_bytes = packet_buffer
+            .get_mut(..buffer_bytes)
+            .map_or(Ok(0), |buffer| packets.encode_frame(&words, buffer));
+        let _ = black_box((packet_bytes, &packet_buffer));
         if frame == 10 {
             // The calibration kept across a reboot: exported, then loaded back through
             // `black_box`, so the record's code is in the panic-free build too.

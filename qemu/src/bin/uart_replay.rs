@@ -8,11 +8,12 @@
 //!
 //! | UART | direction | content |
 //! |---|---|---|
-//! | 0, ground link | in | the [`ReplaySetup`] words, then the byte length of each sensor line (three u64: IMU, star, GNSS) |
+//! | 0, ground link | in | the [`ReplaySetup`] words, then the byte length of each sensor line (three u64: IMU, star, GNSS), then each telemetry packet kind's rate (`PacketKind::ALL` order, frames) |
 //! | 0, ground link | out | per frame the `nav_fsw::replay::OUTPUT_WORDS` words of the output record and its cost (instructions); then [`LINES_MAGIC`] and four counters per line (records, resynchronisation bytes, wrong kind, read errors) |
 //! | 1 | in | the IMU's records |
 //! | 2 | in | the star tracker's records |
 //! | 3 | in | the GNSS receiver's records |
+//! | 4, telemetry | out | per frame the telemetry packets due (`nav_fsw::telemetry_packets`, CCSDS space packets) |
 //!
 //! All words little-endian u64. The line lengths let the replay tell a line that has ended
 //! from one whose next byte is still on its way. Prints (defmt) `UART REPLAY frames=… worst=…`
@@ -27,6 +28,9 @@ use embedded_io::{ErrorType, Read, ReadReady, Write};
 use nav_fsw::replay::{output_words, FrameAssembler, ReplaySetup, SETUP_WORDS};
 use nav_fsw::stream_merge::{ArrivalMerge, FiniteStream, LineSource};
 use nav_fsw::stream_ports::{RecordReader, StreamCounters};
+use nav_fsw::telemetry_packets::{
+    PacketEncoder, PacketRates, MAX_FRAME_PACKET_BYTES, PACKET_KIND_COUNT,
+};
 use nav_qemu::cmsdk_uart::CmsdkUart;
 use nav_qemu::flight_start::start_flight_software;
 use nav_qemu::frame_clock::{FrameClock, FRAME_BUDGET_INSTRUCTIONS};
@@ -34,6 +38,8 @@ use nav_qemu::{exit_failure, exit_success};
 
 /// The ground link's UART.
 const GROUND_UART: usize = 0;
+/// The telemetry packets' UART.
+const TELEMETRY_UART: usize = 4;
 /// The sensor lines' UARTs: IMU, star tracker, GNSS receiver.
 const SENSOR_UARTS: [usize; 3] = [1, 2, 3];
 /// First word of the line counters after the last frame (`"NAVLINES"` little-endian).
@@ -109,7 +115,10 @@ fn main() -> ! {
         exit_failure()
     };
     nav_qemu::stack::install_guard(&mut peripherals.MPU);
-    let Some(mut ground) = CmsdkUart::take(GROUND_UART) else {
+    let (Some(mut ground), Some(mut telemetry_link)) = (
+        CmsdkUart::take(GROUND_UART),
+        CmsdkUart::take(TELEMETRY_UART),
+    ) else {
         exit_failure()
     };
     let Some(setup) = read_words::<SETUP_WORDS>(&mut ground)
@@ -119,6 +128,10 @@ fn main() -> ! {
         exit_failure()
     };
     let Some([imu_bytes, star_bytes, gnss_bytes]) = read_words::<3>(&mut ground) else {
+        exit_failure()
+    };
+    let Some(rates) = read_words::<PACKET_KIND_COUNT>(&mut ground).and_then(packet_rates) else {
+        defmt::error!("uart replay: telemetry packet rates refused");
         exit_failure()
     };
     let [imu_uart, star_uart, gnss_uart] = SENSOR_UARTS;
@@ -138,6 +151,8 @@ fn main() -> ! {
         exit_failure()
     };
     let mut lines = ArrivalMerge::new(imu, star, gnss);
+    let mut packets = PacketEncoder::new(rates);
+    let mut packet_buffer = [0_u8; MAX_FRAME_PACKET_BYTES];
     let mut clock = FrameClock::start(peripherals.SYST);
     let mut frames = 0_u32;
     loop {
@@ -151,11 +166,18 @@ fn main() -> ! {
         };
         let (telemetry, cost) = clock.run_frame(|| ports.run(computer));
         computer.report_frame_cost(cost);
-        write_words(
-            &mut ground,
-            &output_words(&telemetry, computer, &assembler.counts()),
-        );
+        let record = output_words(&telemetry, computer, &assembler.counts());
+        write_words(&mut ground, &record);
         write_words(&mut ground, &[u64::from(cost)]);
+        match packets.encode_frame(&record, &mut packet_buffer) {
+            Ok(length) => {
+                let _ = telemetry_link.write_all(packet_buffer.get(..length).unwrap_or_default());
+            }
+            Err(error) => {
+                defmt::error!("uart replay: telemetry packets: {}", error);
+                exit_failure()
+            }
+        }
         frames += 1;
     }
     let (imu, star, gnss) = lines.sources();
@@ -164,6 +186,7 @@ fn main() -> ! {
         write_words(&mut ground, &counter_words(&counters));
     }
     let _ = ground.flush();
+    let _ = telemetry_link.flush();
     let health = computer.health();
     defmt::println!(
         "UART REPLAY frames={=u32} worst={=u32} overruns={=u32} star resync bytes={=u32}",
@@ -177,6 +200,15 @@ fn main() -> ! {
     } else {
         exit_failure()
     }
+}
+
+/// The packet rates from the ground link's words (`None` for one the encoder refuses).
+fn packet_rates(words: [u64; PACKET_KIND_COUNT]) -> Option<PacketRates> {
+    let mut every_frames = [0_u32; PACKET_KIND_COUNT];
+    for (slot, word) in every_frames.iter_mut().zip(words) {
+        *slot = u32::try_from(word).ok()?;
+    }
+    PacketRates::new(every_frames).ok()
 }
 
 fn counter_words(counters: &StreamCounters) -> [u64; 4] {

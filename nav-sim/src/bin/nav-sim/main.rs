@@ -13,7 +13,7 @@ mod commands;
 
 use commands::{
     benefit, calibrate, design, faults, gravity_omission, ground_constants, log, merge,
-    monte_carlo, observability, replay, scenario, target_bench,
+    monte_carlo, observability, replay, scenario, target_bench, telemetry,
 };
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
@@ -39,7 +39,8 @@ enum Command {
     /// Write a scenario's sensor log as CSV (the replay format, docs/guide/replay-format.md).
     Log(log::Args),
     /// Replay a recorded sensor log (CSV) through the flight software and write its
-    /// per-second navigation and calibration output as CSV.
+    /// per-second navigation and calibration output as CSV (`--packets`: also its telemetry
+    /// packets; `--records`: every frame's output record).
     Replay(replay::Args),
     /// Print the built-in default scenario (TOML) to standard output, or with `--resolved FILE`
     /// a scenario file resolved (its `extends` chain merged, `remove` applied).
@@ -72,6 +73,9 @@ enum Command {
     /// RMS, maximum and correlation time of the difference, q from a Gershgorin bound on its
     /// second moments and from its averaged periodogram (docs/guide/gravity.md).
     GravityOmission(gravity_omission::Args),
+    /// The flight's telemetry packets (CCSDS space packets, docs/reference/telemetry-packets.md):
+    /// `telemetry decode` turns a packet stream into the output-record CSV.
+    Telemetry(telemetry::Args),
 }
 
 /// The exit status of a command ended by SIGINT or SIGTERM (128 + SIGINT, as a shell reports
@@ -104,6 +108,7 @@ fn main() -> ExitCode {
         Some(Command::TargetBench(args)) => target_bench::run(args),
         Some(Command::Benefit(args)) => benefit::run(args),
         Some(Command::GravityOmission(args)) => gravity_omission::run(args),
+        Some(Command::Telemetry(args)) => telemetry::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

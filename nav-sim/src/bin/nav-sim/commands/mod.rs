@@ -22,6 +22,7 @@ pub mod observability;
 pub mod replay;
 pub mod scenario;
 pub mod target_bench;
+pub mod telemetry;
 
 /// Why a subcommand failed; `main` prints it with `Display` after `nav-sim: `.
 pub type Failure = Box<dyn std::error::Error>;
