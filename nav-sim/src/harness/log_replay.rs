@@ -3,8 +3,8 @@
 //! firmware uses), which places every record by its own time: a missing IMU sample is a frame
 //! without one, never a shift of navigation time. The output CSV has one row per second of
 //! navigation time and one at the end: the estimates with their filter 1σ (those of the
-//! optional state blocks the filter flies included), the flight software's health and command counters
-//! and the assembler's counts, so nothing in the log goes unseen.
+//! optional state blocks the filter flies included), the flight software's health and
+//! command counters and the assembler's counts, so nothing in the log goes unseen.
 
 use std::io::{Read, Write};
 
