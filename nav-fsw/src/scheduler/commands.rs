@@ -192,9 +192,18 @@ impl CommandCounters {
         [
             ("commands_accepted", self.accepted),
             ("commands_refused", self.refused),
-            ("measurements_of_disabled_aid", self.measurements_of_disabled_aid),
-            ("calibration_records_loaded", self.calibration_records_loaded),
-            ("calibration_records_refused", self.calibration_records_refused),
+            (
+                "measurements_of_disabled_aid",
+                self.measurements_of_disabled_aid,
+            ),
+            (
+                "calibration_records_loaded",
+                self.calibration_records_loaded,
+            ),
+            (
+                "calibration_records_refused",
+                self.calibration_records_refused,
+            ),
         ]
     }
 }
