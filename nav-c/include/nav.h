@@ -30,7 +30,7 @@
 #define NAV_LOG_RECORD_BYTES 80
 
 // Words of a frame's output record (`nav_replay_output_record`).
-#define NAV_OUTPUT_WORDS 125
+#define NAV_OUTPUT_WORDS 133
 
 // Bytes that always hold a replay (`nav_replay_size()` or more), aligned as a `uint64_t`
 // array is (`NAV_MAX_ALIGN`). The build fails if the replay outgrows it.
@@ -833,6 +833,20 @@ typedef struct {
   uint32_t star_aberration_suspected;
 } NavHealth;
 
+// The command counters (nav-fsw's `CommandCounters`, field for field).
+typedef struct {
+  // Commands executed.
+  uint32_t accepted;
+  // Commands refused.
+  uint32_t refused;
+  // Measurements discarded because their sensor is disabled by command.
+  uint32_t measurements_of_disabled_aid;
+  // Calibration records loaded.
+  uint32_t calibration_records_loaded;
+  // Calibration records refused.
+  uint32_t calibration_records_refused;
+} NavCommandCounters;
+
 // One frame's telemetry: the navigation solution, the measurement fusion, the sensors'
 // states, the calibration table with its 1σ and the health counters (`nav_reported_states`
 // adds what is read only when reported).
@@ -877,6 +891,8 @@ typedef struct {
   uint32_t last_frame_cost;
   // Worst reported frame cost so far.
   uint32_t worst_frame_cost;
+  // Commands executed and refused (`nav_clear_sensor_faults` is one).
+  NavCommandCounters commands;
 } NavTelemetry;
 
 // What is read when it is reported (`nav_reported_states`), not in every frame: the star

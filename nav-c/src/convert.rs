@@ -327,6 +327,7 @@ pub fn write_telemetry(t: &FrameTelemetry, computer: &NavigationComputer, out: &
     crate::health::write_health(&t.health, &mut out.health);
     out.last_frame_cost = t.last_frame_cost;
     out.worst_frame_cost = t.worst_frame_cost;
+    crate::health::write_commands(&t.commands, &mut out.commands);
 }
 
 /// Writes a calibration entry's estimate and 1σ.

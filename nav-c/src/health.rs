@@ -3,7 +3,20 @@
 
 use nav_fsw::health::HealthCounters;
 
-use crate::types::NavHealth;
+use nav_fsw::scheduler::CommandCounters;
+
+use crate::types::{NavCommandCounters, NavHealth};
+
+/// Writes `commands` into `out`.
+pub fn write_commands(commands: &CommandCounters, out: &mut NavCommandCounters) {
+    *out = NavCommandCounters {
+        accepted: commands.accepted,
+        refused: commands.refused,
+        measurements_of_disabled_aid: commands.measurements_of_disabled_aid,
+        calibration_records_loaded: commands.calibration_records_loaded,
+        calibration_records_refused: commands.calibration_records_refused,
+    };
+}
 
 /// Writes `health` into `out`.
 pub fn write_health(health: &HealthCounters, out: &mut NavHealth) {

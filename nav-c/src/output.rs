@@ -118,6 +118,20 @@ pub fn output_words(
     put(u64::from(h.star_unknown_head));
     put(u64::from(states.active_star_head));
     put(u64::from(h.star_aberration_suspected));
+    put(u64::from(h.frame_overruns));
+    put(u64::from(h.star_outages));
+    put(u64::from(h.gnss_outages));
+    let c = &t.commands;
+    let commands = [
+        c.accepted,
+        c.refused,
+        c.measurements_of_disabled_aid,
+        c.calibration_records_loaded,
+        c.calibration_records_refused,
+    ];
+    for counter in commands {
+        put(u64::from(counter));
+    }
     put(u64::from(states.blocks));
     let s = states;
     let optional = s

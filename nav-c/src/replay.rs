@@ -22,7 +22,7 @@ pub const NAV_REPLAY_START_BYTES: usize = 648;
 /// Bytes of one log record.
 pub const NAV_LOG_RECORD_BYTES: usize = 80;
 /// Words of a frame's output record (`nav_replay_output_record`).
-pub const NAV_OUTPUT_WORDS: usize = 125;
+pub const NAV_OUTPUT_WORDS: usize = 133;
 
 const _: () = assert!(NAV_REPLAY_START_BYTES == SETUP_WORDS * 8 + HEADER_SIZE);
 const _: () = assert!(NAV_LOG_RECORD_BYTES == RECORD_SIZE);

@@ -437,6 +437,22 @@ pub struct NavHealth {
     pub star_aberration_suspected: u32,
 }
 
+/// The command counters (nav-fsw's `CommandCounters`, field for field).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NavCommandCounters {
+    /// Commands executed.
+    pub accepted: u32,
+    /// Commands refused.
+    pub refused: u32,
+    /// Measurements discarded because their sensor is disabled by command.
+    pub measurements_of_disabled_aid: u32,
+    /// Calibration records loaded.
+    pub calibration_records_loaded: u32,
+    /// Calibration records refused.
+    pub calibration_records_refused: u32,
+}
+
 /// One frame's telemetry: the navigation solution, the measurement fusion, the sensors'
 /// states, the calibration table with its 1σ and the health counters (`nav_reported_states`
 /// adds what is read only when reported).
@@ -483,4 +499,6 @@ pub struct NavTelemetry {
     pub last_frame_cost: u32,
     /// Worst reported frame cost so far.
     pub worst_frame_cost: u32,
+    /// Commands executed and refused (`nav_clear_sensor_faults` is one).
+    pub commands: NavCommandCounters,
 }

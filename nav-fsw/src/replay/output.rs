@@ -10,7 +10,7 @@ use crate::telemetry::{
 };
 
 /// Number of words of a frame's output record.
-pub const OUTPUT_WORDS: usize = 94 + OPTIONAL_STATE_WORDS;
+pub const OUTPUT_WORDS: usize = 102 + OPTIONAL_STATE_WORDS;
 
 /// Words of the optional state blocks: the `optional_blocks` bits, then the correlated GNSS
 /// error's and the systematic IMU errors' fields.
@@ -118,6 +118,14 @@ pub const OUTPUT_FIELD_NAMES: [&str; OUTPUT_WORDS] = [
     "star_unknown_head",
     "star_active_head",
     "star_aberration_suspected",
+    "frame_overruns",
+    "star_outages",
+    "gnss_outages",
+    "commands_accepted",
+    "commands_refused",
+    "measurements_of_disabled_aid",
+    "calibration_records_loaded",
+    "calibration_records_refused",
     "optional_blocks",
     "gnss_error_x_m",
     "gnss_error_y_m",
@@ -263,6 +271,12 @@ pub fn output_words(
     put(u64::from(h.star_unknown_head));
     put(u64::from(computer.active_star_head()));
     put(u64::from(h.star_aberration_suspected));
+    put(u64::from(h.frame_overruns));
+    put(u64::from(h.star_outages));
+    put(u64::from(h.gnss_outages));
+    for (_, counter) in t.commands.named() {
+        put(u64::from(counter));
+    }
     // Read from the computer at output time, not in the frame (`crate::telemetry`).
     for word in optional_state_words(&computer.optional_states()) {
         put(word);

@@ -181,6 +181,33 @@ pub struct CommandCounters {
     pub calibration_records_refused: u32,
 }
 
+/// Number of counters in [`CommandCounters`].
+pub const COMMAND_COUNTER_COUNT: usize = 5;
+
+impl CommandCounters {
+    /// Every counter with its name in the replay output record and the telemetry packets
+    /// (`commands_` before the two command counts, so a ground display reads them alone),
+    /// in declaration order.
+    pub const fn named(&self) -> [(&'static str, u32); COMMAND_COUNTER_COUNT] {
+        [
+            ("commands_accepted", self.accepted),
+            ("commands_refused", self.refused),
+            (
+                "measurements_of_disabled_aid",
+                self.measurements_of_disabled_aid,
+            ),
+            (
+                "calibration_records_loaded",
+                self.calibration_records_loaded,
+            ),
+            (
+                "calibration_records_refused",
+                self.calibration_records_refused,
+            ),
+        ]
+    }
+}
+
 impl NavigationComputer {
     /// Executes a command, counted in [`CommandCounters`], for a computer given no
     /// calibration store (`SaveCalibration` and `LoadCalibration` are refused with

@@ -107,7 +107,7 @@ mod start;
 mod tests;
 
 use aid::{Aid, AidingSensor, Sensor};
-pub use commands::{AidingSensorId, Command, CommandCounters, CommandError};
+pub use commands::{AidingSensorId, Command, CommandCounters, CommandError, COMMAND_COUNTER_COUNT};
 use covariance::PropagationSums;
 use heads::StarHeads;
 pub use heads::MAX_STAR_HEADS;

@@ -16,7 +16,9 @@ pub enum PacketKind {
     Calibration,
     /// The optional state blocks' estimates and their 1σ.
     OptionalStates,
-    /// The health counters: input faults, gates, resets, drops.
+    /// The health counters: input faults, gates, resets, drops, overruns, outages; and the
+    /// command counters, so the packet that reports the computer's housekeeping also
+    /// verifies a command (its accepted or refused count steps).
     Health,
     /// The configuration warnings: the monitors that say the configured models do not fit
     /// what the sensors show.
@@ -222,7 +224,10 @@ pub const PACKETS: [PacketDeclaration; PACKET_KIND_COUNT] = [
         apid: 0x104,
         name: "health",
         purpose: "the health counters: input faults, stale and future measurements, gate \
-                  rejections, covariance repairs, resets, sensors declared faulty, drops",
+                  rejections, covariance repairs, resets, sensors declared faulty, drops, \
+                  frame overruns, sensor outages; then the command counters: commands \
+                  accepted and refused, measurements of a sensor disabled by command, \
+                  calibration records loaded and refused",
         words: &[
             WordSpan::named("imu_non_finite", 23, Unsigned),
             WordSpan::named("gnss_velocity_gate_rejections", 2, Unsigned),
@@ -230,6 +235,7 @@ pub const PACKETS: [PacketDeclaration; PACKET_KIND_COUNT] = [
             WordSpan::named("gravity_field_errors", 1, Unsigned),
             WordSpan::named("star_pair_rejections", 1, Unsigned),
             WordSpan::named("star_head_handovers", 1, Unsigned),
+            WordSpan::named("frame_overruns", 8, Unsigned),
         ],
     },
     PacketDeclaration {

@@ -3,8 +3,8 @@
 //! firmware uses), which places every record by its own time: a missing IMU sample is a frame
 //! without one, never a shift of navigation time. The output CSV has one row per second of
 //! navigation time and one at the end: the estimates with their filter 1σ (those of the
-//! optional state blocks the filter flies included), the flight software's health counters
-//! and the assembler's counts, so nothing in the log goes unseen.
+//! optional state blocks the filter flies included), the flight software's health and
+//! command counters and the assembler's counts, so nothing in the log goes unseen.
 
 use std::io::{Read, Write};
 
@@ -84,6 +84,8 @@ pub fn output_columns(computer: &NavigationComputer) -> Vec<String> {
         columns.extend(IMU_ERROR_FIELD_NAMES.map(str::to_owned));
     }
     columns.extend(computer.health().named().map(|(name, _)| name.to_owned()));
+    let commands = nav_fsw::scheduler::CommandCounters::default();
+    columns.extend(commands.named().map(|(name, _)| name.to_owned()));
     columns.extend(
         [
             "replay_frames_without_imu",
@@ -127,13 +129,15 @@ fn output_row(
         put(&imu_error.values());
     }
     let counters = computer.health().named().map(|(_, value)| value);
+    let commands = telemetry.commands.named().map(|(_, value)| value);
     let replay = [
         counts.frames_without_imu,
         counts.imu_records_dropped,
         counts.measurements_delivered,
         counts.measurements_dropped,
     ];
-    values.extend(counters.iter().chain(&replay).map(u32::to_string));
+    let all_counters = counters.iter().chain(&commands).chain(&replay);
+    values.extend(all_counters.map(u32::to_string));
     values.join(",")
 }
 

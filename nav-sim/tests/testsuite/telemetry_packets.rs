@@ -142,6 +142,54 @@ fn a_kind_at_a_slower_rate_is_empty_in_the_frames_it_skips() {
     );
 }
 
+/// A command executed or refused steps its counter in the health packet of the next frame,
+/// decoded on the ground: frame 10 follows an accepted command, frame 20 a refused one
+/// (`SaveCalibration` without a calibration store).
+#[test]
+fn commands_accepted_and_refused_show_in_the_decoded_health_packets() {
+    use nav_fsw::replay::{output_words, FrameAssembler};
+    use nav_fsw::scheduler::{Command, NavigationComputer};
+    let scenario = common::short_scenario();
+    let setup = replay_setup(&scenario).unwrap();
+    let mut computer = NavigationComputer::new(setup.config(), setup.initial).unwrap();
+    let mut assembler = FrameAssembler::new(setup.frame_grid()).unwrap();
+    let mut records = Vec::new();
+    for record in nav_sim::logs::sensor_log::simulated_records(&scenario, 30).unwrap() {
+        assembler.push(&record).unwrap();
+        while let Some(mut ports) = assembler.next_frame() {
+            let frames_run = records.len() / OUTPUT_WORDS;
+            if frames_run == 10 {
+                computer.command(Command::ClearSensorFaults).unwrap();
+            }
+            if frames_run == 20 {
+                assert!(computer.command(Command::SaveCalibration).is_err());
+            }
+            let telemetry = ports.run(&mut computer);
+            records.extend(output_words(&telemetry, &computer, &assembler.counts()));
+        }
+    }
+    let decoded =
+        decode_stream(&encode_frames(&records, 0, PacketRates::EVERY_FRAME).unwrap()).unwrap();
+    assert!(decoded.len() >= 25, "{} frames", decoded.len());
+    let index = |name: &str| OUTPUT_FIELD_NAMES.iter().position(|n| *n == name).unwrap();
+    let health = PacketKind::Health.declaration();
+    for name in ["commands_accepted", "commands_refused"] {
+        assert!(health
+            .words
+            .iter()
+            .any(|span| span.indices().contains(&index(name))));
+    }
+    let (accepted, refused) = (index("commands_accepted"), index("commands_refused"));
+    for (frame, words) in decoded.iter().enumerate() {
+        let expected = (u64::from(frame >= 10), u64::from(frame >= 20));
+        assert_eq!(
+            (words[accepted], words[refused]),
+            (Some(expected.0), Some(expected.1)),
+            "frame {frame}"
+        );
+    }
+}
+
 fn corrupt_byte(stream: &[u8], at: usize) -> Vec<u8> {
     let mut corrupt = stream.to_vec();
     corrupt[at] ^= 0x10;
