@@ -1,6 +1,6 @@
 //! Telemetry packets: a frame's output record (`crate::replay::output_words`) as CCSDS Space
-//! Packets (CCSDS 133.0-B-2), one APID per packet kind, each kind at its own rate, for a
-//! ground system to decode. The layout is one declaration ([`PACKETS`]);
+//! Packets (the CCSDS Space Packet Protocol, blue book 133.0), one APID per packet kind, each
+//! kind at its own rate, for a ground system to decode. The layout is one declaration ([`PACKETS`]);
 //! docs/reference/telemetry-packets.md is generated from it.
 //!
 //! A packet, every field big-endian (CCSDS transmits the most significant bit first):
@@ -9,7 +9,7 @@
 //! |---|---|
 //! | 0..6 | primary header: version `000`, type 0 (telemetry), secondary header flag 1, the kind's 11-bit APID; sequence flags `11` (unsegmented), the kind's 14-bit sequence count (wraps); data length = bytes after the primary header − 1 |
 //! | 6..22 | secondary header: the frame counter (`u64`) and the navigation time (`f64`, s): the output words `frame` and `time_s` |
-//! | 22.. | the kind's output words ([`PacketDeclaration::words`]), 8 bytes each |
+//! | 22.. | the kind's output words ([`PacketDeclaration::words`]), each a `u64` or `f64` |
 //! | last 2 | packet error control, as the ECSS PUS (ECSS-E-ST-70-41C) has it: CRC-16/CCITT-FALSE (polynomial `0x1021`, initial `0xFFFF`) of every byte before it |
 //!
 //! The packets of one frame have the same secondary header; a kind is sent in the frames
@@ -262,8 +262,8 @@ fn primary_header(apid: u16, sequence_count: u16, length: usize) -> [u8; PRIMARY
     let identification = (1 << 11) | (apid & 0x07FF);
     // Sequence flags 11 (unsegmented), sequence count (14 bits).
     let sequence = (0b11 << 14) | (sequence_count % SEQUENCE_COUNT_MODULUS);
-    // Data length: octets after the primary header, minus one (CCSDS 133.0-B-2 §4.1.3.5). The longest
-    // packet is far below 2¹⁶ octets.
+    // Data length: octets after the primary header, minus one (Space Packet Protocol
+    // §4.1.3.5). The longest packet is far below 2¹⁶ octets.
     let data_length =
         u16::try_from(length.saturating_sub(PRIMARY_HEADER_BYTES + 1)).unwrap_or(u16::MAX);
     let [i0, i1] = identification.to_be_bytes();

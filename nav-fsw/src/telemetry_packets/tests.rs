@@ -51,7 +51,7 @@ fn the_declaration_is_consistent() {
         MAX_FRAME_PACKET_BYTES,
         PACKETS.iter().map(PacketDeclaration::packet_bytes).sum()
     );
-    // Navigation: 6 + 16 + 8 × 20 + 2 bytes.
+    // Navigation: the primary and secondary headers, 20 words and the CRC.
     assert_eq!(PacketKind::Navigation.declaration().packet_bytes(), 184);
 }
 
