@@ -1,6 +1,6 @@
 //! The calibration kept across a reboot: a fixed-size, versioned record of the calibration a
 //! flight has earned (the fed-back estimates of the core calibration blocks and of the
-//! systematic IMU errors, and the core calibration blocks' covariance), with a CRC-32 and a
+//! systematic IMU errors, and their covariance), with a CRC-32 and a
 //! fingerprint of the configuration it was made under. The integrator stores its bytes
 //! where it likes (a port like the sensors'); [`crate::scheduler::NavigationComputer`]
 //! exports one and loads one as the prior of the next start.
@@ -11,25 +11,29 @@
 //! installation `wxyz`, gyro and accelerometer scale factors), the 12 of `ImuErrorEstimate`
 //! (gyro non-orthogonality, accelerometer misalignment, g-sensitivity), the 120 entries of
 //! the calibration block's lower triangle row by row (nav-core
-//! `ErrorStateFilter::calibration_covariance`), then the CRC-32 (ISO-HDLC) of every byte
-//! before it.
+//! `ErrorStateFilter::calibration_covariance`), the 78 of the systematic IMU errors'
+//! covariance's lower triangle and the 180 of their covariance with the core calibration
+//! states, row by row (nav-core `ImuErrorCovariance`; zero when they are not flown), then
+//! the CRC-32 (ISO-HDLC) of every byte before it.
 //!
 //! The fingerprint is the CRC-32 of the replay-setup words of every flight parameter that
 //! gives the states their meaning: all but the launch's ground constants (`launch_site.*`,
 //! `sensor_frames.*`, which change from launch to launch for the same vehicle) and the
-//! monitors' thresholds (`calibration.*`, `consistency.*`). The systematic IMU errors'
-//! covariance is not carried: a loaded record starts them from their configured prior
-//! (conservative).
+//! monitors' thresholds (`calibration.*`, `consistency.*`).
 
 use crc::{Crc, CRC_32_ISO_HDLC};
 use nalgebra::{SVector, Vector3};
-use nav_core::filter::{CalibrationEstimate, CALIBRATION_LOWER_TRIANGLE};
+use nav_core::filter::{
+    CalibrationEstimate, ImuErrorCovariance, CALIBRATION_LOWER_TRIANGLE, IMU_ERROR_LOWER_TRIANGLE,
+};
 use nav_core::imu_error::ImuErrorEstimate;
+use nav_core::imu_error::IMU_ERROR_DIMENSION;
+use nav_core::state::CALIBRATION_DIMENSION;
 
 use crate::config::{FswConfig, Param};
 
 /// The record's format version; a record of another version is refused.
-pub const CALIBRATION_RECORD_VERSION: u16 = 1;
+pub const CALIBRATION_RECORD_VERSION: u16 = 2;
 /// The record's magic bytes.
 const MAGIC: [u8; 8] = *b"NAVCALIB";
 /// Values of the core calibration estimate (`CalibrationEstimate`).
@@ -39,7 +43,11 @@ const IMU_ERROR_VALUES: usize = 12;
 /// Bytes before the `f64` values: magic, version, reserved, fingerprint, time.
 const HEADER_BYTES: usize = 8 + 2 + 2 + 4 + 8;
 /// The `f64` values after the header.
-const VALUES: usize = CORE_ESTIMATE_VALUES + IMU_ERROR_VALUES + CALIBRATION_LOWER_TRIANGLE;
+const VALUES: usize = CORE_ESTIMATE_VALUES
+    + IMU_ERROR_VALUES
+    + CALIBRATION_LOWER_TRIANGLE
+    + IMU_ERROR_LOWER_TRIANGLE
+    + CALIBRATION_DIMENSION * IMU_ERROR_DIMENSION;
 /// Bytes of the record's CRC.
 const CRC_BYTES: usize = 4;
 /// Bytes of a record.
@@ -126,6 +134,9 @@ pub struct CalibrationRecord {
     pub imu_errors: ImuErrorEstimate,
     /// The calibration block of `P`, lower triangle row by row.
     pub covariance: [f64; CALIBRATION_LOWER_TRIANGLE],
+    /// The systematic IMU errors' covariance and their covariance with the core calibration
+    /// states ([`ImuErrorCovariance::ZERO`] when they are not flown).
+    pub imu_error_covariance: ImuErrorCovariance,
 }
 
 /// Whether `param` enters the configuration fingerprint (module docs).
@@ -205,10 +216,20 @@ impl CalibrationRecord {
             i.accel_misalignment_rad.as_slice(),
             i.gyro_g_sensitivity_rad_s_per_mps2.as_slice(),
         ];
-        let covariance = [self.covariance.as_slice()];
+        let imu_covariance = &self.imu_error_covariance;
+        let covariance = [
+            self.covariance.as_slice(),
+            imu_covariance.imu_error_lower.as_slice(),
+        ];
         core.into_iter()
             .chain(imu)
             .chain(covariance)
+            .chain(
+                imu_covariance
+                    .with_calibration
+                    .iter()
+                    .map(|row| row.as_slice()),
+            )
             .flatten()
             .copied()
     }
@@ -259,6 +280,10 @@ impl CalibrationRecord {
                 gyro_g_sensitivity_rad_s_per_mps2: Vector3::from(reader.f64s::<3>()),
             },
             covariance: reader.f64s(),
+            imu_error_covariance: ImuErrorCovariance {
+                imu_error_lower: reader.f64s(),
+                with_calibration: core::array::from_fn(|_| reader.f64s()),
+            },
         })
     }
 }

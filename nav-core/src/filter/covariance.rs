@@ -249,8 +249,10 @@ impl ErrorStateFilter {
     /// sensors' calibration is still trusted): the navigation part of `x` becomes zero, `P`'s
     /// navigation rows and columns become the prior's (no correlation with the calibration),
     /// the calibration part of `x` is kept, its block of `P` becomes
-    /// [`Self::calibration_covariance_for_restart`]'s, and the optional blocks start again
-    /// from their prior, as in [`Self::restart`]. The mode stays `config`'s.
+    /// [`Self::calibration_covariance_for_restart`]'s. The systematic IMU error states, flown,
+    /// are calibration too: their estimate is kept and their covariance becomes
+    /// [`Self::imu_error_covariance_for_restart`]'s; the correlated GNSS error states start
+    /// again from their prior, as in [`Self::restart`]. The mode stays `config`'s.
     ///
     /// # Errors
     /// As [`Self::restart`], and as [`Self::calibration_covariance_for_restart`]; nothing
@@ -283,6 +285,8 @@ impl ErrorStateFilter {
         config.validate()?;
         let gnss_error = GnssErrorStates::new(config.gnss_error)?;
         let calibration = self.calibration_block_for_restart(config)?;
+        let imu_error = self.imu_error_covariance_for_restart(config)?;
+        let imu_error_estimate = self.blocks.imu.estimate();
         for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
             for (row, entry) in entries.iter_mut().enumerate() {
                 let at = (
@@ -300,6 +304,12 @@ impl ErrorStateFilter {
         }
         self.mode = config.mode;
         self.restart_optional_blocks(gnss_error, config);
+        if let Some(imu_error) = imu_error {
+            // The systematic IMU errors are calibration: estimate and bounded covariance kept.
+            // The bound keeps the whole calibration block positive definite, so the check
+            // cannot fail (were it to, they would stay at their prior: conservative).
+            let _ = self.install_imu_error(&imu_error_estimate, &imu_error);
+        }
         self.set_initial_navigation_covariance(config);
         Ok(())
     }
@@ -317,23 +327,13 @@ impl ErrorStateFilter {
         &mut self,
         lower: &[f64; CALIBRATION_LOWER_TRIANGLE],
     ) -> Result<(), NavError> {
-        if !lower.iter().all(|value| value.is_finite()) {
-            return Err(NavError::NonFiniteState);
-        }
-        let block = CalibrationCovariance::from_fn(|row, column| {
-            let (high, low) = if row >= column {
-                (row, column)
-            } else {
-                (column, row)
-            };
-            lower
-                .get(high * (high + 1) / 2 + low)
-                .copied()
-                .unwrap_or(f64::NAN)
-        });
-        if nalgebra::Cholesky::new(block).is_none() {
-            return Err(NavError::InvalidConfiguration);
-        }
+        let block = calibration_block_from_lower(lower)?;
+        self.write_calibration_block(&block);
+        Ok(())
+    }
+
+    /// `block` as the calibration block of `P`, its correlation with navigation zero.
+    pub(super) fn write_calibration_block(&mut self, block: &CalibrationCovariance) {
         for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
             for (row, entry) in entries.iter_mut().enumerate() {
                 let calibration = (
@@ -347,7 +347,6 @@ impl ErrorStateFilter {
                 };
             }
         }
-        Ok(())
     }
 
     /// The calibration block of `P` as [`Self::set_calibration_covariance`] takes it (lower
@@ -362,7 +361,7 @@ impl ErrorStateFilter {
 
 /// The error states' dimensions as the restart's bound splits them.
 type NavigationBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, DYNAMIC_DIMENSION>;
-type CrossBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>;
+pub(super) type CrossBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>;
 
 impl ErrorStateFilter {
     /// The calibration block of `P` for a restart that puts the navigation states back at
@@ -399,6 +398,48 @@ impl ErrorStateFilter {
         &self,
         config: &FilterConfig,
     ) -> Result<CalibrationCovariance, NavError> {
+        let p = &self.covariance;
+        let entry = |i: usize, j: usize| p.get((i, j)).copied().unwrap_or(f64::NAN);
+        let cross = self.navigation_calibration_cross();
+        let kept = CalibrationCovariance::from_fn(|i, j| {
+            entry(DYNAMIC_DIMENSION + i, DYNAMIC_DIMENSION + j)
+        });
+        if cross.iter().all(|value| *value == 0.0) {
+            // Nothing to forget (a calibration just loaded, or never correlated).
+            return Ok(kept);
+        }
+        let cholesky = self.restart_margin(config)?;
+        let added = cross.transpose() * cholesky.solve(&cross);
+        let block = kept + (added + added.transpose()) * 0.5;
+        if block.iter().all(|value| value.is_finite()) {
+            Ok(block)
+        } else {
+            Err(NavError::NonFiniteState)
+        }
+    }
+}
+
+impl ErrorStateFilter {
+    /// `P_nc`: the navigation states' covariance with the core calibration states.
+    pub(super) fn navigation_calibration_cross(&self) -> CrossBlock {
+        let p = &self.covariance;
+        CrossBlock::from_fn(|i, j| {
+            p.get((i, DYNAMIC_DIMENSION + j))
+                .copied()
+                .unwrap_or(f64::NAN)
+        })
+    }
+
+    /// The factor of the restart's margin `D = P⁰_nn − P_nn`
+    /// ([`Self::calibration_covariance_for_restart`]), or of `P⁰_nn` when `D` is not positive
+    /// definite.
+    ///
+    /// # Errors
+    /// [`NavError::InvalidConfiguration`] for a prior that is not positive definite.
+    pub(super) fn restart_margin(
+        &self,
+        config: &FilterConfig,
+    ) -> Result<nalgebra::Cholesky<f64, nalgebra::Const<DYNAMIC_DIMENSION>>, NavError> {
         let prior = config.initial_variances()?;
         let p = &self.covariance;
         let entry = |i: usize, j: usize| p.get((i, j)).copied().unwrap_or(f64::NAN);
@@ -412,28 +453,42 @@ impl ErrorStateFilter {
         let margin = NavigationBlock::from_fn(|i, j| {
             prior_block.get((i, j)).copied().unwrap_or(f64::NAN) - entry(i, j)
         });
-        let cross = CrossBlock::from_fn(|i, j| entry(i, DYNAMIC_DIMENSION + j));
-        let kept = CalibrationCovariance::from_fn(|i, j| {
-            entry(DYNAMIC_DIMENSION + i, DYNAMIC_DIMENSION + j)
-        });
-        if cross.iter().all(|value| *value == 0.0) {
-            // Nothing to forget (a calibration just loaded, or never correlated).
-            return Ok(kept);
-        }
         // A navigation block already wider than the prior in some direction (a long flight
         // without GNSS): no calibration block makes the restart bound it; the prior alone
         // then stands for the navigation error the calibration explained.
-        let cholesky = nalgebra::Cholesky::new(margin)
+        nalgebra::Cholesky::new(margin)
             .or_else(|| nalgebra::Cholesky::new(prior_block))
-            .ok_or(NavError::InvalidConfiguration)?;
-        let added = cross.transpose() * cholesky.solve(&cross);
-        let block = kept + (added + added.transpose()) * 0.5;
-        if block.iter().all(|value| value.is_finite()) {
-            Ok(block)
-        } else {
-            Err(NavError::NonFiniteState)
-        }
+            .ok_or(NavError::InvalidConfiguration)
     }
+}
+
+/// The symmetric calibration block whose lower triangle `lower` holds row by row
+/// ([`ErrorStateFilter::set_calibration_covariance`]).
+///
+/// # Errors
+/// [`NavError::NonFiniteState`] for a non-finite entry, [`NavError::InvalidConfiguration`]
+/// for a matrix that is not positive definite.
+pub(super) fn calibration_block_from_lower(
+    lower: &[f64; CALIBRATION_LOWER_TRIANGLE],
+) -> Result<CalibrationCovariance, NavError> {
+    if !lower.iter().all(|value| value.is_finite()) {
+        return Err(NavError::NonFiniteState);
+    }
+    let block = CalibrationCovariance::from_fn(|row, column| {
+        let (high, low) = if row >= column {
+            (row, column)
+        } else {
+            (column, row)
+        };
+        lower
+            .get(high * (high + 1) / 2 + low)
+            .copied()
+            .unwrap_or(f64::NAN)
+    });
+    if nalgebra::Cholesky::new(block).is_none() {
+        return Err(NavError::InvalidConfiguration);
+    }
+    Ok(block)
 }
 
 /// The lower triangle (diagonal included) of the calibration block whose entry `(row,
@@ -454,7 +509,8 @@ fn lower_triangle(
 }
 
 /// The calibration block of `P` (15×15).
-type CalibrationCovariance = nalgebra::SMatrix<f64, CALIBRATION_DIMENSION, CALIBRATION_DIMENSION>;
+pub(super) type CalibrationCovariance =
+    nalgebra::SMatrix<f64, CALIBRATION_DIMENSION, CALIBRATION_DIMENSION>;
 
 /// Entries of the calibration block's lower triangle (diagonal included).
 pub const CALIBRATION_LOWER_TRIANGLE: usize =

@@ -35,6 +35,7 @@ use blocks::{OptionalBlocks, UpdateInputs};
 pub use config::{FilterConfig, InitialUncertainty};
 pub use covariance::CALIBRATION_LOWER_TRIANGLE;
 pub use optional::OptionalVarianceBounds;
+pub use restart::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
 
 /// The 24-element error-state vector.
 pub type ErrorState = SVector<f64, STATE_DIMENSION>;
@@ -719,6 +720,7 @@ mod dense;
 mod optional;
 #[cfg(all(test, feature = "gnss-error-states", feature = "imu-error-states"))]
 mod optional_tests;
+mod restart;
 #[cfg(test)]
 mod restart_tests;
 #[cfg(test)]

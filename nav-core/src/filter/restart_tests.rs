@@ -96,7 +96,6 @@ fn navigation_restarts_and_calibration_is_bounded_for_the_dropped_correlation() 
         assert!(smallest > -1e-9 * p.norm(), "{smallest}");
         assert!(Cholesky::new(*p).is_some(), "P not positive definite");
         assert_eq!(filter.gnss_error(), prior.gnss_error());
-        assert_eq!(filter.imu_error(), prior.imu_error());
         assert_eq!(filter.mode(), mode);
     }
 }
@@ -176,4 +175,89 @@ fn the_calibration_covariance_round_trips_and_a_bad_one_is_refused() {
         Err(crate::NavError::NonFiniteState)
     );
     assert_eq!(filter, unchanged);
+}
+
+/// `P` with the systematic IMU error states appended (36×36; the correlated GNSS error
+/// states, restarted to their prior, left out).
+fn with_imu_errors(filter: &ErrorStateFilter) -> SMatrix<f64, 36, 36> {
+    let (p, states) = (filter.covariance(), filter.imu_error());
+    let (cross, own) = (states.cross_covariance(), states.covariance());
+    SMatrix::from_fn(|i, j| match (i < 24, j < 24) {
+        (true, true) => p[(i, j)],
+        (true, false) => cross[(i, j - 24)],
+        (false, true) => cross[(j, i - 24)],
+        (false, false) => own[(i - 24, j - 24)],
+    })
+}
+
+/// The systematic IMU error states kept across the restart, as calibration: their estimate
+/// bit for bit, their covariance and their covariance with the core calibration bounded
+/// for the dropped correlation with navigation (dense: `Q − P ⪰ 0` over the 36 states),
+/// their correlation with navigation zero; read back, the bound is what was set, bit for
+/// bit.
+#[test]
+fn the_imu_error_states_are_kept_and_bounded_as_calibration() {
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    let mut filter = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+    install_both_borders(&mut filter, &mut rng, RECEIVER, IMU);
+    let before = with_imu_errors(&filter);
+    let estimate = filter.imu_error().estimate();
+    let config = config(FilterMode::ClosedLoop);
+    let bound = filter.imu_error_covariance_for_restart(&config).unwrap();
+    filter.restart_keeping_calibration(&config).unwrap();
+    assert_eq!(
+        filter.imu_error().estimate().map(f64::to_bits),
+        estimate.map(f64::to_bits)
+    );
+    let after = with_imu_errors(&filter);
+    let smallest = (after - before).symmetric_eigenvalues().min();
+    assert!(smallest > -1e-9 * after.norm(), "{smallest}");
+    for a in 0..12 {
+        assert!(
+            after[(24 + a, 24 + a)] >= before[(24 + a, 24 + a)],
+            "P_εε[{a}]"
+        );
+        assert!(after[(24 + a, 24 + a)] < IMU.state_sigmas()[a].powi(2) * 10.0);
+        for n in 0..DYNAMIC_DIMENSION {
+            assert_eq!(after[(n, 24 + a)].to_bits(), 0.0f64.to_bits(), "C[{n},{a}]");
+        }
+    }
+    let read = filter.imu_error_covariance_for_restart(&config).unwrap();
+    assert_eq!(read, bound);
+    assert!(Cholesky::new(after).is_some(), "P not positive definite");
+}
+
+/// A covariance that makes the whole calibration block indefinite, or is not finite, or a
+/// filter without the states: refused, nothing changed.
+#[test]
+fn a_bad_imu_error_covariance_is_refused_and_changes_nothing() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut filter = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+    install_both_borders(&mut filter, &mut rng, RECEIVER, IMU);
+    let config = config(FilterMode::ClosedLoop);
+    let good = filter
+        .imu_error_covariance_for_restart(&config)
+        .unwrap()
+        .unwrap();
+    let unchanged = filter;
+    let mut strong = good;
+    // A covariance with the gyro bias far beyond what both variances allow.
+    strong.with_calibration[0][0] = 1e3;
+    assert_eq!(
+        filter.set_imu_error_covariance(&strong),
+        Err(crate::NavError::InvalidConfiguration)
+    );
+    let mut not_finite = good;
+    not_finite.imu_error_lower[5] = f64::INFINITY;
+    assert_eq!(
+        filter.set_imu_error_covariance(&not_finite),
+        Err(crate::NavError::NonFiniteState)
+    );
+    assert_eq!(filter, unchanged);
+    let mut without = filter_with(FilterMode::ClosedLoop, &random_covariance(&mut rng));
+    assert_eq!(without.imu_error_covariance_for_restart(&config), Ok(None));
+    assert_eq!(
+        without.set_imu_error_covariance(&good),
+        Err(crate::NavError::InvalidConfiguration)
+    );
 }

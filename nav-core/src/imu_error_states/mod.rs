@@ -508,8 +508,8 @@ impl ImuErrorStates {
             core::array::from_fn(|m| core::array::from_fn(|a| cross[(m, a)]));
     }
 
-    /// Replaces `ε̂`, `P_εε` and `C` (tests: a random prior).
-    #[cfg(test)]
+    /// Replaces `ε̂`, `P_εε` and `C`, and zeroes `B` (a random prior in tests; the
+    /// calibration kept across a restart, `crate::filter::restart`).
     pub(crate) fn set(
         &mut self,
         estimate: &SVector<f64, IMU_ERROR_DIMENSION>,
@@ -535,6 +535,15 @@ pub struct ImuErrorStates;
 
 #[cfg(not(feature = "imu-error-states"))]
 impl ImuErrorStates {
+    /// Nothing to replace (the states are never in use).
+    pub(crate) fn set(
+        &mut self,
+        _estimate: &SVector<f64, IMU_ERROR_DIMENSION>,
+        _covariance: &SMatrix<f64, IMU_ERROR_DIMENSION, IMU_ERROR_DIMENSION>,
+        _cross: &SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>,
+    ) {
+    }
+
     /// [`ImuErrorModel::DISABLED`] only (the model's validation refuses any other).
     ///
     /// # Errors

@@ -5,6 +5,7 @@ use super::*;
 use crate::calibration_record::{
     configuration_fingerprint, CalibrationRecord, RecordError, CALIBRATION_RECORD_BYTES,
 };
+use nav_core::filter::ImuErrorCovariance;
 
 impl NavigationComputer {
     /// The calibration earned so far as a record (its bytes: [`CalibrationRecord::to_bytes`]):
@@ -28,6 +29,9 @@ impl NavigationComputer {
                 .imu_error_estimate()
                 .unwrap_or(self.calibration.imu_errors),
             covariance: filter.calibration_covariance_for_restart(&self.config.filter)?,
+            imu_error_covariance: filter
+                .imu_error_covariance_for_restart(&self.config.filter)?
+                .unwrap_or(ImuErrorCovariance::ZERO),
         })
     }
 
@@ -78,9 +82,15 @@ impl NavigationComputer {
         // The covariance first: refused, it changes nothing; accepted, the restart below
         // keeps it (the configuration was validated at start-up, so the restart succeeds).
         let filter = &mut self.covariance.filter;
-        filter
-            .set_calibration_covariance(&record.covariance)
-            .map_err(|_| RecordError::Values)?;
+        let set = if filter.imu_error().is_enabled() {
+            filter.set_calibration_and_imu_error_covariance(
+                &record.covariance,
+                &record.imu_error_covariance,
+            )
+        } else {
+            filter.set_calibration_covariance(&record.covariance)
+        };
+        set.map_err(|_| RecordError::Values)?;
         filter
             .restart_keeping_calibration(&self.config.filter)
             .map_err(|_| RecordError::Values)?;

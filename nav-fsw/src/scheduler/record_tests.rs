@@ -96,13 +96,13 @@ fn a_flipped_bit_another_version_or_configuration_is_refused_and_counted() {
     assert_eq!(refused(&mut new, &not_a_record), RecordError::NotARecord);
     // Another version, its CRC made valid: refused by the version.
     let mut version = bytes;
-    version[8] = 2;
+    version[8] = 3;
     let crc = crc::Crc::<u32>::new(&crc::CRC_32_ISO_HDLC)
         .checksum(&version[..CALIBRATION_RECORD_BYTES - 4]);
     version[CALIBRATION_RECORD_BYTES - 4..].copy_from_slice(&crc.to_le_bytes());
     assert_eq!(
         refused(&mut new, &version),
-        RecordError::Version { found: 2 }
+        RecordError::Version { found: 3 }
     );
     // Another configuration: a different star noise.
     let mut config = *new.config();
@@ -246,4 +246,43 @@ fn store_commands_without_a_store_a_record_or_a_good_record_are_refused() {
         computer.operations.commands.calibration_records_refused,
         records_refused + 1
     );
+}
+
+/// With the systematic IMU error states flown, the record carries their covariance and its
+/// covariance with the core calibration into the new computer bit for bit (below the prior
+/// where the flight has observed them, so not restarted from it), and their correlation with
+/// navigation is zero there.
+#[test]
+fn a_record_carries_the_imu_error_covariance_into_a_new_computer() {
+    let mut config = *computer().config();
+    config.filter.imu_error = nav_core::imu_error_states::ImuErrorModel {
+        gyro_misalignment_sigma_rad: 1e-3,
+        accel_misalignment_sigma_rad: 1e-3,
+        gyro_g_sensitivity_sigma_rad_s_per_mps2: 1e-5,
+    };
+    let mut old = NavigationComputer::new(config, initial_state()).unwrap();
+    let prior = old.filter().imu_error().covariance();
+    for sequence in 1..=300_u32 {
+        run_frame_with_turned_star(&mut old, sequence);
+    }
+    let record = old.export_calibration().unwrap();
+    let expected = old
+        .filter()
+        .imu_error_covariance_for_restart(&config.filter)
+        .unwrap()
+        .unwrap();
+    assert_eq!(record.imu_error_covariance, expected);
+    let mut new = NavigationComputer::new(config, initial_state()).unwrap();
+    new.load_calibration(&record.to_bytes()).unwrap();
+    let loaded = new
+        .filter()
+        .imu_error_covariance_for_restart(&config.filter)
+        .unwrap()
+        .unwrap();
+    assert_eq!(loaded, expected);
+    let covariance = new.filter().imu_error().covariance();
+    assert!((0..12).any(|a| covariance[(a, a)] < (1.0 - 1e-6) * prior[(a, a)]));
+    let cross = new.filter().imu_error().cross_covariance();
+    assert!((0..DYNAMIC_DIMENSION).all(|n| (0..12).all(|a| cross[(n, a)] == 0.0)));
+    assert!((DYNAMIC_DIMENSION..STATE_DIMENSION).any(|j| (0..12).any(|a| cross[(j, a)] != 0.0)));
 }
