@@ -30,7 +30,11 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 #[cfg(feature = "gnss-error-states")]
 use crate::block::{self, dot, row_add, row_scale, FiniteCheck, ZERO};
+#[cfg(feature = "gnss-error-states")]
 use crate::block::{Block, Row};
+#[cfg(feature = "gnss-error-states")]
+use crate::block_interface::MeasuredBorder;
+use crate::block_interface::{OptionalModel, OptionalStates};
 #[cfg(feature = "gnss-error-states")]
 use crate::measurement::MeasurementJacobian;
 #[cfg(feature = "gnss-error-states")]
@@ -155,17 +159,6 @@ impl PartialEq for GnssErrorStates {
     }
 }
 
-/// What an update adds to the 24-state quantities, and the border's own products.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Border {
-    /// `h_ε`.
-    pub(crate) coefficient: f64,
-    /// `h_ε (G + Gᵀ) + h_ε² P_εε`, added to `S`.
-    pub(crate) projected: Block,
-    /// Rows of `M_ε = Gᵀ + h_ε P_εε`.
-    pub(crate) products: [Row; 3],
-}
-
 #[cfg(feature = "gnss-error-states")]
 impl GnssErrorStates {
     /// The prior: `ε̂ = 0`, `P_εε = σ² I`, `C = 0` (all zero when the model is white).
@@ -174,16 +167,27 @@ impl GnssErrorStates {
     /// As [`GnssErrorModel::validate`].
     pub fn new(model: GnssErrorModel) -> Result<Self, NavError> {
         model.validate()?;
+        let mut states = Self::EMPTY;
+        states.start(model);
+        Ok(states)
+    }
+
+    /// Everything zero, the model white.
+    const EMPTY: Self = Self {
+        model: GnssErrorModel::WHITE,
+        estimate: [0.0; 3],
+        covariance: ZERO,
+        buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
+        second_active: false,
+        pending: (ZERO, [0.0; 3]),
+        frozen: false,
+    };
+
+    /// On [`Self::EMPTY`] states: the model and its prior `P_εε = σ² I`.
+    fn start(&mut self, model: GnssErrorModel) {
         let variance = model.sigma_m * model.sigma_m;
-        Ok(Self {
-            model,
-            estimate: [0.0; 3],
-            covariance: block::scale(&block::IDENTITY, variance),
-            buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
-            second_active: false,
-            pending: (block::ZERO, [0.0; 3]),
-            frozen: false,
-        })
+        self.model = model;
+        self.covariance = block::scale(&block::IDENTITY, variance);
     }
 
     /// The model.
@@ -199,11 +203,6 @@ impl GnssErrorStates {
     /// Whether the block is frozen (its gain rows zero in every update).
     pub fn is_frozen(&self) -> bool {
         self.frozen
-    }
-
-    /// Freezes the block or releases it.
-    pub(crate) fn set_frozen(&mut self, frozen: bool) {
-        self.frozen = frozen;
     }
 
     /// `ε̂` (m, launch-inertial axes).
@@ -357,7 +356,7 @@ impl GnssErrorStates {
         jacobian: &MeasurementJacobian,
         observed: &[bool; STATE_DIMENSION / 3],
         coefficient: f64,
-    ) -> Border {
+    ) -> MeasuredBorder {
         // G = Σ_K H_K C_K over the 3×3 blocks K of H that are not all zero (a star or GNSS
         // measurement has two to five of the eight).
         let mut g = ZERO;
@@ -385,16 +384,12 @@ impl GnssErrorStates {
             )
         };
         let products = block::add_scaled(&g_transpose, &self.covariance, coefficient);
-        Border {
+        MeasuredBorder {
             coefficient,
             projected,
             products,
+            frozen: self.frozen,
         }
-    }
-
-    /// `h_ε C_j` for row `j` (added to `M_x`).
-    pub(crate) fn cross_rows(&self) -> &StateRows {
-        self.rows()
     }
 
     /// `h_ε ε̂` (subtracted from the innovation).
@@ -414,7 +409,7 @@ impl GnssErrorStates {
     /// the formulas below give with `K_ε = 0`.
     pub(crate) fn updated(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
@@ -458,7 +453,7 @@ impl GnssErrorStates {
     /// values add up).
     fn update_cross(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         border_gains: &[Row; 3],
     ) -> bool {
@@ -518,7 +513,7 @@ impl GnssErrorStates {
     /// if a value is not finite (nothing changed but the spare buffer).
     pub(crate) fn prepare_update(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         core: (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
@@ -639,6 +634,170 @@ impl GnssErrorStates {
     /// Zero.
     pub fn cross_covariance(&self) -> SMatrix<f64, STATE_DIMENSION, 3> {
         SMatrix::zeros()
+    }
+}
+
+impl OptionalModel for GnssErrorModel {
+    const OFF: Self = Self::WHITE;
+
+    fn in_use(&self) -> bool {
+        self.is_enabled()
+    }
+
+    fn check(&self) -> Result<(), NavError> {
+        self.validate()
+    }
+
+    fn write_prior_variances(&self, variances: &mut [f64]) {
+        let variance = self.sigma_m * self.sigma_m;
+        variances.iter_mut().for_each(|slot| *slot = variance);
+    }
+}
+
+/// The measured border of [`crate::block_interface`].
+#[cfg(feature = "gnss-error-states")]
+impl OptionalStates for GnssErrorStates {
+    type Model = GnssErrorModel;
+    const FIRST_BLOCK: OptionalBlock = OptionalBlock::GnssError;
+    const DIMENSION: usize = BLOCK_DIMENSION;
+    const EMPTY: Self = Self::EMPTY;
+
+    fn start(&mut self, model: GnssErrorModel) {
+        GnssErrorStates::start(self, model);
+    }
+
+    fn in_use(&self) -> bool {
+        self.is_enabled()
+    }
+
+    fn block_frozen(&self, _block: OptionalBlock) -> bool {
+        self.frozen
+    }
+
+    fn freeze(&mut self, _block: OptionalBlock, frozen: bool) {
+        self.frozen = frozen;
+    }
+
+    fn is_measured(&self) -> bool {
+        self.is_enabled()
+    }
+
+    fn prepare_propagation(
+        &mut self,
+        model: &StructuredModel,
+        _open_loop: bool,
+        measured_inputs: Option<&[Block; 2]>,
+    ) -> bool {
+        GnssErrorStates::prepare_propagation(self, model, measured_inputs)
+    }
+
+    fn measured_decay(&self, interval_s: f64) -> Option<f64> {
+        self.is_enabled().then(|| self.model.decay(interval_s))
+    }
+
+    fn commit_propagation(&mut self, _measured_decay: Option<f64>) {
+        GnssErrorStates::commit_propagation(self);
+    }
+
+    fn measured_border(
+        &self,
+        jacobian: &MeasurementJacobian,
+        observed: &[bool; STATE_DIMENSION / 3],
+        coefficient: f64,
+    ) -> Option<MeasuredBorder> {
+        self.is_enabled()
+            .then(|| self.border(jacobian, observed, coefficient))
+    }
+
+    fn measured_rows(&self) -> Option<&StateRows> {
+        Some(self.rows())
+    }
+
+    fn predicted_residual(&self, coefficient: f64) -> Option<Vector3<f64>> {
+        Some(GnssErrorStates::predicted_residual(self, coefficient))
+    }
+
+    fn prepare_update(
+        &mut self,
+        measured: Option<&MeasuredBorder>,
+        inputs: &crate::block_interface::UpdateInputs<'_>,
+    ) -> bool {
+        let Some(border) = measured else {
+            return true;
+        };
+        let solve = |row| inputs.solve(row);
+        GnssErrorStates::prepare_update(self, border, inputs.core(), solve, inputs.innovation)
+    }
+
+    fn commit_update(&mut self) {
+        GnssErrorStates::commit_update(self);
+    }
+
+    fn transform_cross_rows(&mut self, attitude: &Block, installation: &Block, _reset: bool) {
+        // `ε̂` is a receiver error, never fed back: kept.
+        self.reset(attitude, installation);
+    }
+
+    fn scale_cross_row(&mut self, index: usize, scale: f64) {
+        GnssErrorStates::scale_cross_row(self, index, scale);
+    }
+
+    fn protect_variances(
+        &mut self,
+        floor: &[f64],
+        ceiling: &[f64],
+        _measured_scales: Option<&Row>,
+    ) -> (bool, Option<Row>) {
+        match (floor.first_chunk::<3>(), ceiling.first_chunk::<3>()) {
+            (Some(floor), Some(ceiling)) => {
+                GnssErrorStates::protect_variances(self, floor, ceiling)
+            }
+            _ => (false, None),
+        }
+    }
+
+    #[cfg(any(test, feature = "dense-reference"))]
+    fn has_dense_reference(&self) -> bool {
+        true
+    }
+
+    #[cfg(any(test, feature = "dense-reference"))]
+    fn propagate_dense<F>(&mut self, interval_s: f64, transition: &F) -> bool
+    where
+        F: Fn(&SMatrix<f64, STATE_DIMENSION, 1>) -> SMatrix<f64, STATE_DIMENSION, 1>,
+    {
+        self.propagate(interval_s, transition)
+    }
+
+    #[cfg(any(test, feature = "dense-reference"))]
+    fn measured_dense(&self) -> Option<crate::block_interface::DenseBorder> {
+        self.is_enabled()
+            .then(|| crate::block_interface::DenseBorder {
+                cross: self.cross_covariance(),
+                covariance: self.covariance(),
+                estimate: self.estimate_m(),
+                frozen: self.frozen,
+            })
+    }
+
+    #[cfg(any(test, feature = "dense-reference"))]
+    fn set_measured_dense(&mut self, border: &crate::block_interface::DenseBorder) {
+        self.set(&border.estimate, &border.covariance, &border.cross);
+    }
+}
+
+/// Compiled out: never in use.
+#[cfg(not(feature = "gnss-error-states"))]
+impl OptionalStates for GnssErrorStates {
+    type Model = GnssErrorModel;
+    const FIRST_BLOCK: OptionalBlock = OptionalBlock::GnssError;
+    const DIMENSION: usize = BLOCK_DIMENSION;
+    const EMPTY: Self = Self;
+
+    fn start(&mut self, _model: GnssErrorModel) {}
+
+    fn in_use(&self) -> bool {
+        false
     }
 }
 
