@@ -56,11 +56,13 @@ pub(crate) struct UpdateInputs<'a> {
 
 impl UpdateInputs<'_> {
     /// The core's part: `K_x`, `M_x` and the frozen blocks.
+    #[inline]
     pub(crate) fn core(&self) -> (&StateRows, &StateRows, &BlockMask) {
         (self.gains, self.products, self.frozen)
     }
 
     /// `S⁻¹ r` for a row `r`.
+    #[inline]
     pub(crate) fn solve(&self, row: Row) -> Row {
         self.cholesky.solve(row)
     }
@@ -182,7 +184,8 @@ pub(crate) trait OptionalStates {
     }
 
     /// Update, first step: the new values into spare buffers; `false` if one is not finite
-    /// (nothing the filter reads changed). `measured`: the measured border's part.
+    /// (nothing the filter reads changed). `measured`: the measured border's part. Asked of
+    /// every block: one not in use (a measured border without `measured`) returns `true`.
     fn prepare_update(
         &mut self,
         _measured: Option<&MeasuredBorder>,

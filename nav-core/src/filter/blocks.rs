@@ -149,11 +149,14 @@ macro_rules! optional_blocks {
                 open_loop: bool,
             ) -> bool {
                 // A bias border's `M Bᵀ`, for the measured border's `C ← φ (F C + Γ Bᵀ)`.
-                let measured_inputs = if self.any_measured() {
-                    None $( .or_else(|| OptionalStates::measured_cross_inputs(&self.$field, model)) )*
-                } else {
-                    None
-                };
+                let mut measured_inputs = None;
+                if self.any_measured() {
+                    $(
+                        if measured_inputs.is_none() {
+                            measured_inputs = OptionalStates::measured_cross_inputs(&self.$field, model);
+                        }
+                    )*
+                }
                 $(
                     if OptionalStates::in_use(&self.$field)
                         && !OptionalStates::prepare_propagation(
@@ -182,11 +185,14 @@ macro_rules! optional_blocks {
 
             /// Propagation, last step: every prepared block made current.
             pub(super) fn commit_propagation(&mut self, model: &StructuredModel) {
-                let decay = if self.any_coupled() {
-                    None $( .or_else(|| OptionalStates::measured_decay(&self.$field, model.interval_s())) )*
-                } else {
-                    None
-                };
+                let mut decay = None;
+                if self.any_coupled() {
+                    $(
+                        if decay.is_none() {
+                            decay = OptionalStates::measured_decay(&self.$field, model.interval_s());
+                        }
+                    )*
+                }
                 $(
                     if OptionalStates::in_use(&self.$field) {
                         OptionalStates::commit_propagation(&mut self.$field, decay);
@@ -201,7 +207,14 @@ macro_rules! optional_blocks {
                 (jacobian, observed): (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),
                 coefficient: f64,
             ) -> Option<MeasuredBorder> {
-                None $( .or_else(|| OptionalStates::measured_border(&self.$field, jacobian, observed, coefficient)) )*
+                $(
+                    let border =
+                        OptionalStates::measured_border(&self.$field, jacobian, observed, coefficient);
+                    if border.is_some() {
+                        return border;
+                    }
+                )*
+                None
             }
 
             /// The cross-covariance rows `C_j` of the measured border (added to `M_x`).
@@ -216,13 +229,16 @@ macro_rules! optional_blocks {
 
             /// `h_ε ε̂`, subtracted from the innovation.
             pub(super) fn predicted_residual(&self, border: &MeasuredBorder) -> Vector3<f64> {
-                let coefficient = border.coefficient;
-                let residual = None $( .or_else(|| {
-                    OptionalStates::is_measured(&self.$field)
-                        .then(|| OptionalStates::predicted_residual(&self.$field, coefficient))
-                        .flatten()
-                }) )*;
-                residual.unwrap_or_else(Vector3::zeros)
+                $(
+                    if OptionalStates::is_measured(&self.$field) {
+                        if let Some(residual) =
+                            OptionalStates::predicted_residual(&self.$field, border.coefficient)
+                        {
+                            return residual;
+                        }
+                    }
+                )*
+                Vector3::zeros()
             }
 
             /// Update, first step: every block's new values (into its spare buffers); `false`
@@ -232,10 +248,9 @@ macro_rules! optional_blocks {
                 border: Option<&MeasuredBorder>,
                 inputs: &UpdateInputs<'_>,
             ) -> bool {
+                // Each block decides from `border` or its own use whether it takes part.
                 $(
-                    if OptionalStates::in_use(&self.$field)
-                        && !OptionalStates::prepare_update(&mut self.$field, border, inputs)
-                    {
+                    if !OptionalStates::prepare_update(&mut self.$field, border, inputs) {
                         return false;
                     }
                 )*

@@ -177,6 +177,18 @@ pub fn apply_error_state(
 }
 
 impl ErrorStateFilter {
+    /// Everything zero, every optional block empty: what [`Self::init_in_place`] writes into
+    /// its slot before the configuration's values.
+    const EMPTY: Self = Self {
+        state: ErrorState::from_array_storage(nalgebra::ArrayStorage([[0.0; STATE_DIMENSION]; 1])),
+        covariance: CovarianceMatrix::from_array_storage(nalgebra::ArrayStorage(
+            [[0.0; STATE_DIMENSION]; STATE_DIMENSION],
+        )),
+        // The zero discriminant: the constant is all zero bits, so it is written by a clear.
+        mode: FilterMode::OpenLoop,
+        blocks: OptionalBlocks::EMPTY,
+    };
+
     /// A filter with `x = 0` and `P = diag(σ²)` from the configuration.
     ///
     /// # Errors
@@ -220,12 +232,9 @@ impl ErrorStateFilter {
         config: &FilterConfig,
     ) -> Result<&'slot mut Self, NavError> {
         config.validate()?;
-        let filter = slot.write(Self {
-            state: ErrorState::zeros(),
-            covariance: CovarianceMatrix::zeros(),
-            mode: config.mode,
-            blocks: OptionalBlocks::EMPTY,
-        });
+        // Written from a constant: copied straight into the slot, never built on the stack.
+        let filter = slot.write(Self::EMPTY);
+        filter.mode = config.mode;
         filter.blocks.start(config);
         filter.set_initial_covariance(config);
         Ok(filter)

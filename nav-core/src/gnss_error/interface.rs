@@ -13,7 +13,9 @@ use crate::block_interface::MeasuredBorder;
 use crate::block_interface::{OptionalModel, OptionalStates};
 #[cfg(feature = "gnss-error-states")]
 use crate::measurement::MeasurementJacobian;
-use crate::state::{OptionalBlock, BLOCK_DIMENSION, STATE_DIMENSION};
+#[cfg(feature = "gnss-error-states")]
+use crate::state::STATE_DIMENSION;
+use crate::state::{OptionalBlock, BLOCK_DIMENSION};
 #[cfg(feature = "gnss-error-states")]
 use crate::structured::{StateRows, StructuredModel};
 use crate::NavError;
@@ -98,6 +100,7 @@ impl OptionalStates for GnssErrorStates {
         Some(GnssErrorStates::predicted_residual(self, coefficient))
     }
 
+    #[inline(always)]
     fn prepare_update(
         &mut self,
         measured: Option<&MeasuredBorder>,

@@ -65,11 +65,15 @@ impl OptionalStates for ImuErrorStates {
         ImuErrorStates::commit_propagation(self, measured_decay);
     }
 
+    #[inline(always)]
     fn prepare_update(
         &mut self,
         measured: Option<&MeasuredBorder>,
         inputs: &UpdateInputs<'_>,
     ) -> bool {
+        if !self.is_enabled() {
+            return true;
+        }
         let solve = |row| inputs.solve(row);
         ImuErrorStates::prepare_update(
             self,

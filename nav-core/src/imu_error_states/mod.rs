@@ -212,6 +212,9 @@ pub struct ImuErrorStates {
     /// Whether `P_εε` may have changed since the variance protection last read it: only an
     /// update (or a new prior) changes it, its propagation keeps it (`ε̇ = 0`).
     variances_changed: bool,
+    /// Whether the model is enabled ([`ImuErrorModel::is_enabled`], kept: the filter asks at
+    /// every step).
+    enabled: bool,
 }
 
 #[cfg(feature = "imu-error-states")]
@@ -303,6 +306,7 @@ impl ImuErrorStates {
         scratch: Scratch::EMPTY,
         frozen: [false; GROUPS],
         variances_changed: false,
+        enabled: false,
     };
 
     /// On an [`Self::EMPTY`] border, in place: the model and its prior
@@ -310,6 +314,7 @@ impl ImuErrorStates {
     /// validated `model`.
     pub(crate) fn start(&mut self, model: ImuErrorModel) {
         self.model = model;
+        self.enabled = model.is_enabled();
         self.variances_changed = true;
         for half in &mut self.halves {
             model.write_prior(&mut half.covariance);
@@ -322,8 +327,9 @@ impl ImuErrorStates {
     }
 
     /// Whether the states are in use.
+    #[inline]
     pub fn is_enabled(&self) -> bool {
-        self.model.is_enabled()
+        self.enabled
     }
 
     /// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order).
