@@ -60,6 +60,7 @@ pub mod aberration;
 pub mod arithmetic;
 pub mod attitude;
 mod block;
+mod block_interface;
 pub mod discretise;
 pub mod error;
 pub mod error_model;

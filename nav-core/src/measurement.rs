@@ -80,10 +80,11 @@ pub struct LinearMeasurement {
     pub jacobian: MeasurementJacobian,
     /// Measurement noise covariance `R`.
     pub noise_covariance: Matrix3<f64>,
-    /// `h_ε`, the residual's coefficient of the correlated GNSS error states
-    /// ([`crate::gnss_error`]): 1 for a GNSS position fix, 0 for every other measurement
-    /// (read only when the filter carries those states).
-    pub gnss_error_coefficient: f64,
+    /// `h_ε`, the residual's coefficient of the optional block a measurement sees directly
+    /// (the measured border: the receiver's correlated position error): 1 for a GNSS
+    /// position fix, 0 for every other measurement (read only when the filter carries that
+    /// block).
+    pub border_coefficient: f64,
 }
 
 fn quaternion_is_finite(q: &Quaternion<f64>) -> bool {
@@ -140,7 +141,7 @@ pub fn star_sensor(
         residual: difference.imag(),
         jacobian,
         noise_covariance: Matrix3::from_diagonal(&Vector3::from(variance)),
-        gnss_error_coefficient: 0.0,
+        border_coefficient: 0.0,
     })
 }
 
@@ -181,7 +182,7 @@ pub fn gnss_position(
         residual: measured_position_m - predicted,
         jacobian,
         noise_covariance: Matrix3::identity() * (noise_m * noise_m),
-        gnss_error_coefficient: 1.0,
+        border_coefficient: 1.0,
     })
 }
 
@@ -272,7 +273,7 @@ pub fn gnss_velocity(
         residual: measured - predicted,
         jacobian: velocity_jacobian(&attitude_block, &-earth_rate, &lever, &scale_block),
         noise_covariance: Matrix3::identity() * (noise_mps * noise_mps),
-        gnss_error_coefficient: 0.0,
+        border_coefficient: 0.0,
     })
 }
 
@@ -488,7 +489,7 @@ mod tests {
         let m = measure(&exact, 0.05).unwrap();
         assert!(m.residual.amax() < 1e-9, "{}", m.residual.amax());
         assert!((m.noise_covariance[(0, 0)] - 0.0025).abs() < 1e-15);
-        assert_eq!(m.gnss_error_coefficient.to_bits(), 0.0f64.to_bits());
+        assert_eq!(m.border_coefficient.to_bits(), 0.0f64.to_bits());
         assert_eq!(
             m.jacobian
                 .fixed_columns::<3>(STAR_INSTALLATION.index())

@@ -101,10 +101,10 @@ impl FilterPathFixture {
     /// # Errors
     /// Only if the built-in configuration were invalid.
     pub fn new() -> Result<Self, NavError> {
-        let config = FilterConfig {
-            mode: FilterMode::ClosedLoop,
-            discretisation_order: 3,
-            initial: InitialUncertainty {
+        let config = FilterConfig::without_optional_blocks(
+            FilterMode::ClosedLoop,
+            3,
+            InitialUncertainty {
                 attitude_rad: 1e-3,
                 position_m: 30.0,
                 velocity_mps: 0.3,
@@ -114,9 +114,7 @@ impl FilterPathFixture {
                 gyro_scale_factor: 1e-4,
                 accel_scale_factor: 1e-4,
             },
-            gnss_error: crate::gnss_error::GnssErrorModel::WHITE,
-            imu_error: crate::imu_error_states::ImuErrorModel::DISABLED,
-        };
+        );
         let launch_frame = LaunchFrame::new(&LaunchSite {
             latitude_rad: 0.342,
             longitude_rad: 1.936,

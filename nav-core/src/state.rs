@@ -377,4 +377,75 @@ mod tests {
         assert_eq!(next, STATE_DIMENSION);
         assert_eq!(StateBlock::CALIBRATION[0].index(), 9);
     }
+
+    /// Each optional block's own files (under `nav-core/src`) and the words that name it: its
+    /// module, types, configuration field and cargo feature.
+    const OPTIONAL_BLOCK_NAMES: [(&str, &[&str], &[&str]); 2] = [
+        (
+            "gnss-error-states",
+            &["gnss_error/"],
+            &["gnss_error", "GnssError", "gnss-error-states"],
+        ),
+        (
+            "imu-error-states",
+            &["imu_error_states/", "imu_error.rs", "imu_error_tests.rs"],
+            &[
+                "imu_error",
+                "ImuError",
+                "imu-error-states",
+                "GyroNonOrthogonality",
+                "AccelMisalignment",
+                "GyroGSensitivity",
+            ],
+        ),
+    ];
+
+    /// Every `.rs` file under `root`, as paths relative to it with `/` separators.
+    fn source_files(root: &std::path::Path) -> Vec<String> {
+        let mut files = Vec::new();
+        let mut directories = vec![root.to_path_buf()];
+        while let Some(directory) = directories.pop() {
+            for entry in std::fs::read_dir(directory).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    directories.push(path);
+                } else if path.extension().is_some_and(|extension| extension == "rs") {
+                    let relative = path.strip_prefix(root).unwrap();
+                    files.push(relative.to_string_lossy().replace('\\', "/"));
+                }
+            }
+        }
+        files.sort();
+        files
+    }
+
+    /// The next optional block is its own module plus a line in the layout: outside its own
+    /// files, nav-core's flight source (tests excluded) names each optional block in at most
+    /// three files (the layout here, the registration in `filter/blocks.rs`, the `mod` line
+    /// in `lib.rs`); everything else reaches it through `crate::block_interface`.
+    #[test]
+    fn each_optional_block_is_named_in_at_most_three_files_outside_its_own() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let files = source_files(&root);
+        let is_test = |file: &str| file.ends_with("/tests.rs") || file.ends_with("_tests.rs");
+        assert!(files.len() > 40, "{files:?}");
+        let features: Vec<&str> = OptionalBlock::ALL.iter().map(|b| b.feature()).collect();
+        for (feature, own, words) in OPTIONAL_BLOCK_NAMES {
+            assert!(features.contains(&feature), "{feature}");
+            let naming: Vec<&String> = files
+                .iter()
+                .filter(|file| !is_test(file) && !own.iter().any(|own| file.starts_with(own)))
+                .filter(|file| {
+                    let text = std::fs::read_to_string(root.join(file)).unwrap();
+                    words.iter().any(|word| text.contains(word))
+                })
+                .collect();
+            println!("{feature}: named outside its own files in {naming:?}");
+            assert!(naming.len() <= 3, "{feature} is named in {naming:?}");
+        }
+        // Every optional block of the layout is in the table.
+        for feature in features {
+            assert!(OPTIONAL_BLOCK_NAMES.iter().any(|(f, _, _)| *f == feature));
+        }
+    }
 }

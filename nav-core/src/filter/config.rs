@@ -1,12 +1,11 @@
-//! The filter's configuration: its mode, discretisation order, initial uncertainty per core
-//! block and the models of the optional blocks, with their validation.
+//! The filter's configuration ([`FilterConfig`]: its mode, discretisation order, initial
+//! uncertainty per core block, and the optional blocks' models, whose fields the blocks'
+//! registration declares) and its validation.
 
 use nalgebra::Matrix3;
 
-use super::{ErrorState, ErrorStateFilter, FilterMode};
+use super::{ErrorState, ErrorStateFilter, FilterConfig};
 use crate::error_model::set_block;
-use crate::gnss_error::GnssErrorModel;
-use crate::imu_error_states::ImuErrorModel;
 use crate::state::{
     StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR, POSITION,
     STAR_INSTALLATION, VELOCITY,
@@ -35,36 +34,17 @@ pub struct InitialUncertainty {
     pub accel_scale_factor: f64,
 }
 
-/// Filter configuration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FilterConfig {
-    /// Open or closed loop.
-    pub mode: FilterMode,
-    /// Discretisation order, 1 to 4 (paper: 3).
-    pub discretisation_order: u8,
-    /// Initial 1σ per block.
-    pub initial: InitialUncertainty,
-    /// The GNSS receiver's correlated position error ([`crate::gnss_error`]);
-    /// [`GnssErrorModel::WHITE`] for the paper's 24 states.
-    pub gnss_error: GnssErrorModel,
-    /// The systematic IMU error states ([`crate::imu_error_states`]);
-    /// [`ImuErrorModel::DISABLED`] for the paper's 24 states.
-    pub imu_error: ImuErrorModel,
-}
-
 impl FilterConfig {
     /// Checks every value is finite and in range.
     ///
     /// # Errors
     /// [`NavError::InvalidDiscretisationOrder`], or [`NavError::InvalidConfiguration`] for a
-    /// non-finite or non-positive initial 1σ or a bad [`GnssErrorModel`].
+    /// non-finite or non-positive initial 1σ or an optional block's model it refuses.
     pub fn validate(&self) -> Result<(), NavError> {
         if !(1..=crate::discretise::MAX_ORDER).contains(&self.discretisation_order) {
             return Err(NavError::InvalidDiscretisationOrder);
         }
-        self.gnss_error.validate()?;
-        self.imu_error.validate()?;
+        self.check_optional_models()?;
         let sigmas = self.initial_sigmas();
         if sigmas
             .iter()
@@ -85,16 +65,13 @@ impl FilterConfig {
     /// # Examples
     /// ```
     /// use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::{ATTITUDE, POSITION};
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let variances = config.initial_variances()?;
     /// assert_eq!(variances[POSITION.index()], 100.0);
     /// // The attitude states are half-angles: (½ · 1 mrad)².

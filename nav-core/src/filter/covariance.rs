@@ -5,7 +5,6 @@ use nalgebra::Matrix3;
 
 use super::{check_block_covariance, symmetrised, ErrorState, ErrorStateFilter, FilterConfig};
 use crate::discretise::CovarianceMatrix;
-use crate::gnss_error::GnssErrorStates;
 use crate::state::{StateBlock, CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
 use crate::NavError;
 
@@ -24,16 +23,13 @@ impl ErrorStateFilter {
     /// # Examples
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::VELOCITY;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// filter.add_block_variance(VELOCITY, 0.03).unwrap();
     /// assert!((filter.covariance()[(VELOCITY.index(), VELOCITY.index())] - 0.04).abs() < 1e-15);
@@ -68,16 +64,13 @@ impl ErrorStateFilter {
     /// ```
     /// use nalgebra::Matrix3;
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::ATTITUDE;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// let along_x_and_y = Matrix3::new(1e-8, 1e-8, 0.0, 1e-8, 1e-8, 0.0, 0.0, 0.0, 0.0);
     /// filter.add_block_covariance(ATTITUDE, &along_x_and_y).unwrap();
@@ -197,16 +190,13 @@ impl ErrorStateFilter {
     /// # Examples
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::GYRO_BIAS;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config).unwrap();
     /// filter.widen_block_uncertainty(GYRO_BIAS, 4.0).unwrap();
     /// let index = GYRO_BIAS.index();
@@ -261,16 +251,13 @@ impl ErrorStateFilter {
     /// # Examples
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::{GYRO_BIAS, VELOCITY};
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config)?;
     /// filter.add_block_variance(VELOCITY, 0.03)?;
     /// filter.add_block_variance(GYRO_BIAS, 4e-6)?;
@@ -283,7 +270,6 @@ impl ErrorStateFilter {
     /// ```
     pub fn restart_keeping_calibration(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
-        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
         let calibration = self.calibration_block_for_restart(config)?;
         let imu_error = self.imu_error_covariance_for_restart(config)?;
         let imu_error_estimate = self.blocks.imu.estimate();
@@ -303,7 +289,7 @@ impl ErrorStateFilter {
             *value = 0.0;
         }
         self.mode = config.mode;
-        self.restart_optional_blocks(gnss_error, config);
+        self.restart_optional_blocks(config);
         if let Some(imu_error) = imu_error {
             // The systematic IMU errors are calibration: estimate and bounded covariance kept.
             // The bound keeps the whole calibration block positive definite, so the check

@@ -1,5 +1,5 @@
-//! The dense reference of the filter's steps: the 24×24 (or, with the correlated GNSS error
-//! states, 27×27) predict, Joseph update and reset, the arithmetic the structured flight path
+//! The dense reference of the filter's steps: the 24×24 (or, with the measured border of the
+//! optional blocks, `crate::block_interface`, 27×27) predict, Joseph update and reset, the arithmetic the structured flight path
 //! ([`crate::structured`]) is compared against (equal within relative 1e-12). Compiled for
 //! the `dense-reference` feature and the tests only.
 
@@ -10,6 +10,7 @@ use super::{
     ErrorStateFilter, FilterMode, InnovationReport,
 };
 use crate::block;
+use crate::block_interface::DenseBorder;
 use crate::discretise::{CovarianceMatrix, DiscreteModel};
 use crate::error_model::set_block;
 use crate::measurement::LinearMeasurement;
@@ -21,11 +22,10 @@ impl ErrorStateFilter {
     ///
     /// # Errors
     /// [`NavError::NonFiniteState`] if the result is not finite (filter unchanged);
-    /// [`NavError::InvalidConfiguration`] with the systematic IMU error states in use (their
-    /// dense reference is in `crate::imu_error_states`' tests).
+    /// [`NavError::InvalidConfiguration`] with an optional block in use that has no dense
+    /// reference here (a bias border: its dense reference is in its own tests).
     pub fn predict(&mut self, model: &DiscreteModel) -> Result<(), NavError> {
-        // The 36-state reference lives in the border's tests (crate::imu_error_states).
-        if self.blocks.imu.is_enabled() {
+        if !self.blocks.has_dense_reference() {
             return Err(NavError::InvalidConfiguration);
         }
         let f = &model.transition;
@@ -34,17 +34,18 @@ impl ErrorStateFilter {
             FilterMode::OpenLoop => f * self.state,
             FilterMode::ClosedLoop => self.state,
         };
-        let mut gnss_error = self.blocks.gnss;
-        let border_finite = gnss_error.propagate(model.interval_s, |column| f * column);
-        if !(covariance.iter().all(|v| v.is_finite())
-            && state.iter().all(|v| v.is_finite())
-            && border_finite)
+        if !(covariance.iter().all(|v| v.is_finite()) && state.iter().all(|v| v.is_finite())) {
+            return Err(NavError::NonFiniteState);
+        }
+        // Each block changes only when its result is finite.
+        if !self
+            .blocks
+            .propagate_dense(model.interval_s, &|column: &ErrorState| f * column)
         {
             return Err(NavError::NonFiniteState);
         }
         self.covariance = covariance;
         self.state = state;
-        self.blocks.gnss = gnss_error;
         Ok(())
     }
 
@@ -70,8 +71,8 @@ impl ErrorStateFilter {
     /// §7.5). The calibration manager freezes converged blocks this way.
     ///
     /// # Errors
-    /// As [`ErrorStateFilter::update`]; [`NavError::InvalidConfiguration`] with the
-    /// systematic IMU error states in use.
+    /// As [`ErrorStateFilter::update`]; [`NavError::InvalidConfiguration`] with an optional
+    /// block in use that has no dense reference here.
     pub fn update_with_frozen_blocks(
         &mut self,
         measurement: &LinearMeasurement,
@@ -79,11 +80,11 @@ impl ErrorStateFilter {
         frozen: &BlockMask,
     ) -> Result<InnovationReport, NavError> {
         check_update_inputs(measurement, gate_nis)?;
-        if self.blocks.imu.is_enabled() {
+        if !self.blocks.has_dense_reference() {
             return Err(NavError::InvalidConfiguration);
         }
-        if self.blocks.gnss.is_enabled() {
-            return self.update_bordered_dense(measurement, gate_nis, frozen);
+        if let Some(border) = self.blocks.measured_dense() {
+            return self.update_bordered_dense(&border, measurement, gate_nis, frozen);
         }
         let mut report = self.innovation(measurement)?;
         if report.normalised_innovation_squared > gate_nis {
@@ -117,18 +118,18 @@ impl ErrorStateFilter {
         Ok(report)
     }
 
-    /// [`ErrorStateFilter::update_with_frozen_blocks`] with the correlated GNSS error states:
-    /// the dense 27-state Joseph update of [`crate::gnss_error`]'s model (the reference the
-    /// structured border is tested against).
+    /// [`ErrorStateFilter::update_with_frozen_blocks`] with the measured `border`: the dense
+    /// 27-state Joseph update of its model (the reference the structured border is tested
+    /// against).
     fn update_bordered_dense(
         &mut self,
+        border: &DenseBorder,
         measurement: &LinearMeasurement,
         gate_nis: f64,
         frozen: &BlockMask,
     ) -> Result<InnovationReport, NavError> {
-        let border = &self.blocks.gnss;
-        let (cross, border_covariance) = (border.cross_covariance(), border.covariance());
-        let estimate = border.estimate_m();
+        let (cross, border_covariance) = (&border.cross, &border.covariance);
+        let estimate = border.estimate;
         let at = |m: &CovarianceMatrix, i: usize, j: usize| m.get((i, j)).copied();
         let p = AugmentedCovariance::from_fn(|i, j| {
             let (n, value) = (STATE_DIMENSION, f64::NAN);
@@ -140,7 +141,7 @@ impl ErrorStateFilter {
             }
             .unwrap_or(value)
         });
-        let coefficient = measurement.gnss_error_coefficient;
+        let coefficient = measurement.border_coefficient;
         let h = SMatrix::<f64, 3, AUGMENTED_DIMENSION>::from_fn(|r, j| {
             match j.checked_sub(STATE_DIMENSION) {
                 None => measurement
@@ -170,7 +171,7 @@ impl ErrorStateFilter {
             Cholesky::new(report.covariance).ok_or(NavError::NonPositiveInnovationCovariance)?;
         let mut gain: SMatrix<f64, AUGMENTED_DIMENSION, 3> = cholesky.solve(&(h * p)).transpose();
         // A frozen border's gain rows are zero too (`set_optional_block_frozen`).
-        let border_frozen = self.blocks.gnss.is_frozen();
+        let border_frozen = border.frozen;
         for (state_index, mut row) in gain.row_iter_mut().enumerate() {
             let core = state_index < STATE_DIMENSION;
             if (core && frozen.contains_state(state_index)) || (!core && border_frozen) {
@@ -188,11 +189,12 @@ impl ErrorStateFilter {
         let n = STATE_DIMENSION;
         self.covariance = CovarianceMatrix::from_fn(|i, j| at_augmented(&p, i, j));
         self.state = ErrorState::from_fn(|i, _| x.get(i).copied().unwrap_or(f64::NAN));
-        self.blocks.gnss.set(
-            &Vector3::from_fn(|a, _| x.get(n + a).copied().unwrap_or(f64::NAN)),
-            &Matrix3::from_fn(|a, b| at_augmented(&p, n + a, n + b)),
-            &SMatrix::from_fn(|i, a| at_augmented(&p, i, n + a)),
-        );
+        self.blocks.set_measured_dense(&DenseBorder {
+            estimate: Vector3::from_fn(|a, _| x.get(n + a).copied().unwrap_or(f64::NAN)),
+            covariance: Matrix3::from_fn(|a, b| at_augmented(&p, n + a, n + b)),
+            cross: SMatrix::from_fn(|i, a| at_augmented(&p, i, n + a)),
+            frozen: border.frozen,
+        });
         report.accepted = true;
         Ok(report)
     }
@@ -218,22 +220,17 @@ impl ErrorStateFilter {
                     .into(),
             )
         };
-        self.blocks.gnss.reset(
+        self.blocks.transform_cross_rows(
             &block_of_jacobian(ATTITUDE),
             &block_of_jacobian(STAR_INSTALLATION),
+            true,
         );
-        if self.blocks.imu.is_enabled() {
-            self.blocks.imu.reset(
-                &block_of_jacobian(ATTITUDE),
-                &block_of_jacobian(STAR_INSTALLATION),
-            );
-        }
         self.state = ErrorState::zeros();
         error
     }
 }
 
-/// The paper's 24 states and the three correlated GNSS error states ([`crate::gnss_error`]).
+/// The paper's 24 states and the measured border's three (one per measured axis).
 const AUGMENTED_DIMENSION: usize = STATE_DIMENSION + 3;
 
 /// The 27-state covariance of the dense bordered reference.

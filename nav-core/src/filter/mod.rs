@@ -20,9 +20,8 @@ use nalgebra::{Cholesky, Matrix3, Quaternion, SVector, Vector3};
 
 use crate::attitude::{self, skew};
 use crate::block;
+use crate::block_interface::{MeasuredBorder, UpdateInputs};
 use crate::discretise::CovarianceMatrix;
-use crate::gnss_error::GnssErrorStates;
-use crate::imu_error_states::ImuErrorStates;
 use crate::measurement::LinearMeasurement;
 use crate::state::{
     BlockMask, StateBlock, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, GYRO_BIAS, GYRO_SCALE_FACTOR,
@@ -30,9 +29,10 @@ use crate::state::{
 };
 use crate::structured::{self, StructuredModel};
 use crate::NavError;
-use blocks::{OptionalBlocks, UpdateInputs};
+use blocks::OptionalBlocks;
 
-pub use config::{FilterConfig, InitialUncertainty};
+pub use blocks::FilterConfig;
+pub use config::InitialUncertainty;
 pub use covariance::CALIBRATION_LOWER_TRIANGLE;
 pub use optional::OptionalVarianceBounds;
 pub use restart::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
@@ -97,8 +97,8 @@ pub struct ErrorStateFilter {
     state: ErrorState,
     covariance: CovarianceMatrix,
     mode: FilterMode,
-    /// The optional blocks of the layout (the correlated GNSS error and systematic IMU error
-    /// states), each inert when its model is off.
+    /// The optional blocks of the layout ([`crate::state::OptionalBlock`]), each inert when
+    /// its model is off.
     blocks: OptionalBlocks,
 }
 
@@ -178,6 +178,18 @@ pub fn apply_error_state(
 }
 
 impl ErrorStateFilter {
+    /// Everything zero, every optional block empty: what [`Self::init_in_place`] writes into
+    /// its slot before the configuration's values.
+    const EMPTY: Self = Self {
+        state: ErrorState::from_array_storage(nalgebra::ArrayStorage([[0.0; STATE_DIMENSION]; 1])),
+        covariance: CovarianceMatrix::from_array_storage(nalgebra::ArrayStorage(
+            [[0.0; STATE_DIMENSION]; STATE_DIMENSION],
+        )),
+        // The zero discriminant: the constant is all zero bits, so it is written by a clear.
+        mode: FilterMode::OpenLoop,
+        blocks: OptionalBlocks::EMPTY,
+    };
+
     /// A filter with `x = 0` and `P = diag(σ²)` from the configuration.
     ///
     /// # Errors
@@ -188,11 +200,9 @@ impl ErrorStateFilter {
             state: ErrorState::zeros(),
             covariance: CovarianceMatrix::zeros(),
             mode: config.mode,
-            blocks: OptionalBlocks {
-                gnss: GnssErrorStates::new(config.gnss_error)?,
-                imu: ImuErrorStates::new(config.imu_error)?,
-            },
+            blocks: OptionalBlocks::EMPTY,
         };
+        filter.blocks.start(config);
         filter.set_initial_covariance(config);
         Ok(filter)
     }
@@ -207,15 +217,12 @@ impl ErrorStateFilter {
     /// ```
     /// use core::mem::MaybeUninit;
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut slot = MaybeUninit::uninit();
     /// let filter = ErrorStateFilter::init_in_place(&mut slot, &config)?;
     /// assert_eq!(filter.covariance(), ErrorStateFilter::new(&config)?.covariance());
@@ -226,23 +233,16 @@ impl ErrorStateFilter {
         config: &FilterConfig,
     ) -> Result<&'slot mut Self, NavError> {
         config.validate()?;
-        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
-        let filter = slot.write(Self {
-            state: ErrorState::zeros(),
-            covariance: CovarianceMatrix::zeros(),
-            mode: config.mode,
-            blocks: OptionalBlocks {
-                gnss: gnss_error,
-                imu: ImuErrorStates::EMPTY,
-            },
-        });
-        filter.blocks.imu.start(config.imu_error);
+        // Written from a constant: copied straight into the slot, never built on the stack.
+        let filter = slot.write(Self::EMPTY);
+        filter.mode = config.mode;
+        filter.blocks.start(config);
         filter.set_initial_covariance(config);
         Ok(filter)
     }
 
     /// [`ErrorStateFilter::new`] again, in place (the filter is not built on the stack and
-    /// moved): `x = 0`, `P = diag(σ²)`, the correlated GNSS error states at their start.
+    /// moved): `x = 0`, `P = diag(σ²)`, every optional block at its prior.
     ///
     /// # Errors
     /// As [`ErrorStateFilter::new`]; the filter is unchanged then.
@@ -250,16 +250,13 @@ impl ErrorStateFilter {
     /// # Examples
     /// ```
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::VELOCITY;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config)?;
     /// filter.add_block_variance(VELOCITY, 0.03)?;
     /// filter.restart(&config)?;
@@ -268,44 +265,19 @@ impl ErrorStateFilter {
     /// ```
     pub fn restart(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
-        let gnss_error = GnssErrorStates::new(config.gnss_error)?;
         self.state = ErrorState::zeros();
         self.covariance.fill(0.0);
         self.mode = config.mode;
-        self.restart_optional_blocks(gnss_error, config);
+        self.restart_optional_blocks(config);
         self.set_initial_covariance(config);
         Ok(())
     }
 
-    /// Every optional block back at `config`'s prior (`gnss_error` built from it, so nothing
-    /// here can fail).
-    fn restart_optional_blocks(&mut self, gnss_error: GnssErrorStates, config: &FilterConfig) {
-        self.blocks.gnss = gnss_error;
-        self.blocks.imu = ImuErrorStates::EMPTY;
-        self.blocks.imu.start(config.imu_error);
-    }
-
-    /// The correlated GNSS error states ([`crate::gnss_error`]).
-    pub fn gnss_error(&self) -> &GnssErrorStates {
-        &self.blocks.gnss
-    }
-
-    /// The systematic IMU error states ([`crate::imu_error_states`]): in closed loop, read
-    /// `ε̂` before [`ErrorStateFilter::reset`] to feed it into the sensor corrections.
-    pub fn imu_error(&self) -> &ImuErrorStates {
-        &self.blocks.imu
-    }
-
-    /// The systematic IMU error states, for the crate's tests.
-    #[cfg(test)]
-    pub(crate) fn imu_error_mut(&mut self) -> &mut ImuErrorStates {
-        &mut self.blocks.imu
-    }
-
-    /// The correlated GNSS error states, for the crate's tests.
-    #[cfg(test)]
-    pub(crate) fn gnss_error_mut(&mut self) -> &mut GnssErrorStates {
-        &mut self.blocks.gnss
+    /// Every optional block back at `config`'s prior (`config` checked by the caller, so
+    /// nothing here can fail).
+    fn restart_optional_blocks(&mut self, config: &FilterConfig) {
+        self.blocks = OptionalBlocks::EMPTY;
+        self.blocks.start(config);
     }
 
     /// The error-state estimate `x`.
@@ -403,8 +375,8 @@ impl ErrorStateFilter {
         check_update_inputs(measurement, gate_nis)?;
         let h = &measurement.jacobian;
         // H P = Mᵀ and H P Hᵀ, over the non-zero blocks of H.
-        // The correlated GNSS error states' border (crate::gnss_error), when in use.
-        let coefficient = measurement.gnss_error_coefficient;
+        // The measured border (crate::block_interface), when one is in use.
+        let coefficient = measurement.border_coefficient;
         let observed_blocks = structured::observed_blocks(h);
         let border = self
             .blocks
@@ -484,7 +456,7 @@ impl ErrorStateFilter {
     #[inline(never)]
     fn update_borders_and_covariance(
         &mut self,
-        border: Option<&crate::gnss_error::Border>,
+        border: Option<&MeasuredBorder>,
         jacobian: (
             &crate::measurement::MeasurementJacobian,
             &[bool; STATE_DIMENSION / 3],
@@ -508,7 +480,7 @@ impl ErrorStateFilter {
         if !structured::joseph_update(&mut self.covariance, gains, observed, s) {
             return Err(NavError::NonFiniteState);
         }
-        self.blocks.commit_update(border);
+        self.blocks.commit_update();
         Ok(())
     }
 
@@ -543,8 +515,8 @@ impl ErrorStateFilter {
     /// [`crate::star_heads::RelativeAlignment::hand_over`]) and
     /// `Q = added_covariance_half_angle` (the relative alignment's uncertainty as a
     /// half-angle covariance, rad²), `x_ψ ← T x_ψ`, `P_ψψ ← T P_ψψ Tᵀ + Q`, and
-    /// `P_jψ ← P_jψ Tᵀ` for every other state `j`, the correlated GNSS error and the
-    /// systematic IMU error states included; nothing else changes. The derivation of
+    /// `P_jψ ← P_jψ Tᵀ` for every other state `j`, every optional block's states
+    /// included; nothing else changes. The derivation of
     /// `ψ_new = T ψ_old + δ/2` is in [`crate::star_heads`]. Done in place by blocks, as the
     /// reset ([`ErrorStateFilter::reset`]) is: the same map with `J_ϑϑ = I`, `J_ψψ = T`.
     /// `P` stays exactly symmetric.
@@ -563,16 +535,13 @@ impl ErrorStateFilter {
     /// use nalgebra::{Matrix3, Vector3};
     /// use nav_core::attitude::{exp_rotation_vector, rotation_matrix};
     /// use nav_core::filter::{ErrorStateFilter, FilterConfig, FilterMode, InitialUncertainty};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::STAR_INSTALLATION;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error: GnssErrorModel::WHITE, imu_error: ImuErrorModel::DISABLED };
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
     /// let mut filter = ErrorStateFilter::new(&config)?;
     /// // Heads 90° apart about sensor x; 10 µrad² of relative-alignment variance per axis.
     /// let alignment_old_from_new = exp_rotation_vector(&Vector3::new(1.5707963267948966, 0.0, 0.0));
@@ -718,7 +687,7 @@ mod covariance;
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense;
 mod optional;
-#[cfg(all(test, feature = "gnss-error-states", feature = "imu-error-states"))]
+#[cfg(test)]
 mod optional_tests;
 mod restart;
 #[cfg(test)]

@@ -42,21 +42,19 @@ impl OptionalVarianceBounds {
     /// # Examples
     /// ```
     /// use nav_core::filter::{FilterConfig, FilterMode, InitialUncertainty, OptionalVarianceBounds};
-    /// use nav_core::gnss_error::GnssErrorModel;
-    /// use nav_core::imu_error_states::ImuErrorModel;
     /// use nav_core::state::OptionalBlock;
     /// let initial = InitialUncertainty {
     ///     attitude_rad: 1e-3, position_m: 10.0, velocity_mps: 0.1, gyro_bias_rad_s: 1e-3,
     ///     accel_bias_mps2: 1e-2, star_installation_rad: 1e-2, gyro_scale_factor: 1e-4,
     ///     accel_scale_factor: 1e-4,
     /// };
-    /// let gnss_error = GnssErrorModel { sigma_m: 8.0, correlation_time_s: 300.0 };
-    /// let config = FilterConfig { mode: FilterMode::ClosedLoop, discretisation_order: 3,
-    ///     initial, gnss_error, imu_error: ImuErrorModel::DISABLED };
-    /// let bounds = OptionalVarianceBounds::new(&[1e-2, 0.0, 0.0, 0.0], 10.0, &config)?;
-    /// let gnss = OptionalVarianceBounds::states(OptionalBlock::GnssError);
-    /// assert_eq!(bounds.floor[gnss.start], 1e-4);
-    /// assert_eq!(bounds.ceiling[gnss.start], 6400.0); // (10 × 8 m)²
+    /// let config = FilterConfig::without_optional_blocks(FilterMode::ClosedLoop, 3, initial);
+    /// let floor_sigma = [1e-2; OptionalBlock::ALL.len()];
+    /// // No block in use: every bound zero (never read).
+    /// let bounds = OptionalVarianceBounds::new(&floor_sigma, 10.0, &config)?;
+    /// assert!(bounds.floor.iter().chain(&bounds.ceiling).all(|bound| *bound == 0.0));
+    /// // A ceiling below the prior is refused.
+    /// assert!(OptionalVarianceBounds::new(&floor_sigma, 0.5, &config).is_err());
     /// # Ok::<(), nav_core::NavError>(())
     /// ```
     pub fn new(
@@ -72,32 +70,19 @@ impl OptionalVarianceBounds {
             floor: [0.0; OPTIONAL_DIMENSION],
             ceiling: [0.0; OPTIONAL_DIMENSION],
         };
-        let gnss_variance = config.gnss_error.sigma_m * config.gnss_error.sigma_m;
-        let imu_variances = config.imu_error.prior_variances();
-        let imu_first = OptionalBlock::GyroNonOrthogonality.index();
+        let priors = config.optional_prior_variances();
         for (block, sigma) in OptionalBlock::ALL.iter().zip(floor_sigma) {
-            let in_use = match block {
-                OptionalBlock::GnssError => config.gnss_error.is_enabled(),
-                _ => config.imu_error.is_enabled(),
-            };
-            if !in_use {
+            if !config.optional_block_in_use(*block) {
                 continue;
             }
             if !(sigma.is_finite() && *sigma >= 0.0) {
                 return Err(NavError::InvalidConfiguration);
             }
             let states = Self::states(*block);
-            let layout = block.index()..block.index().saturating_add(block.dimension());
             let floors = bounds.floor.get_mut(states.clone()).into_iter().flatten();
-            let ceilings = bounds.ceiling.get_mut(states).into_iter().flatten();
-            for ((floor, ceiling), state) in floors.zip(ceilings).zip(layout) {
-                let prior = match block {
-                    OptionalBlock::GnssError => gnss_variance,
-                    _ => imu_variances
-                        .get(state.saturating_sub(imu_first))
-                        .copied()
-                        .unwrap_or(0.0),
-                };
+            let ceilings = bounds.ceiling.get_mut(states.clone()).into_iter().flatten();
+            let priors = priors.get(states).into_iter().flatten();
+            for ((floor, ceiling), prior) in floors.zip(ceilings).zip(priors) {
                 *floor = sigma * sigma;
                 *ceiling = prior * (ceiling_factor * ceiling_factor);
             }

@@ -3,6 +3,7 @@
 //! freezing is the dense Joseph update with the frozen rows' gain zero, the ceiling is
 //! `S P S` with `S` the ceiling's scale on the crossed state, the floor raises one diagonal
 //! entry.
+#![cfg(all(feature = "gnss-error-states", feature = "imu-error-states"))]
 
 use nalgebra::{Cholesky, SMatrix};
 use rand::{Rng, SeedableRng};
@@ -79,14 +80,14 @@ fn frozen_optional_blocks_keep_their_estimates_and_the_covariance_is_the_dense_j
         let star = case % 3 == 1;
         let mut measurement = random_measurement(&mut rng, star, case % 2 == 1);
         if !star {
-            measurement.gnss_error_coefficient =
+            measurement.border_coefficient =
                 RECEIVER.position_coefficient(rng.random_range(0.0..0.1));
         }
         let mut h = SMatrix::<f64, 3, BORDERED>::zeros();
         h.fixed_view_mut::<3, 24>(0, 0)
             .copy_from(&measurement.jacobian);
         for k in 0..3 {
-            h[(k, 24 + k)] = measurement.gnss_error_coefficient;
+            h[(k, 24 + k)] = measurement.border_coefficient;
         }
         let p = whole_covariance(&prior);
         let x = whole_state(&prior);
@@ -145,7 +146,7 @@ fn a_frozen_gnss_border_is_frozen_in_the_dense_reference_too() {
             .set_optional_block_frozen(OptionalBlock::GnssError, true)
             .unwrap();
         let mut measurement = random_measurement(&mut rng, case % 2 == 0, false);
-        measurement.gnss_error_coefficient = 1.0;
+        measurement.border_coefficient = 1.0;
         let mut dense = prior;
         dense
             .update_with_frozen_blocks(&measurement, f64::INFINITY, &BlockMask::NONE)

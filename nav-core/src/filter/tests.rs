@@ -33,7 +33,7 @@ fn position_measurement(residual: Vector3<f64>, sigma: f64) -> LinearMeasurement
         residual,
         jacobian,
         noise_covariance: Matrix3::identity() * sigma * sigma,
-        gnss_error_coefficient: 1.0,
+        border_coefficient: 1.0,
     }
 }
 
@@ -145,7 +145,7 @@ fn closed_loop_reset_zeroes_the_state_and_applies_the_reset_jacobian() {
         residual: Vector3::new(2e-3, -1e-3, 3e-3),
         jacobian,
         noise_covariance: Matrix3::identity() * 1e-10,
-        gnss_error_coefficient: 0.0,
+        border_coefficient: 0.0,
     };
     filter.update(&measurement, f64::INFINITY).unwrap();
     let covariance_before = *filter.covariance();
@@ -647,7 +647,7 @@ fn reset_in_place_equals_reset() {
             residual: Vector3::new(2e-3, -1e-3, 3e-3),
             jacobian,
             noise_covariance: Matrix3::identity() * 1e-8,
-            gnss_error_coefficient: 0.0,
+            border_coefficient: 0.0,
         };
         filter.update(&measurement, f64::INFINITY).unwrap();
         let (mut returned, mut in_place) = (filter, filter);

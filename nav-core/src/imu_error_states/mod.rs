@@ -1,7 +1,7 @@
 //! The systematic IMU error states ([`crate::imu_error`]: gyro non-orthogonality 3,
 //! accelerometer misalignment 6, gyro g-sensitivity 3) as the border of a 36-state filter:
 //! the 24-state kernels stay as they are, and only the border `ε̂`, `P_εε` (12×12) and
-//! `C = P_xε` (24×12) is added, as [`crate::gnss_error`] adds its three states.
+//! `C = P_xε` (24×12) is added (a bias border of `crate::block_interface`).
 //!
 //! ## Model
 //! The twelve states are random constants (`ε̇ = 0`). Each acts on the navigation exactly as
@@ -28,7 +28,7 @@
 //! ## Update
 //! No measurement sees `ε` directly (`H_ε = 0`), so `S`, `M_x = P_xx H_xᵀ` and the 24-state
 //! Joseph kernel are unchanged; the border adds `G = H_x C`, `M_ε = Gᵀ`, `K_ε = M_ε S⁻¹` and,
-//! by the expanded Joseph form of [`crate::gnss_error`], `C⁺_ia = C_ia − K_i·M_εa` for a
+//! by the expanded Joseph form of the bordered update (`crate::structured`), `C⁺_ia = C_ia − K_i·M_εa` for a
 //! row the update moves and `C_ia − M_i·K_εa` for a frozen one (`K_i = 0`),
 //! `P⁺_εε = P_εε − K_ε M_εᵀ`, `ε̂ ← ε̂ + K_ε ν`.
 //!
@@ -38,7 +38,7 @@
 //! additive: the reset Jacobian of `ε` is the identity) and `C ← J C` on the attitude and
 //! installation rows.
 //!
-//! ## With the correlated GNSS error states
+//! ## With the correlated GNSS error states (the measured border)
 //! With both borders the covariance also holds `B = cov(ε_GNSS, ε)` (3×12). `x` gains `Γ ε`
 //! and `ε_GNSS` decays by `φ`, so the GNSS border's cross-covariance propagates as
 //! `C_GNSS ← φ (F C_GNSS + Γ Bᵀ)` (its dynamic rows gain `E M Bᵀ`,
@@ -60,6 +60,8 @@ use crate::state::{ATTITUDE, STAR_INSTALLATION};
 use crate::structured::{BorderBiasInputs, StateRows};
 use crate::NavError;
 
+#[cfg(feature = "imu-error-states")]
+mod interface;
 mod prior;
 #[cfg(feature = "imu-error-states")]
 mod propagate;
@@ -210,6 +212,9 @@ pub struct ImuErrorStates {
     /// Whether `P_εε` may have changed since the variance protection last read it: only an
     /// update (or a new prior) changes it, its propagation keeps it (`ε̇ = 0`).
     variances_changed: bool,
+    /// Whether the model is enabled ([`ImuErrorModel::is_enabled`], kept: the filter asks at
+    /// every step).
+    enabled: bool,
 }
 
 #[cfg(feature = "imu-error-states")]
@@ -301,6 +306,7 @@ impl ImuErrorStates {
         scratch: Scratch::EMPTY,
         frozen: [false; GROUPS],
         variances_changed: false,
+        enabled: false,
     };
 
     /// On an [`Self::EMPTY`] border, in place: the model and its prior
@@ -308,6 +314,7 @@ impl ImuErrorStates {
     /// validated `model`.
     pub(crate) fn start(&mut self, model: ImuErrorModel) {
         self.model = model;
+        self.enabled = model.is_enabled();
         self.variances_changed = true;
         for half in &mut self.halves {
             model.write_prior(&mut half.covariance);
@@ -320,8 +327,9 @@ impl ImuErrorStates {
     }
 
     /// Whether the states are in use.
+    #[inline]
     pub fn is_enabled(&self) -> bool {
-        self.model.is_enabled()
+        self.enabled
     }
 
     /// `ε̂` ([`crate::imu_error::ImuErrorBlock`] order).
@@ -599,6 +607,39 @@ impl ImuErrorStates {
     /// Never.
     pub fn fed_back(&self, corrections: &ImuErrorEstimate) -> Result<ImuErrorEstimate, NavError> {
         Ok(*corrections)
+    }
+}
+
+impl crate::block_interface::OptionalModel for ImuErrorModel {
+    const OFF: Self = Self::DISABLED;
+
+    fn in_use(&self) -> bool {
+        self.is_enabled()
+    }
+
+    fn check(&self) -> Result<(), NavError> {
+        self.validate()
+    }
+
+    fn write_prior_variances(&self, variances: &mut [f64]) {
+        for (slot, variance) in variances.iter_mut().zip(self.prior_variances()) {
+            *slot = variance;
+        }
+    }
+}
+
+/// Compiled out: never in use.
+#[cfg(not(feature = "imu-error-states"))]
+impl crate::block_interface::OptionalStates for ImuErrorStates {
+    type Model = ImuErrorModel;
+    const FIRST_BLOCK: OptionalBlock = OptionalBlock::GyroNonOrthogonality;
+    const DIMENSION: usize = IMU_ERROR_DIMENSION;
+    const EMPTY: Self = Self;
+
+    fn start(&mut self, _model: ImuErrorModel) {}
+
+    fn in_use(&self) -> bool {
+        false
     }
 }
 

@@ -13,7 +13,7 @@ impl ImuErrorStates {
     fn groups(block: OptionalBlock) -> core::ops::Range<usize> {
         let first = OptionalBlock::GyroNonOrthogonality.index();
         match block.index().checked_sub(first) {
-            Some(offset) if block != OptionalBlock::GnssError => {
+            Some(offset) if offset < IMU_ERROR_DIMENSION => {
                 offset / 3..(offset + block.dimension()) / 3
             }
             _ => 0..0,

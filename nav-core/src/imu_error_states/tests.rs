@@ -551,7 +551,7 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         let star = case % 3 == 1;
         let mut measurement = random_measurement(&mut rng, star, case % 2 == 1);
         if !star {
-            measurement.gnss_error_coefficient =
+            measurement.border_coefficient =
                 RECEIVER.position_coefficient(rng.random_range(0.0..0.1));
         }
         let frozen = if case % 4 == 0 {
@@ -563,7 +563,7 @@ fn with_both_borders_propagation_and_update_equal_the_dense_39_state_filter() {
         h.fixed_view_mut::<3, 24>(0, 0)
             .copy_from(&measurement.jacobian);
         for k in 0..3 {
-            h[(k, 24 + k)] = measurement.gnss_error_coefficient;
+            h[(k, 24 + k)] = measurement.border_coefficient;
         }
         let x = whole_state(&prior);
         let innovation = measurement.residual - h * x;

@@ -22,6 +22,7 @@ impl ImuErrorStates {
     /// With a frozen group, or the GNSS border frozen, the values of the moving border are
     /// corrected afterwards ([`apply_frozen`], out of line: a nominal flight never runs it),
     /// so the update's own loops are those of a border that moves.
+    #[inline(always)]
     pub(crate) fn prepare_update(
         &mut self,
         jacobian: (&MeasurementJacobian, &[bool; STATE_DIMENSION / 3]),

@@ -48,8 +48,9 @@
 //! formed: `P_dd` gets `(U_{d,bg} + q_g E_g) E_gᵀ`, which is `U_{d,bg} E_gᵀ + q_g E_g E_gᵀ`
 //! (`U_{d,bg}` folded with the scale factor as above), likewise for the accelerometer. Only
 //! the bias random walks' `Qd` is formed block by block.
-//! States beside the 24 whose transition columns are `E M` (the systematic IMU error states,
-//! [`crate::imu_error_states`]: `ε`, cross-covariance `C = P_xε`) fold in the same way. In
+//! States beside the 24 whose transition columns are `E M` (a bias border of the optional
+//! blocks, [`crate::state::OptionalBlock`]: `ε`, cross-covariance `C = P_xε`) fold in the
+//! same way. In
 //! the bordered product `[F, E M] [[P, C], [Cᵀ, P_εε]]` the 24 columns are
 //! `U = [Φ E] P + E M Cᵀ`: column `j`'s folded bias rows gain `M C_jᵀ`; the border's columns
 //! are the new `C⁺_d`; and the new `P_dd = U [Φ E]ᵀ + C⁺_d Mᵀ E_dᵀ + Qd_dd`: row `r` of `U`'s
@@ -234,7 +235,7 @@ pub(crate) type StateRows = [Row; STATE_DIMENSION];
 pub(crate) type BiasInput = [f64; 6];
 
 /// What states beside the 24 whose transition columns are `E M` (bias columns of `F` times a
-/// map `M`: the systematic IMU error states, [`crate::imu_error_states`]) add to the
+/// map `M`: a bias border of the optional blocks, [`crate::state::OptionalBlock`]) add to the
 /// propagation (module docs, "Propagation"): with `C` their cross-covariance and `C⁺` its
 /// propagated value, `U` gains `E M Cᵀ` and the new `P_dd` gains `C⁺_d Mᵀ E_dᵀ`. Both are
 /// additions to the folded bias inputs the kernels already multiply by `E`.

@@ -87,8 +87,8 @@ impl StructuredModel {
     /// Rows (ϑ, δp, δv) of `F C + E X` for a 24×3 matrix `C` given by its rows (the
     /// calibration rows of `F C` are those of `C`): `Φ C_d + E_g (C_bg + diag(ω_m) C_λg +
     /// X_g) + E_a (C_ba + diag(f_m) C_λa + X_a)`, [`StructuredModel::propagate_state`] for
-    /// three columns at once, by blocks (the borders' cross-covariances,
-    /// [`crate::gnss_error`], [`crate::imu_error_states`]). `bias_inputs`, `X = (X_g, X_a)`
+    /// three columns at once, by blocks (the optional blocks' cross-covariances,
+    /// [`crate::state::OptionalBlock`]). `bias_inputs`, `X = (X_g, X_a)`
     /// (rows the sensor axes, columns those of `C`), is the part `E X` of columns driven
     /// through the bias columns (a border's `Γ = E M`); `None` is `X = 0` (nothing added).
     pub(crate) fn propagate_rows(

@@ -21,7 +21,7 @@ impl<'a> ObservedCovariance<'a> {
         products: &'a mut StateRows,
         (jacobian, observed): (&MeasurementJacobian, &[bool; BLOCKS]),
         p: &CovarianceMatrix,
-        border: Option<(&StateRows, &crate::gnss_error::Border)>,
+        border: Option<(&StateRows, &crate::block_interface::MeasuredBorder)>,
     ) -> Self {
         for (block, _) in observed.iter().enumerate().filter(|(_, o)| **o) {
             if let Some([c0, c1, c2]) = jacobian.data.0.get(3 * block..3 * block + 3) {
@@ -92,13 +92,13 @@ impl<'a> ObservedCovariance<'a> {
 /// The number of 3-state blocks.
 pub(crate) const BLOCKS: usize = STATE_DIMENSION / 3;
 
-/// Adds the correlated-GNSS-error border ([`crate::gnss_error`]): `h_ε C_j` to each
+/// Adds the measured border (a block a measurement sees directly): `h_ε C_j` to each
 /// `M_j` and the border's terms to `H P Hᵀ`.
 fn add_border(
     products: &mut StateRows,
     projected: &mut Block,
     cross: &StateRows,
-    border: &crate::gnss_error::Border,
+    border: &crate::block_interface::MeasuredBorder,
 ) {
     for (product, c) in products.iter_mut().zip(cross) {
         *product = block::row_add_scaled(*product, *c, border.coefficient);

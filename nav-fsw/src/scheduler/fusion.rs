@@ -256,7 +256,7 @@ impl NavigationComputer {
         self.arithmetic
             .refer_to_later_time(measurement, &point, latency_s)?;
         if aid == Aid::GnssPosition {
-            measurement.gnss_error_coefficient = self
+            measurement.border_coefficient = self
                 .config
                 .filter
                 .gnss_error

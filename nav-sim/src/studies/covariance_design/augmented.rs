@@ -240,7 +240,7 @@ impl AugmentedCovariance {
             .copy_from(&linear.jacobian);
         if self.gnss.is_some() {
             for axis in 0..3 {
-                h[(axis, GNSS + axis)] = linear.gnss_error_coefficient;
+                h[(axis, GNSS + axis)] = linear.border_coefficient;
             }
         }
         let noise = linear.noise_covariance;

@@ -80,7 +80,7 @@ fn structured_border_update_equals_the_dense_27_state_update() {
         let prior = bordered_filter(&mut rng, FilterMode::OpenLoop);
         let mut measurement = random_measurement(&mut rng, star, referred);
         if !star && referred {
-            measurement.gnss_error_coefficient =
+            measurement.border_coefficient =
                 RECEIVER.position_coefficient(rng.random_range(0.0..0.1));
         }
         let frozen = if case % 4 == 0 {

@@ -30,7 +30,10 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 #[cfg(feature = "gnss-error-states")]
 use crate::block::{self, dot, row_add, row_scale, FiniteCheck, ZERO};
+#[cfg(feature = "gnss-error-states")]
 use crate::block::{Block, Row};
+#[cfg(feature = "gnss-error-states")]
+use crate::block_interface::MeasuredBorder;
 #[cfg(feature = "gnss-error-states")]
 use crate::measurement::MeasurementJacobian;
 #[cfg(feature = "gnss-error-states")]
@@ -155,17 +158,6 @@ impl PartialEq for GnssErrorStates {
     }
 }
 
-/// What an update adds to the 24-state quantities, and the border's own products.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Border {
-    /// `h_ε`.
-    pub(crate) coefficient: f64,
-    /// `h_ε (G + Gᵀ) + h_ε² P_εε`, added to `S`.
-    pub(crate) projected: Block,
-    /// Rows of `M_ε = Gᵀ + h_ε P_εε`.
-    pub(crate) products: [Row; 3],
-}
-
 #[cfg(feature = "gnss-error-states")]
 impl GnssErrorStates {
     /// The prior: `ε̂ = 0`, `P_εε = σ² I`, `C = 0` (all zero when the model is white).
@@ -174,16 +166,27 @@ impl GnssErrorStates {
     /// As [`GnssErrorModel::validate`].
     pub fn new(model: GnssErrorModel) -> Result<Self, NavError> {
         model.validate()?;
+        let mut states = Self::EMPTY;
+        states.start(model);
+        Ok(states)
+    }
+
+    /// Everything zero, the model white.
+    const EMPTY: Self = Self {
+        model: GnssErrorModel::WHITE,
+        estimate: [0.0; 3],
+        covariance: ZERO,
+        buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
+        second_active: false,
+        pending: (ZERO, [0.0; 3]),
+        frozen: false,
+    };
+
+    /// On [`Self::EMPTY`] states: the model and its prior `P_εε = σ² I`.
+    fn start(&mut self, model: GnssErrorModel) {
         let variance = model.sigma_m * model.sigma_m;
-        Ok(Self {
-            model,
-            estimate: [0.0; 3],
-            covariance: block::scale(&block::IDENTITY, variance),
-            buffers: [[[0.0; 3]; STATE_DIMENSION]; 2],
-            second_active: false,
-            pending: (block::ZERO, [0.0; 3]),
-            frozen: false,
-        })
+        self.model = model;
+        self.covariance = block::scale(&block::IDENTITY, variance);
     }
 
     /// The model.
@@ -199,11 +202,6 @@ impl GnssErrorStates {
     /// Whether the block is frozen (its gain rows zero in every update).
     pub fn is_frozen(&self) -> bool {
         self.frozen
-    }
-
-    /// Freezes the block or releases it.
-    pub(crate) fn set_frozen(&mut self, frozen: bool) {
-        self.frozen = frozen;
     }
 
     /// `ε̂` (m, launch-inertial axes).
@@ -357,7 +355,7 @@ impl GnssErrorStates {
         jacobian: &MeasurementJacobian,
         observed: &[bool; STATE_DIMENSION / 3],
         coefficient: f64,
-    ) -> Border {
+    ) -> MeasuredBorder {
         // G = Σ_K H_K C_K over the 3×3 blocks K of H that are not all zero (a star or GNSS
         // measurement has two to five of the eight).
         let mut g = ZERO;
@@ -385,16 +383,12 @@ impl GnssErrorStates {
             )
         };
         let products = block::add_scaled(&g_transpose, &self.covariance, coefficient);
-        Border {
+        MeasuredBorder {
             coefficient,
             projected,
             products,
+            frozen: self.frozen,
         }
-    }
-
-    /// `h_ε C_j` for row `j` (added to `M_x`).
-    pub(crate) fn cross_rows(&self) -> &StateRows {
-        self.rows()
     }
 
     /// `h_ε ε̂` (subtracted from the innovation).
@@ -414,7 +408,7 @@ impl GnssErrorStates {
     /// the formulas below give with `K_ε = 0`.
     pub(crate) fn updated(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
@@ -458,7 +452,7 @@ impl GnssErrorStates {
     /// values add up).
     fn update_cross(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         (gains, products, frozen): (&StateRows, &StateRows, &BlockMask),
         border_gains: &[Row; 3],
     ) -> bool {
@@ -518,7 +512,7 @@ impl GnssErrorStates {
     /// if a value is not finite (nothing changed but the spare buffer).
     pub(crate) fn prepare_update(
         &mut self,
-        border: &Border,
+        border: &MeasuredBorder,
         core: (&StateRows, &StateRows, &BlockMask),
         solve: impl Fn(Row) -> Row,
         innovation: Row,
@@ -642,6 +636,7 @@ impl GnssErrorStates {
     }
 }
 
+mod interface;
+
 #[cfg(all(test, feature = "gnss-error-states"))]
-#[path = "gnss_error_tests.rs"]
 mod tests;
