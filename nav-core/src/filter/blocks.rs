@@ -401,12 +401,48 @@ fn optional_states<T: OptionalStates>() -> core::ops::Range<usize> {
     states.start.saturating_sub(STATE_DIMENSION)..states.end.saturating_sub(STATE_DIMENSION)
 }
 
-#[cfg(test)]
+/// What the optional blocks that are calibration keep across a restart that keeps the
+/// calibration: the systematic IMU errors' estimate and their covariance bounded for the
+/// dropped correlation with navigation (`None` when they are not flown).
+pub(super) struct KeptOptionalCalibration {
+    imu: Option<(
+        nalgebra::SVector<f64, { crate::imu_error::IMU_ERROR_DIMENSION }>,
+        crate::imu_error_states::ImuErrorCovariance,
+    )>,
+}
+
 impl ErrorStateFilter {
-    /// The systematic IMU error states, for the crate's tests.
+    /// The systematic IMU error states, written by their restart and record code.
     pub(crate) fn imu_error_mut(&mut self) -> &mut crate::imu_error_states::ImuErrorStates {
         &mut self.blocks.imu
     }
+
+    /// What [`Self::keep_optional_calibration`] puts back after a restart.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::imu_error_covariance_for_restart`]; nothing changes.
+    pub(super) fn optional_calibration_for_restart(
+        &self,
+        config: &FilterConfig,
+    ) -> Result<KeptOptionalCalibration, NavError> {
+        let imu = self
+            .imu_error_covariance_for_restart(config)?
+            .map(|covariance| (self.blocks.imu.estimate(), covariance));
+        Ok(KeptOptionalCalibration { imu })
+    }
+
+    /// The kept calibration blocks installed on restarted blocks.
+    pub(super) fn keep_optional_calibration(&mut self, kept: &KeptOptionalCalibration) {
+        if let Some((estimate, covariance)) = &kept.imu {
+            // The bound keeps the whole calibration block positive definite, so the check
+            // cannot fail (were it to, the states would stay at their prior: conservative).
+            let _ = self.install_imu_error(estimate, covariance);
+        }
+    }
+}
+
+#[cfg(test)]
+impl ErrorStateFilter {
 
     /// The correlated GNSS error states, for the crate's tests.
     pub(crate) fn gnss_error_mut(&mut self) -> &mut crate::gnss_error::GnssErrorStates {

@@ -239,10 +239,10 @@ impl ErrorStateFilter {
     /// sensors' calibration is still trusted): the navigation part of `x` becomes zero, `P`'s
     /// navigation rows and columns become the prior's (no correlation with the calibration),
     /// the calibration part of `x` is kept, its block of `P` becomes
-    /// [`Self::calibration_covariance_for_restart`]'s. The systematic IMU error states, flown,
-    /// are calibration too: their estimate is kept and their covariance becomes
-    /// [`Self::imu_error_covariance_for_restart`]'s; the correlated GNSS error states start
-    /// again from their prior, as in [`Self::restart`]. The mode stays `config`'s.
+    /// [`Self::calibration_covariance_for_restart`]'s. An optional block that is calibration
+    /// keeps its estimate and its covariance bounded in the same way (`filter/blocks.rs`,
+    /// `optional_calibration_for_restart`); the others start again from their prior, as in
+    /// [`Self::restart`]. The mode stays `config`'s.
     ///
     /// # Errors
     /// As [`Self::restart`], and as [`Self::calibration_covariance_for_restart`]; nothing
@@ -271,8 +271,7 @@ impl ErrorStateFilter {
     pub fn restart_keeping_calibration(&mut self, config: &FilterConfig) -> Result<(), NavError> {
         config.validate()?;
         let calibration = self.calibration_block_for_restart(config)?;
-        let imu_error = self.imu_error_covariance_for_restart(config)?;
-        let imu_error_estimate = self.blocks.imu.estimate();
+        let kept = self.optional_calibration_for_restart(config)?;
         for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
             for (row, entry) in entries.iter_mut().enumerate() {
                 let at = (
@@ -290,12 +289,7 @@ impl ErrorStateFilter {
         }
         self.mode = config.mode;
         self.restart_optional_blocks(config);
-        if let Some(imu_error) = imu_error {
-            // The systematic IMU errors are calibration: estimate and bounded covariance kept.
-            // The bound keeps the whole calibration block positive definite, so the check
-            // cannot fail (were it to, they would stay at their prior: conservative).
-            let _ = self.install_imu_error(&imu_error_estimate, &imu_error);
-        }
+        self.keep_optional_calibration(&kept);
         self.set_initial_navigation_covariance(config);
         Ok(())
     }
@@ -319,7 +313,7 @@ impl ErrorStateFilter {
     }
 
     /// `block` as the calibration block of `P`, its correlation with navigation zero.
-    pub(super) fn write_calibration_block(&mut self, block: &CalibrationCovariance) {
+    pub(crate) fn write_calibration_block(&mut self, block: &CalibrationCovariance) {
         for (column, entries) in self.covariance.data.0.iter_mut().enumerate() {
             for (row, entry) in entries.iter_mut().enumerate() {
                 let calibration = (
@@ -347,7 +341,7 @@ impl ErrorStateFilter {
 
 /// The error states' dimensions as the restart's bound splits them.
 type NavigationBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, DYNAMIC_DIMENSION>;
-pub(super) type CrossBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>;
+pub(crate) type CrossBlock = nalgebra::SMatrix<f64, DYNAMIC_DIMENSION, CALIBRATION_DIMENSION>;
 
 impl ErrorStateFilter {
     /// The calibration block of `P` for a restart that puts the navigation states back at
@@ -407,7 +401,7 @@ impl ErrorStateFilter {
 
 impl ErrorStateFilter {
     /// `P_nc`: the navigation states' covariance with the core calibration states.
-    pub(super) fn navigation_calibration_cross(&self) -> CrossBlock {
+    pub(crate) fn navigation_calibration_cross(&self) -> CrossBlock {
         let p = &self.covariance;
         CrossBlock::from_fn(|i, j| {
             p.get((i, DYNAMIC_DIMENSION + j))
@@ -422,7 +416,7 @@ impl ErrorStateFilter {
     ///
     /// # Errors
     /// [`NavError::InvalidConfiguration`] for a prior that is not positive definite.
-    pub(super) fn restart_margin(
+    pub(crate) fn restart_margin(
         &self,
         config: &FilterConfig,
     ) -> Result<nalgebra::Cholesky<f64, nalgebra::Const<DYNAMIC_DIMENSION>>, NavError> {
@@ -454,7 +448,7 @@ impl ErrorStateFilter {
 /// # Errors
 /// [`NavError::NonFiniteState`] for a non-finite entry, [`NavError::InvalidConfiguration`]
 /// for a matrix that is not positive definite.
-pub(super) fn calibration_block_from_lower(
+pub(crate) fn calibration_block_from_lower(
     lower: &[f64; CALIBRATION_LOWER_TRIANGLE],
 ) -> Result<CalibrationCovariance, NavError> {
     if !lower.iter().all(|value| value.is_finite()) {
@@ -495,7 +489,7 @@ fn lower_triangle(
 }
 
 /// The calibration block of `P` (15×15).
-pub(super) type CalibrationCovariance =
+pub(crate) type CalibrationCovariance =
     nalgebra::SMatrix<f64, CALIBRATION_DIMENSION, CALIBRATION_DIMENSION>;
 
 /// Entries of the calibration block's lower triangle (diagonal included).

@@ -35,7 +35,6 @@ pub use blocks::FilterConfig;
 pub use config::InitialUncertainty;
 pub use covariance::CALIBRATION_LOWER_TRIANGLE;
 pub use optional::OptionalVarianceBounds;
-pub use restart::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
 
 /// The 24-element error-state vector.
 pub type ErrorState = SVector<f64, STATE_DIMENSION>;
@@ -683,13 +682,12 @@ fn symmetrised3(matrix: &Matrix3<f64>) -> Matrix3<f64> {
 
 mod blocks;
 mod config;
-mod covariance;
+pub(crate) mod covariance;
 #[cfg(any(test, feature = "dense-reference"))]
 mod dense;
 mod optional;
 #[cfg(test)]
 mod optional_tests;
-mod restart;
 #[cfg(test)]
 mod restart_tests;
 #[cfg(test)]

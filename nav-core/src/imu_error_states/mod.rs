@@ -63,6 +63,7 @@ use crate::NavError;
 #[cfg(feature = "imu-error-states")]
 mod interface;
 mod prior;
+mod restart;
 #[cfg(feature = "imu-error-states")]
 mod propagate;
 #[cfg(feature = "imu-error-states")]
@@ -71,6 +72,7 @@ mod protect;
 mod update;
 
 pub use prior::PriorCovariance;
+pub use restart::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
 
 /// Number of 3-column groups of the border (`C` is kept as four 24×3 matrices, the shape
 /// the structured propagation takes).

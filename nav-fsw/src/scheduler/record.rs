@@ -5,7 +5,7 @@ use super::*;
 use crate::calibration_record::{
     configuration_fingerprint, CalibrationRecord, RecordError, CALIBRATION_RECORD_BYTES,
 };
-use nav_core::filter::ImuErrorCovariance;
+use nav_core::imu_error_states::ImuErrorCovariance;
 
 impl NavigationComputer {
     /// The calibration earned so far as a record (its bytes: [`CalibrationRecord::to_bytes`]):

@@ -6,9 +6,8 @@
 
 use nalgebra::SMatrix;
 
-use super::covariance::{CalibrationCovariance, CrossBlock};
-use super::ErrorStateFilter;
-use super::FilterConfig;
+use crate::filter::covariance::{calibration_block_from_lower, CalibrationCovariance, CrossBlock};
+use crate::filter::{ErrorStateFilter, FilterConfig, CALIBRATION_LOWER_TRIANGLE};
 use crate::imu_error::IMU_ERROR_DIMENSION;
 use crate::state::{CALIBRATION_DIMENSION, DYNAMIC_DIMENSION, STATE_DIMENSION};
 use crate::NavError;
@@ -100,7 +99,7 @@ impl ErrorStateFilter {
         &self,
         config: &FilterConfig,
     ) -> Result<Option<ImuErrorCovariance>, NavError> {
-        let states = &self.blocks.imu;
+        let states = self.imu_error();
         if !states.is_enabled() {
             return Ok(None);
         }
@@ -137,7 +136,7 @@ impl ErrorStateFilter {
     /// calibration block (the core block of `P` now, and `value`) is not positive definite;
     /// [`NavError::NonFiniteState`] for a non-finite entry. Nothing changes then.
     pub fn set_imu_error_covariance(&mut self, value: &ImuErrorCovariance) -> Result<(), NavError> {
-        let estimate = self.blocks.imu.estimate();
+        let estimate = self.imu_error().estimate();
         self.install_imu_error(&estimate, value)
     }
 
@@ -150,35 +149,31 @@ impl ErrorStateFilter {
     /// As those two; nothing changes then.
     pub fn set_calibration_and_imu_error_covariance(
         &mut self,
-        lower: &[f64; super::CALIBRATION_LOWER_TRIANGLE],
+        lower: &[f64; CALIBRATION_LOWER_TRIANGLE],
         imu_error: &ImuErrorCovariance,
     ) -> Result<(), NavError> {
-        let block = super::covariance::calibration_block_from_lower(lower)?;
+        let block = calibration_block_from_lower(lower)?;
         let cross = self.checked_imu_error(&block, imu_error)?;
         self.write_calibration_block(&block);
-        let estimate = self.blocks.imu.estimate();
-        self.blocks
-            .imu
-            .set(&estimate, &imu_error.imu_error_block(), &cross);
+        let estimate = self.imu_error().estimate();
+        self.imu_error_mut().set(&estimate, &imu_error.imu_error_block(), &cross);
         Ok(())
     }
 
     /// [`Self::set_imu_error_covariance`] with the estimate `ε̂ = estimate`.
-    pub(super) fn install_imu_error(
+    pub(crate) fn install_imu_error(
         &mut self,
         estimate: &nalgebra::SVector<f64, IMU_ERROR_DIMENSION>,
         value: &ImuErrorCovariance,
     ) -> Result<(), NavError> {
-        let p = &self.covariance;
+        let p = self.covariance();
         let calibration = CalibrationCovariance::from_fn(|i, j| {
             p.get((DYNAMIC_DIMENSION + i, DYNAMIC_DIMENSION + j))
                 .copied()
                 .unwrap_or(f64::NAN)
         });
         let cross = self.checked_imu_error(&calibration, value)?;
-        self.blocks
-            .imu
-            .set(estimate, &value.imu_error_block(), &cross);
+        self.imu_error_mut().set(estimate, &value.imu_error_block(), &cross);
         Ok(())
     }
 
@@ -189,7 +184,7 @@ impl ErrorStateFilter {
         calibration: &CalibrationCovariance,
         value: &ImuErrorCovariance,
     ) -> Result<SMatrix<f64, STATE_DIMENSION, IMU_ERROR_DIMENSION>, NavError> {
-        if !self.blocks.imu.is_enabled() {
+        if !self.imu_error().is_enabled() {
             return Err(NavError::InvalidConfiguration);
         }
         if !value.is_finite() {
