@@ -24,9 +24,9 @@
 use crc::{Crc, CRC_32_ISO_HDLC};
 use nalgebra::{SVector, Vector3};
 use nav_core::filter::{CalibrationEstimate, CALIBRATION_LOWER_TRIANGLE};
-use nav_core::imu_error_states::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
 use nav_core::imu_error::ImuErrorEstimate;
 use nav_core::imu_error::IMU_ERROR_DIMENSION;
+use nav_core::imu_error_states::{ImuErrorCovariance, IMU_ERROR_LOWER_TRIANGLE};
 use nav_core::state::CALIBRATION_DIMENSION;
 
 use crate::config::{FswConfig, Param};

@@ -443,7 +443,6 @@ impl ErrorStateFilter {
 
 #[cfg(test)]
 impl ErrorStateFilter {
-
     /// The correlated GNSS error states, for the crate's tests.
     pub(crate) fn gnss_error_mut(&mut self) -> &mut crate::gnss_error::GnssErrorStates {
         &mut self.blocks.gnss

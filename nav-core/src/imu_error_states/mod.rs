@@ -63,11 +63,11 @@ use crate::NavError;
 #[cfg(feature = "imu-error-states")]
 mod interface;
 mod prior;
-mod restart;
 #[cfg(feature = "imu-error-states")]
 mod propagate;
 #[cfg(feature = "imu-error-states")]
 mod protect;
+mod restart;
 #[cfg(feature = "imu-error-states")]
 mod update;
 

@@ -156,7 +156,8 @@ impl ErrorStateFilter {
         let cross = self.checked_imu_error(&block, imu_error)?;
         self.write_calibration_block(&block);
         let estimate = self.imu_error().estimate();
-        self.imu_error_mut().set(&estimate, &imu_error.imu_error_block(), &cross);
+        self.imu_error_mut()
+            .set(&estimate, &imu_error.imu_error_block(), &cross);
         Ok(())
     }
 
@@ -173,7 +174,8 @@ impl ErrorStateFilter {
                 .unwrap_or(f64::NAN)
         });
         let cross = self.checked_imu_error(&calibration, value)?;
-        self.imu_error_mut().set(estimate, &value.imu_error_block(), &cross);
+        self.imu_error_mut()
+            .set(estimate, &value.imu_error_block(), &cross);
         Ok(())
     }
 

@@ -79,10 +79,17 @@ impl ImuErrorStates {
             scratch.border_gains.as_flattened(),
             scratch.border_products.as_flattened(),
         );
+        // Whole 12-row arrays: the loops' indices are then provably in bounds.
+        let (Some(border_gains), Some(border_products)) = (
+            gains_flat.first_chunk::<IMU_ERROR_DIMENSION>(),
+            products_flat.first_chunk::<IMU_ERROR_DIMENSION>(),
+        ) else {
+            return false;
+        };
         sum += updated_border(
             spare_half,
             (estimate, covariance),
-            (gains_flat, products_flat),
+            (border_gains, border_products),
             innovation,
         );
         // B ← B − K_GNSS M_εᵀ into the spare half.
@@ -202,16 +209,18 @@ fn updated_cross(
 fn updated_border(
     new: &mut Estimate,
     (estimate, covariance): (&[f64; IMU_ERROR_DIMENSION], &BorderMatrix),
-    (gains, products): (&[Row], &[Row]),
+    (gains, products): (&[Row; IMU_ERROR_DIMENSION], &[Row; IMU_ERROR_DIMENSION]),
     innovation: Row,
 ) -> f64 {
     let mut sum = 0.0;
     let rows = new.covariance.iter_mut().zip(covariance.iter());
     for (a, ((new_row, old_row), k_a)) in rows.zip(gains).enumerate() {
-        let entries = new_row.iter_mut().zip(old_row).zip(products).skip(a);
-        for ((new, old), m_b) in entries {
-            *new = old - dot(*k_a, *m_b);
-            sum += *new;
+        for b in a..IMU_ERROR_DIMENSION {
+            let entry = (new_row.get_mut(b), old_row.get(b), products.get(b));
+            if let (Some(new), Some(old), Some(m_b)) = entry {
+                *new = old - dot(*k_a, *m_b);
+                sum += *new;
+            }
         }
         if let Some(value) = new.estimate.get_mut(a) {
             *value = estimate.get(a).copied().unwrap_or(f64::NAN) + dot(*k_a, innovation);
