@@ -207,7 +207,8 @@ impl NavigationComputer {
     /// Pairs the two heads' last measurements if a pair is pending: the alignment's gated
     /// update, its rejections and consistency counted; then, with head 1 active, the
     /// installation is handed back to head 0, which has just been heard. Run in a frame that
-    /// fuses nothing, like the gravity field's share, so that no update frame pays for it.
+    /// fuses nothing, so that no update frame pays for it; under the default frame load in a
+    /// frame of its own, without the covariance propagation (`fuse_or_propagate`).
     pub(super) fn pair_star_heads(&mut self) {
         if !core::mem::take(&mut self.heads.pair_pending) {
             return;
@@ -292,6 +293,11 @@ impl NavigationComputer {
         if alignment.add_process_noise(&walk).is_err() {
             count(&mut self.health.counters.filter_errors);
         }
+    }
+
+    /// Whether the two heads' last measurements wait to be paired.
+    pub(super) fn star_pair_is_pending(&self) -> bool {
+        self.heads.pair_pending
     }
 
     /// Counts a rejected pair and feeds the pairs' NIS and residual mean tests (one

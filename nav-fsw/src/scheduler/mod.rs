@@ -319,7 +319,7 @@ impl NavigationComputer {
         self.frame = self.frame.wrapping_add(1);
         self.navigate(imu.read());
         self.record_snapshot();
-        let fusion = if self.config.covariance.frame_load.defers_propagation() {
+        let (fusion, paired) = if self.config.covariance.frame_load.defers_propagation() {
             self.poll_measurements(star, gnss);
             self.fuse_or_propagate()
         } else {
@@ -327,9 +327,9 @@ impl NavigationComputer {
                 self.propagate_covariance();
             }
             self.poll_measurements(star, gnss);
-            self.fuse_one_due_measurement()
+            (self.fuse_one_due_measurement(), false)
         };
-        if fusion == FrameFusion::None {
+        if fusion == FrameFusion::None && !paired {
             self.inflate_for_second_order_attitude();
             self.pair_star_heads();
             // Only in frames that fuse nothing: a measurement update, the dearest frame, never
@@ -346,17 +346,27 @@ impl NavigationComputer {
     /// if it is due. Not inlined: inlined into the frame loop, its two paths' locals would
     /// both be reserved in the frame loop's stack frame on the Cortex-M7
     /// (docs/guide/performance.md).
+    ///
+    /// A pair of the two star heads' measurements is such work too (the relative alignment's
+    /// update, `heads.rs`): with no measurement due it takes the frame, and the propagation
+    /// waits one frame as it does for a measurement, so a propagation frame, the dearest
+    /// with every optional block, never carries it. Returns the fusion and whether the frame
+    /// paired.
     #[inline(never)]
-    fn fuse_or_propagate(&mut self) -> FrameFusion {
+    fn fuse_or_propagate(&mut self) -> (FrameFusion, bool) {
         let interval = self.config.covariance.propagation_interval_frames;
         let waited = self.covariance.sums.frames > interval;
         if !waited && self.measurement_is_due() {
-            return self.fuse_one_due_measurement();
+            return (self.fuse_one_due_measurement(), false);
+        }
+        if !waited && self.star_pair_is_pending() {
+            self.pair_star_heads();
+            return (FrameFusion::None, true);
         }
         if self.propagation_is_due() {
             self.propagate_covariance();
         }
-        FrameFusion::None
+        (FrameFusion::None, false)
     }
 
     /// Whether `covariance.propagation_interval_frames` frames have passed since the last
