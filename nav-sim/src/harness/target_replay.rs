@@ -335,6 +335,9 @@ pub struct TargetReplayReport {
     pub stack: StackUsage,
     /// Static memory of the image.
     pub memory: ImageMemory,
+    /// Size of the firmware's `NavigationComputer` (bytes): the memory of the blocks its
+    /// build carries; `None` from a firmware that does not report it (the C firmware).
+    pub computer_bytes: Option<u64>,
     /// QEMU wall-clock time.
     pub qemu_wall_time: std::time::Duration,
     /// The first host/target difference, if any.
@@ -396,6 +399,9 @@ impl TargetReplayReport {
             self.memory.flash_bytes,
             self.memory.static_ram_bytes,
         );
+        if let Some(bytes) = self.computer_bytes {
+            text += &format!("NavigationComputer {bytes} bytes (in static RAM)\n");
+        }
         text
     }
 }
@@ -473,15 +479,19 @@ fn run_and_compare(
     let target = output_file_words(&std::fs::read(directory.join("replay-out.bin"))?);
     let host = run_on_host(&std::fs::read(input_path)?)?;
     let stack_words = words_of(&std::fs::read(directory.join("replay-stack.bin"))?);
-    let stack = match stack_words.as_slice() {
-        [high_water_bytes, region_bytes, start_up_bytes] => StackUsage {
-            high_water_bytes: *high_water_bytes,
-            region_bytes: *region_bytes,
-            start_up_bytes: *start_up_bytes,
-        },
+    // Three words from the C firmware, a fourth (the computer's size) from the Rust one.
+    let (stack, computer_bytes) = match stack_words.as_slice() {
+        [high_water_bytes, region_bytes, start_up_bytes, computer @ ..] if computer.len() <= 1 => (
+            StackUsage {
+                high_water_bytes: *high_water_bytes,
+                region_bytes: *region_bytes,
+                start_up_bytes: *start_up_bytes,
+            },
+            computer.first().copied(),
+        ),
         _ => {
             return Err(ReplayError::Input(
-                "replay-stack.bin: expected three words".into(),
+                "replay-stack.bin: expected three or four words".into(),
             ))
         }
     };
@@ -493,6 +503,7 @@ fn run_and_compare(
         costs: cost_statistics(&target),
         stack,
         memory: image_memory(&std::fs::read(elf)?)?,
+        computer_bytes,
         qemu_wall_time,
         difference: first_difference(&host, &target),
         host_output: host,

@@ -9,9 +9,10 @@
 //! word: the frame's cost in instructions (`-icount shift=0`: one instruction = 1 ns). All
 //! words little-endian u64.
 //!
-//! Stack file (`replay-stack.bin`): three little-endian u64 words, in bytes: the stack
+//! Stack file (`replay-stack.bin`): four little-endian u64 words, in bytes: the stack
 //! high-water mark of the frame loop (the stack is repainted after start-up), the size of the
-//! stack region, and the high-water mark of start-up ([`nav_qemu::stack`]).
+//! stack region, the high-water mark of start-up ([`nav_qemu::stack`]) and the size of the
+//! `NavigationComputer`.
 //!
 //! Prints (defmt) `REPLAY frames=… worst=… overruns=… stack=…` and exits 0 when the whole log
 //! was replayed with no frame overrun.
@@ -227,14 +228,16 @@ fn replay(started: Started, systick: SYST, start_up_stack: nav_qemu::stack::Stac
         start_up_stack.high_water_bytes
     );
     drop(output);
-    let mut stack_bytes = [0_u8; 24];
+    let mut stack_bytes = [0_u8; 32];
     let figures = [
-        stack.high_water_bytes,
-        stack.region_bytes,
-        start_up_stack.high_water_bytes,
+        u64::from(stack.high_water_bytes),
+        u64::from(stack.region_bytes),
+        u64::from(start_up_stack.high_water_bytes),
+        // The computer's memory (the blocks this build carries), for the results.
+        u64::try_from(core::mem::size_of::<NavigationComputer>()).unwrap_or(u64::MAX),
     ];
     for (chunk, figure) in stack_bytes.chunks_exact_mut(8).zip(figures) {
-        chunk.copy_from_slice(&u64::from(figure).to_le_bytes());
+        chunk.copy_from_slice(&figure.to_le_bytes());
     }
     let written =
         HostFile::create("replay-stack.bin\0").and_then(|mut file| file.write_all(&stack_bytes));
