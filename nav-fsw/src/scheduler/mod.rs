@@ -386,6 +386,12 @@ impl NavigationComputer {
         self.calibration.manager.frozen_blocks()
     }
 
+    /// What the configuration says the flight will lack (`health::ConfigurationWarnings`):
+    /// constant for a flight, to be reported once at start-up; the counters leave it out.
+    pub fn configuration_warnings(&self) -> crate::health::ConfigurationWarnings {
+        crate::health::ConfigurationWarnings::of(&self.config)
+    }
+
     /// The health counters.
     pub fn health(&self) -> &HealthCounters {
         &self.health.counters
