@@ -245,7 +245,14 @@ mod tests {
         let mut monitor = AberrationMonitor::default();
         let began = (0..2_000)
             .filter(|k| {
-                monitor.observe(&(turning(*k) * 0.25), &covariance, &turning(*k), 256, true, false)
+                monitor.observe(
+                    &(turning(*k) * 0.25),
+                    &covariance,
+                    &turning(*k),
+                    256,
+                    true,
+                    false,
+                )
             })
             .count();
         assert_eq!(began, 1);

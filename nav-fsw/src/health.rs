@@ -389,6 +389,27 @@ mod tests {
         assert!(!correlated.observe(&Vector3::repeat(1.0), &Matrix3::zeros(), 64.0, 0.30));
     }
 
+    /// The paper's configuration has no gravity allowance: a warning (bit 0), and a
+    /// configuration with one has none.
+    #[test]
+    fn a_configuration_without_a_gravity_allowance_warns() {
+        use crate::config::FswConfig;
+        use crate::sensor_frames::SensorFrames;
+        let site = nav_core::frames::LaunchSite {
+            latitude_rad: 0.715,
+            longitude_rad: 1.750,
+            height_m: 1000.0,
+            azimuth_rad: 3.316,
+            earth_axis_ecef: [0.0, 0.0, 1.0],
+        };
+        let mut config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
+        let warnings = ConfigurationWarnings::of(&config);
+        assert!(warnings.gravity_without_allowance);
+        assert_eq!(warnings.bits(), 1);
+        config.gravity.omitted_field_sigma_mps2 = 2.0e-5;
+        assert_eq!(ConfigurationWarnings::of(&config).bits(), 0);
+    }
+
     /// Every consistency flag names a counter.
     #[test]
     fn every_consistency_flag_is_a_counter() {

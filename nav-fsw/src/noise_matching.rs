@@ -333,7 +333,8 @@ mod tests {
         let configured = [10.0 * ARCSEC; 3];
         let mut normal = normal_source(0x5eed_0000_d1f7_0001);
         let mut matching = NoiseMatching::default();
-        let variance = [0.2 * (5.0 * ARCSEC) * (5.0 * ARCSEC) + 0.25 * configured[0] * configured[0]; 3];
+        let variance =
+            [0.2 * (5.0 * ARCSEC) * (5.0 * ARCSEC) + 0.25 * configured[0] * configured[0]; 3];
         for k in 0..3_000 {
             let phase = 2.0 * core::f64::consts::PI * f64::from(k) / 300.0;
             let offset = 15.0 * ARCSEC * libm::sin(phase);
@@ -341,8 +342,18 @@ mod tests {
                 let wander = if i == 0 { offset } else { 0.0 };
                 wander + normal() * nav_core::float::sqrt(variance[i])
             });
-            let nis: f64 = (0..3).map(|i| innovation[i] * innovation[i] / variance[i]).sum();
-            matching.observe(&innovation, &variance, &configured, nis, nis < GATE, GATE, 256);
+            let nis: f64 = (0..3)
+                .map(|i| innovation[i] * innovation[i] / variance[i])
+                .sum();
+            matching.observe(
+                &innovation,
+                &variance,
+                &configured,
+                nis,
+                nis < GATE,
+                GATE,
+                256,
+            );
             // The consistency monitor fails on such a stream after some tens of measurements.
             if k >= 256 {
                 assert!(!matching.engage(&configured), "measurement {k}");
@@ -350,7 +361,6 @@ mod tests {
         }
         assert!(!matching.engaged());
     }
-
 
     /// Before it is engaged the averages change nothing; a non-finite innovation is not
     /// entered; `clear` forgets everything.

@@ -392,6 +392,12 @@ impl NavigationComputer {
         crate::health::ConfigurationWarnings::of(&self.config)
     }
 
+    /// The velocity aberration test's state (its statistic, fraction and twin in their own
+    /// σ; nav-fsw `aberration_monitor`).
+    pub fn aberration_monitor(&self) -> &crate::aberration_monitor::AberrationMonitor {
+        &self.star_aberration
+    }
+
     /// The health counters.
     pub fn health(&self) -> &HealthCounters {
         &self.health.counters

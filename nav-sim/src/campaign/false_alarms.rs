@@ -140,7 +140,10 @@ mod tests {
     fn the_interval_has_its_closed_forms() {
         let [lower, upper] = clopper_pearson_95(0, 100);
         assert_eq!(lower, 0.0);
-        assert!((upper - (1.0 - 0.025_f64.powf(0.01))).abs() < 1e-9, "{upper}");
+        assert!(
+            (upper - (1.0 - 0.025_f64.powf(0.01))).abs() < 1e-9,
+            "{upper}"
+        );
         let [lower, upper] = clopper_pearson_95(100, 100);
         assert!((lower - 0.025_f64.powf(0.01)).abs() < 1e-9, "{lower}");
         assert_eq!(upper, 1.0);

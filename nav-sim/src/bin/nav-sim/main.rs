@@ -12,8 +12,8 @@ use clap::{Parser, Subcommand};
 mod commands;
 
 use commands::{
-    benefit, calibrate, design, false_alarms, faults, gravity_omission, ground_constants, log, merge,
-    monte_carlo, observability, replay, scenario, target_bench, telemetry,
+    benefit, calibrate, design, false_alarms, faults, gravity_omission, ground_constants, log,
+    merge, monte_carlo, observability, replay, scenario, target_bench, telemetry,
 };
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
