@@ -49,15 +49,16 @@ pub fn clopper_pearson_95(raised: u64, runs: u64) -> [f64; 2] {
     }
     let (k, n) = (raised as f64, runs as f64);
     let quantile = |a: f64, b: f64, p: f64| Beta::new(a, b).map_or(f64::NAN, |d| d.inverse_cdf(p));
-    let lower = if raised == 0 {
-        0.0
-    } else {
-        quantile(k, n - k + 1.0, 0.025)
+    // At the ends the Beta quantiles have closed forms: Beta(1, n) and Beta(n, 1).
+    let lower = match raised {
+        0 => 0.0,
+        _ if raised == runs => 0.025_f64.powf(1.0 / n),
+        _ => quantile(k, n - k + 1.0, 0.025),
     };
-    let upper = if raised == runs {
-        1.0
-    } else {
-        quantile(k + 1.0, n - k, 0.975)
+    let upper = match raised {
+        0 => 1.0 - 0.025_f64.powf(1.0 / n),
+        _ if raised == runs => 1.0,
+        _ => quantile(k + 1.0, n - k, 0.975),
     };
     [lower, upper]
 }
