@@ -228,7 +228,11 @@ impl ConfigurationWarnings {
 
     /// One bit per warning (bit 0: [`Self::gravity_without_allowance`]), for telemetry.
     pub const fn bits(&self) -> u32 {
-        self.gravity_without_allowance as u32
+        if self.gravity_without_allowance {
+            1
+        } else {
+            0
+        }
     }
 }
 
