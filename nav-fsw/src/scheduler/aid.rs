@@ -199,12 +199,14 @@ impl NavigationComputer {
     /// (counted once per declaration).
     ///
     /// Once a run of the sensor has been blamed on the inertial solution
-    /// ([`AidingSensor::inertial_blamed`]), each later rejection widens the inertial
-    /// uncertainty at once by its own NIS over 3, capped at the gate
+    /// ([`AidingSensor::inertial_blamed`]), the first rejection of each later run, and every
+    /// rejection of a run that began while the sensor's innovations failed their consistency
+    /// test, widens the inertial uncertainty at once by its own NIS over 3, capped at the gate
     /// ([`NavigationComputer::widen_inertial_blocks`]), not after a run: the evidence has
     /// pointed at the inertial solution, whose error (a g-sensitivity in each burn) would
-    /// otherwise have the healthy sensor's measurements refused a run at a time. The run goes
-    /// on counting, so a fault of the sensor still reaches the blame after
+    /// otherwise have the healthy sensor's measurements refused a run at a time. A step in the
+    /// sensor while its innovations are consistent widens once (its first rejection) and
+    /// goes on counting, so it is still declared faulty after
     /// `timing.rejections_to_declare_faulty`.
     pub(super) fn note_rejection(&mut self, aid: Aid) {
         let limit = self.config.timing.rejections_to_declare_faulty;
@@ -219,7 +221,7 @@ impl NavigationComputer {
         if state.faulty {
             return;
         }
-        if state.inertial_blamed {
+        if state.inertial_blamed && (first || state.run_began_inconsistent) {
             let nis = self.statistics(aid).last_nis.min(self.gate_nis(aid));
             self.widen_inertial_blocks(sensor, nis, &[]);
         }
