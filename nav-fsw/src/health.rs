@@ -283,8 +283,8 @@ impl OutageMonitor {
 /// fixes, the longest shipped. For a false-alarm rate per flight below `α_f` the union bound
 /// over the fixes asks `P(c > r) ≤ α_f / n` at each; with `α_f` = 1e-3 (a tenth of the 1 %
 /// an operator can act on, the rest for what the Gaussian approximation leaves out: `c` is a
-/// sum of some `2W − 1` products of normals, whose tail is heavier than the normal's, about
-/// 1.8 times at 4.5σ in a 4e6-fix simulation) that is 1.5e-8, 5.5σ. The default
+/// sum of some `2W − 1` products of normals, whose tail is heavier than the normal's) that is
+/// 1.5e-8, 5.5σ. The default
 /// `r` = 0.30 is 5.86σ: 2.3e-9 per fix, 1.6e-4 per flight before the tail's excess.
 /// Errors correlated beyond the model's keep `c` near their lag-one correlation (0.4–0.6 for
 /// 8 m of a 10 m receiver error with τ = 300 s), above `r`. Measured false alarms:

@@ -15,8 +15,7 @@ const G_SENSITIVITY_RAD_S_PER_MPS2: f64 = 0.7 * 4.943_8e-7;
 /// The most star measurements the gate may refuse on the flight with the g-sensitivity, as a
 /// multiple of the clean flight's: its burns move the attitude faster than the filter's
 /// process noise allows, so its innovations are larger than their covariance says while the
-/// burns last and exceed the gate more often than the clean flight's 0.1 %; without the blame
-/// on the inertial solution it was 32 times the clean flight's.
+/// burns last and exceed the gate more often than the clean flight's 0.1 %.
 const REJECTIONS_OVER_CLEAN: u32 = 5;
 
 /// The default flight's first run.
