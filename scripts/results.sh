@@ -24,6 +24,11 @@ host_commands=(
   "calibrate nav-sim/scenarios/paper_strategy_as_printed.toml"
   "monte-carlo --runs 10"
   "benefit"
+  # The consistency flags' false alarms on the clean flights (the upper stage: about a CPU
+  # minute per run).
+  "false-alarms --runs 100"
+  "false-alarms nav-sim/scenarios/realistic_sensors.toml --runs 100"
+  "false-alarms nav-sim/scenarios/upper_stage.toml --runs 100"
 )
 # The cheap ones scripts/test.sh measures again and compares.
 checked_commands=(

@@ -1,12 +1,16 @@
-//! A matched test for a velocity aberration the star tracker leaves in and the flight
-//! software is not told of (`star.aberration_correction` off): a single head's aberration
-//! hides in the attitude while the vehicle holds its attitude, but not while it turns, when the
+//! A matched test for a velocity aberration the flight software handles wrongly: left in by
+//! the tracker while the flight software is not told of it (`star.aberration_correction`
+//! off), or, with the correction on, corrected twice (a tracker that corrects its own) or with
+//! the wrong sign (a tracker whose correction adds it). A single head's aberration hides in
+//! the attitude while the vehicle holds its attitude, but not while it turns, when the
 //! aberration's rotation in sensor axes changes faster than the gyro lets the attitude wander.
 //!
 //! **Signature.** A tracker that leaves the aberration in reports `q_is ⊗ exp(a_s)`,
 //! `a_s = β_s × z` (nav-core `aberration`, with the navigation velocity and the measured
 //! attitude), so the star residual (half the rotation angle, sensor axes) carries `a_s / 2`
-//! less what the filter has absorbed into the attitude and the installation.
+//! less what the filter has absorbed into the attitude and the installation. With the
+//! correction on, a tracker that corrects its own leaves `−a_s / 2` (subtracted twice) and one
+//! that adds it `+a_s / 2`, so the test is then two-sided.
 //!
 //! **Statistic** (the score of a linear-Gaussian model for an offset along a known signal;
 //! Kay, *Fundamentals of Statistical Signal Processing, Vol. II: Detection Theory*, 1998,
@@ -16,13 +20,16 @@
 //! `U = Σ λ^(n−k) u_k` and `W = Σ λ^(2(n−k)) w_k` (`λ = 1 − 1/N`, the consistency monitor's
 //! `N`) give `z = U / √W ~ N(0, 1)` at every measurement. An uncorrected aberration holds `z`
 //! at about `Σ λ^(n−k) w_k / √W`, growing with every measurement taken while the vehicle turns.
-//! An episode begins when `z` exceeds [`ABERRATION_BOUND_SIGMA`] (one-sided: the aberration
-//! adds `+s`) while the amplitude along the signature, `U / Σ λ^(n−k) w_k`, is at most
-//! [`MAX_ABERRATION_FRACTION`] of the aberration (a larger error that projects onto it is not
+//! An episode begins when `z` exceeds [`ABERRATION_BOUND_SIGMA`] (one-sided without the
+//! correction: the aberration adds `+s`; `|z|` with it) while the amplitude along the
+//! signature, `U / Σ λ^(n−k) w_k`, is at most [`MAX_ABERRATION_FRACTION`] of the aberration
+//! in size (a larger error that projects onto it is not
 //! the aberration) and the same statistic along the twin signature, `s` turned 90° about the
 //! boresight, stays within [`TWIN_BOUND_SIGMA`] (an aberration puts nothing there; an error of
 //! another origin, an IMU misalignment turning the attitude in the same rotations, does), and
-//! ends when `z` falls below half the bound.
+//! ends when `z` (`|z|`) falls below half the bound. The bound's false-alarm rate, 5σ one-sided
+//! (2.9e-7; twice that two-sided) per independent stretch of `N` measurements, some 270 a
+//! flight of the upper stage at 10 Hz, is below 2e-4 per flight (Bonferroni).
 //!
 //! The test takes accepted measurements only (a rejected one is an outlier, not the model's)
 //! after the aid's acquisition; a non-finite or singular input enters nothing.
@@ -67,8 +74,9 @@ impl AberrationMonitor {
     /// true when an episode has just begun, which it may only while `claimable` (the caller's
     /// word that no larger error is in the innovations: the aberration is 5″ against the
     /// noise, so a star stream failing its NIS test carries something else, which would
-    /// project onto the signature too). A non-finite input or a covariance that cannot be
-    /// inverted enters nothing.
+    /// project onto the signature too); `correcting`: the flight software subtracts the
+    /// aberration, so an episode begins on either sign (module docs). A non-finite input or a
+    /// covariance that cannot be inverted enters nothing.
     ///
     /// # Examples
     /// ```
@@ -81,7 +89,7 @@ impl AberrationMonitor {
     ///     .filter(|k| {
     ///         let angle = f64::from(*k) * 0.3;
     ///         let a = Vector3::new(angle.cos(), angle.sin(), 0.0) * 2.4e-5;
-    ///         monitor.observe(&(a / 2.0), &covariance, &a, 256, true)
+    ///         monitor.observe(&(a / 2.0), &covariance, &a, 256, true, false)
     ///     })
     ///     .count();
     /// assert_eq!(began, 1);
@@ -94,6 +102,7 @@ impl AberrationMonitor {
         aberration_rad: &Vector3<f64>,
         n: u32,
         claimable: bool,
+        correcting: bool,
     ) -> bool {
         let signature = aberration_rad * 0.5;
         // The twin: the signature turned 90° about the boresight (sensor z), the
@@ -119,9 +128,14 @@ impl AberrationMonitor {
         self.signature_weight = fading * self.signature_weight + variance;
         self.twin_score = fading * self.twin_score + twin_score;
         self.twin_variance = fading * fading * self.twin_variance + twin_variance;
-        let z = self.statistic_sigma();
-        let explained = self.fraction() <= MAX_ABERRATION_FRACTION
-            && self.twin_sigma().abs() <= TWIN_BOUND_SIGMA;
+        // Without the correction only the aberration's own sign; with it either sign.
+        let (z, fraction) = if correcting {
+            (self.statistic_sigma().abs(), self.fraction().abs())
+        } else {
+            (self.statistic_sigma(), self.fraction())
+        };
+        let explained =
+            fraction <= MAX_ABERRATION_FRACTION && self.twin_sigma().abs() <= TWIN_BOUND_SIGMA;
         let began = z > ABERRATION_BOUND_SIGMA && explained && claimable && !self.in_episode;
         if began {
             self.in_episode = true;
@@ -185,7 +199,7 @@ mod tests {
         let (mut sum_squares, mut count) = (0.0, 0.0);
         for k in 0..20_000 {
             let innovation = sigma.map(|s| s * normal());
-            let began = monitor.observe(&innovation, &covariance, &turning(k), 256, true);
+            let began = monitor.observe(&innovation, &covariance, &turning(k), 256, true, false);
             assert!(!began, "measurement {k}: {}σ", monitor.statistic_sigma());
             if k % 256 == 255 {
                 sum_squares += monitor.statistic_sigma().powi(2);
@@ -203,7 +217,7 @@ mod tests {
         // An offset the turning signature averages out (a step is the fault logic's).
         for k in 0..2_000 {
             let offset = Vector3::new(3e-6, 0.0, 0.0);
-            assert!(!monitor.observe(&offset, &covariance, &turning(k), 256, true));
+            assert!(!monitor.observe(&offset, &covariance, &turning(k), 256, true, false));
         }
         assert!(
             monitor.statistic_sigma().abs() < 2.0,
@@ -219,7 +233,7 @@ mod tests {
             let mut monitor = AberrationMonitor::default();
             for k in 0..2_000 {
                 let innovation = turning(k) * (0.5 * scale);
-                assert!(!monitor.observe(&innovation, &covariance, &turning(k), 256, true));
+                assert!(!monitor.observe(&innovation, &covariance, &turning(k), 256, true, false));
             }
             assert!(
                 (monitor.fraction() - scale).abs() < 1e-9,
@@ -231,7 +245,14 @@ mod tests {
         let mut monitor = AberrationMonitor::default();
         let began = (0..2_000)
             .filter(|k| {
-                monitor.observe(&(turning(*k) * 0.25), &covariance, &turning(*k), 256, true)
+                monitor.observe(
+                    &(turning(*k) * 0.25),
+                    &covariance,
+                    &turning(*k),
+                    256,
+                    true,
+                    false,
+                )
             })
             .count();
         assert_eq!(began, 1);
@@ -242,7 +263,7 @@ mod tests {
         assert!(!(0..2_000).any(|k| {
             let a = turning(k);
             let twin = Vector3::new(-a.y, a.x, 0.0);
-            monitor.observe(&((a + twin) * 0.25), &covariance, &a, 256, true)
+            monitor.observe(&((a + twin) * 0.25), &covariance, &a, 256, true, false)
         }));
         assert!(monitor.twin_sigma() > 5.0, "{}", monitor.twin_sigma());
         // The same while the caller says the stream carries a larger error: not claimed.
@@ -252,8 +273,32 @@ mod tests {
             &covariance,
             &turning(k),
             256,
+            false,
             false
         )));
+    }
+
+    /// With the correction on, an aberration corrected twice (`−a_s / 2` in the innovations)
+    /// is claimed, as one corrected with the wrong sign (`+a_s / 2`); without it, the
+    /// negative one is not (no aberration left in gives it).
+    #[test]
+    fn with_the_correction_on_either_sign_is_claimed() {
+        let covariance = Matrix3::identity() * COVARIANCE_SCALE;
+        for (scale, correcting, claimed) in [
+            (-0.5, true, true),
+            (0.5, true, true),
+            (-0.5, false, false),
+            (-2.0, true, false),
+        ] {
+            let mut monitor = AberrationMonitor::default();
+            let began = (0..2_000)
+                .filter(|k| {
+                    let a = turning(*k);
+                    monitor.observe(&(a * scale), &covariance, &a, 256, true, correcting)
+                })
+                .count();
+            assert_eq!(began, usize::from(claimed), "{scale} {correcting}");
+        }
     }
 
     #[test]
@@ -261,20 +306,22 @@ mod tests {
         let mut monitor = AberrationMonitor::default();
         let good = Matrix3::identity() * COVARIANCE_SCALE;
         let signature = turning(1);
-        assert!(!monitor.observe(&signature, &Matrix3::zeros(), &signature, 256, true));
+        assert!(!monitor.observe(&signature, &Matrix3::zeros(), &signature, 256, true, false));
         assert!(!monitor.observe(
             &Vector3::new(f64::NAN, 0.0, 0.0),
             &good,
             &signature,
             256,
-            true
+            true,
+            false
         ));
         assert!(!monitor.observe(
             &signature,
             &good,
             &Vector3::new(f64::INFINITY, 0.0, 0.0),
             0,
-            true
+            true,
+            false
         ));
         assert_eq!(monitor, AberrationMonitor::default());
     }

@@ -83,7 +83,8 @@ pub struct HealthCounters {
     pub inertial_suspect: u32,
     /// Episodes of a gravity model too coarse for its allowance: the RMS magnitude of the
     /// field it omits, at the vehicle's radius, above `√3 gravity.omitted_field_sigma_mps2`
-    /// (`scheduler::gravity`). The filter's covariance does not cover that field.
+    /// (`scheduler::gravity`). The filter's covariance does not cover that field. Not counted
+    /// without an allowance, a configuration warning instead ([`ConfigurationWarnings`]).
     pub gravity_allowance_short: u32,
     /// Evaluations of the field beyond `J2` refused (non-finite position or result); the
     /// last value is held.
@@ -103,15 +104,37 @@ pub struct HealthCounters {
     pub star_head_handovers: u32,
     /// Star measurements of a head the configuration does not have (ignored).
     pub star_unknown_head: u32,
-    /// Times the star innovations began to follow the velocity aberration the tracker leaves
-    /// in while the flight software is not told to correct it (nav-fsw `aberration_monitor`).
+    /// Times the star innovations began to follow the velocity aberration: left in by the
+    /// tracker while the flight software is not told to correct it, or corrected twice or
+    /// with the wrong sign while it is (nav-fsw `aberration_monitor`).
     pub star_aberration_suspected: u32,
 }
 
 /// Number of counters in [`HealthCounters`].
 pub const HEALTH_COUNTER_COUNT: usize = 40;
 
+/// Number of consistency flags ([`HealthCounters::CONSISTENCY_FLAGS`]).
+pub const CONSISTENCY_FLAG_COUNT: usize = 11;
+
 impl HealthCounters {
+    /// The consistency flags: the counters that tell the operator a sensor or a model is
+    /// suspected (not an input fault the checks refused, nor a protective action on every
+    /// flight). Each has a false-alarm rate per clean flight measured in Monte Carlo
+    /// (`nav-sim false-alarms`, docs/results/false-alarms-*.md).
+    pub const CONSISTENCY_FLAGS: [&'static str; CONSISTENCY_FLAG_COUNT] = [
+        "gnss_innovations_correlated",
+        "star_inconsistent",
+        "gnss_inconsistent",
+        "gnss_velocity_inconsistent",
+        "inertial_suspect",
+        "gravity_allowance_short",
+        "star_noise_matched",
+        "star_heads_inconsistent",
+        "star_aberration_suspected",
+        "star_declared_faulty",
+        "gnss_declared_faulty",
+    ];
+
     /// Every counter with its name (the field's), in declaration order: for reports and
     /// ground tools.
     ///
@@ -180,6 +203,39 @@ impl HealthCounters {
     }
 }
 
+/// What the configuration itself says the flight will lack: reported once at start-up
+/// ([`crate::scheduler::NavigationComputer::configuration_warnings`]), never counted as a flight
+/// event, so the counters an operator watches move only for what the flight shows.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub struct ConfigurationWarnings {
+    /// The gravity model has no allowance for the field it omits
+    /// (`gravity.omitted_field_sigma_mps2` = 0, as the paper's configuration): the
+    /// covariance never covers that field, by design, so `gravity_allowance_short`, which
+    /// would restate it at every evaluation, is not counted.
+    pub gravity_without_allowance: bool,
+}
+
+impl ConfigurationWarnings {
+    /// The warnings of `config`.
+    pub fn of(config: &crate::config::FswConfig) -> Self {
+        let sigma = config.gravity.omitted_field_sigma_mps2;
+        Self {
+            gravity_without_allowance: sigma.is_nan() || sigma <= 0.0,
+        }
+    }
+
+    /// One bit per warning (bit 0: [`Self::gravity_without_allowance`]), for telemetry.
+    pub const fn bits(&self) -> u32 {
+        if self.gravity_without_allowance {
+            1
+        } else {
+            0
+        }
+    }
+}
+
 /// Adds one to a counter without wrapping.
 #[inline]
 pub fn count(counter: &mut u32) {
@@ -213,14 +269,26 @@ impl OutageMonitor {
 
 /// Serial correlation of a measurement's innovations, the filter's own consistency check
 /// when no truth is at hand: an optimal filter's innovations are white, so consecutive
-/// normalised innovations `u_k = ν_k / √(tr S_k / 3)` are uncorrelated (one scale for the
-/// three axes of a position fix, whose variances are alike). The monitor keeps
-/// an exponentially weighted mean `c` of `x_k = (u_k · u_{k−1}) / 3` over about
-/// `window` measurements: `c ← c + (x_k − c) / window`. Under whiteness `x` has mean 0 and
-/// variance 1/3, so `c` has 1σ `√(1 / (6 window))` (0.051 for 64); errors correlated
-/// beyond the model's keep `c` near their lag-one correlation (0.4–0.6 for 8 m of a
-/// 10 m receiver error with τ = 300 s). An episode begins when `c` rises above
-/// `threshold` and ends when it falls below half of it.
+/// whitened innovations `u_k = L_k⁻¹ ν_k` (`S_k = L_k L_kᵀ`, Cholesky: `u_k ~ N(0, I)`) are
+/// uncorrelated. The monitor keeps an exponentially weighted mean `c` of
+/// `x_k = (u_k · u_{k−1}) / 3` over about `W` = `window` measurements:
+/// `c ← c + (x_k − c) / W`. An episode begins when `c` rises above `threshold` and ends when it
+/// falls below half of it.
+///
+/// **Threshold** (Bar-Shalom, Li and Kirubarajan 2001, §5.4.2, the whiteness test of the
+/// innovations, with a fading memory). Under whiteness `x_k` is a martingale difference of
+/// variance 1/3 (`E[(u · u')²] = 3` for independent `u, u' ~ N(0, I₃)`), so with `λ = 1/W`
+/// `c` has mean 0 and variance `(1/3) λ / (2 − λ) = 1 / (3 (2W − 1))`: 1σ = 0.0512 for
+/// `W` = 64. A flight tests `c` at every fix: the upper stage's 1.9 h at 10 Hz, `n` = 68 400
+/// fixes, the longest shipped. For a false-alarm rate per flight below `α_f` the union bound
+/// over the fixes asks `P(c > r) ≤ α_f / n` at each; with `α_f` = 1e-3 (a tenth of the 1 %
+/// an operator can act on, the rest for what the Gaussian approximation leaves out: `c` is a
+/// sum of some `2W − 1` products of normals, whose tail is heavier than the normal's) that is
+/// 1.5e-8, 5.5σ. The default
+/// `r` = 0.30 is 5.86σ: 2.3e-9 per fix, 1.6e-4 per flight before the tail's excess.
+/// Errors correlated beyond the model's keep `c` near their lag-one correlation (0.4–0.6 for
+/// 8 m of a 10 m receiver error with τ = 300 s), above `r`. Measured false alarms:
+/// `nav-sim false-alarms` (docs/results/false-alarms-*.md).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct WhitenessMonitor {
     previous: Option<[f64; 3]>,
@@ -229,26 +297,24 @@ pub struct WhitenessMonitor {
 }
 
 impl WhitenessMonitor {
-    /// Takes one innovation `ν` with the diagonal of its covariance `S`; true when a new
-    /// episode of correlated innovations has just begun. A non-finite or non-positive
-    /// variance restarts the pairing.
+    /// Takes one innovation `ν` with its covariance `S`; true when a new episode of correlated
+    /// innovations has just begun. A non-finite innovation or an `S` that is not positive
+    /// definite restarts the pairing.
     pub fn observe(
         &mut self,
-        innovation: &[f64; 3],
-        variances: &[f64; 3],
+        innovation: &nalgebra::Vector3<f64>,
+        covariance: &nalgebra::Matrix3<f64>,
         window: f64,
         threshold: f64,
     ) -> bool {
-        // One scale for the three axes (the mean variance: one square root per measurement).
-        let [s0, s1, s2] = *variances;
-        let mean_variance = (s0 + s1 + s2) / 3.0;
-        let finite = innovation.iter().chain(variances).all(|v| v.is_finite());
-        if !(finite && s0 > 0.0 && s1 > 0.0 && s2 > 0.0) {
+        let whitened = covariance
+            .cholesky()
+            .and_then(|factor| factor.l().solve_lower_triangular(innovation));
+        let Some(whitened) = whitened.filter(|u| u.iter().all(|v| v.is_finite())) else {
             self.previous = None;
             return false;
-        }
-        let scale = 1.0 / nav_core::float::sqrt(mean_variance);
-        let normalised = innovation.map(|nu| nu * scale);
+        };
+        let normalised = [whitened.x, whitened.y, whitened.z];
         let Some(previous) = self.previous.replace(normalised) else {
             return false;
         };
@@ -274,8 +340,9 @@ impl WhitenessMonitor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::{Matrix3, Vector3};
 
-    /// White innovations keep the monitor quiet; a first-order Gauss–Markov sequence with a
+    /// White innovations (of an anisotropic, correlated `S`) keep the monitor quiet; a first-order Gauss–Markov sequence with a
     /// lag-one correlation of 0.9 starts one episode; a non-finite variance restarts the
     /// pairing without counting.
     #[test]
@@ -295,9 +362,12 @@ mod tests {
         let mut white = WhitenessMonitor::default();
         let mut episodes = 0;
         let mut largest = 0.0f64;
+        // An anisotropic, correlated S: whitened by its Cholesky factor.
+        let covariance = Matrix3::new(4.0, 1.0, 0.0, 1.0, 2.0, 0.5, 0.0, 0.5, 1.0);
+        let factor = covariance.cholesky().map(|c| c.l()).unwrap_or_default();
         for _ in 0..5000 {
-            let nu = [normal(), normal(), normal()];
-            episodes += usize::from(white.observe(&nu, &[1.0; 3], 64.0, 0.25));
+            let nu = factor * Vector3::new(normal(), normal(), normal());
+            episodes += usize::from(white.observe(&nu, &covariance, 64.0, 0.30));
             largest = largest.max(white.correlation());
         }
         assert_eq!(episodes, 0, "largest c {largest}");
@@ -308,7 +378,8 @@ mod tests {
             for e in error.iter_mut() {
                 *e = 0.9 * *e + nav_core::float::sqrt(1.0 - 0.81) * normal();
             }
-            episodes += usize::from(correlated.observe(&error, &[1.0; 3], 64.0, 0.25));
+            let nu = Vector3::from(error);
+            episodes += usize::from(correlated.observe(&nu, &Matrix3::identity(), 64.0, 0.30));
         }
         assert_eq!(episodes, 1);
         assert!(
@@ -316,8 +387,40 @@ mod tests {
             "{}",
             correlated.correlation()
         );
-        assert!(!correlated.observe(&[1.0; 3], &[f64::NAN, 1.0, 1.0], 64.0, 0.25));
+        let bad = Matrix3::from_diagonal(&Vector3::new(f64::NAN, 1.0, 1.0));
+        assert!(!correlated.observe(&Vector3::repeat(1.0), &bad, 64.0, 0.30));
         assert!(correlated.previous.is_none());
+        assert!(!correlated.observe(&Vector3::repeat(1.0), &Matrix3::zeros(), 64.0, 0.30));
+    }
+
+    /// The paper's configuration has no gravity allowance: a warning (bit 0), and a
+    /// configuration with one has none.
+    #[test]
+    fn a_configuration_without_a_gravity_allowance_warns() {
+        use crate::config::FswConfig;
+        use crate::sensor_frames::SensorFrames;
+        let site = nav_core::frames::LaunchSite {
+            latitude_rad: 0.715,
+            longitude_rad: 1.750,
+            height_m: 1000.0,
+            azimuth_rad: 3.316,
+            earth_axis_ecef: [0.0, 0.0, 1.0],
+        };
+        let mut config = FswConfig::paper_defaults(site, SensorFrames::ALIGNED);
+        let warnings = ConfigurationWarnings::of(&config);
+        assert!(warnings.gravity_without_allowance);
+        assert_eq!(warnings.bits(), 1);
+        config.gravity.omitted_field_sigma_mps2 = 2.0e-5;
+        assert_eq!(ConfigurationWarnings::of(&config).bits(), 0);
+    }
+
+    /// Every consistency flag names a counter.
+    #[test]
+    fn every_consistency_flag_is_a_counter() {
+        let named = HealthCounters::default().named();
+        for flag in HealthCounters::CONSISTENCY_FLAGS {
+            assert!(named.iter().any(|(name, _)| *name == flag), "{flag}");
+        }
     }
 
     #[test]

@@ -30,11 +30,22 @@
 //! too small as well, so `p` is low and `R̂` high: the estimate errs on the cautious side.
 //!
 //! **When.** The averages take the measurements after the aid's acquisition (the first, under
-//! the acquisition gate, tells the prior, not the noise), and are used from the measurement at
-//! which the consistency monitor first fails until the filter is re-initialised: once `R`
+//! the acquisition gate, tells the prior, not the noise), and are used from a measurement at
+//! which the consistency monitor fails *and* the averages show the tracker noisier than
+//! configured on some axis by more than [`NOISIER_THAN_CONFIGURED_RATIO`] (the evidence
+//! points at the tracker: its scatter, not an offset or drift of the inertial solution, which
+//! the differences take out; a g-sensitivity the filter is not told of fails the monitor in
+//! every burn while the scatter stays the configured noise) until the filter is
+//! re-initialised: once `R`
 //! follows the innovations the monitor passes again, and letting go would bring the
 //! inconsistency back. A consistent filter never engages it (the monitor's false-alarm rate),
 //! so its bits are those of a filter without it. A non-finite innovation is not entered.
+
+/// The matched noise (1σ) over the configured beyond which the tracker is noisier than the
+/// flight software is told: the matched σ of a tracker as noisy as configured scatters by a
+/// few per cent (a fading average of squared differences over some `N` = 256 measurements:
+/// `√(2/(2N − 1))` = 6 % in variance, 3 % in σ), so 1.25 lies some eight of its σ beyond.
+pub const NOISIER_THAN_CONFIGURED_RATIO: f64 = 1.25;
 
 /// Averages of one aid's per-axis innovation statistics and whether they set its noise.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -72,7 +83,7 @@ impl NoiseMatching {
     ///     let nis = z * z / 7e-10;
     ///     matching.observe(&[0.0, 0.0, z], &[7e-10; 3], &configured, nis, true, 16.27, 256);
     /// }
-    /// assert!(matching.engage());
+    /// assert!(matching.engage(&configured));
     /// let used = matching.noise_rad(&configured);
     /// assert_eq!(used[0].to_bits(), configured[0].to_bits());
     /// assert!((used[2] - 2.0 * (2e-9_f64 - 7.5e-11).sqrt()).abs() < 1e-9);
@@ -136,12 +147,23 @@ impl NoiseMatching {
         }
     }
 
-    /// Lets the averages set the noise from now on; true when they did not before (one count
-    /// per engagement). Refused (false, nothing changes) before the first measurement.
-    pub fn engage(&mut self) -> bool {
-        let began = self.started && !self.engaged;
-        self.engaged |= self.started;
+    /// Lets the averages set the noise from now on if they show the tracker noisier than
+    /// `configured` ([`Self::noisier_than`]); true when they did not before (one count per
+    /// engagement). Refused (false, nothing changes) before the first measurement and while
+    /// the scatter is the configured noise's.
+    pub fn engage(&mut self, configured: &[f64; 3]) -> bool {
+        let began = self.started && !self.engaged && self.noisier_than(configured);
+        self.engaged |= began;
         began
+    }
+
+    /// Whether the averages put some axis's noise above [`NOISIER_THAN_CONFIGURED_RATIO`]
+    /// times its `configured` noise (engaged or not).
+    pub fn noisier_than(&self, configured: &[f64; 3]) -> bool {
+        self.matched_noise_rad(configured)
+            .iter()
+            .zip(configured)
+            .any(|(matched, configured)| *matched > NOISIER_THAN_CONFIGURED_RATIO * configured)
     }
 
     /// Whether the averages set the noise.
@@ -155,6 +177,11 @@ impl NoiseMatching {
         if !self.engaged {
             return *configured;
         }
+        self.matched_noise_rad(configured)
+    }
+
+    /// Per axis the larger of `configured` and `2 √R̂`, engaged or not.
+    fn matched_noise_rad(&self, configured: &[f64; 3]) -> [f64; 3] {
         let mut used = *configured;
         let sums = self.weighted_excess.iter().zip(&self.total_weight);
         for (noise, (excess, weight)) in used.iter_mut().zip(sums) {
@@ -209,7 +236,7 @@ mod tests {
                 .map(|i| innovation[i] * innovation[i] / variance[i])
                 .sum();
             matching.observe(&innovation, &variance, &used, nis, nis < GATE, GATE, 256);
-            matching.engage();
+            matching.engage(configured);
             accepted += u32::from(nis < GATE);
         }
         accepted
@@ -297,6 +324,44 @@ mod tests {
         assert!(used[0] < 1.5 * configured[0], "{}", used[0] / ARCSEC);
     }
 
+    /// Innovations that wander (an inertial solution pulled away by an error the filter does
+    /// not model and pulled back by the updates: an offset of 15″ amplitude over 30 s) over a
+    /// tracker as noisy as configured: the scatter is the configured noise, so the matching
+    /// does not engage, and the tracker keeps its weight.
+    #[test]
+    fn a_drifting_inertial_solution_does_not_engage_it() {
+        let configured = [10.0 * ARCSEC; 3];
+        let mut normal = normal_source(0x5eed_0000_d1f7_0001);
+        let mut matching = NoiseMatching::default();
+        let variance =
+            [0.2 * (5.0 * ARCSEC) * (5.0 * ARCSEC) + 0.25 * configured[0] * configured[0]; 3];
+        for k in 0..3_000 {
+            let phase = 2.0 * core::f64::consts::PI * f64::from(k) / 300.0;
+            let offset = 15.0 * ARCSEC * libm::sin(phase);
+            let innovation: [f64; 3] = core::array::from_fn(|i| {
+                let wander = if i == 0 { offset } else { 0.0 };
+                wander + normal() * nav_core::float::sqrt(variance[i])
+            });
+            let nis: f64 = (0..3)
+                .map(|i| innovation[i] * innovation[i] / variance[i])
+                .sum();
+            matching.observe(
+                &innovation,
+                &variance,
+                &configured,
+                nis,
+                nis < GATE,
+                GATE,
+                256,
+            );
+            // The consistency monitor fails on such a stream after some tens of measurements.
+            if k >= 256 {
+                assert!(!matching.engage(&configured), "measurement {k}");
+            }
+        }
+        assert!(!matching.engaged());
+    }
+
     /// Before it is engaged the averages change nothing; a non-finite innovation is not
     /// entered; `clear` forgets everything.
     #[test]
@@ -304,7 +369,10 @@ mod tests {
         let configured = [1e-4; 3];
         let variance = [5e-9; 3];
         let mut matching = NoiseMatching::default();
-        assert!(!matching.engage(), "no engagement before a measurement");
+        assert!(
+            !matching.engage(&configured),
+            "no engagement before a measurement"
+        );
         let before = matching;
         matching.observe(
             &[f64::NAN, 0.0, 0.0],
@@ -333,7 +401,7 @@ mod tests {
             matching.noise_rad(&configured).map(f64::to_bits),
             configured.map(f64::to_bits)
         );
-        assert!(matching.engage() && !matching.engage());
+        assert!(matching.engage(&configured) && !matching.engage(&configured));
         // Differences of 2 √(2e-8): R̂ = 4e-8 − 2.5e-9 (p = S − R = 5e-9 − 2.5e-9), σ = 2 √R̂.
         let used = matching.noise_rad(&configured);
         assert!(

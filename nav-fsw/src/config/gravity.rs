@@ -53,8 +53,9 @@ pub(super) mod ranges {
 /// tracks, is what the constant calibration states see (docs/guide/gravity.md, "The allowance with
 /// the altitude"; `nav-sim gravity-omission`). Each evaluation compares the RMS magnitude of
 /// the omitted field at the vehicle's radius with `√3 σ`; above it (a model too coarse for
-/// its allowance, a flight lower than designed for, or no allowance at all),
-/// `gravity_allowance_short` counts an episode.
+/// its allowance, or a flight lower than designed for), `gravity_allowance_short` counts an
+/// episode; with no allowance at all the check is a start-up configuration warning instead
+/// (`health::ConfigurationWarnings`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GravityConfig {

@@ -504,8 +504,9 @@ flight_parameters! {
         get: |c| c.gnss.whiteness_window_fixes, set: |c, v| c.gnss.whiteness_window_fixes = v,
     }
     GnssWhitenessThreshold: f64 {
-        path: "gnss.whiteness_threshold", unit: "", default: Some(0.25), word: None,
-        range: Range::above(0.0, 1.0), why: "a correlation coefficient",
+        path: "gnss.whiteness_threshold", unit: "", default: Some(0.30), word: None,
+        range: Range::above(0.0, 1.0),
+        why: "a correlation coefficient; the default: WhitenessMonitor docs",
         get: |c| c.gnss.whiteness_threshold, set: |c, v| c.gnss.whiteness_threshold = v,
     }
     FutureTolerance: f64 {

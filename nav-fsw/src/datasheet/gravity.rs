@@ -10,7 +10,8 @@ use crate::config::{FswConfig, GravityConfig, Param};
 /// omitted field's spectral density at zero frequency (docs/guide/gravity.md, "The allowance with
 /// the altitude: the shipped allowance"). `omitted_field_sigma_mps2` is that RMS over `√3` (per axis), rounded up;
 /// `omitted_field_psd_m2_per_s3` the density scaled by `(σ / RMS-per-axis)²`, rounded up.
-/// Without an allowance (both 0) `gravity_allowance_short` counts every flight.
+/// Without an allowance (both 0) the flight reports a configuration warning at start-up
+/// (`health::ConfigurationWarnings`) and never checks the omitted field against it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GravityDatasheet {
     /// Largest degree of the flight's model, 2..=12.

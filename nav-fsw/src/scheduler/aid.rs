@@ -45,11 +45,9 @@ impl Sensor {
 }
 
 /// The matched star noise over the configured noise beyond which a run of star rejections is
-/// blamed on the filter's fit ([`NavigationComputer::star_noise_exceeds_configured`]). The
-/// matched noise of a tracker as noisy as configured scatters by a few per cent (a fading
-/// average of squared differences over some 256 measurements: about 6 % in variance, 3 % in
-/// σ), so 1.25 lies far outside that scatter.
-const NOISE_MATCHED_BLAME_RATIO: f64 = 1.25;
+/// blamed on the filter's fit ([`NavigationComputer::star_noise_exceeds_configured`]): the
+/// ratio at which the noise matching engages (nav-fsw `noise_matching`).
+const NOISE_MATCHED_BLAME_RATIO: f64 = crate::noise_matching::NOISIER_THAN_CONFIGURED_RATIO;
 
 /// The blocks beyond the attitude and gyro bias that the star updates fit: the installation
 /// error and the gyro scale factor. When a run of star rejections grew, or the tracker proved
@@ -112,6 +110,11 @@ pub(super) struct AidingSensor {
     /// two measurements' noise can explain ([`NavigationComputer::note_run_innovation`]):
     /// the innovations grow, as from an inertial solution drifting away.
     pub(super) run_innovation_grew: bool,
+    /// Whether a run of the sensor's rejections has been blamed on the inertial solution
+    /// since start-up, the filter's last re-initialisation or the last cleared fault: from
+    /// then on the evidence points at the inertial solution, and each rejection widens its
+    /// uncertainty at once ([`NavigationComputer::note_rejection`]).
+    pub(super) inertial_blamed: bool,
     /// Whether the filter has accepted a measurement of the aid since start-up, the aid's
     /// last outage, the filter's last re-initialisation or its sensor's last cleared fault:
     /// until then its gate is the acquisition gate ([`crate::config::ACQUISITION_GATE_NIS`]).
@@ -194,20 +197,41 @@ impl NavigationComputer {
     /// widened ([`NavigationComputer::widen_inertial_uncertainty`], counted in
     /// `inertial_suspect`), and a new run begins; on the sensor, it is declared faulty
     /// (counted once per declaration).
+    ///
+    /// Once a run of the sensor has been blamed on the inertial solution
+    /// ([`AidingSensor::inertial_blamed`]), the first rejection of each later run, and every
+    /// rejection of a run that began while the sensor's innovations failed their consistency
+    /// test, widens the inertial uncertainty at once by its own NIS over 3, capped at the gate
+    /// ([`NavigationComputer::widen_inertial_blocks`]), not after a run: the evidence has
+    /// pointed at the inertial solution, whose error (a g-sensitivity in each burn) would
+    /// otherwise have the healthy sensor's measurements refused a run at a time. A step in the
+    /// sensor while its innovations are consistent widens once (its first rejection) and
+    /// goes on counting, so it is still declared faulty after
+    /// `timing.rejections_to_declare_faulty`.
     pub(super) fn note_rejection(&mut self, aid: Aid) {
         let limit = self.config.timing.rejections_to_declare_faulty;
         let sensor = aid.sensor();
         let inconsistent = self.inconsistent(sensor);
         let state = self.fault_state(sensor);
-        if state.consecutive_rejections == 0 {
+        let first = state.consecutive_rejections == 0;
+        if first {
             state.run_began_inconsistent = inconsistent;
         }
         state.consecutive_rejections = state.consecutive_rejections.saturating_add(1);
-        if state.faulty || state.consecutive_rejections < limit {
+        if state.faulty {
+            return;
+        }
+        if state.inertial_blamed && (first || state.run_began_inconsistent) {
+            let nis = self.statistics(aid).last_nis.min(self.gate_nis(aid));
+            self.widen_inertial_blocks(sensor, nis, &[]);
+        }
+        if self.fault_state(sensor).consecutive_rejections < limit {
             return;
         }
         if self.blames_inertial_solution(sensor) {
-            self.fault_state(sensor).consecutive_rejections = 0;
+            let state = self.fault_state(sensor);
+            state.consecutive_rejections = 0;
+            state.inertial_blamed = true;
             count(&mut self.health.counters.inertial_suspect);
             self.widen_inertial_uncertainty(sensor);
             self.clear_runs(sensor);
@@ -353,11 +377,18 @@ impl NavigationComputer {
                 .max(grown(&self.aids.gnss, false))
                 .max(grown(&self.aids.gnss_velocity, false)),
         };
-        let factor = (nis / CONSISTENT_MEAN_NIS).max(1.0);
         let refit: &[StateBlock] = match sensor {
             Sensor::Star if self.run_innovation_grew(Sensor::Star) => &STAR_FITTED_BLOCKS,
             _ => &[],
         };
+        self.widen_inertial_blocks(sensor, nis, refit);
+    }
+
+    /// Widens the uncertainty of `sensor`'s inertial blocks ([`Sensor::inertial_blocks`]) and
+    /// of `refit` by `f = nis / 3`, at least 1 (`P' = S P S`, correlations kept; nav-core
+    /// `widen_block_uncertainty`); a refusal is counted in `filter_errors`.
+    pub(super) fn widen_inertial_blocks(&mut self, sensor: Sensor, nis: f64, refit: &[StateBlock]) {
+        let factor = (nis / CONSISTENT_MEAN_NIS).max(1.0);
         for block in sensor.inertial_blocks().iter().chain(refit) {
             if self
                 .covariance

@@ -220,6 +220,9 @@ impl NavigationComputer {
         // Its innovations are tested afresh.
         self.aids.star_consistency.clear();
         self.aids.star_noise.clear();
+        // The blame on the inertial solution was the old filter's.
+        self.aids.star.inertial_blamed = false;
+        self.aids.gnss.inertial_blamed = false;
         self.aids.gnss_consistency.clear();
         self.aids.gnss_velocity_consistency.clear();
         self.star_aberration = crate::aberration_monitor::AberrationMonitor::default();

@@ -38,7 +38,7 @@ impl NavigationComputer {
             }
         }
         let signature = match &due {
-            Due::Star(_, measured) => self.uncorrected_aberration(measured, &snapshot),
+            Due::Star(_, measured) => self.aberration_signature(measured, &snapshot),
             _ => None,
         };
         let report = match &measurement {
@@ -51,19 +51,17 @@ impl NavigationComputer {
         self.conclude(aid, report)
     }
 
-    /// The aberration rotation `a_s` (sensor axes) the star measurement `measured` carries if
-    /// its tracker leaves the aberration in, with the navigation velocity at its time of
-    /// validity (`snapshot`); `None` when the configuration corrects it. Out of line, as
-    /// [`Self::test_aberration`]: the GNSS frames, the dearest, pay a branch.
+    /// The aberration rotation `a_s` (sensor axes) of the star measurement `measured`, with
+    /// the navigation velocity at its time of validity (`snapshot`): what its innovations
+    /// follow if the aberration is left in while the configuration does not correct it, or
+    /// corrected twice or with the wrong sign while it does (`aberration_monitor`). Out of
+    /// line, as [`Self::test_aberration`]: the GNSS frames, the dearest, pay a branch.
     #[inline(never)]
-    fn uncorrected_aberration(
+    fn aberration_signature(
         &self,
         measured: &Quaternion<f64>,
         snapshot: &Snapshot,
     ) -> Option<Vector3<f64>> {
-        if self.config.star.aberration_correction {
-            return None;
-        }
         nav_core::aberration::rotation_rad(measured, &snapshot.velocity_mps).ok()
     }
 
@@ -96,6 +94,7 @@ impl NavigationComputer {
             signature,
             n,
             claimable,
+            self.config.star.aberration_correction,
         ) {
             count(&mut self.health.counters.star_aberration_suspected);
         }
@@ -185,7 +184,8 @@ impl NavigationComputer {
 
     /// Enters a tested star measurement in the noise matching (after the tracker's
     /// acquisition: `acquired_before`), and engages it when the star consistency test fails
-    /// (counted once: the matching stays on until the filter is re-initialised). Called before
+    /// and the innovations' scatter shows the tracker noisier than configured (counted once:
+    /// the matching stays on until the filter is re-initialised). Called before
     /// the consistency monitor sees the measurement's NIS.
     pub(super) fn match_star_noise(
         &mut self,
@@ -211,7 +211,9 @@ impl NavigationComputer {
                 time_constant,
             );
         }
-        if self.aids.star_consistency.failing() && self.aids.star_noise.engage() {
+        // Only when the scatter points at the tracker (nav-fsw `noise_matching`, "When").
+        let (_, configured) = self.head_mounting_and_noise(self.heads.active);
+        if self.aids.star_consistency.failing() && self.aids.star_noise.engage(&configured) {
             count(&mut self.health.counters.star_noise_matched);
         }
     }
@@ -354,10 +356,9 @@ impl NavigationComputer {
 
     /// Feeds a GNSS position innovation to the whiteness monitor (counted per episode).
     pub(super) fn observe_whiteness(&mut self, report: &nav_core::filter::InnovationReport) {
-        let (innovation, variances) = per_axis(report);
         let began = self.aids.gnss_whiteness.observe(
-            &innovation,
-            &variances,
+            &report.innovation,
+            &report.covariance,
             self.config.gnss.whiteness_window_fixes,
             self.config.gnss.whiteness_threshold,
         );

@@ -3,6 +3,7 @@
 //! allowance for what it omits in the process noise, and the check of that allowance.
 
 use super::*;
+use crate::health::ConfigurationWarnings;
 
 /// The process noise before the field's first evaluation: the whole allowance.
 pub(super) fn process_noise(config: &FswConfig) -> ProcessNoise {
@@ -43,8 +44,11 @@ impl NavigationComputer {
                 .strapdown
                 .set_field_beyond_j2(Some(*field.acceleration_launch_mps2()));
         }
-        // The omitted RMS is of the vector's magnitude, as is the allowance's cover.
-        let short = omitted_rms_mps2 > self.config.gravity.covered_rms_mps2();
+        // The omitted RMS is of the vector's magnitude, as is the allowance's cover. Without
+        // an allowance the check only restates the configuration: a start-up warning
+        // (`ConfigurationWarnings`), not a flight event.
+        let allowance = !ConfigurationWarnings::of(&self.config).gravity_without_allowance;
+        let short = allowance && omitted_rms_mps2 > self.config.gravity.covered_rms_mps2();
         if short && !navigation.gravity_allowance_short {
             count(&mut self.health.counters.gravity_allowance_short);
         }

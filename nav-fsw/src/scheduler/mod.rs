@@ -396,6 +396,18 @@ impl NavigationComputer {
         self.calibration.manager.frozen_blocks()
     }
 
+    /// What the configuration says the flight will lack (`health::ConfigurationWarnings`):
+    /// constant for a flight, to be reported once at start-up; the counters leave it out.
+    pub fn configuration_warnings(&self) -> crate::health::ConfigurationWarnings {
+        crate::health::ConfigurationWarnings::of(&self.config)
+    }
+
+    /// The velocity aberration test's state (its statistic, fraction and twin in their own
+    /// σ; nav-fsw `aberration_monitor`).
+    pub fn aberration_monitor(&self) -> &crate::aberration_monitor::AberrationMonitor {
+        &self.star_aberration
+    }
+
     /// The health counters.
     pub fn health(&self) -> &HealthCounters {
         &self.health.counters

@@ -22,6 +22,7 @@ mod imu_errors;
 mod layers;
 mod model_mismatch;
 mod nees_over_time;
+mod operator_flags;
 mod optional_outputs;
 mod paper_accuracy;
 mod realistic_campaign;

@@ -12,8 +12,8 @@ use clap::{Parser, Subcommand};
 mod commands;
 
 use commands::{
-    benefit, calibrate, design, faults, gravity_omission, ground_constants, log, merge,
-    monte_carlo, observability, replay, scenario, target_bench, telemetry,
+    benefit, calibrate, design, false_alarms, faults, gravity_omission, ground_constants, log,
+    merge, monte_carlo, observability, replay, scenario, target_bench, telemetry,
 };
 
 /// Host simulator for the INS/CNS/GNSS navigation and on-line calibration flight software.
@@ -36,6 +36,9 @@ enum Command {
     /// Merge the shard files of a sharded Monte Carlo campaign (`monte-carlo --shard`) and
     /// print the report of the whole campaign, as `monte-carlo` prints it.
     Merge(merge::Args),
+    /// The consistency flags' false alarms on a clean flight: a campaign (or the shard files
+    /// of one) and, per flag, the runs that raised it, with the rate's 95 % interval.
+    FalseAlarms(false_alarms::Args),
     /// Write a scenario's sensor log as CSV (the replay format, docs/guide/replay-format.md).
     Log(log::Args),
     /// Replay a recorded sensor log (CSV) through the flight software and write its
@@ -98,6 +101,7 @@ fn main() -> ExitCode {
         Some(Command::Calibrate(args)) => calibrate::run(args),
         Some(Command::MonteCarlo(args)) => monte_carlo::run(args),
         Some(Command::Merge(args)) => merge::run(args),
+        Some(Command::FalseAlarms(args)) => false_alarms::run(args),
         Some(Command::Log(args)) => log::run(args),
         Some(Command::Replay(args)) => replay::run(args),
         Some(Command::Scenario(args)) => scenario::run(args),

@@ -12,6 +12,7 @@ use nav_sim::Scenario;
 pub mod benefit;
 pub mod calibrate;
 pub mod design;
+pub mod false_alarms;
 pub mod faults;
 pub mod gravity_omission;
 pub mod ground_constants;
