@@ -72,11 +72,10 @@ pub fn ratio_interval(runs: usize) -> Result<(f64, f64), MonteCarloError<FlightE
     }
     // Run counts are far below 2⁵³: exact in f64.
     let count = runs as f64;
-    let distribution =
-        ChiSquared::new(count).map_err(|error| MonteCarloError::ChiSquared {
-            degrees_of_freedom: count,
-            message: error.to_string(),
-        })?;
+    let distribution = ChiSquared::new(count).map_err(|error| MonteCarloError::ChiSquared {
+        degrees_of_freedom: count,
+        message: error.to_string(),
+    })?;
     let tail = (1.0 - STATE_RATIO_PROBABILITY) / 2.0;
     Ok((
         (distribution.inverse_cdf(tail) / count).sqrt(),
@@ -97,8 +96,12 @@ fn normalised_errors(records: &[RunRecord]) -> (Vec<String>, Vec<Vec<f64>>) {
         .iter()
         .map(|(parameter, axis)| format!("{}.{}", parameter.name(), axis.name()))
         .collect();
-    let imu = records.iter().all(|record| record.outcome.imu_error.is_some());
-    let gnss = records.iter().all(|record| record.outcome.gnss_error.is_some());
+    let imu = records
+        .iter()
+        .all(|record| record.outcome.imu_error.is_some());
+    let gnss = records
+        .iter()
+        .all(|record| record.outcome.gnss_error.is_some());
     if imu {
         names.extend((0..IMU_ERROR_DIMENSION).map(|k| ReportedBlock::ImuError.state_name(k)));
     }
@@ -146,22 +149,22 @@ impl ConsistencyChecks {
                     .sqrt(),
             })
             .collect();
-        let far_out_runs = records
-            .iter()
-            .zip(&per_run)
-            .filter_map(|(record, ratios)| {
-                let (k, largest) = ratios
-                    .iter()
-                    .map(|r| r.abs())
-                    .enumerate()
-                    .fold((0, 0.0), |best, (k, r)| if r > best.1 { (k, r) } else { best });
-                (largest > FAR_OUT_SIGMAS).then(|| FarOutRun {
-                    run: record.run,
-                    state: names.get(k).cloned().unwrap_or_default(),
-                    error_over_sigma: largest,
+        let far_out_runs =
+            records
+                .iter()
+                .zip(&per_run)
+                .filter_map(|(record, ratios)| {
+                    let (k, largest) = ratios.iter().map(|r| r.abs()).enumerate().fold(
+                        (0, 0.0),
+                        |best, (k, r)| if r > best.1 { (k, r) } else { best },
+                    );
+                    (largest > FAR_OUT_SIGMAS).then(|| FarOutRun {
+                        run: record.run,
+                        state: names.get(k).cloned().unwrap_or_default(),
+                        error_over_sigma: largest,
+                    })
                 })
-            })
-            .collect();
+                .collect();
         Ok(Self {
             runs: records.len(),
             ratio_interval,
@@ -289,7 +292,13 @@ mod tests {
     fn the_ratio_interval_for_40_runs_is_the_chi_square_one() {
         let (lower, upper) = ratio_interval(40).unwrap();
         // χ²(40): 0.5 % point 20.707, 99.5 % point 66.766.
-        assert!((lower - (20.7065_f64 / 40.0).sqrt()).abs() < 1e-4, "{lower}");
-        assert!((upper - (66.7659_f64 / 40.0).sqrt()).abs() < 1e-4, "{upper}");
+        assert!(
+            (lower - (20.7065_f64 / 40.0).sqrt()).abs() < 1e-4,
+            "{lower}"
+        );
+        assert!(
+            (upper - (66.7659_f64 / 40.0).sqrt()).abs() < 1e-4,
+            "{upper}"
+        );
     }
 }

@@ -253,10 +253,9 @@ fn welch_peak(
     PeriodogramPeak {
         q_m2_s3: largest,
         frequency_hz: bin as f64 / (segment as f64 * sample_s),
-        zero_frequency_m2_s3: sums
-            .first()
-            .map_or(0.0, |zero| (0..3).map(|axis| zero[axis][axis].re).sum::<f64>() / 3.0)
-            * scale,
+        zero_frequency_m2_s3: sums.first().map_or(0.0, |zero| {
+            (0..3).map(|axis| zero[axis][axis].re).sum::<f64>() / 3.0
+        }) * scale,
         segments,
     }
 }
@@ -373,8 +372,7 @@ mod tests {
         assert!(relative < 1e-3, "{}", statistics.q_periodogram_m2_s3);
         assert!(statistics.periodogram_peak_hz.abs() < 1e-12);
         // A constant along x: S(0) has rank one, its mean eigenvalue a third of its largest.
-        let relative = (3.0 * statistics.q_zero_frequency_m2_s3
-            - statistics.q_periodogram_m2_s3)
+        let relative = (3.0 * statistics.q_zero_frequency_m2_s3 - statistics.q_periodogram_m2_s3)
             .abs()
             / statistics.q_periodogram_m2_s3;
         assert!(relative < 1e-12, "{}", statistics.q_zero_frequency_m2_s3);
