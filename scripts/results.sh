@@ -23,6 +23,8 @@ host_commands=(
   "calibrate nav-sim/scenarios/upper_stage.toml"
   "calibrate nav-sim/scenarios/paper_strategy_as_printed.toml"
   "monte-carlo --runs 10"
+  "monte-carlo nav-sim/scenarios/as_it_is.toml --runs 40"
+  "monte-carlo nav-sim/scenarios/upper_stage_as_it_is.toml --runs 40"
   "benefit"
   # The consistency flags' false alarms on the clean flights (the upper stage: about a CPU
   # minute per run).

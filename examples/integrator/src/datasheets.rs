@@ -70,7 +70,7 @@ pub const DATASHEETS: Datasheets = Datasheets {
         order: 12,
         terms_per_frame: 4,
         omitted_field_sigma_mps2: 1.9e-5,
-        omitted_field_psd_m2_per_s3: 1.3e-7,
+        omitted_field_psd_m2_per_s3: 5.5e-8,
     },
     hand_over: HandOverDatasheet {
         attitude_mrad: 1.0,

@@ -12,6 +12,17 @@ use crate::config::{FswConfig, GravityConfig, Param};
 /// `omitted_field_psd_m2_per_s3` the density scaled by `(σ / RMS-per-axis)²`, rounded up.
 /// Without an allowance (both 0) the flight reports a configuration warning at start-up
 /// (`health::ConfigurationWarnings`) and never checks the omitted field against it.
+///
+/// The density is the mean over ground tracks of `tr S(0) / 3`, `S(0)` the omitted field's
+/// 3 × 3 spectral matrix at zero frequency (the printed `q at f = 0, scaled`). Derivation: a
+/// constant calibration state's estimate takes from the omitted field `d` its weighted mean
+/// over the flight, of covariance `S(0)/T` for a flight of length `T`, while the allowance,
+/// white velocity noise `q I`, gives the filter `q I / T`. Along one track `S(0)` is nearly
+/// of rank one (the field's mean over the flight is one vector), in a direction that changes
+/// with the track; an isotropic `q` matches its expected total power when
+/// `3 q = E tr S(0)`, which keeps the expected NEES of the states it feeds at their
+/// dimension. The largest eigenvalue of `S(0)` on every axis (the supremum) gives up to
+/// three times that power: an honest filter would read as conservative.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GravityDatasheet {
     /// Largest degree of the flight's model, 2..=12.

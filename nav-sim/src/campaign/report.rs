@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use comfy_table::{presets::UTF8_FULL_CONDENSED, Cell, CellAlignment, Table};
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use crate::campaign::consistency_checks::ConsistencyChecks;
 use crate::campaign::monte_carlo::{
     self, MonteCarloError, MonteCarloSummary, RunOutcome, CALIBRATION_STATES,
 };
@@ -128,6 +129,8 @@ pub struct CampaignReport {
     pub gnss_error: Option<GnssErrorCampaign>,
     /// The runs outside 3σ, in run order.
     pub outliers: Vec<Outlier>,
+    /// Every state's RMS |error|/1σ against its interval, and the runs beyond 4σ.
+    pub checks: ConsistencyChecks,
     /// The health counters non-zero in some run, by name: how many runs raised each.
     pub health: Vec<CounterOverRuns>,
 }
@@ -214,6 +217,7 @@ impl CampaignReport {
         Ok(Self {
             scenario: scenario.clone(),
             imu_error: ImuErrorCampaign::of(records)?,
+            checks: ConsistencyChecks::new(records)?,
             gnss_error: GnssErrorCampaign::of(records)?,
             summary,
             error_percentiles,
@@ -314,6 +318,7 @@ impl CampaignReport {
         if let Some(gnss_error) = &self.gnss_error {
             let _ = write!(text, "{}", gnss_error.text());
         }
+        let _ = write!(text, "{}", self.checks.text());
         let _ = writeln!(text, "{}", self.health_text());
         text
     }
@@ -348,7 +353,8 @@ impl CampaignReport {
     /// `star_nis` and `gnss_nis` (`{average, interval_95, updates}` or null),
     /// `outlier_nees_bound`, `outliers` (`[{run, seed, nees, states: [{parameter, axis,
     /// error_over_sigma}], command}]`) and `health` (`[{counter, runs, max, total}]`, the
-    /// counters non-zero in some run), and per optional state block estimated its statistics
+    /// counters non-zero in some run), `consistency_checks`
+    /// ([`ConsistencyChecks::json_value`]), and per optional state block estimated its statistics
     /// (`imu_error`, `gnss_error`: [`crate::campaign::OptionalBlockCampaign::json_value`]).
     ///
     /// # Errors
@@ -428,6 +434,7 @@ impl CampaignReport {
                 })
                 .collect();
             object.insert("health".into(), health.into());
+            object.insert("consistency_checks".into(), self.checks.json_value());
             if let Some(imu_error) = &self.imu_error {
                 object.insert(imu_error.block.json_key().into(), imu_error.json_value());
             }

@@ -69,7 +69,7 @@ fn realistic_sensors() -> Datasheets {
             order: 12,
             terms_per_frame: 4,
             omitted_field_sigma_mps2: 1.9e-5,
-            omitted_field_psd_m2_per_s3: 1.3e-7,
+            omitted_field_psd_m2_per_s3: 5.5e-8,
         },
         hand_over: HandOverDatasheet {
             attitude_mrad: 1.0,
@@ -160,4 +160,62 @@ fn the_star_trackers_data_sheet_configures_its_heads_and_slow_error() {
         period_s: 5680.0,
     });
     assert_same_flight("star_tracker_slow_error.toml", &slow);
+}
+
+/// The data sheets of the vehicle as it is on the default flight (as_it_is.toml): the IMU of
+/// upper_stage_imu_errors_estimated.toml (bias instability, 20 µrad misalignments, 0.5 °/h/g
+/// g-sensitivity), a two-head tracker of 5″ across and 35″ in roll with a 3″ low-frequency
+/// error over the 5680 s orbit that leaves the aberration in, a receiver of
+/// realistic_sensors.toml's with 50 ms latency, and realistic_sensors.toml's gravity.
+fn as_it_is() -> Datasheets {
+    let mut sheets = realistic_sensors();
+    let gyro = &mut sheets.imu.gyro;
+    gyro.bias_instability = Some(GyroBiasInstability {
+        // 1e-6 rad/s in °/h.
+        sigma_deg_per_h: 0.206_264_806_247_096_34,
+        correlation_time_s: 600.0,
+    });
+    gyro.misalignment_urad = Some(20.0);
+    // 2.47e-7 rad/s per m/s² in °/h/g.
+    gyro.g_sensitivity_deg_per_h_per_g = Some(0.499_623_390_259_222_5);
+    let accel = &mut sheets.imu.accelerometer;
+    accel.bias_instability = Some(AccelBiasInstability {
+        // 2e-5 m/s² in µg.
+        sigma_ug: 2.039_432_425_955_856_5,
+        correlation_time_s: 600.0,
+    });
+    accel.misalignment_urad = Some(20.0);
+    let star = &mut sheets.star_tracker;
+    star.cross_boresight_noise_arcsec = 5.0;
+    star.roll_noise_arcsec = 35.0;
+    star.low_frequency_error = Some(LowFrequencyError {
+        sigma_arcsec: [3.0; 3],
+        period_s: 5680.0,
+    });
+    star.aberration_corrected = false;
+    star.second_head_mounting_rotation_vector_deg = Some([-90.0, 0.0, 0.0]);
+    sheets.gnss.latency_s = 0.05;
+    sheets
+}
+
+#[test]
+fn the_as_it_is_data_sheets_configure_nav_sims_flight() {
+    assert_same_flight("as_it_is.toml", &as_it_is());
+}
+
+/// The same sensors on the upper stage (upper_stage_as_it_is.toml): its mountings, the
+/// 5432 s parking orbit's low-frequency error and upper_stage.toml's gravity allowance.
+#[test]
+fn the_upper_stage_as_it_is_data_sheets_configure_nav_sims_flight() {
+    let mut sheets = as_it_is();
+    let star = &mut sheets.star_tracker;
+    star.mounting_rotation_vector_deg = [-8.160548, -179.633363, 0.015173];
+    star.second_head_mounting_rotation_vector_deg = Some([-5.459872, -124.51749, 124.538527]);
+    star.low_frequency_error = Some(LowFrequencyError {
+        sigma_arcsec: [3.0; 3],
+        period_s: 5432.0,
+    });
+    sheets.gravity.omitted_field_sigma_mps2 = 3.2e-5;
+    sheets.gravity.omitted_field_psd_m2_per_s3 = 1.3e-7;
+    assert_same_flight("upper_stage_as_it_is.toml", &sheets);
 }

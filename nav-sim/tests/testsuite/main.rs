@@ -2,6 +2,7 @@
 //! `tests/testsuite`): one link, and one place to run them, `cargo test -p nav-sim --test
 //! testsuite [filter]`.
 
+mod as_it_is;
 mod benefit;
 mod campaign;
 mod cli;

@@ -41,6 +41,14 @@
 //!    overlapping by half, `S(f) = Δ/(Σ_k w_k²) · mean over segments of X(f) X(f)ᴴ`,
 //!    `X(f) = Σ_k w_k d_k e^{−i2πfkΔ}`; `q_periodogram = max_f λ_max(S(f))`. It estimates the
 //!    same supremum more tightly; it is not a bound and should lie below `q_bound`.
+//! 3. **At zero frequency** (`q at f = 0`): `tr S(0) / 3`, the allowance the calibration
+//!    states need. A constant state's estimate takes from `d` its weighted mean over the
+//!    flight, of covariance `S(0)/T` for a long flight `T`; white noise `q I` gives it
+//!    `q I / T`. `S(0)` is nearly of rank one along one ground track (the mean of `d` over
+//!    the flight is one vector), in another direction on each track; the isotropic `q I` with
+//!    the same expected total power, `E tr(q I) = E tr S(0)`, leaves the expected NEES of the
+//!    states it feeds at their dimension, while `λ_max(S(0))` on every axis over-covers the
+//!    two others on each track (the supremum: up to three times the power in all).
 //!
 //! Both are two-sided densities (white noise of PSD `q` has `E[w(t) w(t+τ)ᵀ] = q I δ(τ)`), as
 //! the filter's continuous process noise `Q = q I` is; `√q` is the velocity random walk
@@ -183,7 +191,7 @@ pub struct OmissionReport {
     /// `filter.gravity.omitted_field_sigma_mps2` at least this raises no
     /// `gravity_allowance_short` on this flight. NaN for a model beyond the flight's 12 × 12.
     pub flight_check_sigma_mps2: f64,
-    /// `λ_max(S(0))` of `d` scaled to the field at the lowest altitude, `d_k · rms(r_low) /
+    /// `tr S(0) / 3` of `d` scaled to the field at the lowest altitude, `d_k · rms(r_low) /
     /// rms(r_k)` with `rms(r)` the flight software's omitted RMS at radius `r` (m²/s³): the
     /// allowance the flight software scales down with the omitted field's power where the
     /// vehicle is higher (docs/guide/gravity.md, "The allowance with the altitude"). NaN where the
@@ -316,7 +324,7 @@ fn check_samples(
     })
 }
 
-/// `λ_max(S(0))` of the difference scaled to the field at the lowest altitude
+/// `tr S(0) / 3` of the difference scaled to the field at the lowest altitude
 /// ([`scaled_to_lowest`], `lowest_sigma_mps2` the flight's check σ there), or NaN where that
 /// σ is (a model beyond the flight software's 12 × 12).
 fn zero_frequency_scaled(

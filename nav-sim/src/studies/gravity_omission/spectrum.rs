@@ -34,8 +34,9 @@ pub struct Statistics {
     pub q_periodogram_m2_s3: f64,
     /// The frequency of that maximum (Hz).
     pub periodogram_peak_hz: f64,
-    /// `λ_max(S(0))` of the averaged periodogram (m²/s³): the density a constant state sees,
-    /// over the horizon of one segment (its mean included).
+    /// `tr S(0) / 3` of the averaged periodogram (m²/s³): the density a constant state sees,
+    /// over the horizon of one segment (its mean included), per axis on average: the
+    /// isotropic density with the same total zero-frequency power (module docs).
     pub q_zero_frequency_m2_s3: f64,
     /// Length of the periodogram's segments (s) and how many were averaged.
     pub segment_s: f64,
@@ -195,7 +196,8 @@ struct PeriodogramPeak {
 /// sin²(πk/S)`) segments of `segment` samples overlapping by half, the two-sided spectral
 /// matrix `S(f) = Δ/(Σ w²) · mean X Xᴴ` at `f = k/(SΔ)`, `k = 0..=S/2` (a real signal's
 /// `S(−f)` is the conjugate, with the same eigenvalues); returns `max_f λ_max(S(f))` and
-/// `λ_max(S(0))`.
+/// `tr S(0) / 3`, the mean of `S(0)`'s eigenvalues (module docs: the allowance at zero
+/// frequency).
 fn welch_peak(
     planner: &mut FftPlanner<f64>,
     axes: &[Vec<f64>; 3],
@@ -251,7 +253,9 @@ fn welch_peak(
     PeriodogramPeak {
         q_m2_s3: largest,
         frequency_hz: bin as f64 / (segment as f64 * sample_s),
-        zero_frequency_m2_s3: spectrum.first().copied().unwrap_or(0.0),
+        zero_frequency_m2_s3: sums.first().map_or(0.0, |zero| {
+            (0..3).map(|axis| zero[axis][axis].re).sum::<f64>() / 3.0
+        }) * scale,
         segments,
     }
 }
@@ -367,10 +371,11 @@ mod tests {
         let relative = (statistics.q_periodogram_m2_s3 - periodogram).abs() / periodogram;
         assert!(relative < 1e-3, "{}", statistics.q_periodogram_m2_s3);
         assert!(statistics.periodogram_peak_hz.abs() < 1e-12);
-        assert_eq!(
-            statistics.q_zero_frequency_m2_s3.to_bits(),
-            statistics.q_periodogram_m2_s3.to_bits()
-        );
+        // A constant along x: S(0) has rank one, its mean eigenvalue a third of its largest.
+        let relative = (3.0 * statistics.q_zero_frequency_m2_s3 - statistics.q_periodogram_m2_s3)
+            .abs()
+            / statistics.q_periodogram_m2_s3;
+        assert!(relative < 1e-12, "{}", statistics.q_zero_frequency_m2_s3);
         assert_eq!(statistics.correlation_time_s, None);
         assert!((statistics.rms_mps2 - c).abs() < 1e-18);
     }

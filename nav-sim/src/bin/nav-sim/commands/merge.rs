@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use nav_sim::campaign::{self, CampaignReport};
 
 use super::monte_carlo::{campaign_plots, check_campaign, print_campaign, write_campaign_plots};
-use super::{prepare_outputs, Failure};
+use super::{prepare_outputs, Failure, ResultsArg};
 
 /// The arguments of `nav-sim merge`.
 #[derive(clap::Args)]
@@ -24,6 +24,10 @@ pub struct Args {
     /// Exit non-zero if the average NEES is outside its 95 % interval.
     #[arg(long)]
     check: bool,
+    /// As `monte-carlo --results DIR`: the report as DIR/monte-carlo-<scenario>.md, headed by
+    /// this merge's command line.
+    #[command(flatten)]
+    results: ResultsArg,
 }
 
 /// Merges the shard files and prints the campaign's report.
@@ -36,6 +40,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let merged = campaign::merge(&args.paths)?;
     let report = CampaignReport::new(&merged.records, &merged.scenario)?;
     print_campaign(&report, args.json)?;
+    args.results.write(
+        "monte-carlo",
+        merged.scenario.file.as_deref().map(Path::new),
+        &report.text(),
+    )?;
     if let Some(directory) = out {
         write_campaign_plots(&report, directory, args.json)?;
     }
