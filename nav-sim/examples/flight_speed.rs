@@ -135,7 +135,7 @@ fn machine() -> String {
         })
         .unwrap_or_else(|| "an unknown processor".to_string());
     let build = if cfg!(debug_assertions) {
-        "a debug build"
+        "a build with debug assertions (the test profile's, optimised)"
     } else {
         "the release build"
     };
