@@ -64,8 +64,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let table = table(&speeds);
     print!("{table}");
     if let Some(directory) = results_directory {
+        // The build (release or the test profile's) is named in the file's first line.
         let command = format!(
-            "cargo run --release -p nav-sim --example flight_speed -- --results {} {}",
+            "nav-sim example flight_speed --results {} {}",
             directory.display(),
             scenarios.join(" ")
         );

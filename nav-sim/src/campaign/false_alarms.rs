@@ -18,7 +18,7 @@ use statrs::distribution::{Beta, ContinuousCDF};
 use super::RunRecord;
 use crate::output::scenario_label::ScenarioLabel;
 
-/// The most a flag may raise on clean flights (issue 52: a flag an operator acts on).
+/// The most a flag an operator acts on may raise on clean flights.
 pub const MAX_FALSE_ALARM_RATE: f64 = 0.01;
 
 /// One flag over a campaign.

@@ -1,4 +1,4 @@
-//! Flags an operator can act on (issue 52): an error of the inertial solution is blamed on the
+//! Flags an operator can act on: an error of the inertial solution is blamed on the
 //! inertial solution, never on the healthy star tracker. Two default flights (the false-alarm
 //! rates on clean flights: `nav-sim false-alarms`, docs/results/false-alarms-*.md).
 
