@@ -514,7 +514,7 @@ typedef struct {
   double gnss_velocity_acquisition_gate_nis;
   // `gnss.whiteness_window_fixes` must be in [1, 1e6] fixes (at least one fix; 1e6 fixes (days at 10 Hz) never forgets); default 64
   double gnss_whiteness_window_fixes;
-  // `gnss.whiteness_threshold` must be in (0, 1] (a correlation coefficient); default 0.25
+  // `gnss.whiteness_threshold` must be in (0, 1] (a correlation coefficient; the default: WhitenessMonitor docs); default 0.3
   double gnss_whiteness_threshold;
   // `timing.future_tolerance_s` must be in [0, 0.1] s (below one IMU period (checked with imu.period_s): a later tag is a future frame's); default 0.001
   double timing_future_tolerance_s;
