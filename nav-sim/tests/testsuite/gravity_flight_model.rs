@@ -1,8 +1,8 @@
 //! The flight's gravity beyond `J2` and its allowance for the field it omits
 //! (`[filter.gravity]`, docs/guide/gravity.md), in the truth's 20 × 20 field: a flight software
-//! configured as the paper's (point mass + `J2`, no allowance) is flagged by
-//! `gravity_allowance_short` and blames no sensor; configured with the 12 × 12 model and its
-//! derived allowance it is not flagged, and the default flight's calibration stays
+//! configured as the paper's (point mass + `J2`, no allowance) is a configuration warning at
+//! start-up and blames no sensor; configured with the 12 × 12 model and its derived allowance
+//! it warns of nothing, and the default flight's calibration stays
 //! consistent (`NAV_MC_RUNS` runs, default 2 here; the docs' campaigns fly 20).
 
 use crate::realistic_campaign::{scenario, seeds, worst_sigma};
@@ -29,25 +29,29 @@ fn counter(health: &nav_fsw::health::HealthCounters, key: &str) -> u32 {
         .map_or(0, |(_, count)| *count)
 }
 
-/// The check is of the altitude: the first evaluation of a model with no allowance raises
-/// it, once; the modelled configuration never does; no sensor is declared faulty either way.
-/// The modelled configuration in the J2 truth (a flight model beyond the truth's field) is
-/// refused before it flies.
+/// A model with no allowance is a configuration warning at start-up
+/// (`ConfigurationWarnings::gravity_without_allowance`), never a flight event: neither it nor
+/// the modelled configuration counts `gravity_allowance_short`, the modelled configuration
+/// warns of nothing, and no sensor is declared faulty either way. The modelled configuration
+/// in the J2 truth (a flight model beyond the truth's field) is refused before it flies.
 #[test]
-fn a_gravity_model_without_its_allowance_is_flagged_and_no_sensor_blamed() {
+fn a_gravity_model_without_its_allowance_is_a_configuration_warning_and_no_sensor_blamed() {
     let modelled = scenario("gravity_field_modelled");
     let mut modelled_in_j2_truth = modelled.clone();
     modelled_in_j2_truth.gravity = None;
     let refused = modelled_in_j2_truth.validate().unwrap_err().to_string();
     assert!(refused.contains("filter.gravity.degree = 12"), "{refused}");
-    for (name, scenario, flagged) in [
+    for (name, scenario, warned) in [
         (
             "gravity_field (J2, no allowance)",
             scenario("gravity_field"),
-            1,
+            true,
         ),
-        ("gravity_field_modelled", modelled, 0),
+        ("gravity_field_modelled", modelled, false),
     ] {
+        let config = nav_sim::setup::fsw::fsw_config(&scenario).unwrap();
+        let warnings = nav_fsw::health::ConfigurationWarnings::of(&config);
+        assert_eq!(warnings.gravity_without_allowance, warned, "{name}");
         let flight = fly(
             &first_seconds(scenario, 400.0),
             FlightOptions::default(),
@@ -56,11 +60,7 @@ fn a_gravity_model_without_its_allowance_is_flagged_and_no_sensor_blamed() {
         .unwrap();
         let health = &flight.health;
         println!("{name}: {:?}", health.named());
-        assert_eq!(
-            counter(health, "gravity_allowance_short"),
-            flagged,
-            "{name}"
-        );
+        assert_eq!(counter(health, "gravity_allowance_short"), 0, "{name}");
         assert_eq!(counter(health, "gravity_field_errors"), 0, "{name}");
         assert_eq!(counter(health, "star_declared_faulty"), 0, "{name}");
         assert_eq!(counter(health, "gnss_declared_faulty"), 0, "{name}");
