@@ -5,26 +5,15 @@
 //! estimated state within 4σ, no sensor declared faulty and the gravity allowance not short.
 //! Their 40-run campaigns are in docs/results (docs/guide/realistic-errors.md).
 
+use crate::common::first_seconds;
 use crate::realistic_campaign::scenario;
 use nav_sim::campaign::monte_carlo::{fly_campaign, run_nees};
-use nav_sim::Scenario;
 
 /// The χ²(15) 99.9 % point.
 const NEES_BOUND: f64 = 37.7;
 
 /// No state of a campaign run beyond this many σ.
 const MAX_SIGMAS: f64 = 4.0;
-
-/// The first `seconds` of a scenario's manoeuvre plan (whole segments).
-fn first_seconds(mut scenario: Scenario, seconds: f64) -> Scenario {
-    let mut elapsed = 0.0;
-    scenario.manoeuvres.retain(|segment| {
-        elapsed += segment.duration_s;
-        elapsed <= seconds
-    });
-    scenario.validate().unwrap();
-    scenario
-}
 
 /// The largest |e|/σ of a block's `error` and `covariance`.
 fn worst<const N: usize>(

@@ -91,3 +91,14 @@ pub fn assert_run_within_bounds(outcome: &RunOutcome) {
     assert!(worst <= 4.0, "seed {}: {worst:.2} sigma", outcome.seed);
     assert!(nees < 37.70, "seed {}: NEES {nees:.1}", outcome.seed);
 }
+
+/// The first `seconds` of a scenario's manoeuvre plan (whole segments).
+pub fn first_seconds(mut scenario: Scenario, seconds: f64) -> Scenario {
+    let mut elapsed = 0.0;
+    scenario.manoeuvres.retain(|segment| {
+        elapsed += segment.duration_s;
+        elapsed <= seconds
+    });
+    scenario.validate().unwrap();
+    scenario
+}

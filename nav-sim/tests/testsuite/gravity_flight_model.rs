@@ -5,21 +5,10 @@
 //! it warns of nothing, and the default flight's calibration stays
 //! consistent (`NAV_MC_RUNS` runs, default 2 here; the docs' campaigns fly 20).
 
+use crate::common::first_seconds;
 use crate::realistic_campaign::{scenario, seeds, worst_sigma};
 use nav_sim::campaign::monte_carlo::{fly_campaign, summarise};
 use nav_sim::harness::flight::{fly, FlightOptions};
-use nav_sim::Scenario;
-
-/// The first `seconds` of a scenario's manoeuvre plan (whole segments).
-fn first_seconds(mut scenario: Scenario, seconds: f64) -> Scenario {
-    let mut elapsed = 0.0;
-    scenario.manoeuvres.retain(|segment| {
-        elapsed += segment.duration_s;
-        elapsed <= seconds
-    });
-    scenario.validate().unwrap();
-    scenario
-}
 
 fn counter(health: &nav_fsw::health::HealthCounters, key: &str) -> u32 {
     health
